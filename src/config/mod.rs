@@ -1,1 +1,159 @@
-//! config
+//! Job files: TOML through serde into typed structs, validated once at load.
+//!
+//! Every error names the file, the line and column, the key and what was expected
+//! ([`ConfigError`]). Relative paths resolve against the job file's folder.
+mod error;
+mod job;
+mod source;
+mod tagged;
+mod validate;
+
+pub use error::{ConfigError, Location};
+pub use job::*;
+pub use source::{format_path, Seg, Source};
+
+use std::path::{Path, PathBuf};
+
+/// A loaded, validated job.
+pub struct Job {
+    /// The file and its text (to locate keys in later, mesh-dependent checks).
+    pub source: Source,
+    /// The structural job it describes.
+    pub spec: StructuralJobFile,
+    /// The mesh file, resolved against the job file's folder.
+    pub mesh_file: PathBuf,
+    /// The results folder, resolved against the job file's folder.
+    pub output_dir: PathBuf,
+    /// PETSc options of `[solver.petsc]`, as (`-key`, value) pairs.
+    pub petsc_options: Vec<(String, String)>,
+}
+
+impl Job {
+    /// Reads, parses and validates a job file.
+    pub fn load(path: &Path) -> Result<Job, ConfigError> {
+        let source = Source::read(path)?;
+        let spec: StructuralJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
+        validate::validate_structural(&source, &spec)?;
+        let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let resolve = |p: &Path| if p.is_absolute() { p.to_path_buf() } else { folder.join(p) };
+        let mesh_file = resolve(&spec.mesh.file);
+        let stem = path.file_stem().map_or_else(|| "job".into(), |s| s.to_string_lossy().into_owned());
+        let output_dir = match &spec.output.dir {
+            Some(d) => resolve(d),
+            None => folder.join("results").join(stem),
+        };
+        let petsc_options = spec
+            .solver
+            .petsc
+            .iter()
+            .map(|(k, v)| {
+                let value = match v {
+                    toml::Value::String(s) => s.clone(),
+                    other => other.to_string(),
+                };
+                (format!("-{}", k.trim_start_matches('-')), value)
+            })
+            .collect();
+        Ok(Job { source, spec, mesh_file, output_dir, petsc_options })
+    }
+
+    /// The `Invalid` error for the key at `path` of this job file.
+    pub fn error_at(&self, path: &[Seg], message: impl Into<String>) -> ConfigError {
+        self.source.error_at(path, message)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load_str(text: &str) -> Result<Job, ConfigError> {
+        let dir = std::env::temp_dir().join(format!("mhpc-config-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join(format!("t{}.toml", text.len()));
+        std::fs::write(&f, text).unwrap();
+        Job::load(&f)
+    }
+
+    const GOOD: &str = r#"
+[analysis]
+type = "linear_static"
+[mesh]
+file = "m.msh"
+[materials.steel]
+type = "elastic"
+E = 210e9
+nu = 0.3
+[sections.s]
+type = "frame"
+area = 1e-3
+iy = 1e-6
+iz = 1e-6
+j = 2e-6
+[[parts]]
+group = "beams"
+section = "s"
+material = "steel"
+[solver.petsc]
+ksp_type = "cg"
+ksp_rtol = 1e-10
+"#;
+
+    #[test]
+    fn good_job_loads_and_resolves_paths() {
+        let job = load_str(GOOD).unwrap();
+        assert!(job.mesh_file.ends_with("m.msh"));
+        assert!(job.mesh_file.parent().unwrap().ends_with(format!("mhpc-config-{}", std::process::id())));
+        assert!(job.output_dir.ends_with(format!("results/t{}", GOOD.len())));
+        assert!(job.petsc_options.contains(&("-ksp_type".to_string(), "cg".to_string())));
+        let rtol = job.petsc_options.iter().find(|(k, _)| k == "-ksp_rtol").unwrap();
+        assert_eq!(rtol.1.parse::<f64>().unwrap(), 1e-10);
+    }
+
+    fn err(text: &str) -> String {
+        match load_str(text) {
+            Ok(_) => panic!("expected an error"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn unknown_key_is_located() {
+        let e = err(&GOOD.replace("nu = 0.3", "nu = 0.3\nnuu = 0.2"));
+        assert!(e.contains(":10:1: key 'materials.steel.nuu'"), "{e}");
+        assert!(e.contains("unknown field `nuu`"), "{e}");
+    }
+
+    #[test]
+    fn wrong_type_is_located() {
+        let e = err(&GOOD.replace("area = 1e-3", "area = \"big\""));
+        assert!(e.contains(":12:8"), "{e}");
+        assert!(e.contains("sections.s.area") && e.contains("expected f64"), "{e}");
+    }
+
+    #[test]
+    fn malformed_toml_is_located() {
+        let e = err(&GOOD.replace("[mesh]", "[mesh"));
+        assert!(e.contains(":4:"), "{e}");
+    }
+
+    #[test]
+    fn non_positive_values_are_rejected_with_their_key() {
+        let e = err(&GOOD.replace("E = 210e9", "E = -1.0"));
+        assert!(e.contains(":8:1: key 'materials.steel.E'") && e.contains("> 0"), "{e}");
+        let e = err(&GOOD.replace("area = 1e-3", "area = 0.0"));
+        assert!(e.contains("key 'sections.s.area'") && e.contains("got 0"), "{e}");
+    }
+
+    #[test]
+    fn unknown_names_list_what_exists() {
+        let e = err(&GOOD.replace("section = \"s\"", "section = \"t\""));
+        assert!(e.contains("parts[0].section") && e.contains("defined: s"), "{e}");
+    }
+
+    #[test]
+    fn unknown_analysis_lists_the_variants() {
+        let e = err(&GOOD.replace("linear_static", "dynamic"));
+        assert!(e.contains("unknown variant `dynamic`") && e.contains("linear_static"), "{e}");
+    }
+}

@@ -1,0 +1,292 @@
+//! The typed job file. Every table rejects unknown keys; defaults live here, in one place.
+//!
+//! A structural job (`[analysis] type = "linear_static"`):
+//!
+//! ```toml
+//! title = "Lattice tower under self-weight and top loads"
+//! [analysis]
+//! type = "linear_static"
+//! [mesh]
+//! file = "../meshes/tower.msh"          # relative to this job file's folder
+//! [materials.steel]
+//! type = "elastic"
+//! E = 210e9                             # Young's modulus [Pa]
+//! nu = 0.3                              # Poisson ratio (or G = shear modulus [Pa])
+//! density = 7850.0                      # [kg/m^3]
+//! [sections.leg]
+//! type = "frame"
+//! area = 2.0e-3                         # [m^2]
+//! iy = 1.5e-6                           # second moment about local y [m^4]
+//! iz = 1.5e-6                           # second moment about local z [m^4]
+//! j = 3.0e-6                            # torsion constant [m^4]
+//! [[parts]]
+//! group = "legs"                        # a physical group of the mesh
+//! section = "leg"
+//! material = "steel"
+//! orientation = [1.0, 0.0, 0.0]         # a vector in the local x-z plane (optional)
+//! [[supports]]
+//! group = "base"
+//! dofs = ["all"]                        # or any of ux uy uz rx ry rz
+//! [[loads]]
+//! type = "nodal"
+//! group = "top"
+//! force = [1.0e3, 0.0, 0.0]             # [N] on every node of the group
+//! [gravity]
+//! acceleration = [0.0, 0.0, -9.81]      # [m/s^2]
+//! [solver.petsc]                        # PETSc options; the command line wins
+//! ksp_type = "preonly"
+//! [output]
+//! dir = "results/tower"                 # default: results/<job file stem>
+//! ```
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// The analyses a job can ask for.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum AnalysisConfig {
+    /// Linear static analysis: K u = f.
+    LinearStatic,
+}
+
+impl AnalysisConfig {
+    /// The name used in the job file.
+    pub fn name(&self) -> &'static str {
+        match self {
+            AnalysisConfig::LinearStatic => "linear_static",
+        }
+    }
+}
+
+/// `[mesh]`
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MeshConfig {
+    /// Gmsh MSH 4.1 file, relative to the job file's folder.
+    pub file: PathBuf,
+}
+
+/// `[materials.NAME]`
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum MaterialConfig {
+    /// Isotropic linear elasticity.
+    Elastic(ElasticMaterial),
+}
+
+/// `type = "elastic"`: isotropic linear elasticity.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ElasticMaterial {
+    /// Young's modulus [Pa].
+    #[serde(rename = "E")]
+    pub e: f64,
+    /// Poisson ratio; give it or `G`.
+    pub nu: Option<f64>,
+    /// Shear modulus [Pa]; give it or `nu`.
+    #[serde(rename = "G")]
+    pub g: Option<f64>,
+    /// Mass density [kg/m³].
+    #[serde(default)]
+    pub density: f64,
+}
+
+impl ElasticMaterial {
+    /// The shear modulus: `G`, or `E / (2 (1 + nu))`.
+    pub fn shear_modulus(&self) -> f64 {
+        match (self.g, self.nu) {
+            (Some(g), _) => g,
+            (None, Some(nu)) => self.e / (2.0 * (1.0 + nu)),
+            (None, None) => f64::NAN,
+        }
+    }
+}
+
+/// `[sections.NAME]`
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum SectionConfig {
+    /// Elastic frame section of a 2-node beam.
+    Frame(FrameSectionConfig),
+}
+
+/// `type = "frame"`: elastic section of a 2-node beam.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSectionConfig {
+    /// Area [m²].
+    pub area: f64,
+    /// Second moment of area about the local y axis [m⁴].
+    pub iy: f64,
+    /// Second moment of area about the local z axis [m⁴].
+    pub iz: f64,
+    /// Torsion constant [m⁴].
+    pub j: f64,
+}
+
+impl SectionConfig {
+    /// The name used in the job file.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            SectionConfig::Frame(_) => "frame",
+        }
+    }
+}
+
+/// `[[parts]]`: a physical group modelled with a section and a material.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PartConfig {
+    /// Physical group name in the mesh.
+    pub group: String,
+    /// Section name (a key of `[sections]`).
+    pub section: String,
+    /// Material name (a key of `[materials]`).
+    pub material: String,
+    /// For beams: a vector lying in the local x–z plane (see `element::frame`); default: global Z,
+    /// or global X for members parallel to Z.
+    pub orientation: Option<[f64; 3]>,
+}
+
+/// A nodal degree of freedom, as named in job files.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum DofName {
+    /// Translation along x.
+    Ux,
+    /// Translation along y.
+    Uy,
+    /// Translation along z.
+    Uz,
+    /// Rotation about x.
+    Rx,
+    /// Rotation about y.
+    Ry,
+    /// Rotation about z.
+    Rz,
+    /// All six.
+    All,
+}
+
+impl DofName {
+    /// The DOF indices (0..6) this name stands for.
+    pub fn indices(self) -> std::ops::Range<usize> {
+        match self {
+            DofName::All => 0..6,
+            d => {
+                let i = d as usize;
+                i..i + 1
+            }
+        }
+    }
+}
+
+/// `[[supports]]`: fixed DOFs of every node of a group.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SupportConfig {
+    /// Physical group name.
+    pub group: String,
+    /// Fixed DOFs (`["all"]`, or a subset of ux uy uz rx ry rz).
+    pub dofs: Vec<DofName>,
+}
+
+/// `[[loads]]`
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum LoadConfig {
+    /// A force and a moment on every node of a group.
+    Nodal(NodalLoadConfig),
+}
+
+/// `type = "nodal"`: a force and a moment on every node of a group.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NodalLoadConfig {
+    /// Physical group name.
+    pub group: String,
+    /// Force [N].
+    #[serde(default)]
+    pub force: [f64; 3],
+    /// Moment [N·m].
+    #[serde(default)]
+    pub moment: [f64; 3],
+}
+
+/// `[gravity]`: self-weight of every element with a density.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GravityConfig {
+    /// Gravitational acceleration vector [m/s²].
+    pub acceleration: [f64; 3],
+}
+
+/// `[solver]`
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SolverConfig {
+    /// PETSc options without the leading dash (`ksp_type = "cg"`); the command line and
+    /// `PETSC_OPTIONS` win over these.
+    #[serde(default)]
+    pub petsc: BTreeMap<String, toml::Value>,
+}
+
+/// What a run does when its output folder holds a previous run's results.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ExistingOutput {
+    /// Move the previous results to `<dir>.previous` (replacing an older copy) and say so.
+    #[default]
+    Backup,
+    /// Replace them, and say so.
+    Overwrite,
+    /// Stop with an error.
+    Error,
+}
+
+/// `[output]`
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OutputConfig {
+    /// Results folder, relative to the job file's folder; default `results/<job file stem>`.
+    pub dir: Option<PathBuf>,
+    /// What to do with a previous run's results there.
+    #[serde(default)]
+    pub existing: ExistingOutput,
+}
+
+/// A structural job file, as written.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StructuralJobFile {
+    /// A one-line description, echoed in logs and outputs.
+    pub title: Option<String>,
+    /// Which analysis.
+    pub analysis: AnalysisConfig,
+    /// The mesh.
+    pub mesh: MeshConfig,
+    /// Materials by name.
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialConfig>,
+    /// Sections by name.
+    #[serde(default)]
+    pub sections: BTreeMap<String, SectionConfig>,
+    /// Groups modelled as elements.
+    #[serde(default)]
+    pub parts: Vec<PartConfig>,
+    /// Fixed DOFs.
+    #[serde(default)]
+    pub supports: Vec<SupportConfig>,
+    /// Applied loads.
+    #[serde(default)]
+    pub loads: Vec<LoadConfig>,
+    /// Self-weight.
+    pub gravity: Option<GravityConfig>,
+    /// Linear solver options.
+    #[serde(default)]
+    pub solver: SolverConfig,
+    /// Where results go.
+    #[serde(default)]
+    pub output: OutputConfig,
+}

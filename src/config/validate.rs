@@ -1,0 +1,136 @@
+//! Checks of a job file that need no mesh: positive moduli and sections, names that resolve.
+use super::job::*;
+use super::source::{Seg, Source};
+use super::ConfigError;
+
+fn key(k: &str) -> Seg {
+    Seg::Key(k.to_string())
+}
+
+fn positive(src: &Source, path: &[Seg], what: &str, v: f64) -> Result<(), ConfigError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(src.error_at(path, format!("{what} must be a finite number > 0, got {v}")))
+    }
+}
+
+fn finite3(src: &Source, path: &[Seg], v: &[f64; 3]) -> Result<(), ConfigError> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(src.error_at(path, format!("expected three finite numbers, got {v:?}")))
+    }
+}
+
+fn names<T>(m: &std::collections::BTreeMap<String, T>) -> String {
+    if m.is_empty() {
+        "none is defined".to_string()
+    } else {
+        format!("defined: {}", m.keys().cloned().collect::<Vec<_>>().join(", "))
+    }
+}
+
+/// Validates a structural job file; the first problem found is returned.
+pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
+    for (name, m) in &job.materials {
+        let at = |k: &str| vec![key("materials"), key(name), key(k)];
+        match m {
+            MaterialConfig::Elastic(ElasticMaterial { e, nu, g, density }) => {
+                positive(src, &at("E"), "Young's modulus E [Pa]", *e)?;
+                match (nu, g) {
+                    (Some(_), Some(_)) => {
+                        return Err(src.error_at(&at("G"), "give either nu or G, not both"))
+                    }
+                    (None, None) => {
+                        return Err(src.error_at(
+                            &[key("materials"), key(name)],
+                            "an elastic material needs nu (Poisson ratio) or G (shear modulus [Pa])",
+                        ))
+                    }
+                    (Some(nu), None) => {
+                        if !(nu.is_finite() && *nu > -1.0 && *nu < 0.5) {
+                            return Err(src.error_at(
+                                &at("nu"),
+                                format!("Poisson ratio nu must lie in (-1, 0.5), got {nu}"),
+                            ));
+                        }
+                    }
+                    (None, Some(g)) => positive(src, &at("G"), "shear modulus G [Pa]", *g)?,
+                }
+                if !(density.is_finite() && *density >= 0.0) {
+                    return Err(src.error_at(
+                        &at("density"),
+                        format!("density [kg/m^3] must be a finite number >= 0, got {density}"),
+                    ));
+                }
+            }
+        }
+    }
+    for (name, s) in &job.sections {
+        let at = |k: &str| vec![key("sections"), key(name), key(k)];
+        match s {
+            SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j }) => {
+                positive(src, &at("area"), "section area [m^2]", *area)?;
+                positive(src, &at("iy"), "second moment iy [m^4]", *iy)?;
+                positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
+                positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
+            }
+        }
+    }
+    if job.parts.is_empty() {
+        return Err(src.error_at(
+            &[],
+            "the job has no [[parts]]: map at least one physical group to a section and a material",
+        ));
+    }
+    for (i, p) in job.parts.iter().enumerate() {
+        let at = |k: &str| vec![key("parts"), Seg::Index(i), key(k)];
+        if !job.sections.contains_key(&p.section) {
+            return Err(src.error_at(
+                &at("section"),
+                format!("no section named '{}' ({})", p.section, names(&job.sections)),
+            ));
+        }
+        if !job.materials.contains_key(&p.material) {
+            return Err(src.error_at(
+                &at("material"),
+                format!("no material named '{}' ({})", p.material, names(&job.materials)),
+            ));
+        }
+        if let Some(v) = &p.orientation {
+            finite3(src, &at("orientation"), v)?;
+            if v.iter().map(|x| x * x).sum::<f64>() == 0.0 {
+                return Err(src.error_at(&at("orientation"), "the orientation vector must not be zero"));
+            }
+        }
+    }
+    for (i, s) in job.supports.iter().enumerate() {
+        if s.dofs.is_empty() {
+            return Err(src.error_at(
+                &[key("supports"), Seg::Index(i), key("dofs")],
+                "expected at least one of all, ux, uy, uz, rx, ry, rz",
+            ));
+        }
+    }
+    for (i, l) in job.loads.iter().enumerate() {
+        match l {
+            LoadConfig::Nodal(NodalLoadConfig { force, moment, .. }) => {
+                finite3(src, &[key("loads"), Seg::Index(i), key("force")], force)?;
+                finite3(src, &[key("loads"), Seg::Index(i), key("moment")], moment)?;
+            }
+        }
+    }
+    if let Some(g) = &job.gravity {
+        finite3(src, &[key("gravity"), key("acceleration")], &g.acceleration)?;
+    }
+    for (k, v) in &job.solver.petsc {
+        if matches!(v, toml::Value::Array(_) | toml::Value::Table(_) | toml::Value::Datetime(_)) {
+            return Err(src.error_at(
+                &[key("solver"), key("petsc"), key(k)],
+                "a PETSc option value must be a string, a number or a boolean",
+            ));
+        }
+    }
+    Ok(())
+}
