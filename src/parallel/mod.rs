@@ -1,1 +1,17 @@
-//! parallel
+//! MPI-side building blocks: the run context with rank-aware logging, collective agreement on
+//! errors, the METIS partition of the cells, and the numbering of nodes and equations.
+//!
+//! Conventions (see ARCHITECTURE.md): every rank holds the whole mesh (a church is a few hundred
+//! thousand cells); each rank *owns* the cells METIS gives it and computes only those; a node is
+//! owned by the lowest rank among the cells that touch it; the nodes a rank's cells touch but it
+//! does not own are its *ghosts*. Global node numbers are contiguous per rank in rank order, and
+//! equations are `6 * global_node + dof` so that a node's six DOFs form one block.
+mod agree;
+mod context;
+mod dof_map;
+mod partition;
+
+pub use agree::{agree, Agreed};
+pub use context::{Context, Log};
+pub use dof_map::{DofMap, Preallocation};
+pub use partition::partition_cells;

@@ -1,0 +1,68 @@
+//! The run context: the communicator and the one place that decides what gets printed.
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::Communicator;
+use std::io::Write;
+use std::time::Instant;
+
+/// Rank-aware log: rank 0 reports progress; other ranks speak only about their own errors.
+#[derive(Clone, Debug)]
+pub struct Log {
+    rank: i32,
+    quiet: bool,
+    start: Instant,
+}
+
+impl Log {
+    /// A log for `rank`; `quiet` silences progress (errors are always printed).
+    pub fn new(rank: i32, quiet: bool) -> Log {
+        Log { rank, quiet, start: Instant::now() }
+    }
+
+    /// Whether this rank prints progress.
+    pub fn is_root(&self) -> bool {
+        self.rank == 0 && !self.quiet
+    }
+
+    /// A progress line, printed by rank 0 with the elapsed wall time.
+    pub fn info(&self, msg: impl AsRef<str>) {
+        if self.is_root() {
+            let t = self.start.elapsed().as_secs_f64();
+            let mut out = std::io::stdout().lock();
+            let _ = writeln!(out, "[{t:8.2}s] {}", msg.as_ref());
+            let _ = out.flush();
+        }
+    }
+
+    /// A warning, printed by rank 0 to stderr.
+    pub fn warn(&self, msg: impl AsRef<str>) {
+        if self.rank == 0 {
+            eprintln!("warning: {}", msg.as_ref());
+        }
+    }
+
+    /// Seconds since the log was created.
+    pub fn elapsed(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+}
+
+/// What every phase of a run needs: the communicator and the log.
+pub struct Context {
+    /// The communicator the run uses (the world, for a plain run).
+    pub comm: SimpleCommunicator,
+    /// This rank.
+    pub rank: usize,
+    /// Number of ranks.
+    pub size: usize,
+    /// Rank-aware log.
+    pub log: Log,
+}
+
+impl Context {
+    /// A context over `comm`.
+    pub fn new(comm: SimpleCommunicator, quiet: bool) -> Context {
+        let rank = comm.rank() as usize;
+        let size = comm.size() as usize;
+        Context { comm, rank, size, log: Log::new(rank as i32, quiet) }
+    }
+}
