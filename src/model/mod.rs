@@ -1,1 +1,9 @@
-//! model
+//! The structural model: which mesh cells are which elements, with which section and material,
+//! what is fixed and what is loaded. Built identically on every rank from the job and the mesh;
+//! the element objects themselves (with their integration-point state) are created only by the
+//! rank that owns each cell (see [`crate::analysis`]).
+mod build;
+mod stability;
+
+pub use build::{ModelCell, ModelError, StructuralModel};
+pub use stability::{find_mechanisms, Mechanism};
