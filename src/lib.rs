@@ -12,6 +12,7 @@
 //! | [`model`]   | the structural model: mesh + sections + supports + loads                |
 //! | [`analysis`]| drivers: setup, assemble, solve, output                                  |
 //! | [`io`]      | parallel HDF5 + XDMF results                                             |
+//! | [`run`]     | a whole job: input checks agreed across ranks, PETSc start, dispatch     |
 #![warn(missing_docs)]
 
 pub mod analysis;
@@ -22,3 +23,4 @@ pub mod mesh;
 pub mod model;
 pub mod parallel;
 pub mod petsc;
+pub mod run;

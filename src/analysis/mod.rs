@@ -1,1 +1,8 @@
-//! analysis
+//! Analysis drivers. Each reads as phases — setup, assemble, solve, check, output — each timed,
+//! and takes what it needs (context, job, mesh, model) as arguments.
+pub mod assembly;
+mod discretization;
+pub mod linear_static;
+pub mod output;
+
+pub use discretization::{default_orientation, Discretization};

@@ -222,10 +222,24 @@ pub struct GravityConfig {
     pub acceleration: [f64; 3],
 }
 
+/// Storage of the assembled matrices.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MatrixFormat {
+    /// PETSc AIJ (compressed rows): works with every preconditioner and factorization.
+    #[default]
+    Aij,
+    /// PETSc BAIJ with 6×6 blocks (one per node pair): less index storage, faster products.
+    Baij,
+}
+
 /// `[solver]`
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SolverConfig {
+    /// Matrix storage (`"aij"` default, or `"baij"`).
+    #[serde(default)]
+    pub matrix: MatrixFormat,
     /// PETSc options without the leading dash (`ksp_type = "cg"`); the command line and
     /// `PETSC_OPTIONS` win over these.
     #[serde(default)]

@@ -13,5 +13,5 @@ mod partition;
 
 pub use agree::{agree, Agreed};
 pub use context::{Context, Log};
-pub use dof_map::{DofMap, Preallocation};
-pub use partition::partition_cells;
+pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
+pub use partition::{partition_cells, PartitionError};

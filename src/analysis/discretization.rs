@@ -1,0 +1,95 @@
+//! Setup of the discrete system (deal.II's `setup_system`): partition, DOF numbering, and the
+//! element objects of the cells this rank owns.
+use crate::config::{Job, MaterialConfig, SectionConfig};
+use crate::element::{ElasticFrame3d, Element, FrameSection};
+use crate::mesh::Mesh;
+use crate::model::StructuralModel;
+use crate::parallel::{agree, partition_cells, Context, DofMap};
+use crate::run::Error;
+
+/// The discrete system of one rank.
+pub struct Discretization {
+    /// Ownership and numbering.
+    pub dofs: DofMap,
+    /// Part (rank) of every model cell.
+    pub cell_rank: Vec<usize>,
+    /// The model cells this rank owns (indices into `StructuralModel::cells`), in model order.
+    pub local_cells: Vec<usize>,
+    /// Their element objects, aligned with `local_cells`.
+    pub elements: Vec<Box<dyn Element>>,
+}
+
+/// Default orientation of a beam (a vector in its local x–z plane): global Z, or global X when
+/// the member is within about 0.1° of vertical.
+pub fn default_orientation(x1: [f64; 3], x2: [f64; 3]) -> [f64; 3] {
+    let d = [x2[0] - x1[0], x2[1] - x1[1], x2[2] - x1[2]];
+    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    if l > 0.0 && d[2].abs() / l > 0.999_998 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+impl Discretization {
+    /// Collective. Partitions the model's cells, numbers the DOFs, builds the owned elements.
+    pub fn setup(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel) -> Result<Self, Error> {
+        let cells = model.cell_nodes(mesh);
+        let cell_rank = agree(&ctx.comm, partition_cells(&ctx.comm, &cells), |_| 1)?;
+        let dofs = DofMap::build(&cells, &cell_rank, model.fixed.clone(), ctx.rank, ctx.size);
+        let local_cells: Vec<usize> = (0..cells.len()).filter(|&c| cell_rank[c] == ctx.rank).collect();
+        let built = build_elements(job, mesh, model, &local_cells);
+        let elements = agree(&ctx.comm, built, Error::exit_code)?;
+        Ok(Discretization { dofs, cell_rank, local_cells, elements })
+    }
+
+    /// The equations of an element's DOFs, free (`-1` for fixed) and all.
+    pub fn element_equations(&self, nodes: &[usize], free: &mut Vec<i32>, all: &mut Vec<i32>) {
+        free.clear();
+        all.clear();
+        for &n in nodes {
+            for d in 0..crate::parallel::DOFS_PER_NODE {
+                free.push(self.dofs.equation(n, d));
+                all.push(self.dofs.dof(n, d));
+            }
+        }
+    }
+}
+
+fn build_elements(
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    local_cells: &[usize],
+) -> Result<Vec<Box<dyn Element>>, Error> {
+    let spec = &job.spec;
+    let mut out: Vec<Box<dyn Element>> = Vec::with_capacity(local_cells.len());
+    for &c in local_cells {
+        let mc = model.cells[c];
+        let cell = &mesh.cells[mc.cell];
+        let part = &spec.parts[mc.part];
+        let MaterialConfig::Elastic(mat) = &spec.materials[&part.material];
+        let element: Box<dyn Element> = match &spec.sections[&part.section] {
+            SectionConfig::Frame(s) => {
+                let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
+                let section = FrameSection {
+                    e: mat.e,
+                    g: mat.shear_modulus(),
+                    area: s.area,
+                    iy: s.iy,
+                    iz: s.iz,
+                    j: s.j,
+                    density: mat.density,
+                };
+                let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
+                Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::Element {
+                    tag: cell.tag,
+                    group: part.group.clone(),
+                    source,
+                })?)
+            }
+        };
+        out.push(element);
+    }
+    Ok(out)
+}

@@ -1,0 +1,76 @@
+//! The error of a whole run: one enum over the modules' typed errors, with the exit code each
+//! calls for (2: bad input; 1: the computation failed; 70: an internal error).
+use crate::config::ConfigError;
+use crate::element::ElementError;
+use crate::io::IoError;
+use crate::mesh::MshError;
+use crate::model::ModelError;
+use crate::parallel::PartitionError;
+use crate::parallel::Agreed;
+use crate::petsc::{PetscError, SolverError};
+
+/// Anything that stops a run.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The job file.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The mesh file.
+    #[error(transparent)]
+    Mesh(#[from] MshError),
+    /// The job against the mesh.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The model cannot carry load: it is a mechanism.
+    #[error("{0}")]
+    Mechanism(String),
+    /// METIS.
+    #[error(transparent)]
+    Partition(#[from] PartitionError),
+    /// An element could not be built or evaluated.
+    #[error("element {tag} (group '{group}'): {source}")]
+    Element {
+        /// Gmsh element tag.
+        tag: u64,
+        /// Its physical group.
+        group: String,
+        /// The cause.
+        source: ElementError,
+    },
+    /// A PETSc call failed.
+    #[error(transparent)]
+    Petsc(#[from] PetscError),
+    /// A linear solve did not converge.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+    /// Results output.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// The results folder.
+    #[error("results folder {}: {source}", path.display())]
+    OutputDir {
+        /// The folder.
+        path: std::path::PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A previous run's results are in the way and the job says not to touch them.
+    #[error("results folder {} already holds results of a previous run, and [output] existing = \"error\"; \
+             move them away or set existing = \"backup\" or \"overwrite\"", .0.display())]
+    OutputExists(std::path::PathBuf),
+    /// An error some rank had, that every rank now knows.
+    #[error(transparent)]
+    Agreed(#[from] Agreed),
+}
+
+impl Error {
+    /// The process exit code for this error.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Config(_) | Error::Mesh(_) | Error::Model(_) | Error::OutputExists(_) => 2,
+            Error::Mechanism(_) => 2,
+            Error::Agreed(a) => a.exit_code,
+            _ => 1,
+        }
+    }
+}

@@ -1,0 +1,83 @@
+//! Running a job: load and check the input on every rank (errors agreed collectively), start
+//! PETSc with the job's options under the command line's, run the analysis, write the summary.
+mod error;
+mod output_dir;
+
+pub use error::Error;
+pub use output_dir::{backup_path, prepare_output_dir};
+
+use crate::analysis::linear_static;
+use crate::config::{AnalysisConfig, Job};
+use crate::mesh::{read_msh, Mesh};
+use crate::model::{find_mechanisms, StructuralModel};
+use crate::parallel::{agree, Context};
+use crate::petsc::Petsc;
+use std::path::Path;
+
+/// Everything a job needs before the analysis: the job, its mesh and its model, all checked.
+pub struct Input {
+    /// The job.
+    pub job: Job,
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The model.
+    pub model: StructuralModel,
+}
+
+/// Collective. Loads and checks a job, its mesh and its model, without running anything.
+pub fn load_input(ctx: &Context, path: &Path) -> Result<Input, Error> {
+    let job = agree(&ctx.comm, Job::load(path).map_err(Error::from), Error::exit_code)?;
+    ctx.log.info(format!(
+        "job {}{}",
+        path.display(),
+        job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+    ));
+    let mesh = agree(&ctx.comm, read_msh(&job.mesh_file).map_err(Error::from), Error::exit_code)?;
+    ctx.log.info(format!(
+        "mesh {}: {} nodes, {} cells, groups: {}",
+        job.mesh_file.display(),
+        mesh.coords.len(),
+        mesh.cells.len(),
+        mesh.group_names().join(", ")
+    ));
+    let model = agree(&ctx.comm, StructuralModel::build(&job, &mesh).map_err(Error::from), Error::exit_code)?;
+    let mech = find_mechanisms(&mesh, &model.cell_nodes(&mesh), &model.fixed);
+    if let Some(m) = mech.first() {
+        let more = if mech.len() > 1 { format!(" ({} such pieces in all)", mech.len()) } else { String::new() };
+        return Err(Error::Mechanism(format!("{m}{more}")));
+    }
+    Ok(Input { job, mesh, model })
+}
+
+/// Collective. Runs the job at `path`; `petsc_args` are the command-line PETSc options.
+pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), Error> {
+    let input = load_input(ctx, path)?;
+    let job = &input.job;
+    let prepared = if ctx.rank == 0 {
+        prepare_output_dir(&job.output_dir, job.spec.output.existing, &ctx.log)
+    } else {
+        Ok(())
+    };
+    agree(&ctx.comm, prepared, Error::exit_code)?;
+
+    let mut argv = vec!["masonry-hpc".to_string()];
+    argv.extend(petsc_args.iter().cloned());
+    let petsc = Petsc::initialize(&argv)?;
+    petsc.set_default_options("", &job.petsc_options)?;
+
+    match job.spec.analysis {
+        AnalysisConfig::LinearStatic => {
+            ctx.log.info("analysis: linear static");
+            let summary = linear_static::run(ctx, &petsc, job, &input.mesh, &input.model)?;
+            if ctx.rank == 0 {
+                let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+                let file = job.output_dir.join("summary.json");
+                std::fs::write(&file, text + "\n")
+                    .map_err(|source| Error::OutputDir { path: file.clone(), source })?;
+                ctx.log.info(format!("summary: {}", file.display()));
+            }
+        }
+    }
+    drop(petsc);
+    Ok(())
+}
