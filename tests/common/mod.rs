@@ -1,0 +1,151 @@
+//! Helpers of the integration tests: run the binary (alone or under `mpirun`), write small
+//! meshes and jobs into a scratch folder, read results back with the `hdf5` crate.
+#![allow(dead_code)]
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The binary under test.
+pub fn exe() -> PathBuf {
+    PathBuf::from(env!("CARGO_BIN_EXE_masonry-hpc"))
+}
+
+/// A fresh scratch folder for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("masonry-hpc-tests-{}", std::process::id())).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("scratch folder");
+    d
+}
+
+/// Runs `masonry-hpc args` on `np` ranks (`np = 0`: without mpirun, as a singleton).
+pub fn run(np: usize, args: &[&str]) -> Output {
+    let mut cmd = if np == 0 {
+        Command::new(exe())
+    } else {
+        let mut c = Command::new("mpirun");
+        c.args(["-n", &np.to_string(), "--oversubscribe", "--bind-to", "none"]).arg(exe());
+        c
+    };
+    cmd.args(args)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env_remove("PETSC_OPTIONS");
+    run_with_timeout(cmd, std::time::Duration::from_secs(300))
+}
+
+/// Runs `cmd` to completion, killing it (and failing the test) if it takes longer than `limit`:
+/// a run that hangs under mpirun is a bug this suite must report, not wait for.
+pub fn run_with_timeout(mut cmd: Command, limit: std::time::Duration) -> Output {
+    use std::process::Stdio;
+    let dir = std::env::temp_dir();
+    let tag = format!("{}-{:?}", std::process::id(), std::thread::current().id()).replace(['(', ')'], "");
+    let (po, pe) = (dir.join(format!("mhpc-{tag}.out")), dir.join(format!("mhpc-{tag}.err")));
+    let fo = std::fs::File::create(&po).expect("stdout file");
+    let fe = std::fs::File::create(&pe).expect("stderr file");
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(fo))
+        .stderr(Stdio::from(fe))
+        .spawn()
+        .expect("could not start the binary (is mpirun installed? run scripts/setup.sh)");
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("the run did not finish within {limit:?} (hang?): {cmd:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let out = Output { status, stdout: std::fs::read(&po).unwrap_or_default(), stderr: std::fs::read(&pe).unwrap_or_default() };
+    let _ = std::fs::remove_file(po);
+    let _ = std::fs::remove_file(pe);
+    out
+}
+
+/// stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// stdout as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Writes an ASCII MSH 4.1 file of 2-node lines: `nodes` (tag = index + 1), `lines` as pairs of
+/// node indices in physical curve group 1 `"beams"`, and point groups (name, node indices) as
+/// physical point groups 2, 3, ...
+pub fn write_line_mesh(path: &Path, nodes: &[[f64; 3]], lines: &[[usize; 2]], point_groups: &[(&str, &[usize])]) {
+    let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
+    s += &format!("{}\n1 1 \"beams\"\n", 1 + point_groups.len());
+    for (i, (name, _)) in point_groups.iter().enumerate() {
+        s += &format!("0 {} \"{}\"\n", i + 2, name);
+    }
+    s += "$EndPhysicalNames\n$Entities\n";
+    // One point entity per node of a point group; one curve entity holding all lines.
+    let pts: Vec<(usize, usize)> = point_groups
+        .iter()
+        .enumerate()
+        .flat_map(|(g, (_, ns))| ns.iter().map(move |&n| (g, n)))
+        .collect();
+    s += &format!("{} 1 0 0\n", pts.len());
+    for (k, (g, n)) in pts.iter().enumerate() {
+        let x = nodes[*n];
+        s += &format!("{} {} {} {} 1 {}\n", k + 1, x[0], x[1], x[2], g + 2);
+    }
+    s += "1 -1e9 -1e9 -1e9 1e9 1e9 1e9 1 1 0\n$EndEntities\n";
+    s += &format!("$Nodes\n1 {} 1 {}\n1 1 0 {}\n", nodes.len(), nodes.len(), nodes.len());
+    for i in 0..nodes.len() {
+        s += &format!("{}\n", i + 1);
+    }
+    for x in nodes {
+        s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    s += "$EndNodes\n$Elements\n";
+    let n_el = lines.len() + pts.len();
+    s += &format!("{} {} 1 {}\n", 1 + pts.len(), n_el, n_el);
+    let mut tag = 1;
+    for (k, (_, n)) in pts.iter().enumerate() {
+        s += &format!("0 {} 15 1\n{} {}\n", k + 1, tag, n + 1);
+        tag += 1;
+    }
+    s += &format!("1 1 1 {}\n", lines.len());
+    for l in lines {
+        s += &format!("{} {} {}\n", tag, l[0] + 1, l[1] + 1);
+        tag += 1;
+    }
+    s += "$EndElements\n";
+    std::fs::write(path, s).expect("write mesh");
+}
+
+/// A job file for a frame made of the `"beams"` group of `mesh`, with the given extra TOML.
+pub fn frame_job(mesh: &str, e: f64, g: f64, sec: [f64; 4], orientation: Option<[f64; 3]>, extra: &str) -> String {
+    let ori = orientation.map(|v| format!("orientation = [{}, {}, {}]\n", v[0], v[1], v[2])).unwrap_or_default();
+    format!(
+        "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"{mesh}\"\n\
+         [materials.m]\ntype = \"elastic\"\nE = {e:e}\nG = {g:e}\ndensity = 0.0\n\
+         [sections.s]\ntype = \"frame\"\narea = {:e}\niy = {:e}\niz = {:e}\nj = {:e}\n\
+         [[parts]]\ngroup = \"beams\"\nsection = \"s\"\nmaterial = \"m\"\n{ori}\
+         [output]\ndir = \"out\"\nexisting = \"overwrite\"\n{extra}",
+        sec[0], sec[1], sec[2], sec[3]
+    )
+}
+
+/// Node field `name` of the last step of `<dir>/results.h5`, keyed by Gmsh node tag.
+pub fn node_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec<f64>> {
+    let f = hdf5::File::open(dir.join("results.h5")).expect("open results.h5");
+    let ids: Vec<u64> = f.dataset("mesh/node_ids").expect("node_ids").read_raw().expect("read node_ids");
+    let steps = f.group("steps").expect("steps group");
+    let mut names = steps.member_names().expect("step names");
+    names.sort_by_key(|s| s.parse::<usize>().unwrap_or(0));
+    let last = names.last().expect("a step");
+    let ds = f.dataset(&format!("steps/{last}/{name}")).expect("field dataset");
+    let v: Vec<f64> = ds.read_raw().expect("read field");
+    let nc = v.len() / ids.len();
+    ids.iter().enumerate().map(|(i, &id)| (id, v[i * nc..(i + 1) * nc].to_vec())).collect()
+}
