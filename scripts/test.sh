@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The whole test suite: installs what is missing, builds, runs unit, verification, bad-input and
+# MPI tests (1 and 2 ranks).  Usage: scripts/test.sh [extra cargo test args]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+source scripts/env.sh
+[ -f meshes/tower.msh ] || python3 scripts/make_tower_mesh.py --out meshes/tower.msh
+cargo build --all-targets --quiet
+# Test binaries share 2 cores with the mpirun jobs they start: two at a time is enough.
+cargo test --no-fail-fast -- --test-threads=2 "$@"
