@@ -41,6 +41,6 @@ python3 -c "import meshio" 2>/dev/null || py_missing+=(meshio)
 python3 -c "import h5py" 2>/dev/null || py_missing+=(h5py)
 if [ "${#py_missing[@]}" -gt 0 ]; then
   echo "setup: installing Python packages: ${py_missing[*]}"
-  python3 -m pip install -q --disable-pip-version-check "${py_missing[@]}"
+  python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore "${py_missing[@]}"
 fi
 exit 0
