@@ -105,6 +105,15 @@ impl<'a> Cursor<'a> {
         }
     }
 
+    /// Where the next number starts (in text, after skipping whitespace).
+    #[inline]
+    pub fn next_loc(&mut self) -> Location {
+        if !self.binary {
+            self.skip_ws();
+        }
+        self.loc()
+    }
+
     /// The current byte offset.
     pub fn offset(&self) -> usize {
         self.pos
@@ -126,12 +135,6 @@ impl<'a> Cursor<'a> {
             }
             self.pos += 1;
         }
-    }
-
-    /// Whether only whitespace is left.
-    pub fn at_eof(&mut self) -> bool {
-        self.skip_ws();
-        self.pos >= self.data.len()
     }
 
     /// After skipping whitespace: the next line (trimmed, without its line break), consuming the
@@ -292,12 +295,7 @@ impl<'a> Cursor<'a> {
 
     /// The error for an unexpected end of file.
     pub fn truncated(&self, what: &'static str) -> MshError {
-        MshError::Truncated {
-            path: self.path.to_string(),
-            at: self.loc(),
-            section: self.section.to_string(),
-            what,
-        }
+        MshError::Truncated { path: self.path.to_string(), at: self.loc(), section: self.section.to_string(), what }
     }
 
     /// A [`MshError::Format`] at `at`.
@@ -335,7 +333,7 @@ mod tests {
         assert_eq!(c.token("x").unwrap().1, Location::Line(1));
         assert_eq!(c.token("x").unwrap(), (&b"c"[..], Location::Line(3)));
         assert_eq!(c.next_line().unwrap(), (&b"d"[..], Location::Line(4)));
-        assert!(c.at_eof());
+        assert!(c.next_line().is_none());
     }
 
     #[test]

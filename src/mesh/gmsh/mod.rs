@@ -51,7 +51,9 @@ pub(crate) fn parse_msh(data: &[u8], path: &str) -> Result<Mesh, MshError> {
             .strip_prefix(b"$")
             .and_then(|n| std::str::from_utf8(n).ok())
             .filter(|n| !n.is_empty() && !n.starts_with("End") && !n.contains(char::is_whitespace))
-            .ok_or_else(|| c.format(at, format!("expected a section header such as $Nodes, found \"{}\"", show(line))))?;
+            .ok_or_else(|| {
+                c.format(at, format!("expected a section header such as $Nodes, found \"{}\"", show(line)))
+            })?;
         c.section = name;
         match name {
             "PhysicalNames" => sections::physical_names(&mut c, &mut b)?,

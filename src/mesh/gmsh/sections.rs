@@ -71,17 +71,14 @@ pub(super) fn mesh_format(c: &mut Cursor<'_>) -> Result<(), MshError> {
                 [1, 0, 0, 0] => false,
                 [0, 0, 0, 1] => true,
                 _ => {
-                    return Err(c.format(
-                        at,
-                        format!("binary byte-order check: expected the int 1, found bytes {one:?}"),
-                    ))
+                    return Err(
+                        c.format(at, format!("binary byte-order check: expected the int 1, found bytes {one:?}"))
+                    )
                 }
             };
             c.set_binary(big_endian);
         }
-        _ => {
-            return Err(c.format(at, format!("expected file type 0 (ASCII) or 1 (binary) in \"{}\"", show(line))))
-        }
+        _ => return Err(c.format(at, format!("expected file type 0 (ASCII) or 1 (binary) in \"{}\"", show(line)))),
     }
     if fields.next().is_some() {
         return Err(c.format(at, format!("unexpected extra fields in \"{}\"", show(line))));
@@ -145,9 +142,8 @@ fn physical_name_line(line: &[u8]) -> Option<PhysicalGroup> {
 /// `$Entities`: the physical tags of each entity.
 pub(super) fn entities(c: &mut Cursor<'_>, b: &mut Builder) -> Result<(), MshError> {
     let mut counts = [0usize; 4];
-    for (k, what) in ["number of points", "number of curves", "number of surfaces", "number of volumes"]
-        .into_iter()
-        .enumerate()
+    for (k, what) in
+        ["number of points", "number of curves", "number of surfaces", "number of volumes"].into_iter().enumerate()
     {
         counts[k] = c.count(what)?.0;
     }
@@ -177,6 +173,11 @@ pub(super) fn entities(c: &mut Cursor<'_>, b: &mut Builder) -> Result<(), MshErr
         }
     }
     c.expect_end()
+}
+
+/// Whether two positions are on the same line of an ASCII file.
+fn same_line(a: Location, b: Location) -> bool {
+    matches!((a, b), (Location::Line(x), Location::Line(y)) if x == y)
 }
 
 /// Reads an entity dimension and checks it is 0..=3.
@@ -277,22 +278,40 @@ pub(super) fn elements(c: &mut Cursor<'_>, b: &mut Builder) -> Result<(), MshErr
         if kind.dim() != dim {
             return Err(c.format(
                 ty_at,
-                format!("element type {ty} ({kind}) has dimension {}, but its block is of entity dimension {dim}", kind.dim()),
+                format!(
+                    "element type {ty} ({kind}) has dimension {}, but its block is of entity dimension {dim}",
+                    kind.dim()
+                ),
             ));
         }
+        // In ASCII, one element per line: a tag on the line where the previous element ended,
+        // or a node tag on a later line than its element's tag, means a wrong node count.
+        let mut prev: Option<(u64, Location)> = None;
         for _ in 0..n {
             let (tag, at) = c.size("element tag")?;
+            if let Some((p, end)) = prev.filter(|(_, end)| same_line(*end, at)) {
+                let msg = format!("element {p} ({kind}) has more than {} node tags on its line", kind.n_nodes());
+                return Err(c.format(end, msg));
+            }
             if !seen.insert(tag, 0) {
                 return Err(MshError::DuplicateElement { path: c.path.to_string(), at, tag });
             }
             let mut nodes = Vec::with_capacity(kind.n_nodes());
-            for _ in 0..kind.n_nodes() {
-                let (node, at) = c.size("node tag of an element")?;
+            let mut last = at;
+            for k in 0..kind.n_nodes() {
+                if matches!((at, c.next_loc()), (Location::Line(a), Location::Line(b)) if a != b) {
+                    let msg =
+                        format!("element {tag} ({kind}) lists {k} of its {} node tags on its line", kind.n_nodes());
+                    return Err(c.format(at, msg));
+                }
+                let (node, node_at) = c.size("node tag of an element")?;
                 let Some(i) = b.nodes.get(node) else {
-                    return Err(MshError::DanglingNode { path: c.path.to_string(), at, element: tag, node });
+                    return Err(MshError::DanglingNode { path: c.path.to_string(), at: node_at, element: tag, node });
                 };
                 nodes.push(i);
+                last = node_at;
             }
+            prev = Some((tag, last));
             b.mesh.cells.push(Cell { kind, tag, nodes, entity: (dim, entity) });
         }
     }

@@ -50,10 +50,19 @@ fn portal_ascii_gives_nodes_cells_and_groups() {
         vec![[0., 0., 0.], [0., 0., 3.], [4., 0., 3.], [4., 0., 0.], [0., 0., 1.5], [2., 0., 3.], [4., 0., 1.5]]
     );
     assert_eq!(m.cells.len(), 8);
-    assert_eq!((m.cells[0].kind, m.cells[0].tag, &m.cells[0].nodes, m.cells[0].entity), (CellKind::Point1, 1, &vec![0], (0, 1)));
-    assert_eq!((m.cells[1].kind, m.cells[1].tag, &m.cells[1].nodes, m.cells[1].entity), (CellKind::Point1, 2, &vec![3], (0, 4)));
+    assert_eq!(
+        (m.cells[0].kind, m.cells[0].tag, &m.cells[0].nodes, m.cells[0].entity),
+        (CellKind::Point1, 1, &vec![0], (0, 1))
+    );
+    assert_eq!(
+        (m.cells[1].kind, m.cells[1].tag, &m.cells[1].nodes, m.cells[1].entity),
+        (CellKind::Point1, 2, &vec![3], (0, 4))
+    );
     // Element 4 joins node tags 101 and 2, i.e. indices 4 and 1.
-    assert_eq!((m.cells[3].kind, m.cells[3].tag, &m.cells[3].nodes, m.cells[3].entity), (CellKind::Line2, 4, &vec![4, 1], (1, 1)));
+    assert_eq!(
+        (m.cells[3].kind, m.cells[3].tag, &m.cells[3].nodes, m.cells[3].entity),
+        (CellKind::Line2, 4, &vec![4, 1], (1, 1))
+    );
     assert_eq!(m.groups, vec![group(0, 2, "base"), group(1, 1, "beams")]);
     assert_eq!(m.entity_groups.len(), 7);
     assert_eq!(m.entity_groups[&(0, 1)], vec![2]);
@@ -119,7 +128,10 @@ fn error_io_names_the_file() {
 
 #[test]
 fn error_not_msh_and_missing_sections() {
-    assert_eq!(err("hello world\n"), "t.msh: not a Gmsh MSH file: it must start with $MeshFormat, found \"hello world\"");
+    assert_eq!(
+        err("hello world\n"),
+        "t.msh: not a Gmsh MSH file: it must start with $MeshFormat, found \"hello world\""
+    );
     assert_eq!(err(""), "t.msh: not a Gmsh MSH file: it must start with $MeshFormat, found \"\"");
     assert_eq!(
         err("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"),
@@ -161,7 +173,10 @@ fn error_dangling_node_reference() {
     let text = portal_with("8 103 4", "8 103 99");
     assert_eq!(
         err(&text),
-        format!("t.msh: line {}: element 8 refers to node 99, which $Nodes does not define", line_of(&text, "8 103 99"))
+        format!(
+            "t.msh: line {}: element 8 refers to node 99, which $Nodes does not define",
+            line_of(&text, "8 103 99")
+        )
     );
 }
 
@@ -193,10 +208,7 @@ fn error_truncated_file_names_the_section() {
 fn error_garbled_numbers() {
     let text = portal_with("\n102\n", "\n1o2\n");
     let line = line_of(&text, "1o2");
-    assert_eq!(
-        err(&text),
-        format!("t.msh: line {line}: expected a non-negative integer (node tag), found \"1o2\"")
-    );
+    assert_eq!(err(&text), format!("t.msh: line {line}: expected a non-negative integer (node tag), found \"1o2\""));
     let text = portal_with("0 0 1.5", "0 0 1.5.0");
     assert_eq!(
         err(&text),
@@ -241,6 +253,26 @@ fn error_counts_that_disagree_with_the_data() {
 }
 
 #[test]
+fn error_element_lines_with_a_wrong_node_count() {
+    let text = portal_with("8 103 4", "8 103");
+    assert_eq!(
+        err(&text),
+        format!(
+            "t.msh: line {}: element 8 (2-node line) lists 1 of its 2 node tags on its line",
+            line_of(&text, "8 103\n")
+        )
+    );
+    let text = portal_with("7 3 103", "7 3 103 4");
+    assert_eq!(
+        err(&text),
+        format!(
+            "t.msh: line {}: element 7 (2-node line) has more than 2 node tags on its line",
+            line_of(&text, "7 3 103 4")
+        )
+    );
+}
+
+#[test]
 fn error_structural_problems() {
     let text = portal_with("1 2 0 1\n", "1 2 2 1\n");
     assert_eq!(
@@ -271,7 +303,10 @@ fn binary_errors_give_byte_offsets() {
     // Cut in the middle of the first size_t of $Nodes.
     assert_eq!(
         parse_msh(&PORTAL_BIN[..nodes + 3], "b.msh").expect_err("cut").to_string(),
-        format!("b.msh: byte offset {}: unexpected end of file while reading section $Nodes (number of entity blocks)", nodes + 3)
+        format!(
+            "b.msh: byte offset {}: unexpected end of file while reading section $Nodes (number of entity blocks)",
+            nodes + 3
+        )
     );
     // The node tag 103 (little-endian size_t) replaced by 102: a duplicate.
     let tag103 = [103u8, 0, 0, 0, 0, 0, 0, 0];
@@ -317,7 +352,10 @@ fn garbage_and_mutated_bytes_are_errors_never_panics() {
         let junk: Vec<u8> = (0..len).map(|_| rng.next()).collect();
         assert!(parse_msh(&junk, "junk").is_err());
         // The same junk behind a valid header, so that the section parsers see it.
-        for header in [&b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n"[..], b"$MeshFormat\n4.1 1 8\n\x01\0\0\0\n$EndMeshFormat\n$Elements\n"] {
+        for header in [
+            &b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n"[..],
+            b"$MeshFormat\n4.1 1 8\n\x01\0\0\0\n$EndMeshFormat\n$Elements\n",
+        ] {
             let mut d = header.to_vec();
             d.extend_from_slice(&junk);
             assert!(parse_msh(&d, "junk").is_err());
