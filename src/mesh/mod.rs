@@ -8,7 +8,7 @@
 
 mod gmsh;
 
-pub use gmsh::read_msh;
+pub use gmsh::{element_type_name, read_msh, Location, MshError};
 
 use std::fmt;
 
