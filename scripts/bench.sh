@@ -12,8 +12,8 @@ source scripts/env.sh
 cargo build --release --quiet
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-python3 scripts/make_tower_mesh.py --out "$work/small.msh" >/dev/null
-python3 scripts/make_tower_mesh.py --storeys 60 --panels 4 --out "$work/large.msh" >/dev/null
+python3 scripts/make_tower_mesh.py -o "$work/small.msh" >/dev/null
+python3 scripts/make_tower_mesh.py --storeys 50 --divisions 9 -o "$work/large.msh" >/dev/null
 declare -A solvers=(
   [direct]="-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps"
   [cg_gamg]="-ksp_type cg -pc_type gamg -ksp_rtol 1e-10 -ksp_max_it 5000"

@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 source scripts/env.sh
-[ -f meshes/tower.msh ] || python3 scripts/make_tower_mesh.py --out meshes/tower.msh
+[ -f meshes/tower.msh ] || python3 scripts/make_tower_mesh.py -o meshes/tower.msh
 cargo build --release --quiet
 job="${1:-jobs/tower.toml}"
 shift || true
