@@ -6,7 +6,8 @@
 //!   because `KSPSolve` returned normally with a negative `KSPConvergedReason`
 //!   ([`SolverError::Diverged`], with the preconditioner's diagnosis when it has one).
 //!
-//! Every raw call of the layer goes through [`check`], so no error code is ever dropped.
+//! Every raw call of the layer goes through `check` (or the `petsc_call!` macro over it), so no
+//! error code is ever dropped.
 
 use std::ffi::CStr;
 use std::os::raw::{c_char, c_int, c_void};
@@ -163,8 +164,9 @@ pub enum SolverError {
         /// The preconditioner's failure (`PCGetFailedReason`), without the `PC_` prefix, e.g.
         /// `"FACTOR_NUMERIC_ZEROPIVOT"`; `None` when the preconditioner reports no error.
         pc_failure: Option<&'static str>,
-        /// Global row of the zero pivot (`MatFactorGetErrorZeroPivot`), when a factorization
-        /// failed on one and the factorization package reports it.
+        /// Row of the zero pivot (`MatFactorGetErrorZeroPivot`, in the factor's ordering: the
+        /// matrix row with `-pc_factor_mat_ordering_type natural`), when PETSc's own factorization
+        /// failed on one; `None` for external packages such as MUMPS, which do not report it.
         zero_pivot_row: Option<i64>,
     },
 }

@@ -145,6 +145,13 @@ impl Ksp {
         if !self.pc_is_factorization(pc)? {
             return Ok((pc_failure, None));
         }
+        // Only PETSc's own factorizations record the row (MatPivotCheck); external packages
+        // (MUMPS, ...) flag the zero pivot but leave the row at its default 0, which would lie.
+        let mut solver: sys::MatSolverType = std::ptr::null();
+        petsc_call!(PCFactorGetMatSolverType(pc, &mut solver))?;
+        if solver.is_null() || c_text(solver) != "petsc" {
+            return Ok((pc_failure, None));
+        }
         let mut factor: sys::Mat = std::ptr::null_mut();
         petsc_call!(PCFactorGetMatrix(pc, &mut factor))?;
         if factor.is_null() {
@@ -297,20 +304,63 @@ mod tests {
         });
     }
 
+    /// Laplacian of order N with row `zero_row` zeroed but its entries kept in the structure
+    /// (explicit zeros), so the factorization meets a numerically zero pivot.
+    fn singular_laplacian(comm: &mpi::topology::SimpleCommunicator, zero_row: i32) -> Matrix {
+        let mut a = Matrix::new_aij(comm, N, &[3; N], &[0; N]).unwrap();
+        for i in 0..N as i32 {
+            let right = if i + 1 < N as i32 { i + 1 } else { -1 };
+            let vals = if i == zero_row { [0.0, 0.0, 0.0] } else { [-1.0, 2.0, -1.0] };
+            a.add_values(&[i], &[i - 1, i, right], &vals).unwrap();
+        }
+        a.assemble().unwrap();
+        a
+    }
+
+    #[test]
+    fn laplacian_by_mumps_cholesky_matches_closed_form() {
+        with_petsc(|comm| {
+            let (x, _) = solve_laplacian(comm, |k| {
+                k.set_type("preonly").unwrap();
+                k.set_pc_type("cholesky").unwrap();
+                k.set_factor_solver("mumps").unwrap();
+            });
+            for (i, xi) in x.iter().enumerate() {
+                assert!((xi - closed_form(i)).abs() < 1e-10, "x[{i}] = {xi}");
+            }
+        });
+    }
+
+    #[test]
+    fn singular_matrix_with_mumps_reports_pc_failure_without_row() {
+        with_petsc(|comm| {
+            let a = singular_laplacian(comm, 7);
+            let (mut x, mut b) = a.create_vectors().unwrap();
+            b.set_all(1.0).unwrap();
+            let mut ksp = Ksp::new(comm, "").unwrap();
+            ksp.set_operators(&a).unwrap();
+            ksp.set_type("preonly").unwrap();
+            ksp.set_pc_type("lu").unwrap();
+            ksp.set_factor_solver("mumps").unwrap();
+            match ksp.solve(&b, &mut x) {
+                Err(SolverError::Diverged { reason, pc_failure, zero_pivot_row, .. }) => {
+                    assert_eq!(reason, "DIVERGED_PC_FAILED");
+                    // MUMPS INFOG(1) = -10 (singular) is mapped by PETSc to a numeric zero pivot.
+                    assert_eq!(pc_failure, Some("FACTOR_NUMERIC_ZEROPIVOT"));
+                    assert_eq!(zero_pivot_row, None, "MUMPS does not report the row");
+                }
+                other => panic!("expected DIVERGED_PC_FAILED, got {other:?}"),
+            }
+        });
+    }
+
     #[test]
     fn singular_matrix_reports_zero_pivot_row() {
         with_petsc_env(|env| {
             const ZERO_ROW: i32 = 7;
             let comm = &env.comm;
-            // Laplacian with row 7 zeroed but its diagonal kept in the structure (explicit 0).
-            // With the natural ordering, LU meets the zero pivot exactly at row 7.
-            let mut a = Matrix::new_aij(comm, N, &[3; N], &[0; N]).unwrap();
-            for i in 0..N as i32 {
-                let right = if i + 1 < N as i32 { i + 1 } else { -1 };
-                let vals = if i == ZERO_ROW { [0.0, 0.0, 0.0] } else { [-1.0, 2.0, -1.0] };
-                a.add_values(&[i], &[i - 1, i, right], &vals).unwrap();
-            }
-            a.assemble().unwrap();
+            // With the natural ordering, PETSc's LU meets the zero pivot exactly at row 7.
+            let a = singular_laplacian(comm, ZERO_ROW);
             let (mut x, mut b) = a.create_vectors().unwrap();
             b.set_all(1.0).unwrap();
             let opts = env.petsc.options();

@@ -53,9 +53,14 @@ impl Vector {
     /// `VEC_IGNORE_NEGATIVE_INDICES` (PETSc's default would write before the array).
     pub(crate) fn adopt(raw: sys::Vec) -> Result<Self, PetscError> {
         let mut v = Vector { raw, n_global: 0 };
-        petsc_call!(VecSetOption(v.raw, sys::VEC_IGNORE_NEGATIVE_INDICES, sys::PETSC_TRUE))?;
-        petsc_call!(VecGetSize(v.raw, &mut v.n_global))?;
+        v.configure()?;
         Ok(v)
+    }
+
+    /// Sets `VEC_IGNORE_NEGATIVE_INDICES` and caches the global size of a set-up vector.
+    fn configure(&mut self) -> Result<(), PetscError> {
+        petsc_call!(VecSetOption(self.raw, sys::VEC_IGNORE_NEGATIVE_INDICES, sys::PETSC_TRUE))?;
+        petsc_call!(VecGetSize(self.raw, &mut self.n_global))
     }
 
     /// A vector with `n_local` entries on this rank (`n_global`, if given, must equal the sum
@@ -66,12 +71,12 @@ impl Vector {
         let n = to_petsc_int(n_local, CALL, "n_local")?;
         let mut raw: sys::Vec = std::ptr::null_mut();
         petsc_call!(VecCreate(comm.as_raw(), &mut raw))?;
-        let mut v = Vector { raw, n_global: 0 };
+        let mut v = Vector { raw, n_global: 0 }; // owns `raw` from here: destroyed on error
         // The global size is always summed by PETSc (a collective check that works without
         // PETSc's debug mode), then compared with the expected one.
         petsc_call!(VecSetSizes(v.raw, n, sys::PETSC_DETERMINE))?;
         petsc_call!(VecSetType(v.raw, type_name(sys::VECSTANDARD)))?;
-        let mut v = Vector::adopt(std::mem::replace(&mut v.raw, std::ptr::null_mut()))?;
+        v.configure()?;
         if let Some(expected) = n_global {
             if to_usize(v.n_global) != expected {
                 return Err(PetscError::usage(
@@ -139,7 +144,7 @@ impl Vector {
     }
 
     /// Copies the owners' values into the ghost entries (`INSERT_VALUES`, `SCATTER_FORWARD`).
-    /// Collective; a no-op error for a vector created without ghosts (PETSc reports it).
+    /// Collective; for a vector created without ghosts PETSc does nothing beyond an assembly.
     pub fn ghost_update(&mut self) -> Result<(), PetscError> {
         petsc_call!(VecGhostUpdateBegin(self.raw, sys::INSERT_VALUES, sys::SCATTER_FORWARD))?;
         petsc_call!(VecGhostUpdateEnd(self.raw, sys::INSERT_VALUES, sys::SCATTER_FORWARD))
