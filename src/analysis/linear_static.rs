@@ -127,7 +127,7 @@ pub fn run(
 
     // Check equilibrium element by element; reactions on the fixed DOFs.
     let t0 = Instant::now();
-    let u_local = u.local_values()?;
+    let u_local = u.with_local_form(|s| s.to_vec())?;
     let mut r = Vector::new_mpi(&ctx.comm, n_owned, None)?;
     let mut f_all = Vector::new_mpi(&ctx.comm, n_owned, None)?;
     assembly::assemble_internal_forces(&mut disc, mesh, model, &u_local, &mut r)?;
