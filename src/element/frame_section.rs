@@ -15,19 +15,19 @@ use super::error::ElementError;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrameSection {
-    /// Young's modulus E [Pa].
+    /// Young's modulus E (Pa).
     pub e: f64,
-    /// Shear modulus G [Pa].
+    /// Shear modulus G (Pa).
     pub g: f64,
-    /// Cross-section area A [m²].
+    /// Cross-section area A (m²).
     pub area: f64,
-    /// Second moment of area about local y, Iy [m⁴].
+    /// Second moment of area about local y, Iy (m⁴).
     pub iy: f64,
-    /// Second moment of area about local z, Iz [m⁴].
+    /// Second moment of area about local z, Iz (m⁴).
     pub iz: f64,
-    /// Saint-Venant torsion constant J [m⁴].
+    /// Saint-Venant torsion constant J (m⁴).
     pub j: f64,
-    /// Mass density ρ [kg/m³].
+    /// Mass density ρ (kg/m³).
     pub density: f64,
 }
 
@@ -44,8 +44,8 @@ impl FrameSection {
             ("density", self.density),
         ];
         for (quantity, value) in fields {
-            // `!(>)` also refuses NaN.
-            if !(value > 0.0) || !value.is_finite() {
+            let positive_finite = value.is_finite() && value > 0.0; // false for NaN
+            if !positive_finite {
                 return Err(ElementError::InvalidSection { quantity, value });
             }
         }
@@ -64,7 +64,15 @@ mod tests {
     use super::*;
 
     fn good() -> FrameSection {
-        FrameSection { e: 30e9, g: 12.5e9, area: 0.06, iy: 4.5e-4, iz: 2.0e-4, j: 4.7e-4, density: 2500.0 }
+        FrameSection {
+            e: 30e9,
+            g: 12.5e9,
+            area: 0.06,
+            iy: 4.5e-4,
+            iz: 2.0e-4,
+            j: 4.7e-4,
+            density: 2500.0,
+        }
     }
 
     #[test]
@@ -74,7 +82,8 @@ mod tests {
 
     #[test]
     fn each_bad_quantity_is_named() {
-        let cases: [(&str, fn(&mut FrameSection)); 7] = [
+        type Spoil = fn(&mut FrameSection);
+        let cases: [(&str, Spoil); 7] = [
             ("e", |s| s.e = 0.0),
             ("g", |s| s.g = -1.0),
             ("area", |s| s.area = f64::NAN),
@@ -91,15 +100,20 @@ mod tests {
                 other => panic!("{name}: expected InvalidSection, got {other:?}"),
             }
         }
-        let msg = FrameSection { iz: -2e-4, ..good() }.validate().unwrap_err().to_string();
+        let msg = FrameSection {
+            iz: -2e-4,
+            ..good()
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
         assert!(msg.contains("iz") && msg.contains("-0.0002"), "{msg}");
     }
 
     #[test]
     fn unknown_fields_are_refused_by_serde() {
-        let ok: Result<FrameSection, _> = serde_json::from_str(
-            r#"{"e":1,"g":1,"area":1,"iy":1,"iz":1,"j":1,"density":1}"#,
-        );
+        let ok: Result<FrameSection, _> =
+            serde_json::from_str(r#"{"e":1,"g":1,"area":1,"iy":1,"iz":1,"j":1,"density":1}"#);
         assert!(ok.is_ok());
         let bad: Result<FrameSection, _> = serde_json::from_str(
             r#"{"e":1,"g":1,"area":1,"iy":1,"iz":1,"j":1,"density":1,"rho":1}"#,

@@ -105,7 +105,12 @@ pub trait Element: Debug {
     ///
     /// Errors: wrong length of `u_e`, non-finite `u_e`, and for nonlinear elements a failure of the
     /// material update. On error the trial state is unspecified; the committed state is untouched.
-    fn evaluate(&mut self, u_e: &[f64], request: EvalRequest, out: &mut ElementOutput) -> Result<(), ElementError>;
+    fn evaluate(
+        &mut self,
+        u_e: &[f64],
+        request: EvalRequest,
+        out: &mut ElementOutput,
+    ) -> Result<(), ElementError>;
 
     /// Accept the trial state of the last `evaluate` as the committed state (converged step).
     fn commit(&mut self);
@@ -127,7 +132,12 @@ pub trait Element: Debug {
     /// Cell quantities (member forces, damage max/mean, stress resultants, …) at the total
     /// displacement `u_e` and the COMMITTED state, under the loads `loads` currently applied, into
     /// `values` (length `cell_output_names().len()`).
-    fn cell_output(&self, u_e: &[f64], loads: &AppliedLoads, values: &mut [f64]) -> Result<(), ElementError>;
+    fn cell_output(
+        &self,
+        u_e: &[f64],
+        loads: &AppliedLoads,
+        values: &mut [f64],
+    ) -> Result<(), ElementError>;
 
     /// Number of f64 values of the committed state (0 for elastic elements).
     fn n_state(&self) -> usize;
