@@ -1,1 +1,151 @@
-//! element
+//! Structural finite elements and the interface they share.
+//!
+//! | file               | concept                                                           |
+//! |--------------------|-------------------------------------------------------------------|
+//! | `mod.rs`           | the [`Element`] trait, DOF layout, [`MassKind`], [`AppliedLoads`] |
+//! | `output.rs`        | [`ElementOutput`]: preallocated f_int / K_t scratch               |
+//! | `error.rs`         | [`ElementError`]                                                  |
+//! | `local_frame.rs`   | [`LocalFrame`]: local axes of a line element, T = diag(R,R,R,R)   |
+//! | `frame_section.rs` | [`FrameSection`]: E, G, A, Iy, Iz, J, ρ                           |
+//! | `frame.rs`         | [`ElasticFrame3d`]: 2-node Euler–Bernoulli 3D frame               |
+//!
+//! # DOF layout
+//! Every node carries [`DOFS_PER_NODE`] = 6 DOF, in the order ux uy uz rx ry rz (global axes,
+//! rotations in radians, right-hand rule). Element vectors are node-major: DOF `6 a + k` is
+//! component `k` of local node `a`. The caller maps element nodes to global equation numbers; an
+//! element never sees the mesh, only the coordinates it was built from.
+//!
+//! # State: trial and committed
+//! Path-dependent elements (layered damage shells, fiber beams) keep integration-point state inside
+//! the element ("state lives with the element that computes it"), in two copies:
+//!
+//! ```text
+//!  Newton iteration k:   evaluate(u_k)  — reads COMMITTED state, writes TRIAL state
+//!  step converged:       commit()       — TRIAL → COMMITTED
+//!  step abandoned:       revert()       — TRIAL ← COMMITTED (before a step cut-back)
+//! ```
+//!
+//! `u_e` is always the **total** element displacement, so `evaluate` is a pure function of
+//! (committed state, u_e): calling it twice with the same `u_e` gives the same result, which
+//! line searches and step cut-backs rely on.
+//!
+//! # Checkpoints
+//! The committed state of an element is a flat `[f64]` of [`Element::n_state`] values
+//! ([`Element::save_state`] / [`Element::load_state`]). Flat arrays map directly onto one HDF5
+//! dataset per element kind with per-rank offsets (collective writes), with no per-element
+//! serialization format; the layout of the values is documented by each element.
+//!
+//! # Why a trait
+//! Assembly and the Newmark driver only need this interface; the model may store elements as
+//! `Vec<Box<dyn Element>>` or in one `Vec` per concrete kind (faster, and natural with one
+//! [`ElementOutput`] per element size). The trait is object safe so both work.
+
+mod error;
+mod frame;
+mod frame_section;
+mod local_frame;
+mod output;
+
+use std::fmt::Debug;
+
+use nalgebra::{DMatrix, DVector};
+
+pub use error::ElementError;
+pub use frame::ElasticFrame3d;
+pub use frame_section::FrameSection;
+pub use local_frame::{LocalFrame, Mat12, Vec12};
+pub use output::{ElementOutput, EvalRequest};
+
+/// Degrees of freedom per node: ux uy uz rx ry rz.
+pub const DOFS_PER_NODE: usize = 6;
+
+/// Which mass matrix [`Element::mass`] builds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MassKind {
+    /// Consistent mass M = ∫ ρ Nᵀ N, from the same shape functions as the stiffness.
+    Consistent,
+    /// Lumped (nodal) mass: no coupling between nodes; rotary inertia kept positive so M is
+    /// positive definite and can be factored.
+    Lumped,
+}
+
+/// The loads currently applied on the element's span, which an element needs to turn nodal
+/// displacements into member forces (fixed-end forces of distributed loads).
+///
+/// `Copy + Default`: the default is "no distributed load".
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AppliedLoads {
+    /// Gravitational acceleration vector currently applied (global axes, m/s², already multiplied
+    /// by any load factor); zero when self-weight is not applied.
+    pub gravity: [f64; 3],
+}
+
+/// What every structural element provides to assembly, dynamics, checkpoints and output.
+///
+/// All vectors and matrices are in **global** axes with the node-major layout of the module docs.
+/// Methods that write results take the destination buffer and resize it only when its size is
+/// wrong, so a caller that reuses buffers never allocates.
+pub trait Element: Debug {
+    /// Short name of the element kind, for messages and output groups (e.g. `"elastic_frame_3d"`).
+    fn kind_name(&self) -> &'static str;
+
+    /// Number of nodes.
+    fn n_nodes(&self) -> usize;
+
+    /// Number of DOF: `n_nodes() * DOFS_PER_NODE`.
+    fn n_dofs(&self) -> usize {
+        self.n_nodes() * DOFS_PER_NODE
+    }
+
+    /// Internal force f_int(u_e) and, if requested, the tangent K_t = ∂f_int/∂u_e, at the total
+    /// element displacement `u_e` (length `n_dofs()`), starting from the COMMITTED state. The
+    /// resulting state is stored as the element's TRIAL state. Writes `out` (sized by the element
+    /// with [`ElementOutput::prepare`]) and sets `out.has_tangent`.
+    ///
+    /// Errors: wrong length of `u_e`, non-finite `u_e`, and for nonlinear elements a failure of the
+    /// material update. On error the trial state is unspecified; the committed state is untouched.
+    fn evaluate(
+        &mut self,
+        u_e: &[f64],
+        request: EvalRequest,
+        out: &mut ElementOutput,
+    ) -> Result<(), ElementError>;
+
+    /// Accept the trial state of the last `evaluate` as the committed state (converged step).
+    fn commit(&mut self);
+
+    /// Discard the trial state: it becomes a copy of the committed state (abandoned step).
+    fn revert(&mut self);
+
+    /// Mass matrix of the chosen kind into `m` (resized to `n_dofs() × n_dofs()` if needed).
+    /// Translational and rotary inertia are both included; see each element for what it neglects.
+    fn mass(&self, kind: MassKind, m: &mut DMatrix<f64>);
+
+    /// Equivalent nodal loads of the self weight under the acceleration `g` (global, m/s²) into `f`
+    /// (resized to `n_dofs()` if needed): the consistent load ∫ Nᵀ ρ g.
+    fn gravity_load(&self, g: [f64; 3], f: &mut DVector<f64>);
+
+    /// Names of the scalar cell quantities [`Element::cell_output`] writes, in order.
+    fn cell_output_names(&self) -> &'static [&'static str];
+
+    /// Cell quantities (member forces, damage max/mean, stress resultants, …) at the total
+    /// displacement `u_e` and the COMMITTED state, under the loads `loads` currently applied, into
+    /// `values` (length `cell_output_names().len()`).
+    fn cell_output(
+        &self,
+        u_e: &[f64],
+        loads: &AppliedLoads,
+        values: &mut [f64],
+    ) -> Result<(), ElementError>;
+
+    /// Number of f64 values of the committed state (0 for elastic elements).
+    fn n_state(&self) -> usize;
+
+    /// Write the committed state into `out` (length `n_state()`).
+    fn save_state(&self, out: &mut [f64]) -> Result<(), ElementError>;
+
+    /// Restore the committed (and trial) state from `state` (length `n_state()`), as written by
+    /// [`Element::save_state`].
+    fn load_state(&mut self, state: &[f64]) -> Result<(), ElementError>;
+}
