@@ -41,13 +41,16 @@ impl FrameSection {
             ("iy", self.iy),
             ("iz", self.iz),
             ("j", self.j),
-            ("density", self.density),
         ];
         for (quantity, value) in fields {
             let positive_finite = value.is_finite() && value > 0.0; // false for NaN
             if !positive_finite {
                 return Err(ElementError::InvalidSection { quantity, value });
             }
+        }
+        // A massless member (density 0) is allowed: a static model without self-weight.
+        if !(self.density.is_finite() && self.density >= 0.0) {
+            return Err(ElementError::InvalidSection { quantity: "density", value: self.density });
         }
         Ok(())
     }

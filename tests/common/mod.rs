@@ -141,9 +141,9 @@ pub fn node_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
     let f = hdf5::File::open(dir.join("results.h5")).expect("open results.h5");
     let ids: Vec<u64> = f.dataset("mesh/node_ids").expect("node_ids").read_raw().expect("read node_ids");
     let steps = f.group("steps").expect("steps group");
-    let mut names = steps.member_names().expect("step names");
-    names.sort_by_key(|s| s.parse::<usize>().unwrap_or(0));
-    let last = names.last().expect("a step");
+    let steps: Vec<usize> =
+        steps.member_names().expect("step names").iter().filter_map(|s| s.parse().ok()).collect();
+    let last = steps.iter().max().expect("a step");
     let ds = f.dataset(&format!("steps/{last}/{name}")).expect("field dataset");
     let v: Vec<f64> = ds.read_raw().expect("read field");
     let nc = v.len() / ids.len();
