@@ -101,7 +101,10 @@ pub(crate) fn write_rows<T: H5Type>(
                     std::ptr::null(),
                 ))?;
                 let n = [data.len() as hsize_t];
-                Owned(check(H5Screate_simple(1, n.as_ptr(), std::ptr::null()))?, H5Sclose)
+                Owned(
+                    check(H5Screate_simple(1, n.as_ptr(), std::ptr::null()))?,
+                    H5Sclose,
+                )
             };
             check(H5Dwrite(
                 ds.id(),

@@ -198,7 +198,10 @@ impl XdmfIndex {
 /// never sees a half-written index.
 pub(crate) fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
     use std::io::Write as _;
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp"));
     {
         let mut f = std::fs::File::create(&tmp)?;
@@ -272,12 +275,20 @@ mod tests {
         assert_eq!(t.matches(":/mesh/coordinates<").count(), 3);
         assert!(t.contains("AttributeType=\"Vector\" Center=\"Node\""));
         assert!(t.contains("Dimensions=\"9 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">run.h5:/steps/2/u<"));
-        assert!(t.contains("<Attribute Name=\"s&lt;6&gt;\" AttributeType=\"Matrix\" Center=\"Cell\">"));
+        assert!(
+            t.contains("<Attribute Name=\"s&lt;6&gt;\" AttributeType=\"Matrix\" Center=\"Cell\">")
+        );
         assert!(t.contains("Dimensions=\"4 6\""));
         let parsed: Vec<f64> = t
             .split("<Time Value=\"")
             .skip(1)
-            .map(|rest| rest.split('"').next().unwrap_or("").parse::<f64>().unwrap_or(f64::NAN))
+            .map(|rest| {
+                rest.split('"')
+                    .next()
+                    .unwrap_or("")
+                    .parse::<f64>()
+                    .unwrap_or(f64::NAN)
+            })
             .collect();
         assert_eq!(parsed.len(), 3);
         for (p, e) in parsed.iter().zip(times) {
