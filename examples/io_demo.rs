@@ -24,7 +24,7 @@
 //! 0.30000000000000004, node fields `displacement` (3), `temperature` (1), `u_rot` (6), cell
 //! fields `damage` (1), `stress` (3). Rank 0 prints one line per step; every rank prints the bad
 //! fields it rejected in step 0 (a wrong length; with several ranks also a name that differs
-//! between ranks). The files are byte-for-byte the same data whatever the number of ranks.
+//! between ranks). Every dataset and the XDMF text are the same whatever the number of ranks.
 //!
 //! Optional second argument:
 //! - `--abort-in-step`: `MPI_Abort` inside a fourth step (begun, one field written, never ended),

@@ -79,99 +79,10 @@ impl ResultsWriter {
         let h5_name = format!("{stem}.h5");
         let h5_path = dir.join(&h5_name);
         let xdmf_path = dir.join(format!("{stem}.xdmf"));
-        let rank = comm.rank();
         let comm = comm.duplicate();
 
-        // 1. Local checks, then one all-gather of the piece sizes: every rank checks the offsets
-        //    of all ranks, so all reach the same verdict.
-        let mut problem = mesh.local_problem();
-        if stem.is_empty() || stem.contains(['/', '\\']) {
-            problem = Some(format!(
-                "the file stem '{stem}' is empty or contains a path separator"
-            ));
-        }
-        let topo = if problem.is_none() {
-            mesh.mixed_topology()
-        } else {
-            Vec::new()
-        };
-        let mine = [
-            u64::from(problem.is_none()),
-            mesh.n_owned_nodes() as u64,
-            mesh.n_owned_cells() as u64,
-            topo.len() as u64,
-            mesh.node_offset as u64,
-            mesh.cell_offset as u64,
-            mesh.n_nodes_global as u64,
-            mesh.n_cells_global as u64,
-        ];
-        let size = comm.size() as usize;
-        let mut all = vec![0u64; mine.len() * size];
-        comm.all_gather_into(&mine[..], &mut all[..]);
-        let rows: Vec<&[u64]> = all.chunks_exact(mine.len()).collect();
-        if rows.iter().any(|row| row[0] == 0) {
-            return Err(match problem {
-                Some(reason) => IoError::InvalidMesh {
-                    file: h5_path,
-                    rank,
-                    reason,
-                },
-                None => IoError::Collective {
-                    file: h5_path,
-                    what: "ResultsWriter::create: output mesh".into(),
-                    ranks: rows
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, w)| w[0] == 0)
-                        .map(|(q, _)| q as i32)
-                        .collect(),
-                },
-            });
-        }
-        let (mut node_at, mut cell_at, mut topo_at, mut topo_len) = (0u64, 0u64, 0u64, 0u64);
-        for (q, row) in rows.iter().enumerate() {
-            let reason = if row[4] != node_at {
-                Some(format!(
-                    "node_offset {} but the lower ranks own {node_at} nodes",
-                    row[4]
-                ))
-            } else if row[5] != cell_at {
-                Some(format!(
-                    "cell_offset {} but the lower ranks own {cell_at} cells",
-                    row[5]
-                ))
-            } else if row[6] != rows[0][6] || row[7] != rows[0][7] {
-                Some(format!(
-                    "global counts {} nodes / {} cells differ from rank 0's {} / {}",
-                    row[6], row[7], rows[0][6], rows[0][7]
-                ))
-            } else {
-                None
-            };
-            if let Some(reason) = reason {
-                return Err(IoError::InvalidMesh {
-                    file: h5_path,
-                    rank: q as i32,
-                    reason,
-                });
-            }
-            if q == rank as usize {
-                topo_at = topo_len;
-            }
-            node_at += row[1];
-            cell_at += row[2];
-            topo_len += row[3];
-        }
-        if node_at != mesh.n_nodes_global as u64 || cell_at != mesh.n_cells_global as u64 {
-            return Err(IoError::InvalidMesh {
-                file: h5_path,
-                rank,
-                reason: format!(
-                    "the ranks own {node_at} nodes and {cell_at} cells in total, not the stated {} and {}",
-                    mesh.n_nodes_global, mesh.n_cells_global
-                ),
-            });
-        }
+        // 1. Every rank checks its piece, then all check the offsets of all pieces.
+        let (topo, topo_at, topo_len) = agree_on_layout(&comm, mesh, stem, &h5_path)?;
 
         // 2. The directory, then the file (collective create with the MPI-IO driver).
         let made = std::fs::create_dir_all(dir);
@@ -226,10 +137,8 @@ impl ResultsWriter {
         )?;
         put(
             "/mesh/topology",
-            g.new_dataset::<i64>()
-                .shape([topo_len as usize])
-                .create("topology"),
-            &|d| write_rows(d, &xfer, topo_at as usize, 1, &topo),
+            g.new_dataset::<i64>().shape([topo_len]).create("topology"),
+            &|d| write_rows(d, &xfer, topo_at, 1, &topo),
         )?;
         put(
             "/mesh/cell_ids",
@@ -270,7 +179,7 @@ impl ResultsWriter {
             h5_name,
             n_nodes: n,
             n_cells: c,
-            topology_len: topo_len as usize,
+            topology_len: topo_len,
             mesh_fields: vec![
                 field("node_id", Center::Node, Number::U64, "/mesh/node_ids"),
                 field("cell_id", Center::Cell, Number::U64, "/mesh/cell_ids"),
@@ -568,4 +477,107 @@ impl ResultsWriter {
             source,
         }
     }
+}
+
+/// Collective. Checks this rank's piece of the mesh, then, from one all-gather of the piece sizes,
+/// that the pieces tile the global node and cell ranges in rank order; every rank reaches the same
+/// verdict from the same data. Returns this rank's Mixed topology, its offset in the global
+/// topology array (the exclusive prefix sum of the ranks' lengths) and the global length.
+fn agree_on_layout(
+    comm: &SimpleCommunicator,
+    mesh: &OutputMesh,
+    stem: &str,
+    h5_path: &Path,
+) -> Result<(Vec<i64>, usize, usize), IoError> {
+    let rank = comm.rank();
+    let h5_path = h5_path.to_path_buf();
+    let mut problem = mesh.local_problem();
+    if stem.is_empty() || stem.contains(['/', '\\']) {
+        problem = Some(format!(
+            "the file stem '{stem}' is empty or contains a path separator"
+        ));
+    }
+    let topo = if problem.is_none() {
+        mesh.mixed_topology()
+    } else {
+        Vec::new()
+    };
+    let mine = [
+        u64::from(problem.is_none()),
+        mesh.n_owned_nodes() as u64,
+        mesh.n_owned_cells() as u64,
+        topo.len() as u64,
+        mesh.node_offset as u64,
+        mesh.cell_offset as u64,
+        mesh.n_nodes_global as u64,
+        mesh.n_cells_global as u64,
+    ];
+    let size = comm.size() as usize;
+    let mut all = vec![0u64; mine.len() * size];
+    comm.all_gather_into(&mine[..], &mut all[..]);
+    let rows: Vec<&[u64]> = all.chunks_exact(mine.len()).collect();
+    if rows.iter().any(|row| row[0] == 0) {
+        return Err(match problem {
+            Some(reason) => IoError::InvalidMesh {
+                file: h5_path,
+                rank,
+                reason,
+            },
+            None => IoError::Collective {
+                file: h5_path,
+                what: "ResultsWriter::create: output mesh".into(),
+                ranks: rows
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, w)| w[0] == 0)
+                    .map(|(q, _)| q as i32)
+                    .collect(),
+            },
+        });
+    }
+    let (mut node_at, mut cell_at, mut topo_at, mut topo_len) = (0u64, 0u64, 0u64, 0u64);
+    for (q, row) in rows.iter().enumerate() {
+        let reason = if row[4] != node_at {
+            Some(format!(
+                "node_offset {} but the lower ranks own {node_at} nodes",
+                row[4]
+            ))
+        } else if row[5] != cell_at {
+            Some(format!(
+                "cell_offset {} but the lower ranks own {cell_at} cells",
+                row[5]
+            ))
+        } else if row[6] != rows[0][6] || row[7] != rows[0][7] {
+            Some(format!(
+                "global counts {} nodes / {} cells differ from rank 0's {} / {}",
+                row[6], row[7], rows[0][6], rows[0][7]
+            ))
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            return Err(IoError::InvalidMesh {
+                file: h5_path,
+                rank: q as i32,
+                reason,
+            });
+        }
+        if q == rank as usize {
+            topo_at = topo_len;
+        }
+        node_at += row[1];
+        cell_at += row[2];
+        topo_len += row[3];
+    }
+    if node_at != mesh.n_nodes_global as u64 || cell_at != mesh.n_cells_global as u64 {
+        return Err(IoError::InvalidMesh {
+            file: h5_path,
+            rank,
+            reason: format!(
+                "the ranks own {node_at} nodes and {cell_at} cells in total, not the stated {} and {}",
+                mesh.n_nodes_global, mesh.n_cells_global
+            ),
+        });
+    }
+    Ok((topo, topo_at as usize, topo_len as usize))
 }
