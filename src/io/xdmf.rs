@@ -1,0 +1,311 @@
+//! The XDMF 3 index: XML text that tells ParaView and meshio where the heavy data lives in the HDF5
+//! file.
+//!
+//! Layout (chosen so that ParaView 5.11 and `meshio.xdmf.TimeSeriesReader` both read it):
+//! ```text
+//! Xdmf Version="3.0"
+//! └ Domain
+//!   └ Grid "results"  Collection / Temporal        (before the first step: a single Uniform "mesh")
+//!     ├ Grid "step_0" Uniform: Time, Topology, Geometry, mesh attributes, step-0 fields
+//!     └ Grid "step_1" ...
+//! ```
+//! Every step grid repeats the Topology and Geometry *elements*, but they reference the same HDF5
+//! datasets (`/mesh/topology`, `/mesh/coordinates`): nothing heavy is copied. This avoids XInclude,
+//! which meshio's reader does not resolve (it takes the mesh from the first grid of the collection).
+//!
+//! Times are written with Rust's shortest round-trip formatting (`{:?}`), so `float(text)` gives
+//! back the exact `f64`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Where a field lives on the mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Center {
+    /// One value (tuple) per node.
+    Node,
+    /// One value (tuple) per cell.
+    Cell,
+}
+
+/// The stored number type of a dataset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Number {
+    /// IEEE double.
+    F64,
+    /// 32-bit signed integer.
+    I32,
+    /// 64-bit unsigned integer.
+    U64,
+}
+
+impl Number {
+    /// XDMF `NumberType` and `Precision`.
+    fn xdmf(self) -> (&'static str, u8) {
+        match self {
+            Number::F64 => ("Float", 8),
+            Number::I32 => ("Int", 4),
+            Number::U64 => ("UInt", 8),
+        }
+    }
+}
+
+/// One attribute of a grid: a named dataset in the HDF5 file.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct FieldRef {
+    /// Attribute name shown by the readers.
+    pub name: String,
+    /// Node or cell field.
+    pub center: Center,
+    /// Components per node or cell (1 scalar, 3 vector, other matrix with `n_comp` columns).
+    pub n_comp: usize,
+    /// Stored number type.
+    pub number: Number,
+    /// HDF5 path of the dataset, e.g. `/steps/0/displacement`.
+    pub h5_path: String,
+}
+
+/// One completed output step.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct StepRef {
+    /// Its time.
+    pub time: f64,
+    /// Its fields, in the order written.
+    pub fields: Vec<FieldRef>,
+}
+
+/// Everything the XDMF index says.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct XdmfIndex {
+    /// The HDF5 file name, relative to the XDMF file's directory.
+    pub h5_name: String,
+    /// Number of nodes.
+    pub n_nodes: usize,
+    /// Number of cells.
+    pub n_cells: usize,
+    /// Length of the Mixed topology array.
+    pub topology_len: usize,
+    /// Attributes of the mesh itself, repeated in every step (group, ids, cell types).
+    pub mesh_fields: Vec<FieldRef>,
+    /// Completed steps.
+    pub steps: Vec<StepRef>,
+}
+
+/// Escapes the five XML special characters for use in attribute values and text.
+pub(crate) fn xml_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+impl XdmfIndex {
+    /// The XML text (UTF-8, one element per line).
+    pub(crate) fn render(&self) -> String {
+        let mut s = String::new();
+        s.push_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
+        s.push_str("<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n");
+        s.push_str("  <Domain>\n");
+        if self.steps.is_empty() {
+            s.push_str("    <Grid Name=\"mesh\" GridType=\"Uniform\">\n");
+            self.push_mesh(&mut s, "      ");
+            s.push_str("    </Grid>\n");
+        } else {
+            s.push_str(
+                "    <Grid Name=\"results\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+            );
+            for (k, step) in self.steps.iter().enumerate() {
+                let _ = writeln!(s, "      <Grid Name=\"step_{k}\" GridType=\"Uniform\">");
+                let _ = writeln!(s, "        <Time Value=\"{:?}\"/>", step.time);
+                self.push_mesh(&mut s, "        ");
+                for f in &step.fields {
+                    self.push_attribute(&mut s, "        ", f);
+                }
+                s.push_str("      </Grid>\n");
+            }
+            s.push_str("    </Grid>\n");
+        }
+        s.push_str("  </Domain>\n</Xdmf>\n");
+        s
+    }
+
+    /// Topology, geometry and the mesh attributes.
+    fn push_mesh(&self, s: &mut String, ind: &str) {
+        let h5 = xml_escape(&self.h5_name);
+        let _ = writeln!(
+            s,
+            "{ind}<Topology TopologyType=\"Mixed\" NumberOfElements=\"{}\">",
+            self.n_cells
+        );
+        let _ = writeln!(
+            s,
+            "{ind}  <DataItem Dimensions=\"{}\" NumberType=\"Int\" Precision=\"8\" \
+             Format=\"HDF\">{h5}:/mesh/topology</DataItem>",
+            self.topology_len
+        );
+        let _ = writeln!(s, "{ind}</Topology>");
+        let _ = writeln!(s, "{ind}<Geometry GeometryType=\"XYZ\">");
+        let _ = writeln!(
+            s,
+            "{ind}  <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" \
+             Format=\"HDF\">{h5}:/mesh/coordinates</DataItem>",
+            self.n_nodes
+        );
+        let _ = writeln!(s, "{ind}</Geometry>");
+        for f in &self.mesh_fields {
+            self.push_attribute(s, ind, f);
+        }
+    }
+
+    /// One `<Attribute>` with its HDF5 data item.
+    fn push_attribute(&self, s: &mut String, ind: &str, f: &FieldRef) {
+        let (center, rows) = match f.center {
+            Center::Node => ("Node", self.n_nodes),
+            Center::Cell => ("Cell", self.n_cells),
+        };
+        let (kind, dims) = match f.n_comp {
+            1 => ("Scalar", format!("{rows}")),
+            3 => ("Vector", format!("{rows} 3")),
+            n => ("Matrix", format!("{rows} {n}")),
+        };
+        let (number, precision) = f.number.xdmf();
+        let _ = writeln!(
+            s,
+            "{ind}<Attribute Name=\"{}\" AttributeType=\"{kind}\" Center=\"{center}\">",
+            xml_escape(&f.name)
+        );
+        let _ = writeln!(
+            s,
+            "{ind}  <DataItem Dimensions=\"{dims}\" NumberType=\"{number}\" Precision=\"{precision}\" \
+             Format=\"HDF\">{}:{}</DataItem>",
+            xml_escape(&self.h5_name),
+            xml_escape(&f.h5_path)
+        );
+        let _ = writeln!(s, "{ind}</Attribute>");
+    }
+}
+
+/// Writes `text` to `path` atomically: a temporary file in the same directory, flushed to disk,
+/// then renamed over `path` (rename is atomic within one file system), so a reader or a killed run
+/// never sees a half-written index.
+pub(crate) fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp"));
+    {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+    }
+    std::fs::rename(&tmp, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn index() -> XdmfIndex {
+        XdmfIndex {
+            h5_name: "run.h5".into(),
+            n_nodes: 9,
+            n_cells: 4,
+            topology_len: 20,
+            mesh_fields: vec![FieldRef {
+                name: "group".into(),
+                center: Center::Cell,
+                n_comp: 1,
+                number: Number::I32,
+                h5_path: "/mesh/cell_group".into(),
+            }],
+            steps: vec![],
+        }
+    }
+
+    #[test]
+    fn mesh_only_index_is_one_uniform_grid() {
+        let t = index().render();
+        assert!(t.contains("<Grid Name=\"mesh\" GridType=\"Uniform\">"));
+        assert!(!t.contains("Temporal"));
+        assert!(t.contains("<Topology TopologyType=\"Mixed\" NumberOfElements=\"4\">"));
+        assert!(t.contains("Dimensions=\"20\" NumberType=\"Int\" Precision=\"8\""));
+        assert!(t.contains(">run.h5:/mesh/coordinates</DataItem>"));
+        assert!(t.contains("Dimensions=\"4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">run.h5:/mesh/cell_group"));
+    }
+
+    #[test]
+    fn steps_reference_the_same_mesh_and_keep_times_exact() {
+        let mut x = index();
+        // 0.1 + 0.2 = 0.30000000000000004 in binary64: the text must give back the same bits.
+        let times = [0.0, 0.1 + 0.2, 1.0e-7];
+        for (k, &time) in times.iter().enumerate() {
+            x.steps.push(StepRef {
+                time,
+                fields: vec![
+                    FieldRef {
+                        name: "u".into(),
+                        center: Center::Node,
+                        n_comp: 3,
+                        number: Number::F64,
+                        h5_path: format!("/steps/{k}/u"),
+                    },
+                    FieldRef {
+                        name: "s<6>".into(),
+                        center: Center::Cell,
+                        n_comp: 6,
+                        number: Number::F64,
+                        h5_path: format!("/steps/{k}/s<6>"),
+                    },
+                ],
+            });
+        }
+        let t = x.render();
+        assert!(t.contains("CollectionType=\"Temporal\""));
+        assert_eq!(t.matches(":/mesh/topology<").count(), 3);
+        assert_eq!(t.matches(":/mesh/coordinates<").count(), 3);
+        assert!(t.contains("AttributeType=\"Vector\" Center=\"Node\""));
+        assert!(t.contains("Dimensions=\"9 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">run.h5:/steps/2/u<"));
+        assert!(
+            t.contains("<Attribute Name=\"s&lt;6&gt;\" AttributeType=\"Matrix\" Center=\"Cell\">")
+        );
+        assert!(t.contains("Dimensions=\"4 6\""));
+        let parsed: Vec<f64> = t
+            .split("<Time Value=\"")
+            .skip(1)
+            .map(|rest| {
+                rest.split('"')
+                    .next()
+                    .unwrap_or("")
+                    .parse::<f64>()
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+        assert_eq!(parsed.len(), 3);
+        for (p, e) in parsed.iter().zip(times) {
+            assert_eq!(p.to_bits(), e.to_bits(), "time {e} printed as {p}");
+        }
+        assert_eq!(t.matches("<Grid").count(), t.matches("</Grid>").count());
+    }
+
+    #[test]
+    fn atomic_write_replaces_the_file() {
+        let dir = std::env::temp_dir().join(format!("masonry_xdmf_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a.xdmf");
+        write_atomic(&p, "one").unwrap();
+        write_atomic(&p, "two").unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "two");
+        assert!(!dir.join(".a.xdmf.tmp").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
