@@ -10,7 +10,7 @@ Printed keys:
   cells_gmsh                {point|line|triangle|quad: count} from /mesh/cell_types (true kinds)
   times                     step times from the XDMF via meshio (JSON floats round-trip exactly)
   h5_times                  /steps/times from h5py
-  steps                     per step: time, point_data / cell_data {name: {shape, min, max}}
+  steps                     per step: time, point_data / cell_data {name: {shape, min, max, and max_norm (largest row norm) for vectors}}
   fields                    {name: {center, n_comp}} over all steps (mesh attributes included)
   h5_matches_meshio         every field meshio returned equals /steps/<k>/<name> bit for bit
 Exit status 0 when both readers succeeded, 1 otherwise (the error is printed as JSON "error").
@@ -29,8 +29,11 @@ MESH_ATTRS = {"node_id", "cell_id", "group", "gmsh_type"}
 
 def summary(a):
     a = np.asarray(a)
-    return {"shape": list(a.shape), "min": float(a.min()) if a.size else None,
-            "max": float(a.max()) if a.size else None}
+    out = {"shape": list(a.shape), "min": float(a.min()) if a.size else None,
+           "max": float(a.max()) if a.size else None}
+    if a.ndim == 2 and a.size:
+        out["max_norm"] = float(np.sqrt((a * a).sum(axis=1)).max())
+    return out
 
 
 def main(path):

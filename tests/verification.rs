@@ -49,7 +49,7 @@ fn cantilever(name: &str, load: [f64; 6]) -> Vec<f64> {
 #[test]
 fn cantilever_bending_in_the_xy_plane() {
     // P along y bends about local z: δ = PL³/(3 E Iz), θz = PL²/(2 E Iz).
-    let (p, l) = (1.0e3, 3.0);
+    let (p, l): (f64, f64) = (1.0e3, 3.0);
     let v = cantilever("cant-y", [0.0, p, 0.0, 0.0, 0.0, 0.0]);
     let iz = SEC[2];
     assert!(rel(v[1], p * l.powi(3) / (3.0 * E * iz)) < TOL, "uy = {}", v[1]);
@@ -60,7 +60,7 @@ fn cantilever_bending_in_the_xy_plane() {
 #[test]
 fn cantilever_bending_in_the_xz_plane() {
     // P along z bends about local y: δ = PL³/(3 E Iy), θy = −PL²/(2 E Iy) (right-hand rule).
-    let (p, l) = (1.0e3, 3.0);
+    let (p, l): (f64, f64) = (1.0e3, 3.0);
     let v = cantilever("cant-z", [0.0, 0.0, p, 0.0, 0.0, 0.0]);
     let iy = SEC[1];
     assert!(rel(v[2], p * l.powi(3) / (3.0 * E * iy)) < TOL, "uz = {}", v[2]);

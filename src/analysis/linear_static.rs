@@ -41,7 +41,8 @@ pub struct LinearStaticSummary {
     pub equilibrium_residual: f64,
     /// Sum of applied loads (Fx Fy Fz; moments about the origin Mx My Mz).
     pub applied_sum: [f64; 6],
-    /// Sum of support reactions, same convention.
+    /// Sum of support reactions (forces of the supports on the structure), same convention;
+    /// equilibrium: `applied_sum + reaction_sum = 0`.
     pub reaction_sum: [f64; 6],
     /// Largest translation magnitude.
     pub max_displacement: f64,
@@ -163,7 +164,7 @@ pub fn run(
     ));
     log.info(format!(
         "reactions      R = ({:.6e}, {:.6e}, {:.6e}) N",
-        -reaction_sum[0], -reaction_sum[1], -reaction_sum[2]
+        reaction_sum[0], reaction_sum[1], reaction_sum[2]
     ));
 
     // Largest translation.
@@ -181,8 +182,7 @@ pub fn run(
 
     // Output.
     let t0 = Instant::now();
-    let r_local = r_owned; // reactions are zero-free only on fixed rows; written on all rows
-    output::write_static_results(ctx, job, mesh, model, &disc, &u_local, &r_local)?;
+    output::write_static_results(ctx, job, mesh, model, &disc, &u_local, &r_owned)?;
     t.output = t0.elapsed().as_secs_f64();
     log.info(format!("results: {}", job.output_dir.join("results.xdmf").display()));
 

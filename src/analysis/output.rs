@@ -79,12 +79,13 @@ pub fn write_static_results(
     };
     w.write_node_field("displacement", 3, &pick(u_local, 0))?;
     w.write_node_field("rotation", 3, &pick(u_local, 3))?;
-    // Reactions: the residual on fixed DOFs (zero elsewhere), sign as the support acts on the structure.
+    // Reactions R = f_int(u) − f_ext on fixed DOFs (K u = f_ext + R): the forces the supports
+    // apply to the structure. Zero on free DOFs.
     let mut react = vec![0.0; 6 * n_owned];
     for (i, &n) in dofs.owned.iter().enumerate() {
         for d in 0..6 {
             if dofs.is_fixed(n, d) {
-                react[6 * i + d] = -r_owned[6 * i + d];
+                react[6 * i + d] = r_owned[6 * i + d];
             }
         }
     }
