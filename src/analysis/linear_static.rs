@@ -9,7 +9,7 @@ use super::Discretization;
 use crate::config::{Job, MatrixFormat};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::Context;
+use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Matrix, Petsc, Vector};
 use crate::run::Error;
 use mpi::collective::SystemOperation;
@@ -120,7 +120,9 @@ pub fn run(
     ksp.set_pc_type("cholesky")?;
     ksp.set_factor_solver("mumps")?;
     ksp.set_from_options()?;
-    let stats = ksp.solve(&f, &mut u)?;
+    // KSP failures are collective (every rank sees the same converged reason): agree on them so
+    // the message is printed once and the ranks exit together.
+    let stats = agree(&ctx.comm, ksp.solve(&f, &mut u).map_err(Error::from), Error::exit_code)?;
     t.solve = t0.elapsed().as_secs_f64();
     let ksp_desc = ksp.describe()?;
     log.info(format!("solve: {:.3} s, {} iteration(s), {ksp_desc}", t.solve, stats.iterations));
@@ -182,7 +184,9 @@ pub fn run(
 
     // Output.
     let t0 = Instant::now();
-    output::write_static_results(ctx, job, mesh, model, &disc, &u_local, &r_owned)?;
+    // The writer checks its arguments across ranks before each collective call, so its errors
+    // are seen by every rank.
+    agree(&ctx.comm, output::write_static_results(ctx, job, mesh, model, &disc, &u_local, &r_owned), Error::exit_code)?;
     t.output = t0.elapsed().as_secs_f64();
     log.info(format!("results: {}", job.output_dir.join("results.xdmf").display()));
 

@@ -35,7 +35,7 @@ impl Job {
         let spec: StructuralJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
         validate::validate_structural(&source, &spec)?;
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let resolve = |p: &Path| if p.is_absolute() { p.to_path_buf() } else { folder.join(p) };
+        let resolve = |p: &Path| normalize(&if p.is_absolute() { p.to_path_buf() } else { folder.join(p) });
         let mesh_file = resolve(&spec.mesh.file);
         let stem = path.file_stem().map_or_else(|| "job".into(), |s| s.to_string_lossy().into_owned());
         let output_dir = match &spec.output.dir {
@@ -63,8 +63,43 @@ impl Job {
     }
 }
 
+/// Lexically removes `.` and `name/..` pairs (`jobs/../meshes/a.msh` → `meshes/a.msh`), so the
+/// paths in messages read as the user would write them. Leading `..` are kept.
+pub fn normalize(p: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out: Vec<Component> = Vec::new();
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => match out.last() {
+                Some(Component::Normal(_)) => {
+                    out.pop();
+                }
+                Some(Component::RootDir) => {}
+                _ => out.push(c),
+            },
+            _ => out.push(c),
+        }
+    }
+    if out.is_empty() {
+        PathBuf::from(".")
+    } else {
+        out.iter().collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn normalize_removes_dot_dot_pairs() {
+        use super::normalize;
+        use std::path::Path;
+        assert_eq!(normalize(Path::new("jobs/../meshes/a.msh")), Path::new("meshes/a.msh"));
+        assert_eq!(normalize(Path::new("../x/./y")), Path::new("../x/y"));
+        assert_eq!(normalize(Path::new("/a/../../b")), Path::new("/b"));
+        assert_eq!(normalize(Path::new("a/..")), Path::new("."));
+    }
+
     use super::*;
 
     fn load_str(text: &str) -> Result<Job, ConfigError> {
