@@ -19,7 +19,7 @@ done
 
 debs=(build-essential pkg-config libclang-dev libopenmpi-dev openmpi-bin
       petsc-dev slepc-dev libhdf5-openmpi-dev libmetis-dev)
-[ "$want_paraview" = 1 ] && debs+=(paraview python3-paraview)
+[ "$want_paraview" = 1 ] && debs+=(paraview python3-paraview xvfb xauth)
 
 missing=()
 for p in "${debs[@]}"; do

@@ -77,8 +77,13 @@ const PLANE_XZ: [usize; 4] = [2, 4, 8, 10];
 const S_XZ: [f64; 4] = [1.0, -1.0, 1.0, -1.0];
 
 /// Names of the cell quantities: member end forces in local axes at node 1 then node 2.
-const CELL_OUTPUT_NAMES: [&str; 12] = [
-    "N_1", "Vy_1", "Vz_1", "T_1", "My_1", "Mz_1", "N_2", "Vy_2", "Vz_2", "T_2", "My_2", "Mz_2",
+/// Cell outputs: `axial_force` (engineering sign: tension positive; the mean of the two ends,
+/// `(N_2 − N_1)/2`, which differs from either end only by the axial part of a distributed
+/// load), then the twelve end forces in local axes as the element applies them to its nodes
+/// (OpenSees `localForce`: `N_1 < 0` in tension).
+const CELL_OUTPUT_NAMES: [&str; 13] = [
+    "axial_force", "N_1", "Vy_1", "Vz_1", "T_1", "My_1", "Mz_1", "N_2", "Vy_2", "Vz_2", "T_2", "My_2",
+    "Mz_2",
 ];
 
 /// A 2-node, 12-DOF linear elastic 3D frame element (Euler–Bernoulli). See the module docs for the
@@ -314,7 +319,8 @@ impl Element for ElasticFrame3d {
     ) -> Result<(), ElementError> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let f = self.end_forces(u_e, loads)?;
-        values.copy_from_slice(f.as_slice());
+        values[0] = 0.5 * (f[6] - f[0]);
+        values[1..].copy_from_slice(f.as_slice());
         Ok(())
     }
 
@@ -532,16 +538,17 @@ mod tests {
             let mut ue = [0.0; 12];
             ue[6..9].copy_from_slice(ug.as_slice());
             ue[9..12].copy_from_slice(rg.as_slice());
-            let mut vals = [0.0; 12];
+            let mut vals = [0.0; 13];
             el.cell_output(&ue, &AppliedLoads::default(), &mut vals)
                 .unwrap();
             let want = [0.0, -p, 0.0, 0.0, 0.0, -p * l, 0.0, p, 0.0, 0.0, 0.0, 0.0];
+            assert!(vals[0].abs() < 1e-9 * p, "no axial force under a transverse load");
             for i in 0..12 {
                 assert!(
-                    (vals[i] - want[i]).abs() < 1e-9 * p * l,
+                    (vals[1 + i] - want[i]).abs() < 1e-9 * p * l,
                     "{}: {} vs {}",
-                    CELL_OUTPUT_NAMES[i],
-                    vals[i],
+                    CELL_OUTPUT_NAMES[1 + i],
+                    vals[1 + i],
                     want[i]
                 );
             }
@@ -584,18 +591,18 @@ mod tests {
                 want[i]
             );
         }
-        let mut vals = [0.0; 12];
+        let mut vals = [0.0; 13];
         el.cell_output(&[0.0; 12], &AppliedLoads { gravity: g }, &mut vals)
             .unwrap();
         for i in 0..12 {
             assert!(
-                (vals[i] + want[i]).abs() < 1e-12 * w * l * l,
+                (vals[1 + i] + want[i]).abs() < 1e-12 * w * l * l,
                 "{}: {}",
-                CELL_OUTPUT_NAMES[i],
-                vals[i]
+                CELL_OUTPUT_NAMES[1 + i],
+                vals[1 + i]
             );
         }
-        assert!(vals[2] > 0.0 && vals[8] > 0.0, "supports push up");
+        assert!(vals[3] > 0.0 && vals[9] > 0.0, "supports push up");
     }
 
     /// Two elements, fixed-fixed, self weight: Euler–Bernoulli elements with consistent loads give
@@ -628,11 +635,11 @@ mod tests {
         );
         let mut ue = [0.0; 12];
         ue[6..12].copy_from_slice(u.as_slice());
-        let mut vals = [0.0; 12];
+        let mut vals = [0.0; 13];
         e1.cell_output(&ue, &AppliedLoads { gravity: g }, &mut vals)
             .unwrap();
-        assert_rel(vals[4].abs(), w * l * l / 12.0, 1e-10, "end moment");
-        assert_rel(vals[2], w * l / 2.0, 1e-10, "end shear");
+        assert_rel(vals[5].abs(), w * l * l / 12.0, 1e-10, "end moment");
+        assert_rel(vals[3], w * l / 2.0, 1e-10, "end shear");
     }
 
     /// Oblique element: the nodal loads add up to the weight ρ A L g, and their moment about node 1
@@ -847,6 +854,22 @@ mod tests {
         assert!((&out.k_t - &k).amax() == 0.0);
         assert!((&out.f_int - &k * DVector::from_vec(u)).amax() < 1e-12 * out.f_int.amax());
         assert_eq!(el.n_dofs(), 12);
-        assert_eq!(el.cell_output_names().len(), 12);
+        assert_eq!(el.cell_output_names().len(), 13);
+    }
+
+    /// A bar stretched by δ along its axis carries N = EA δ / L in tension: `axial_force` is
+    /// +EAδ/L (engineering sign), N_1 = −EAδ/L and N_2 = +EAδ/L (OpenSees localForce), 1e-12.
+    #[test]
+    fn axial_force_is_positive_in_tension() {
+        let s = section();
+        let el = ElasticFrame3d::new([0.0; 3], [2.0, 0.0, 0.0], [0.0, 0.0, 1.0], s).unwrap();
+        let delta = 1e-3;
+        let mut ue = [0.0; 12];
+        ue[6] = delta;
+        let mut vals = [0.0; 13];
+        el.cell_output(&ue, &AppliedLoads::default(), &mut vals).unwrap();
+        let n = s.e * s.area * delta / 2.0;
+        assert!((vals[0] - n).abs() < 1e-12 * n, "axial_force {}", vals[0]);
+        assert!((vals[1] + n).abs() < 1e-12 * n && (vals[7] - n).abs() < 1e-12 * n, "{vals:?}");
     }
 }
