@@ -160,3 +160,24 @@ fn help_and_version() {
     assert!(out.status.success());
     assert!(stdout(&out).contains(env!("CARGO_PKG_VERSION")));
 }
+
+#[test]
+fn an_error_on_one_rank_ends_every_rank() {
+    // Rank 1 fails on entering assembly while rank 0 goes on into the collective assembly: the
+    // failing rank must print its message and abort the job, not leave rank 0 waiting forever
+    // (run() fails the test after its time limit).
+    let dir = scratch("one-rank-fails");
+    let job = valid_case(&dir);
+    let mut cmd = std::process::Command::new("mpirun");
+    cmd.args(["-n", "2", "--oversubscribe", "--bind-to", "none"])
+        .arg(exe())
+        .arg(&job)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("MASONRY_HPC_INJECT_FAULT", "assembly@1");
+    let out = run_with_timeout(cmd, std::time::Duration::from_secs(60));
+    let err = stderr(&out);
+    assert!(!out.status.success(), "{err}");
+    assert!(err.contains("error (rank 1): fault injected at phase 'assembly' on rank 1"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -91,6 +91,7 @@ pub fn run(
         }
     };
     k.set_option_symmetric(true)?;
+    k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
     let ghost_dofs = dofs.ghost_dofs();
     let mut u = Vector::new_ghosted(&ctx.comm, n_owned, &ghost_dofs)?;
     let mut f = Vector::new_mpi(&ctx.comm, n_owned, None)?;
@@ -106,6 +107,7 @@ pub fn run(
     ));
 
     // Assemble.
+    crate::run::fault::inject("assembly", ctx.rank)?;
     let t0 = Instant::now();
     assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k)?;
     assembly::assemble_loads(&disc, mesh, model, Rows::Free, &mut f)?;

@@ -4,5 +4,7 @@ pub mod assembly;
 mod discretization;
 pub mod linear_static;
 pub mod output;
+mod rigid_modes;
 
 pub use discretization::{default_orientation, Discretization};
+pub use rigid_modes::rigid_body_modes;

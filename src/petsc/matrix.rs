@@ -185,6 +185,49 @@ impl Matrix {
         petsc_call!(MatSetOption(self.raw, sys::MAT_SYMMETRY_ETERNAL, flag))
     }
 
+    /// Attaches a near-null space — for a structure, its rigid-body modes — which algebraic
+    /// multigrid (GAMG, ML) uses to build coarse spaces; other solvers ignore it. The vectors are
+    /// orthonormalized here by modified Gram–Schmidt (`MatNullSpaceCreate` requires it), and a
+    /// vector left with less than 1e-10 of its norm (dependent on the others) is dropped.
+    /// Returns how many were kept. Collective.
+    pub fn set_near_null_space(
+        &mut self,
+        comm: &impl PetscComm,
+        mut vecs: std::vec::Vec<Vector>,
+    ) -> Result<usize, PetscError> {
+        let mut kept: std::vec::Vec<Vector> = std::vec::Vec::with_capacity(vecs.len());
+        for mut v in vecs.drain(..) {
+            let n0 = v.norm2()?;
+            if n0 == 0.0 {
+                continue;
+            }
+            for q in &kept {
+                let c = v.dot(q)?;
+                v.axpy(-c, q)?;
+            }
+            let n = v.norm2()?;
+            if n > 1e-10 * n0 {
+                v.scale(1.0 / n)?;
+                kept.push(v);
+            }
+        }
+        let raws: std::vec::Vec<sys::Vec> = kept.iter().map(Vector::as_raw).collect();
+        let mut ns: sys::MatNullSpace = std::ptr::null_mut();
+        petsc_call!(MatNullSpaceCreate(
+            comm.as_raw(),
+            sys::PETSC_FALSE,
+            to_petsc_int(raws.len(), "MatNullSpaceCreate", "number of vectors")?,
+            raws.as_ptr(),
+            &mut ns
+        ))?;
+        let set = petsc_call!(MatSetNearNullSpace(self.raw, ns));
+        // The matrix holds its own reference; release ours whatever happened.
+        let destroyed = petsc_call!(MatNullSpaceDestroy(&mut ns));
+        set?;
+        destroyed?;
+        Ok(kept.len())
+    }
+
     /// Global row range `[start, end)` owned by this rank.
     pub fn ownership_range(&self) -> Result<(usize, usize), PetscError> {
         let (mut lo, mut hi) = (0, 0);
@@ -258,6 +301,25 @@ mod tests {
     /// 1/(1+|i−j|) + 10·δᵢⱼ where blocks (0,0), (0,1), (1,1), (1,0) are all present.
     fn entry(i: usize, j: usize) -> f64 {
         1.0 / (1.0 + i.abs_diff(j) as f64) + if i == j { 10.0 } else { 0.0 }
+    }
+
+    /// Dependent vectors are dropped from a near-null space: {1, 2·1, e_0} spans 2 dimensions.
+    #[test]
+    fn near_null_space_keeps_independent_vectors() {
+        with_petsc(|comm| {
+            let n = 8;
+            let mut a = test_matrices::laplacian_1d(comm, n);
+            let mk = |f: &dyn Fn(usize) -> f64| {
+                let mut v = Vector::new_mpi(comm, n, None).unwrap();
+                let idx: Vec<i32> = (0..n as i32).collect();
+                let vals: Vec<f64> = (0..n).map(f).collect();
+                v.set_values(&idx, &vals).unwrap();
+                v.assemble().unwrap();
+                v
+            };
+            let vecs = vec![mk(&|_| 1.0), mk(&|_| 2.0), mk(&|i| if i == 0 { 1.0 } else { 0.0 })];
+            assert_eq!(a.set_near_null_space(comm, vecs).unwrap(), 2);
+        });
     }
 
     #[test]

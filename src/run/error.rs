@@ -58,6 +58,9 @@ pub enum Error {
     #[error("results folder {} already holds results of a previous run, and [output] existing = \"error\"; \
              move them away or set existing = \"backup\" or \"overwrite\"", .0.display())]
     OutputExists(std::path::PathBuf),
+    /// A failure injected for testing (see `run::fault`).
+    #[error("{0}")]
+    Injected(String),
     /// An error some rank had, that every rank now knows.
     #[error(transparent)]
     Agreed(#[from] Agreed),

@@ -1,6 +1,7 @@
 //! Running a job: load and check the input on every rank (errors agreed collectively), start
 //! PETSc with the job's options under the command line's, run the analysis, write the summary.
 mod error;
+pub mod fault;
 mod output_dir;
 
 pub use error::Error;

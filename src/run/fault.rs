@@ -1,0 +1,20 @@
+//! Fault injection, for testing that an error on one rank ends every rank.
+//!
+//! `MASONRY_HPC_INJECT_FAULT=<phase>@<rank>` makes rank `<rank>` fail when it reaches the named
+//! phase (e.g. `assembly@1`), while the other ranks go on into the phase's collective calls.
+//! Without the abort in `main` they would wait forever; with it, the run ends with the failing
+//! rank's message. The variable is read once per phase; it is unset in normal use.
+use super::Error;
+
+/// The environment variable that injects a fault.
+pub const FAULT_VAR: &str = "MASONRY_HPC_INJECT_FAULT";
+
+/// Returns an error if the fault variable names this `phase` and `rank`.
+pub fn inject(phase: &str, rank: usize) -> Result<(), Error> {
+    match std::env::var(FAULT_VAR) {
+        Ok(spec) if spec == format!("{phase}@{rank}") => {
+            Err(Error::Injected(format!("fault injected at phase '{phase}' on rank {rank} ({FAULT_VAR}={spec})")))
+        }
+        _ => Ok(()),
+    }
+}
