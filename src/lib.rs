@@ -5,6 +5,7 @@
 //! | module      | concept                                                                  |
 //! |-------------|--------------------------------------------------------------------------|
 //! | [`config`]  | typed job files (TOML), validated once at load                          |
+//! | [`dem`]     | the 2D discrete-element virtual testing lab                              |
 //! | [`parallel`]| MPI context, rank-aware logging, METIS partition, DOF numbering, ghosts |
 //! | [`petsc`]   | the project's own PETSc/SLEPc binding and its safe RAII layer           |
 //! | [`mesh`]    | Gmsh MSH 4.1 input and the in-memory mesh                                |
@@ -17,6 +18,7 @@
 
 pub mod analysis;
 pub mod config;
+pub mod dem;
 pub mod element;
 pub mod io;
 pub mod mesh;

@@ -98,3 +98,21 @@ fn output_reads_back_with_meshio_and_h5py() {
     let want = s["max_displacement"].as_f64().unwrap();
     assert!((umax - want).abs() <= 1e-12 * want, "meshio {umax} vs run {want}");
 }
+
+#[test]
+fn petsc_options_environment_wins_over_the_job() {
+    // PETSC_OPTIONS is read by PETSc at start-up, like the command line: it overrides the job's
+    // [solver.petsc] defaults (direct Cholesky) and the run reports the solver it used.
+    let d = scratch("petsc-options-env");
+    let j = demo_job(&d, "");
+    let mut cmd = std::process::Command::new("mpirun");
+    cmd.args(["-n", "2", "--oversubscribe", "--bind-to", "none"])
+        .arg(exe())
+        .arg(&j)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("PETSC_OPTIONS", "-ksp_type cg -pc_type gamg -ksp_rtol 1e-12 -ksp_max_it 2000");
+    let out = run_with_timeout(cmd, std::time::Duration::from_secs(300));
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stdout(&out).contains("ksp=cg pc=gamg"), "{}", stdout(&out));
+}
