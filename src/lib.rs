@@ -25,4 +25,5 @@ pub mod mesh;
 pub mod model;
 pub mod parallel;
 pub mod petsc;
+pub mod plot;
 pub mod run;

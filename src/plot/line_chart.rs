@@ -1,0 +1,189 @@
+//! A line chart: several named series of (x, y) points on linear axes, saved as PNG.
+use super::font;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// Errors drawing a chart.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The chart cannot be drawn from these data.
+    #[error("chart '{title}': {reason}")]
+    Data {
+        /// The chart's title.
+        title: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Rendering or writing the file failed.
+    #[error("cannot write chart {}: {message}", path.display())]
+    Render {
+        /// The file.
+        path: PathBuf,
+        /// What the backend said.
+        message: String,
+    },
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeriesStyle {
+    /// A polyline.
+    Line,
+    /// Markers only (e.g. experimental points).
+    Markers,
+    /// A dashed polyline (e.g. a reference or code spectrum).
+    Dashed,
+}
+
+/// One named series.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend entry.
+    pub name: String,
+    /// Points.
+    pub points: Vec<(f64, f64)>,
+    /// Style.
+    pub style: SeriesStyle,
+}
+
+/// A chart under construction.
+#[derive(Clone, Debug)]
+pub struct LineChart {
+    title: String,
+    x_label: String,
+    y_label: String,
+    series: Vec<Series>,
+    size: (u32, u32),
+}
+
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(90, 90, 90),
+];
+
+impl LineChart {
+    /// A chart with a title and axis labels (include units: "strain [-]", "stress [MPa]").
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> LineChart {
+        LineChart {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: Vec::new(),
+            size: (1000, 700),
+        }
+    }
+
+    /// Adds a series.
+    pub fn series(mut self, name: &str, points: Vec<(f64, f64)>, style: SeriesStyle) -> LineChart {
+        self.series.push(Series { name: name.into(), points, style });
+        self
+    }
+
+    /// Image size in pixels (default 1000 × 700).
+    pub fn size(mut self, width: u32, height: u32) -> LineChart {
+        self.size = (width, height);
+        self
+    }
+
+    /// The data range, padded by 5%; an error when there is no finite point.
+    fn range(&self) -> Result<((f64, f64), (f64, f64)), PlotError> {
+        let pts = self.series.iter().flat_map(|s| s.points.iter()).filter(|p| p.0.is_finite() && p.1.is_finite());
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for &(x, y) in pts {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        if !x0.is_finite() {
+            return Err(PlotError::Data { title: self.title.clone(), reason: "no finite data point".into() });
+        }
+        let pad = |a: f64, b: f64| {
+            let d = if b > a { 0.05 * (b - a) } else { 0.5 * a.abs().max(1.0) };
+            (a - d, b + d)
+        };
+        Ok((pad(x0, x1), pad(y0, y1)))
+    }
+
+    /// Draws the chart to a PNG file.
+    pub fn save_png(&self, path: &Path) -> Result<(), PlotError> {
+        let ((x0, x1), (y0, y1)) = self.range()?;
+        font::ensure_registered();
+        let render = |e: &dyn std::fmt::Display| PlotError::Render { path: path.to_path_buf(), message: e.to_string() };
+        let root = BitMapBackend::new(path, self.size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| render(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&self.title, (font::FAMILY, 26))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(85)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| render(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .label_style((font::FAMILY, 16))
+            .axis_desc_style((font::FAMILY, 18))
+            .light_line_style(RGBColor(240, 240, 240))
+            .max_light_lines(2)
+            .draw()
+            .map_err(|e| render(&e))?;
+        for (k, s) in self.series.iter().enumerate() {
+            let color = PALETTE[k % PALETTE.len()];
+            let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+            let anno = match s.style {
+                SeriesStyle::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))),
+                SeriesStyle::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(2))),
+                SeriesStyle::Markers => chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 5, color.filled()))),
+            }
+            .map_err(|e| render(&e))?;
+            anno.label(s.name.clone()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
+            });
+        }
+        if self.series.iter().any(|s| !s.name.is_empty()) {
+            chart
+                .configure_series_labels()
+                .label_font((font::FAMILY, 16))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(|e| render(&e))?;
+        }
+        root.present().map_err(|e| render(&e))?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_chart_is_written_as_png() {
+        let dir = std::env::temp_dir().join(format!("mhpc-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("sine.png");
+        let pts: Vec<(f64, f64)> = (0..200).map(|i| (i as f64 * 0.05, (i as f64 * 0.05).sin())).collect();
+        LineChart::new("sin(x)", "x [rad]", "sin x [-]")
+            .series("sin", pts, SeriesStyle::Line)
+            .series("points", vec![(1.0, 0.8), (2.0, 0.9)], SeriesStyle::Markers)
+            .save_png(&f)
+            .unwrap();
+        let bytes = std::fs::read(&f).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "a PNG signature");
+        assert!(bytes.len() > 5_000, "a chart, not an empty image: {} bytes", bytes.len());
+    }
+
+    #[test]
+    fn no_data_is_an_error() {
+        let e = LineChart::new("empty", "x", "y").save_png(Path::new("/nonexistent/x.png")).unwrap_err();
+        assert!(e.to_string().contains("no finite data point"), "{e}");
+    }
+}
