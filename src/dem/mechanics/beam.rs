@@ -298,6 +298,18 @@ mod tests {
     }
 
     #[test]
+    fn stiffness_has_rank_three() {
+        // Null space = the 3 rigid motions, so K has exactly 3 eigenvalues above round-off
+        // (1e-10 of the largest): breaking a beam is a rank-3 update of the global matrix.
+        let (g, _, _) = oblique();
+        let k = beam_stiffness(&g, &params());
+        let ev = k.symmetric_eigen().eigenvalues;
+        let top = ev.abs().max();
+        assert_eq!(ev.iter().filter(|&&e| e > 1e-10 * top).count(), 3, "{ev}");
+        assert!(ev.iter().all(|&e| e > -1e-10 * top));
+    }
+
+    #[test]
     fn stiffness_is_symmetric_and_the_derivative_of_the_forces() {
         // The law is linear: central differences are exact up to round-off; tolerance 1e-7 of ‖K‖.
         let p = params();

@@ -449,6 +449,22 @@ mod tests {
     }
 
     #[test]
+    fn rotated_aligned_squares_keep_the_rotated_axis() {
+        // The strip case rotated by 0.4 rad about the origin: the collinear sides are collinear
+        // only to round-off, the tolerance must still see them. Expected: normal (cos 0.4, sin 0.4),
+        // S = 0.1, L = 1 (tolerance 1e-9).
+        let p = params();
+        let th: f64 = 0.4;
+        let rot = |x: [f64; 2]| [th.cos() * x[0] - th.sin() * x[1], th.sin() * x[0] + th.cos() * x[1]];
+        let a = unit_square_at(0.0, 0.0).moved([0.0, 0.0], [0.0, 0.0], th);
+        let b = unit_square_at(0.9, 0.0).moved([0.0, 0.0], [0.0, 0.0], th);
+        let c = contact(&a, &b, rot([0.5, 0.5]), rot([1.4, 0.5]), 1.0, 1.0, &p).unwrap().unwrap();
+        assert!(!c.from_references);
+        assert!((c.normal[0] - th.cos()).abs() < 1e-9 && (c.normal[1] - th.sin()).abs() < 1e-9, "{:?}", c.normal);
+        assert!((c.overlap_area - 0.1).abs() < 1e-9 && (c.chord_length - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
     fn contained_polygon_falls_back_to_the_reference_direction() {
         // A 0.2 square inside a unit square: s = 0, the normal is c_j − c_i = +y, the chord is the
         // overlap's width 0.2 across it.
