@@ -112,7 +112,9 @@ pub enum SampleError {
         length: f64,
     },
     /// The two sides of a shared edge do not match (a tessellation defect).
-    #[error("sample: the edge of particle {i} facing particle {j} has no matching edge in particle {j}")]
+    #[error(
+        "sample: the edge of particle {i} facing particle {j} has no matching edge in particle {j}"
+    )]
     NonConforming {
         /// Particle whose edge has no twin.
         i: usize,

@@ -19,13 +19,15 @@ pub mod lattice;
 pub mod particle;
 pub mod seeds;
 pub mod svg;
-pub mod topology;
-pub mod voronoi;
 #[cfg(test)]
 mod tests;
+pub mod topology;
+pub mod voronoi;
 
 pub use builder::{BoundaryParticles, Sample};
-pub use config::{CoursedLayout, GeometryOptions, RandomLayout, SampleConfig, SampleLayout, TinyFacetPolicy};
+pub use config::{
+    CoursedLayout, GeometryOptions, RandomLayout, SampleConfig, SampleLayout, TinyFacetPolicy,
+};
 pub use error::SampleError;
 pub use lattice::{beam_inertia, Beam};
 pub use particle::Particle;

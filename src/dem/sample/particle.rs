@@ -39,7 +39,10 @@ impl Particle {
 
     /// The seed's offset from the centroid, `s − c` (m): a beam end's lever arm.
     pub fn seed_arm(&self) -> P2 {
-        [self.seed[0] - self.centroid[0], self.seed[1] - self.centroid[1]]
+        [
+            self.seed[0] - self.centroid[0],
+            self.seed[1] - self.centroid[1],
+        ]
     }
 
     /// Where a point `p` of the stone goes under the rigid motion `(u_x, u_y, θ)` of the centroid,
@@ -62,11 +65,14 @@ mod tests {
     fn unit_square_particle() {
         // Unit square: A = 1, D = 2/√π = 1.1283791670955126, J = (1 + 1)/12, centroid (½, ½).
         let p = Particle::new(Polygon::rectangle(0.0, 0.0, 1.0, 1.0), [0.25, 0.5]);
-        assert!((p.diameter - 1.1283791670955126).abs() < 1e-15);
+        assert!((p.diameter - std::f64::consts::FRAC_2_SQRT_PI).abs() < 1e-15);
         assert!((p.polar_moment - 1.0 / 6.0).abs() < 1e-15);
         assert_eq!(p.seed_arm(), [-0.25, 0.0]);
         // Quarter turn about the centroid: the seed (¼, ½) goes to (½, ¼).
         let q = p.moved_point(p.seed, [0.0, 0.0, std::f64::consts::FRAC_PI_2]);
-        assert!((q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.25).abs() < 1e-15, "{q:?}");
+        assert!(
+            (q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.25).abs() < 1e-15,
+            "{q:?}"
+        );
     }
 }

@@ -14,7 +14,8 @@
 //! right: particle `k·n + m`.
 //!
 //! **Random.** Dart throwing (the original Poisson-disk process, random sequential adsorption):
-//! uniform candidates in the domain shrunk by `r/2` on each side, accepted when no accepted seed is
+//! uniform candidates in the domain shrunk by `r/2` on each side (so boundary stones are not
+//! slivers), accepted when no accepted seed is
 //! closer than `r = f·sqrt(W H / N)`, until exactly `N` are placed. A background grid of spacing
 //! `r/√2` (at most one seed per bucket) makes each test O(1). Bridson's algorithm was not used
 //! because it produces a *maximal* sample whose count is set by `r`, not a requested `N`.
@@ -88,8 +89,12 @@ fn poisson_disk_with_budget(
 ) -> Result<Vec<P2>, SampleError> {
     let target = l.n_particles;
     let r = min_distance(l);
-    let (x0, y0) = (0.5 * r, 0.5 * r);
-    let (wx, wy) = ((l.width - r).max(0.0), (l.height - r).max(0.0));
+    // Margin r/2 (a quarter of the side for a domain narrower than 2r): seeds stay strictly inside.
+    let (x0, y0) = (
+        (0.5 * r).min(0.25 * l.width),
+        (0.5 * r).min(0.25 * l.height),
+    );
+    let (wx, wy) = (l.width - 2.0 * x0, l.height - 2.0 * y0);
     let g = r / std::f64::consts::SQRT_2;
     let nx = ((wx / g).ceil() as usize).max(1);
     let ny = ((wy / g).ceil() as usize).max(1);
@@ -121,7 +126,12 @@ fn poisson_disk_with_budget(
         }
     }
     if seeds.len() < target {
-        return Err(SampleError::PoissonDiskFailed { placed: seeds.len(), target, min_distance: r, attempts });
+        return Err(SampleError::PoissonDiskFailed {
+            placed: seeds.len(),
+            target,
+            min_distance: r,
+            attempts,
+        });
     }
     Ok(seeds)
 }
@@ -163,12 +173,19 @@ mod tests {
         let c = coursed_seeds(&l, &mut rng(43));
         assert_eq!(a, b);
         assert_ne!(a, c);
-        assert!(a.iter().all(|p| p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.2));
+        assert!(a
+            .iter()
+            .all(|p| p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.2));
     }
 
     #[test]
     fn poisson_disk_count_and_spacing() {
-        let l = RandomLayout { width: 2.0, height: 1.0, n_particles: 500, min_distance_factor: 0.7 };
+        let l = RandomLayout {
+            width: 2.0,
+            height: 1.0,
+            n_particles: 500,
+            min_distance_factor: 0.7,
+        };
         let s = poisson_disk_seeds(&l, &mut rng(3)).expect("placeable");
         assert_eq!(s.len(), 500);
         let r = min_distance(&l);
@@ -183,9 +200,25 @@ mod tests {
     #[test]
     fn exhausted_budget_is_an_error() {
         // One candidate is always accepted (nothing to conflict with), then the budget is spent.
-        let l = RandomLayout { width: 1.0, height: 1.0, n_particles: 5, min_distance_factor: 0.5 };
+        let l = RandomLayout {
+            width: 1.0,
+            height: 1.0,
+            n_particles: 5,
+            min_distance_factor: 0.5,
+        };
         let e = poisson_disk_with_budget(&l, &mut rng(0), 1).unwrap_err();
-        assert!(matches!(e, SampleError::PoissonDiskFailed { placed: 1, target: 5, attempts: 1, .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                SampleError::PoissonDiskFailed {
+                    placed: 1,
+                    target: 5,
+                    attempts: 1,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         assert!(e.to_string().contains("lower `min_distance_factor`"));
     }
 }
