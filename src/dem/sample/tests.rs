@@ -392,4 +392,9 @@ fn svg_of_the_paper_wall() {
         draw_svg(&s, None, &[(9999, 0)], &style),
         Err(SampleError::BeamIndex { index: 9999, .. })
     ));
+    // A random sample, for a look.
+    let r = Sample::build(&random(300, 4)).expect("builds");
+    let style = SvgStyle { draw_beams: true, ..SvgStyle::default() };
+    let svg = draw_svg(&r, None, &[], &style).expect("draws");
+    let _ = std::fs::write("/tmp/random_300.svg", &svg);
 }
