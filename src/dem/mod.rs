@@ -2,3 +2,4 @@
 //! brittle Euler–Bernoulli beams, with contact and Coulomb friction once the bonds break.
 pub mod mechanics;
 pub mod polygon;
+pub mod sample;
