@@ -4,12 +4,14 @@
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
 mod error;
 mod job;
+mod kind;
 mod source;
 mod tagged;
 mod validate;
 
 pub use error::{ConfigError, Location};
 pub use job::*;
+pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
 pub use source::{format_path, Seg, Source};
 
 use std::path::{Path, PathBuf};
@@ -32,6 +34,9 @@ impl Job {
     /// Reads, parses and validates a job file.
     pub fn load(path: &Path) -> Result<Job, ConfigError> {
         let source = Source::read(path)?;
+        match job_kind(&source)? {
+            JobKind::Structural => {}
+        }
         let spec: StructuralJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
         validate::validate_structural(&source, &spec)?;
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -189,6 +194,7 @@ ksp_rtol = 1e-10
     #[test]
     fn unknown_analysis_lists_the_variants() {
         let e = err(&GOOD.replace("linear_static", "dynamic"));
-        assert!(e.contains("unknown variant `dynamic`") && e.contains("linear_static"), "{e}");
+        assert!(e.contains(":3:1: key 'analysis.type'"), "{e}");
+        assert!(e.contains("unknown analysis type 'dynamic'") && e.contains("one of: linear_static"), "{e}");
     }
 }
