@@ -1,0 +1,1 @@
+//! Mesh objectivity of the regularized law on a 1D bar.
