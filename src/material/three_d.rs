@@ -64,3 +64,91 @@ impl StressState<6> for ThreeD {
         update(law, strain, committed)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::*;
+    use crate::material::plane_stress;
+    use crate::material::test_support::{check_random_paths, check_tangent, law, params};
+
+    #[test]
+    fn uniaxial_stress_closed_forms() {
+        // (ε, −νε, −νε, 0, 0, 0) is uniaxial stress σ_xx = E ε in elasticity. Tension: ε_eq = ε;
+        // compression: ε_eq = √2 ν |ε| (SPEC §2 with Mazars-type lateral extension). Tol. 1e-12 rel.
+        let law = law();
+        let p = params();
+        let nu = p.nu;
+        let mut st = DamageState::default();
+        for k in 1..=100 {
+            let eps = k as f64 * 0.2 * p.eps0_t;
+            let r = update(&law, &Vector6::new(eps, -nu * eps, -nu * eps, 0.0, 0.0, 0.0), &st);
+            let exact = if eps <= p.eps0_t { p.e * eps } else { p.e * p.eps0_t * (-law.b_t() * (eps - p.eps0_t)).exp() };
+            assert!((r.stress[0] - exact).abs() <= 1e-12 * exact, "{eps}: {} vs {exact}", r.stress[0]);
+            assert!(r.stress.rows(1, 5).amax() <= 1e-12 * p.e * eps);
+            st = r.state;
+        }
+        let mut st = DamageState::default();
+        for k in 1..=100 {
+            let eps = -(k as f64) * 0.02;
+            let r = update(&law, &Vector6::new(eps, -nu * eps, -nu * eps, 0.0, 0.0, 0.0), &st);
+            let kappa = (2f64.sqrt() * nu * eps.abs()).max(p.eps0_c);
+            let s = (1.0 - p.a_c) * p.eps0_c / kappa + p.a_c * (-p.b_c * (kappa - p.eps0_c)).exp();
+            assert!((r.stress[0] - p.e * eps * s).abs() <= 1e-12 * (p.e * eps * s).abs());
+            st = r.state;
+        }
+    }
+
+    #[test]
+    fn agrees_with_plane_stress_at_sigma_zz_zero() {
+        // 3D at ε_zz = −ν/(1−ν)(ε_xx + ε_yy) = plane stress (σ_zz = 0): same in-plane stress and
+        // damage, tolerance 1e-12 relative (eigen solver vs closed form).
+        let law = law();
+        for (exx, eyy, gxy) in [(3e-4, -1e-4, 2e-4), (-2e-3, 1e-4, 5e-4), (0.0, 0.0, 8e-4), (-1e-2, -1e-2, 0.0)] {
+            let ps_eps = Vector3::new(exx, eyy, gxy);
+            let ps = plane_stress::update(&law, &ps_eps, &DamageState::default());
+            let ezz = plane_stress::eps_zz(&law, &ps_eps);
+            let r = update(&law, &Vector6::new(exx, eyy, ezz, 0.0, 0.0, gxy), &DamageState::default());
+            let scale = ps.stress.amax();
+            assert!((r.stress[0] - ps.stress[0]).abs() <= 1e-12 * scale);
+            assert!((r.stress[1] - ps.stress[1]).abs() <= 1e-12 * scale);
+            assert!((r.stress[5] - ps.stress[2]).abs() <= 1e-12 * scale);
+            assert!(r.stress[2].abs() <= 1e-12 * scale);
+            assert!((r.state.d_t - ps.state.d_t).abs() <= 1e-12 && (r.state.d_c - ps.state.d_c).abs() <= 1e-12);
+            assert_eq!(r.side, ps.side);
+        }
+    }
+
+    #[test]
+    fn hydrostatic_compression_does_not_damage() {
+        // All principal strains negative: ε_eq = 0, no damage however large the pressure.
+        let law = law();
+        let r = update(&law, &Vector6::new(-0.05, -0.05, -0.05, 0.0, 0.0, 0.0), &DamageState::default());
+        assert_eq!((r.side, r.state.d_c, r.loading), (Side::Compression, 0.0, false));
+    }
+
+    #[test]
+    fn unilateral_effect() {
+        let law = law();
+        let t = update(&law, &Vector6::new(5e-4, 0.0, 0.0, 1e-4, 0.0, 0.0), &DamageState::default());
+        assert!(t.state.d_t > 0.5);
+        let c = update(&law, &Vector6::new(-1e-4, -1e-4, -1e-4, 0.0, 0.0, 0.0), &t.state);
+        assert_eq!((c.side, c.state.d_c), (Side::Compression, 0.0));
+        assert_eq!(c.secant, elastic_matrix(&law));
+    }
+
+    #[test]
+    fn consistent_tangent_matches_finite_differences() {
+        // Central differences, step 1e-7 ‖ε‖∞; tolerance 1e-6 norm-wise relative.
+        let law = law();
+        let loading = check_tangent::<6, ThreeD>(&law, 31, 400, 1e-6, |e| equivalent_strain(e).0);
+        assert_eq!(loading, 200);
+    }
+
+    #[test]
+    fn damage_never_decreases_on_random_paths() {
+        let total = check_random_paths::<6, ThreeD>(&law(), 9, 200, 60, 3.0);
+        assert!(total > 0.0);
+    }
+}

@@ -103,3 +103,181 @@ impl StressState<1> for Uniaxial {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::*;
+    use crate::material::test_support::{check_random_paths, check_tangent, law, params, Rng};
+    use crate::material::{plane_stress, Regularization};
+
+    #[test]
+    fn uniaxial_tension_matches_the_closed_form() {
+        // Closed form (SPEC §2 with κ = ε): σ = E ε for ε ≤ ε₀^t, σ = E ε₀ exp(−B_t (ε − ε₀)) after.
+        // Tolerance 1e-12 relative (round-off of exp and of (ε₀/ε)·ε).
+        let law = law();
+        let (e, eps0, b) = (law.e(), law.eps0_t(), law.b_t());
+        let mut state = DamageState::default();
+        let mut peak: f64 = 0.0;
+        for k in 1..=400 {
+            let eps = k as f64 * 0.05 * eps0; // up to 20 ε₀
+            let r = update(&law, eps, &state);
+            let exact = if eps <= eps0 { e * eps } else { e * eps0 * (-b * (eps - eps0)).exp() };
+            assert!((r.stress - exact).abs() <= 1e-12 * exact, "ε = {eps}: {} vs {exact}", r.stress);
+            peak = peak.max(r.stress);
+            state = r.state;
+        }
+        // Peak E ε₀^t reached at ε₀^t (k = 20).
+        assert!((peak - e * eps0).abs() <= 1e-12 * e * eps0);
+        assert_eq!(state.d_c, 0.0);
+    }
+
+    #[test]
+    fn uniaxial_compression_matches_the_closed_form() {
+        // Free lateral stress: principal strains (ε, −νε, −νε), so ε_eq^c = √2 ν |ε| (module docs),
+        // κ_c = max(ε₀^c, √2 ν |ε|), σ = E ε [(1 − A_c) ε₀/κ + A_c exp(−B_c (κ − ε₀))].
+        // Tolerance 1e-12 relative.
+        let law = law();
+        let p = params();
+        let onset = p.eps0_c / (2f64.sqrt() * p.nu);
+        let mut state = DamageState::default();
+        for k in 1..=300 {
+            let eps = -(k as f64) * 0.1 * onset; // up to 30× the onset strain
+            let r = update(&law, eps, &state);
+            let kappa = (2f64.sqrt() * p.nu * eps.abs()).max(p.eps0_c);
+            let s = (1.0 - p.a_c) * p.eps0_c / kappa + p.a_c * (-p.b_c * (kappa - p.eps0_c)).exp();
+            let exact = p.e * eps * s;
+            assert!((r.stress - exact).abs() <= 1e-12 * exact.abs(), "ε = {eps}: {} vs {exact}", r.stress);
+            assert_eq!(r.side, Side::Compression);
+            state = r.state;
+        }
+        assert!(state.d_c > 0.5 && state.d_t == 0.0);
+    }
+
+    #[test]
+    fn fiber_equals_the_plane_stress_uniaxial_state() {
+        // The fiber is the plane-stress law at (ε, −νε, 0) (module docs): same stress, damage and
+        // dissipation to round-off (1e-12 relative), in tension and in compression.
+        let law = law();
+        let nu = law.nu();
+        for eps in [0.5e-4, 3e-4, 2e-3, -1e-4, -3e-3, -2e-2] {
+            let f = update(&law, eps, &DamageState::default());
+            let ps = plane_stress::update(&law, &Vector3::new(eps, -nu * eps, 0.0), &DamageState::default());
+            assert!((f.stress - ps.stress[0]).abs() <= 1e-12 * f.stress.abs());
+            assert!(ps.stress[1].abs() <= 1e-12 * f.stress.abs());
+            assert!((f.state.d_t - ps.state.d_t).abs() <= 1e-12);
+            assert!((f.state.d_c - ps.state.d_c).abs() <= 1e-12);
+            assert!((f.dissipation - ps.dissipation).abs() <= 1e-12 * f.dissipation.max(1e-300));
+        }
+    }
+
+    #[test]
+    fn dissipation_to_failure_is_exact_for_each_regularization() {
+        // Monotonic tension to B_t (κ − ε₀) = 60 in only 7 uneven steps: the closed-form
+        // integration is exact for any step (mod.rs docs). Expected (params.rs table):
+        //   hillerborg:            G_f/h + f_t²/(2E)
+        //   hillerborg_no_elastic: G_f/h
+        //   none:                  f_t²/(2E) + f_t/b_t
+        // minus the tail left at the end, e^{-60}·(…) ≈ 1e-26 relative. Tolerance 1e-12 relative.
+        let h = 0.1;
+        let p = params();
+        let ft = p.e * p.eps0_t;
+        let elastic = ft * ft / (2.0 * p.e);
+        for (reg, expected) in [
+            (Regularization::Hillerborg, p.gf_t / h + elastic),
+            (Regularization::HillerborgNoElastic, p.gf_t / h),
+            (Regularization::Unregularized { b_t: 250.0 }, elastic + ft / 250.0),
+        ] {
+            let law = crate::material::DamageParams { regularization: reg, ..p }.for_element(h).unwrap();
+            assert!((law.tensile_failure_energy_density() - expected).abs() <= 1e-12 * expected);
+            let end = law.eps0_t() + 60.0 / law.b_t();
+            let mut state = DamageState::default();
+            let mut total = 0.0;
+            for f in [0.3, 1.0, 1.0001, 1.3, 4.0, 17.0, 40.0] {
+                let eps = (f * law.eps0_t()).min(end);
+                let r = update(&law, eps, &state);
+                total += r.dissipation;
+                state = r.state;
+            }
+            let r = update(&law, end, &state);
+            total += r.dissipation;
+            assert!((total - expected).abs() <= 1e-12 * expected, "{reg:?}: {total} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn dissipation_equals_the_work_done_to_failure() {
+        // Energy balance: the work ∫σ dε (trapezoid, 200 000 steps) of a tension to failure equals
+        // the dissipated energy (σ → 0, nothing stored). Tolerance 1e-6 relative (trapezoid error).
+        let law = law();
+        let end = law.eps0_t() + 40.0 / law.b_t();
+        let n = 200_000;
+        let mut state = DamageState::default();
+        let (mut work, mut diss, mut prev) = (0.0, 0.0, (0.0, 0.0));
+        for k in 1..=n {
+            let eps = end * k as f64 / n as f64;
+            let r = update(&law, eps, &state);
+            work += 0.5 * (r.stress + prev.1) * (eps - prev.0);
+            diss += r.dissipation;
+            prev = (eps, r.stress);
+            state = r.state;
+        }
+        assert!((work - diss).abs() <= 1e-6 * diss, "{work} vs {diss}");
+    }
+
+    #[test]
+    fn unilateral_effect_both_ways() {
+        let law = law();
+        let e = law.e();
+        // Tension damage first (ε = 5 ε₀^t), then compression below the compressive threshold:
+        // the undamaged modulus E is recovered, d_c = 0 (SPEC §2 unilateral split). Exact.
+        let r = update(&law, 5.0 * law.eps0_t(), &DamageState::default());
+        assert!(r.state.d_t > 0.5);
+        let c = update(&law, -2.0 * law.eps0_t(), &r.state);
+        assert_eq!(c.side, Side::Compression);
+        assert_eq!(c.state.d_c, 0.0);
+        assert_eq!(c.secant, e);
+        assert_eq!(c.tangent, e);
+        assert_eq!(c.stress, -2.0 * law.eps0_t() * e);
+        assert_eq!(c.state.d_t, r.state.d_t); // tensile damage remembered
+        // Back in tension: the tensile damage is still there.
+        let t = update(&law, 1.0 * law.eps0_t(), &c.state);
+        assert!((t.secant - (1.0 - r.state.d_t) * e).abs() <= 1e-12 * e);
+        // The reverse: compression damage, then tension sees E.
+        let big = -20.0 * law.eps0_c() / (2f64.sqrt() * law.nu());
+        let r = update(&law, big, &DamageState::default());
+        assert!(r.state.d_c > 0.3);
+        let t = update(&law, 0.5 * law.eps0_t(), &r.state);
+        assert_eq!(t.side, Side::Tension);
+        assert_eq!((t.state.d_t, t.secant), (0.0, e));
+    }
+
+    #[test]
+    fn consistent_tangent_matches_finite_differences() {
+        // Central differences, step 1e-7 |ε|; tolerance 1e-6 relative (SPEC: consistent tangent).
+        let law = law();
+        let loading = check_tangent::<1, Uniaxial>(&law, 11, 200, 1e-6, |e| {
+            equivalent_strain_ratio(&law, e[0]) * e[0].abs()
+        });
+        assert_eq!(loading, 100);
+    }
+
+    #[test]
+    fn damage_never_decreases_on_random_paths() {
+        let total = check_random_paths::<1, Uniaxial>(&law(), 7, 300, 60, 3.0);
+        assert!(total > 0.0);
+    }
+
+    #[test]
+    fn zero_poisson_ratio_never_damages_in_compression() {
+        let law = crate::material::DamageParams { nu: 0.0, ..params() }.for_element(0.1).unwrap();
+        let mut rng = Rng::new(3);
+        let mut state = DamageState::default();
+        for _ in 0..50 {
+            let r = update(&law, -rng.range(0.0, 0.1), &state);
+            state = r.state;
+        }
+        assert_eq!(state.d_c, 0.0);
+    }
+}
