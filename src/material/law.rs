@@ -111,7 +111,7 @@ impl PointLaw {
 
     /// Energy per volume (J/m³) dissipated while κ of `side` grows from `kappa_old` to `kappa_new`
     /// along a radial strain path with Y = c κ², i.e. c [F(κ_new) − F(κ_old)]
-    /// ([`damage`](super::damage) module docs). Never negative for `c ≥ 0`, `kappa_new ≥ kappa_old`.
+    /// ([`damage`] module docs). Never negative for `c ≥ 0`, `kappa_new ≥ kappa_old`.
     #[inline]
     pub fn dissipation(&self, side: Side, c: f64, kappa_old: f64, kappa_new: f64) -> f64 {
         let df = match side {

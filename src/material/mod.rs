@@ -25,12 +25,12 @@
 //!   d_t = 1 − (ε₀^t/κ_t) exp[−B_t (κ_t − ε₀^t)]
 //!   d_c = 1 − (1 − A_c) ε₀^c/κ_c − A_c exp[−B_c (κ_c − ε₀^c)]
 //! ```
-//! B_t is regularized by the element size (Hillerborg, [`params`](self::params) docs); B_c is not.
+//! B_t is regularized by the element size (Hillerborg, [`params`] docs); B_c is not.
 //!
 //! # Dissipation
 //! Each update returns the energy per volume dissipated since the committed state,
 //! Δφ = c [F(κ_new) − F(κ_old)] with c = Y/ε_eq², Y = ½ ε:C₀:ε of the active side and
-//! F(κ) = ∫ κ² d'(κ) dκ in closed form ([`damage`](self::damage) docs). It is the exact integral of
+//! F(κ) = ∫ κ² d'(κ) dκ in closed form ([`damage`] docs). It is the exact integral of
 //! Y ḋ along a radial strain increment (Clausius–Duhem: Y ≥ 0, ḋ ≥ 0, so Δφ ≥ 0), hence exact for
 //! any step size under monotonic uniaxial loading: a monotonic tension to failure dissipates
 //! exactly [`PointLaw::tensile_failure_energy_density`] = f_t²/(2E) + f_t/B_t, i.e. G_f/h +
@@ -63,9 +63,9 @@ pub mod three_d;
 pub mod uniaxial;
 
 #[cfg(test)]
-mod test_support;
-#[cfg(test)]
 mod bar_tests;
+#[cfg(test)]
+mod test_support;
 
 pub use error::MaterialError;
 pub use law::PointLaw;

@@ -116,11 +116,7 @@ impl DamageParams {
             return Err(MaterialError::NonFinite { quantity: "nu", value: self.nu });
         }
         if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(MaterialError::OutOfRange {
-                quantity: "nu",
-                value: self.nu,
-                range: "(-1, 0.5)",
-            });
+            return Err(MaterialError::OutOfRange { quantity: "nu", value: self.nu, range: "(-1, 0.5)" });
         }
         positive("eps0_t", self.eps0_t)?;
         positive("eps0_c", self.eps0_c)?;
@@ -247,10 +243,7 @@ mod tests {
             (DamageParams { gf_t: -1.0, ..good() }, "gf_t"),
             (DamageParams { b_c: 0.0, ..good() }, "b_c"),
             (DamageParams { e: f64::INFINITY, ..good() }, "E"),
-            (
-                DamageParams { regularization: Regularization::Unregularized { b_t: 0.0 }, ..good() },
-                "b_t",
-            ),
+            (DamageParams { regularization: Regularization::Unregularized { b_t: 0.0 }, ..good() }, "b_t"),
         ];
         for (p, q) in cases {
             let err = p.validate().unwrap_err();
@@ -302,7 +295,8 @@ mod tests {
 
     #[test]
     fn deserializes_from_toml_with_each_regularization() {
-        let base = "E = 2.885e9\nnu = 0.19\neps0_t = 1.4e-4\neps0_c = 2e-4\ngf_t = 60.0\na_c = 0.8\nb_c = 1500.0\n";
+        let base =
+            "E = 2.885e9\nnu = 0.19\neps0_t = 1.4e-4\neps0_c = 2e-4\ngf_t = 60.0\na_c = 0.8\nb_c = 1500.0\n";
         let p: DamageParams = toml::from_str(&format!("{base}regularization = \"hillerborg\"\n")).unwrap();
         assert_eq!(p, good());
         let p: DamageParams =

@@ -186,7 +186,12 @@ impl<const N: usize> LoadPath<N> {
             )));
         }
         let mut steps = Vec::with_capacity(n_steps);
-        Self::ramp(&[(0, 0.0), (1, 0.0)], &[(0, max_strain_xx), (1, ratio * max_strain_xx)], n_steps, &mut steps);
+        Self::ramp(
+            &[(0, 0.0), (1, 0.0)],
+            &[(0, max_strain_xx), (1, ratio * max_strain_xx)],
+            n_steps,
+            &mut steps,
+        );
         Ok(LoadPath { steps })
     }
 
@@ -194,7 +199,9 @@ impl<const N: usize> LoadPath<N> {
     /// shears) zero. The kinematics `M` gives the index of γ_xy; the uniaxial one has none.
     pub fn pure_shear<M: StressState<N>>(max_gamma: f64, n_steps: usize) -> Result<Self, PathError> {
         let Some(i) = M::SHEAR_XY else {
-            return Err(invalid("a pure-shear path needs the xy shear component (not the uniaxial kinematics)"));
+            return Err(invalid(
+                "a pure-shear path needs the xy shear component (not the uniaxial kinematics)",
+            ));
         };
         check_steps(n_steps)?;
         if !max_gamma.is_finite() || max_gamma == 0.0 {
@@ -208,14 +215,15 @@ impl<const N: usize> LoadPath<N> {
 
 /// Solve `a x = b` by Gaussian elimination with partial pivoting (N ≤ 6 here, no allocation);
 /// `None` if a pivot is zero or not finite.
-fn solve_dense<const N: usize>(
-    mut a: SMatrix<f64, N, N>,
-    mut b: SVector<f64, N>,
-) -> Option<SVector<f64, N>> {
+fn solve_dense<const N: usize>(mut a: SMatrix<f64, N, N>, mut b: SVector<f64, N>) -> Option<SVector<f64, N>> {
     for col in 0..N {
-        let (p, _) = (col..N)
-            .map(|i| (i, a[(i, col)].abs()))
-            .fold((col, -1.0), |best, cur| if cur.1 > best.1 { cur } else { best });
+        let (p, _) = (col..N).map(|i| (i, a[(i, col)].abs())).fold((col, -1.0), |best, cur| {
+            if cur.1 > best.1 {
+                cur
+            } else {
+                best
+            }
+        });
         let pivot = a[(p, col)];
         if pivot == 0.0 || !pivot.is_finite() {
             return None;
@@ -338,8 +346,7 @@ pub fn run_path<const N: usize, M: StressState<N>>(
             if iteration >= 2 * max_iter {
                 return Err(PathError::NoConvergence { step, iterations: iteration, residual, tolerance });
             }
-            let mut jac: SMatrix<f64, N, N> =
-                if iteration < max_iter { resp.tangent } else { resp.secant };
+            let mut jac: SMatrix<f64, N, N> = if iteration < max_iter { resp.tangent } else { resp.secant };
             for i in 0..N {
                 for j in 0..N {
                     if !free[i] || !free[j] {
@@ -410,7 +417,12 @@ mod tests {
             kt = kt.max(eps);
             kc = kc.max(-2f64.sqrt() * nu * eps);
             let exact = closed_form(law, eps, kt, kc);
-            assert!((r.stress[0] - exact).abs() <= 1e-10 * ft + 1e-9 * exact.abs(), "step {}: {} vs {exact}", r.step, r.stress[0]);
+            assert!(
+                (r.stress[0] - exact).abs() <= 1e-10 * ft + 1e-9 * exact.abs(),
+                "step {}: {} vs {exact}",
+                r.step,
+                r.stress[0]
+            );
             // The free components satisfy the Newton criterion ‖r‖∞ ≤ 1e-12 E max(‖ε‖∞, ε₀^t).
             let newton_tol = 1e-12 * law.e() * eps.abs().max(law.eps0_t());
             for i in 1..N {
@@ -460,7 +472,8 @@ mod tests {
         // Tension to 6 ε₀^t, compression to −6 ε₀^t (below the compressive onset ε₀^c/(√2ν) ≈ 7 ε₀^t):
         // every compressive state has σ = E ε exactly (d_c = 0), the tensile damage is kept.
         let law = law();
-        let path = LoadPath::<3>::cyclic_tension_compression(6.0 * law.eps0_t(), 6.0 * law.eps0_t(), 3, 20).unwrap();
+        let path =
+            LoadPath::<3>::cyclic_tension_compression(6.0 * law.eps0_t(), 6.0 * law.eps0_t(), 3, 20).unwrap();
         assert_eq!(path.len(), 7 * 20);
         let rec = run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap();
         check_uniaxial(&rec, &law);
@@ -479,7 +492,13 @@ mod tests {
     #[test]
     fn biaxial_tension_keeps_sigma_zz_free() {
         let law = law();
-        let rec = run_path(ThreeD, &law, &LoadPath::biaxial(5.0 * law.eps0_t(), 1.0, 20).unwrap(), &NewtonSettings::default()).unwrap();
+        let rec = run_path(
+            ThreeD,
+            &law,
+            &LoadPath::biaxial(5.0 * law.eps0_t(), 1.0, 20).unwrap(),
+            &NewtonSettings::default(),
+        )
+        .unwrap();
         let last = rec[20];
         // σ_zz = 0 and the shears are free (Newton tolerance, 1e-10 f_t); ε_zz = −2ν/(1−ν) ε_xx.
         for i in 2..6 {
@@ -496,7 +515,8 @@ mod tests {
         let law = law();
         let g = 8.0 * law.eps0_t();
         let s = NewtonSettings::default();
-        let r3 = run_path(PlaneStress, &law, &LoadPath::pure_shear::<PlaneStress>(g, 16).unwrap(), &s).unwrap();
+        let r3 =
+            run_path(PlaneStress, &law, &LoadPath::pure_shear::<PlaneStress>(g, 16).unwrap(), &s).unwrap();
         let r6 = run_path(ThreeD, &law, &LoadPath::pure_shear::<ThreeD>(g, 16).unwrap(), &s).unwrap();
         let (a, b) = (r3[16], r6[16]);
         assert!((a.kappa_t - g / 2.0).abs() <= 1e-15 && (b.kappa_t - g / 2.0).abs() <= 1e-15);

@@ -40,17 +40,7 @@ pub fn positive_part_2d(exx: f64, eyy: f64, gxy: f64) -> (f64, Vector3<f64>) {
 /// The symmetric strain tensor of a Voigt vector `[ε_xx, ε_yy, ε_zz, γ_yz, γ_xz, γ_xy]`.
 #[inline]
 pub fn tensor_of_voigt(e: &Vector6<f64>) -> Matrix3<f64> {
-    Matrix3::new(
-        e[0],
-        0.5 * e[5],
-        0.5 * e[4],
-        0.5 * e[5],
-        e[1],
-        0.5 * e[3],
-        0.5 * e[4],
-        0.5 * e[3],
-        e[2],
-    )
+    Matrix3::new(e[0], 0.5 * e[5], 0.5 * e[4], 0.5 * e[5], e[1], 0.5 * e[3], 0.5 * e[4], 0.5 * e[3], e[2])
 }
 
 /// Maximum number of Jacobi/QR sweeps of the 3×3 symmetric eigen solver; a finite strain converges

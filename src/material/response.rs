@@ -60,7 +60,8 @@ pub(super) fn assemble<const N: usize>(
     let s = evo.integrity;
     let secant = c0 * s;
     let stress = sigma_tilde * s;
-    let tangent = if evo.loading { secant - sigma_tilde * (grad_eq * evo.dd_deq).transpose() } else { secant };
+    let tangent =
+        if evo.loading { secant - sigma_tilde * (grad_eq * evo.dd_deq).transpose() } else { secant };
     Response {
         stress,
         secant,

@@ -110,13 +110,7 @@ pub(super) struct Evolution {
 /// energy is c [F(κ) − F(κ_old)] with c = y / ε_eq² ([`damage`](super::damage) module docs): exact
 /// for a radial strain increment, hence for any step size under monotonic uniaxial loading.
 #[inline]
-pub(super) fn evolve(
-    law: &PointLaw,
-    side: Side,
-    eps_eq: f64,
-    y: f64,
-    committed: &DamageState,
-) -> Evolution {
+pub(super) fn evolve(law: &PointLaw, side: Side, eps_eq: f64, y: f64, committed: &DamageState) -> Evolution {
     let mut state = DamageState {
         kappa_t: committed.kappa_t.max(law.eps0_t()),
         kappa_c: committed.kappa_c.max(law.eps0_c()),

@@ -126,7 +126,12 @@ pub fn check_tangent<const N: usize, M: StressState<N>>(
         assert_eq!(r.loading, loading, "state {checked}: eps {eps:?}");
         let fd = fd_tangent::<N, M>(law, &eps, &committed, delta);
         let err = rel_diff(r.tangent.as_slice(), fd.as_slice());
-        assert!(err <= tol, "state {checked} ({side:?}, loading {loading}): tangent vs FD rel. diff {err:e}\n{}\n{}", r.tangent, fd);
+        assert!(
+            err <= tol,
+            "state {checked} ({side:?}, loading {loading}): tangent vs FD rel. diff {err:e}\n{}\n{}",
+            r.tangent,
+            fd
+        );
         if loading {
             loading_checked += 1;
             // The loading tangent differs from the secant: the check has teeth.
@@ -171,7 +176,15 @@ pub fn check_random_paths<const N: usize, M: StressState<N>>(
             assert!(r.dissipation >= 0.0, "negative dissipation {}", r.dissipation);
             if !r.loading {
                 assert_eq!(r.dissipation, 0.0);
-                assert_eq!(s.to_array(), DamageState { kappa_t: state.kappa_t.max(law.eps0_t()), kappa_c: state.kappa_c.max(law.eps0_c()), ..state }.to_array());
+                assert_eq!(
+                    s.to_array(),
+                    DamageState {
+                        kappa_t: state.kappa_t.max(law.eps0_t()),
+                        kappa_c: state.kappa_c.max(law.eps0_c()),
+                        ..state
+                    }
+                    .to_array()
+                );
             }
             total += r.dissipation;
             state = s;

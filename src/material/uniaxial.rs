@@ -6,7 +6,7 @@
 //! A fiber is in uniaxial stress, so its lateral strains are ε_22 = ε_33 = −ν ε and its principal
 //! strains are (ε, −ν ε, −ν ε). The fiber is treated exactly as the uniaxial stress state of the
 //! plane-stress law: ε_33 plays ε_zz and counts iff
-//! [`EZZ_ENTERS_EQUIVALENT_STRAIN`](super::plane_stress::EZZ_ENTERS_EQUIVALENT_STRAIN) (true), so
+//! [`EZZ_ENTERS_EQUIVALENT_STRAIN`] (true), so
 //! fibers and shell layers agree. With ν > 0:
 //!
 //! ```text
@@ -241,7 +241,7 @@ mod tests {
         assert_eq!(c.tangent, e);
         assert_eq!(c.stress, -2.0 * law.eps0_t() * e);
         assert_eq!(c.state.d_t, r.state.d_t); // tensile damage remembered
-        // Back in tension: the tensile damage is still there.
+                                              // Back in tension: the tensile damage is still there.
         let t = update(&law, 1.0 * law.eps0_t(), &c.state);
         assert!((t.secant - (1.0 - r.state.d_t) * e).abs() <= 1e-12 * e);
         // The reverse: compression damage, then tension sees E.
