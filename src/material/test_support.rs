@@ -92,6 +92,7 @@ pub fn check_tangent<const N: usize, M: StressState<N>>(
     let mut rng = Rng::new(seed);
     let mut loading_checked = 0;
     let mut checked = 0;
+    let mut loading_sides = [0usize; 2];
     while checked < n {
         let mut dir = SVector::<f64, N>::zeros();
         for v in dir.iter_mut() {
@@ -134,11 +135,14 @@ pub fn check_tangent<const N: usize, M: StressState<N>>(
         );
         if loading {
             loading_checked += 1;
+            loading_sides[side as usize] += 1;
             // The loading tangent differs from the secant: the check has teeth.
             assert!(rel_diff(r.secant.as_slice(), fd.as_slice()) > 1e3 * tol);
         }
         checked += 1;
     }
+    // Both damage variables were exercised while loading.
+    assert!(loading_sides[0] > 0 && loading_sides[1] > 0, "loading states per side: {loading_sides:?}");
     loading_checked
 }
 
