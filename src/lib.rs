@@ -21,6 +21,7 @@ pub mod config;
 pub mod dem;
 pub mod element;
 pub mod io;
+pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod parallel;
