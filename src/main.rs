@@ -89,15 +89,7 @@ fn main() -> ExitCode {
 }
 
 fn check(ctx: &Context, job: &std::path::Path) -> Result<(), Error> {
-    let input = run::load_input(ctx, job)?;
-    let n_fixed: u32 = input.model.fixed.iter().map(|m| m.count_ones()).sum();
-    ctx.log.info(format!(
-        "check: OK — {} structural elements in {} part(s), {} fixed DOFs, {} loaded node(s); results would go to {}",
-        input.model.cells.len(),
-        input.job.spec.parts.len(),
-        n_fixed,
-        input.model.nodal_loads.len(),
-        input.job.output_dir.display()
-    ));
+    let what = run::check_job(ctx, job)?;
+    ctx.log.info(format!("check: OK — {what}"));
     Ok(())
 }

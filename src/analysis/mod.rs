@@ -3,6 +3,7 @@
 pub mod assembly;
 mod discretization;
 pub mod linear_static;
+pub mod material_point;
 pub mod output;
 mod rigid_modes;
 

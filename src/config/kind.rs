@@ -9,10 +9,13 @@ use toml::de::{DeTable, DeValue};
 pub enum JobKind {
     /// A finite-element model of a structure (`linear_static`, ...): see [`super::StructuralJobFile`].
     Structural,
+    /// One point of the damage law along a strain path: see [`super::MaterialPointJobFile`].
+    MaterialPoint,
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
-pub const ANALYSIS_TYPES: &[(&str, JobKind)] = &[("linear_static", JobKind::Structural)];
+pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
+    &[("linear_static", JobKind::Structural), ("material_point", JobKind::MaterialPoint)];
 
 /// The kind of the job in `src`.
 pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {

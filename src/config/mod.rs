@@ -5,12 +5,14 @@
 mod error;
 mod job;
 mod kind;
+mod material_point;
 mod source;
 mod tagged;
 mod validate;
 
 pub use error::{ConfigError, Location};
 pub use job::*;
+pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
 pub use source::{format_path, Seg, Source};
 
@@ -31,22 +33,23 @@ pub struct Job {
 }
 
 impl Job {
-    /// Reads, parses and validates a job file.
+    /// Reads, parses and validates a structural job file.
     pub fn load(path: &Path) -> Result<Job, ConfigError> {
-        let source = Source::read(path)?;
-        match job_kind(&source)? {
-            JobKind::Structural => {}
+        match load_job(path)? {
+            AnyJob::Structural(job) => Ok(job),
+            AnyJob::MaterialPoint(j) => Err(j.source.error_at(
+                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
+                "expected a structural analysis here, not a material-point one",
+            )),
         }
+    }
+
+    fn from_source(source: Source, path: &Path) -> Result<Job, ConfigError> {
         let spec: StructuralJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
         validate::validate_structural(&source, &spec)?;
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let resolve = |p: &Path| normalize(&if p.is_absolute() { p.to_path_buf() } else { folder.join(p) });
-        let mesh_file = resolve(&spec.mesh.file);
-        let stem = path.file_stem().map_or_else(|| "job".into(), |s| s.to_string_lossy().into_owned());
-        let output_dir = match &spec.output.dir {
-            Some(d) => resolve(d),
-            None => folder.join("results").join(stem),
-        };
+        let mesh_file = resolve(&folder, &spec.mesh.file);
+        let output_dir = output_dir(path, &spec.output);
         let petsc_options = spec
             .solver
             .petsc
@@ -65,6 +68,73 @@ impl Job {
     /// The `Invalid` error for the key at `path` of this job file.
     pub fn error_at(&self, path: &[Seg], message: impl Into<String>) -> ConfigError {
         self.source.error_at(path, message)
+    }
+}
+
+/// Any job, by kind.
+pub enum AnyJob {
+    /// A structural finite-element job.
+    Structural(Job),
+    /// A material-point job.
+    MaterialPoint(MaterialPointJob),
+}
+
+/// Reads a job file, finds its kind from `[analysis] type`, parses and validates it.
+pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
+    let source = Source::read(path)?;
+    Ok(match job_kind(&source)? {
+        JobKind::Structural => AnyJob::Structural(Job::from_source(source, path)?),
+        JobKind::MaterialPoint => AnyJob::MaterialPoint(MaterialPointJob::from_source(source, path)?),
+    })
+}
+
+/// A loaded, validated material-point job.
+pub struct MaterialPointJob {
+    /// The file and its text.
+    pub source: Source,
+    /// What it says.
+    pub spec: MaterialPointJobFile,
+    /// The law at the job's element size (regularization applied).
+    pub law: crate::material::PointLaw,
+    /// The results folder.
+    pub output_dir: PathBuf,
+}
+
+impl MaterialPointJob {
+    fn from_source(source: Source, path: &Path) -> Result<MaterialPointJob, ConfigError> {
+        let spec: MaterialPointJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
+        let key = |k: &str| Seg::Key(k.to_string());
+        let law = spec.material.for_element(spec.analysis.element_size).map_err(|e| {
+            use crate::material::MaterialError as M;
+            let at = match &e {
+                M::NonFinite { quantity, .. } | M::NonPositive { quantity, .. } | M::OutOfRange { quantity, .. } => {
+                    vec![key("material"), key(quantity)]
+                }
+                M::InvalidElementSize { .. } | M::ElementTooLarge { .. } => {
+                    vec![key("analysis"), key("element_size")]
+                }
+            };
+            source.error_at(&at, e.to_string())
+        })?;
+        let output_dir = output_dir(path, &spec.output);
+        Ok(MaterialPointJob { source, spec, law, output_dir })
+    }
+}
+
+fn resolve(folder: &Path, p: &Path) -> PathBuf {
+    normalize(&if p.is_absolute() { p.to_path_buf() } else { folder.join(p) })
+}
+
+/// The results folder of the job at `path`: `[output] dir`, or `results/<job file stem>`, beside
+/// the job file.
+fn output_dir(path: &Path, out: &OutputConfig) -> PathBuf {
+    let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    match &out.dir {
+        Some(d) => resolve(&folder, d),
+        None => {
+            let stem = path.file_stem().map_or_else(|| "job".into(), |s| s.to_string_lossy().into_owned());
+            normalize(&folder.join("results").join(stem))
+        }
     }
 }
 

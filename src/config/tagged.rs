@@ -5,6 +5,7 @@
 //! table out of the document with its spans, drops `type`, and deserializes the variant's own
 //! struct from it, so the error names the inner key with its line and column.
 use super::job::*;
+use super::material_point::*;
 use super::source::{Seg, Source};
 use super::ConfigError;
 use serde::de::DeserializeOwned;
@@ -22,6 +23,7 @@ pub fn refine(src: &Source, err: ConfigError) -> ConfigError {
     let table_path: Vec<Seg> = match (kind, path.len()) {
         ("materials" | "sections", 2) => path.clone(),
         ("loads", 2) => path.clone(),
+        ("path", 1) => path.clone(),
         _ => return err,
     };
     let refined = match kind {
@@ -35,6 +37,15 @@ pub fn refine(src: &Source, err: ConfigError) -> ConfigError {
         }),
         "loads" => variant(src, &table_path, |t, tag| match tag {
             "nodal" => sub::<NodalLoadConfig>(src, t, &table_path),
+            _ => None,
+        }),
+        "path" => variant(src, &table_path, |t, tag| match tag {
+            "uniaxial_tension" => sub::<UniaxialTensionPath>(src, t, &table_path),
+            "uniaxial_compression" => sub::<UniaxialCompressionPath>(src, t, &table_path),
+            "uniaxial" => sub::<UniaxialPath>(src, t, &table_path),
+            "cyclic" => sub::<CyclicPath>(src, t, &table_path),
+            "biaxial" => sub::<BiaxialPath>(src, t, &table_path),
+            "pure_shear" => sub::<PureShearPath>(src, t, &table_path),
             _ => None,
         }),
         _ => None,

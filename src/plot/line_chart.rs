@@ -146,7 +146,7 @@ impl LineChart {
                 PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
             });
         }
-        if self.series.iter().any(|s| !s.name.is_empty()) {
+        if self.series.iter().filter(|s| !s.name.is_empty()).count() > 1 {
             chart
                 .configure_series_labels()
                 .label_font((font::FAMILY, 16))

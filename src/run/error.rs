@@ -58,6 +58,9 @@ pub enum Error {
     #[error("results folder {} already holds results of a previous run, and [output] existing = \"error\"; \
              move them away or set existing = \"backup\" or \"overwrite\"", .0.display())]
     OutputExists(std::path::PathBuf),
+    /// A material-point computation failed (Newton did not converge, a chart could not be drawn).
+    #[error("material point: {0}")]
+    MaterialPoint(String),
     /// A failure injected for testing (see `run::fault`).
     #[error("{0}")]
     Injected(String),

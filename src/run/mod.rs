@@ -8,7 +8,7 @@ pub use error::Error;
 pub use output_dir::{backup_path, prepare_output_dir};
 
 use crate::analysis::linear_static;
-use crate::config::{AnalysisConfig, Job};
+use crate::config::{load_job, AnalysisConfig, AnyJob, Job, MaterialPointJob};
 use crate::mesh::{read_msh, Mesh};
 use crate::model::{find_mechanisms, StructuralModel};
 use crate::parallel::{agree, Context};
@@ -25,9 +25,33 @@ pub struct Input {
     pub model: StructuralModel,
 }
 
-/// Collective. Loads and checks a job, its mesh and its model, without running anything.
-pub fn load_input(ctx: &Context, path: &Path) -> Result<Input, Error> {
-    let job = agree(&ctx.comm, Job::load(path).map_err(Error::from), Error::exit_code)?;
+/// Collective. Loads and checks any job file (and, for a structural job, its mesh and its
+/// model) without running anything.
+pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
+    match agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)? {
+        AnyJob::Structural(job) => {
+            let input = load_input(ctx, path, job)?;
+            let n_fixed: u32 = input.model.fixed.iter().map(|m| m.count_ones()).sum();
+            Ok(format!(
+                "{} structural elements in {} part(s), {} fixed DOFs, {} loaded node(s); results would go to {}",
+                input.model.cells.len(),
+                input.job.spec.parts.len(),
+                n_fixed,
+                input.model.nodal_loads.len(),
+                input.job.output_dir.display()
+            ))
+        }
+        AnyJob::MaterialPoint(job) => Ok(format!(
+            "material point, h = {} m (B_t = {:.6e}); results would go to {}",
+            job.spec.analysis.element_size,
+            job.law.b_t(),
+            job.output_dir.display()
+        )),
+    }
+}
+
+/// Collective. Checks a structural job's mesh and model.
+pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> {
     ctx.log.info(format!(
         "job {}{}",
         path.display(),
@@ -52,14 +76,46 @@ pub fn load_input(ctx: &Context, path: &Path) -> Result<Input, Error> {
 
 /// Collective. Runs the job at `path`; `petsc_args` are the command-line PETSc options.
 pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), Error> {
-    let input = load_input(ctx, path)?;
-    let job = &input.job;
-    let prepared = if ctx.rank == 0 {
-        prepare_output_dir(&job.output_dir, job.spec.output.existing, &ctx.log)
-    } else {
-        Ok(())
-    };
+    match agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)? {
+        AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args),
+        AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
+    }
+}
+
+/// Collective. Rank 0 prepares the results folder; all ranks agree on the outcome.
+fn prepare(ctx: &Context, dir: &Path, policy: crate::config::ExistingOutput) -> Result<(), Error> {
+    let prepared = if ctx.rank == 0 { prepare_output_dir(dir, policy, &ctx.log) } else { Ok(()) };
     agree(&ctx.comm, prepared, Error::exit_code)?;
+    Ok(())
+}
+
+/// Rank 0 writes `summary.json` into `dir`.
+fn write_summary(ctx: &Context, dir: &Path, summary: &impl serde::Serialize) -> Result<(), Error> {
+    if ctx.rank == 0 {
+        let text = serde_json::to_string_pretty(summary).unwrap_or_default();
+        let file = dir.join("summary.json");
+        std::fs::write(&file, text + "\n").map_err(|source| Error::OutputDir { path: file.clone(), source })?;
+        ctx.log.info(format!("summary: {}", file.display()));
+    }
+    Ok(())
+}
+
+fn run_material_point(ctx: &Context, path: &Path, job: &MaterialPointJob) -> Result<(), Error> {
+    ctx.log.info(format!(
+        "job {}{}",
+        path.display(),
+        job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+    ));
+    prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+    let summary = crate::analysis::material_point::run(ctx, job)?;
+    ctx.log.info(format!("results: {}", job.output_dir.display()));
+    write_summary(ctx, &job.output_dir, &summary)
+}
+
+fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String]) -> Result<(), Error> {
+    let input = load_input(ctx, path, job)?;
+    let job = &input.job;
+    prepare(ctx, &job.output_dir, job.spec.output.existing)?;
 
     let mut argv = vec!["masonry-hpc".to_string()];
     argv.extend(petsc_args.iter().cloned());
@@ -70,13 +126,7 @@ pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), 
         AnalysisConfig::LinearStatic => {
             ctx.log.info("analysis: linear static");
             let summary = linear_static::run(ctx, &petsc, job, &input.mesh, &input.model)?;
-            if ctx.rank == 0 {
-                let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-                let file = job.output_dir.join("summary.json");
-                std::fs::write(&file, text + "\n")
-                    .map_err(|source| Error::OutputDir { path: file.clone(), source })?;
-                ctx.log.info(format!("summary: {}", file.display()));
-            }
+            write_summary(ctx, &job.output_dir, &summary)?;
         }
     }
     drop(petsc);
