@@ -46,10 +46,15 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let Some(universe) = mpi::initialize() else {
+    // Funneled: only the main thread calls MPI; batch runs compute on a second thread of rank 0.
+    let Some((universe, threading)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
         eprintln!("error: MPI could not be initialized (was it initialized twice?)");
         return ExitCode::from(70);
     };
+    if threading < mpi::Threading::Funneled {
+        eprintln!("error: the MPI library does not support MPI_THREAD_FUNNELED (got {threading:?})");
+        return ExitCode::from(70);
+    }
     let ctx = Context::new(universe.world(), cli.quiet);
     let result = match (&cli.command, &cli.job) {
         (Some(Command::Check { job }), _) => check(&ctx, job),

@@ -7,11 +7,13 @@
 //! does not own are its *ghosts*. Global node numbers are contiguous per rank in rank order, and
 //! equations are `6 * global_node + dof` so that a node's six DOFs form one block.
 mod agree;
+pub mod batch;
 mod context;
 mod dof_map;
 mod partition;
 
 pub use agree::{agree, Agreed};
+pub use batch::{run_batch, BatchError, TaskResult};
 pub use context::{Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
 pub use partition::{partition_cells, PartitionError};

@@ -3,7 +3,9 @@
 //! **Coursed.** The wall `W × H` is cut into `n_c` courses of height `h = H/n_c`, each into
 //! `n` stones of mean width `w = W/n`. The interior joints of course `k` sit at
 //!
-//!     x_m = m·w + o_k + v·(w/2)·u_m,   m = 1 … n−1,   u_m ~ U[−1, 1)
+//! ```text
+//! x_m = m·w + o_k + v·(w/2)·u_m,   m = 1 … n−1,   u_m ~ U[−1, 1)
+//! ```
 //!
 //! with the stagger offset `o_k = 0` on even courses and `± s·w/2` on odd ones (the sign
 //! alternating, `+` on courses 1, 5, 9, …, `−` on 3, 7, …, so the long end stones alternate sides
