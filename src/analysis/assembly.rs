@@ -74,6 +74,35 @@ pub fn assemble_stiffness(
     Ok(())
 }
 
+/// Collective. Adds the mass matrix of the owned elements into `m`, then assembles it. Fixed
+/// DOFs get no entry at all (zero row and column): their eigenvalues of `K φ = λ M φ` are then
+/// infinite, out of reach of a shift-and-invert search near zero.
+pub fn assemble_mass(
+    disc: &Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    kind: crate::element::MassKind,
+    m: &mut Matrix,
+) -> Result<(), Error> {
+    let mut s = Scratch::default();
+    let mut me = nalgebra::DMatrix::zeros(12, 12);
+    for (i, &c) in disc.local_cells.iter().enumerate() {
+        let cell = &mesh.cells[model.cells[c].cell];
+        disc.element_equations(&cell.nodes, &mut s.free, &mut s.all);
+        disc.elements[i].mass(kind, &mut me);
+        let n = s.free.len();
+        s.row_major.clear();
+        for r in 0..n {
+            for col in 0..n {
+                s.row_major.push(me[(r, col)]);
+            }
+        }
+        m.add_values(&s.free, &s.free, &s.row_major)?;
+    }
+    m.assemble()?;
+    Ok(())
+}
+
 /// Collective. External loads (nodal loads on owned nodes, self-weight of owned elements) into
 /// `f` (zeroed first), on the chosen rows, then assembled.
 pub fn assemble_loads(

@@ -43,6 +43,26 @@ impl Discretization {
         Ok(Discretization { dofs, cell_rank, local_cells, elements })
     }
 
+    /// Collective. An empty matrix over the equations, preallocated exactly for the model's
+    /// couplings, in the requested storage (AIJ, or BAIJ with 6×6 node blocks), declared symmetric.
+    pub fn new_matrix(
+        &self,
+        ctx: &Context,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        format: crate::config::MatrixFormat,
+    ) -> Result<crate::petsc::Matrix, Error> {
+        use crate::petsc::Matrix;
+        let p = self.dofs.preallocation(&model.cell_nodes(mesh));
+        let n = self.dofs.n_owned_dofs();
+        let mut m = match format {
+            crate::config::MatrixFormat::Aij => Matrix::new_aij(&ctx.comm, n, &p.d_nnz, &p.o_nnz)?,
+            crate::config::MatrixFormat::Baij => Matrix::new_baij(&ctx.comm, 6, n, &p.d_nnz_blocks, &p.o_nnz_blocks)?,
+        };
+        m.set_option_symmetric(true)?;
+        Ok(m)
+    }
+
     /// The equations of an element's DOFs, free (`-1` for fixed) and all.
     pub fn element_equations(&self, nodes: &[usize], free: &mut Vec<i32>, all: &mut Vec<i32>) {
         free.clear();

@@ -6,11 +6,11 @@
 use super::assembly::{self, Rows};
 use super::output;
 use super::Discretization;
-use crate::config::{Job, MatrixFormat};
+use crate::config::Job;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::petsc::{Ksp, Matrix, Petsc, Vector};
+use crate::petsc::{Ksp, Petsc, Vector};
 use crate::run::Error;
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
@@ -82,15 +82,8 @@ pub fn run(
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
     let dofs = &disc.dofs;
     let n_owned = dofs.n_owned_dofs();
-    let prealloc = dofs.preallocation(&model.cell_nodes(mesh));
     let format = job.spec.solver.matrix;
-    let mut k = match format {
-        MatrixFormat::Aij => Matrix::new_aij(&ctx.comm, n_owned, &prealloc.d_nnz, &prealloc.o_nnz)?,
-        MatrixFormat::Baij => {
-            Matrix::new_baij(&ctx.comm, 6, n_owned, &prealloc.d_nnz_blocks, &prealloc.o_nnz_blocks)?
-        }
-    };
-    k.set_option_symmetric(true)?;
+    let mut k = disc.new_matrix(ctx, mesh, model, format)?;
     k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
     let ghost_dofs = dofs.ghost_dofs();
     let mut u = Vector::new_ghosted(&ctx.comm, n_owned, &ghost_dofs)?;

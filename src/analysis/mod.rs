@@ -4,6 +4,7 @@ pub mod assembly;
 mod discretization;
 pub mod linear_static;
 pub mod material_point;
+pub mod modal;
 pub mod output;
 mod rigid_modes;
 

@@ -48,6 +48,8 @@ use std::path::PathBuf;
 pub enum AnalysisConfig {
     /// Linear static analysis: K u = f.
     LinearStatic,
+    /// Modal analysis: the lowest modes of K φ = ω² M φ.
+    Modal(ModalConfig),
 }
 
 impl AnalysisConfig {
@@ -55,8 +57,29 @@ impl AnalysisConfig {
     pub fn name(&self) -> &'static str {
         match self {
             AnalysisConfig::LinearStatic => "linear_static",
+            AnalysisConfig::Modal(_) => "modal",
         }
     }
+}
+
+/// `[analysis] type = "modal"`
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ModalConfig {
+    /// Number of modes (lowest frequencies), default 6.
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    /// Mass matrix: `"consistent"` (default) or `"lumped"`.
+    #[serde(default = "default_mass")]
+    pub mass: crate::element::MassKind,
+}
+
+fn default_modes() -> usize {
+    6
+}
+
+fn default_mass() -> crate::element::MassKind {
+    crate::element::MassKind::Consistent
 }
 
 /// `[mesh]`

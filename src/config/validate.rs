@@ -78,6 +78,17 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             }
         }
     }
+    if let AnalysisConfig::Modal(m) = &job.analysis {
+        if m.modes == 0 {
+            return Err(src.error_at(&[key("analysis"), key("modes")], "expected at least 1 mode"));
+        }
+        if !job.materials.values().any(|MaterialConfig::Elastic(e)| e.density > 0.0) {
+            return Err(src.error_at(
+                &[key("materials")],
+                "a modal analysis needs mass: give at least one material a density > 0",
+            ));
+        }
+    }
     if job.parts.is_empty() {
         return Err(src.error_at(
             &[],

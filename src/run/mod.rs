@@ -122,10 +122,15 @@ fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String]) -
     let petsc = Petsc::initialize(&argv)?;
     petsc.set_default_options("", &job.petsc_options)?;
 
-    match job.spec.analysis {
+    match &job.spec.analysis {
         AnalysisConfig::LinearStatic => {
             ctx.log.info("analysis: linear static");
             let summary = linear_static::run(ctx, &petsc, job, &input.mesh, &input.model)?;
+            write_summary(ctx, &job.output_dir, &summary)?;
+        }
+        AnalysisConfig::Modal(cfg) => {
+            ctx.log.info(format!("analysis: modal, {} mode(s)", cfg.modes));
+            let summary = crate::analysis::modal::run(ctx, job, cfg, &input.mesh, &input.model)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
     }

@@ -1,0 +1,187 @@
+//! Modal analysis: the lowest modes of `K φ = ω² M φ` with SLEPc (generalized symmetric,
+//! shift-and-invert about 0, MUMPS for the inner factorization).
+//!
+//! Modes are normalized to unit modal mass, `φᵀ M φ = 1`. For a ground motion along direction
+//! `d` (influence vector `ι_d`: unit translation `d` at every free node), the participation factor
+//! of mode `k` is `Γ_kd = φ_kᵀ M ι_d` and its effective modal mass `m_kd = Γ_kd²`. Over all modes
+//! `Σ_k m_kd = ι_dᵀ M ι_d`, the mass that moves with the free DOFs (the "total mass" reported;
+//! mass lumped on supported DOFs does not participate), so partial sums stay below it and
+//! approach it as modes are added (Chopra, *Dynamics of Structures*, §13.2).
+use super::assembly;
+use super::output::{node_triplets, MeshPiece};
+use super::Discretization;
+use crate::config::{Job, ModalConfig};
+use crate::io::ResultsWriter;
+use crate::mesh::Mesh;
+use crate::model::StructuralModel;
+use crate::parallel::{agree, Context};
+use crate::petsc::{Eps, Vector};
+use crate::run::Error;
+use std::time::Instant;
+
+/// One mode.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Mode {
+    /// 1-based mode number, by increasing frequency.
+    pub mode: usize,
+    /// Frequency [Hz].
+    pub frequency: f64,
+    /// Period [s].
+    pub period: f64,
+    /// Circular frequency ω [rad/s].
+    pub omega: f64,
+    /// Participation factors Γ in x, y, z.
+    pub participation: [f64; 3],
+    /// Effective modal masses in x, y, z [kg].
+    pub effective_mass: [f64; 3],
+    /// Cumulative effective mass over the total, in x, y, z.
+    pub cumulative_ratio: [f64; 3],
+}
+
+/// What a modal run reports.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ModalSummary {
+    /// Ranks.
+    pub ranks: usize,
+    /// Active nodes.
+    pub nodes: usize,
+    /// Elements.
+    pub elements: usize,
+    /// Equations.
+    pub equations: usize,
+    /// Mass matrix kind.
+    pub mass: String,
+    /// Mass that moves with the free DOFs, per direction [kg].
+    pub total_mass: [f64; 3],
+    /// The modes.
+    pub modes: Vec<Mode>,
+    /// Seconds: setup, assembly, eigensolve, output.
+    pub seconds: [f64; 4],
+}
+
+/// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
+pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &StructuralModel) -> Result<ModalSummary, Error> {
+    let log = &ctx.log;
+    let t0 = Instant::now();
+    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+    let format = job.spec.solver.matrix;
+    let mut k = disc.new_matrix(ctx, mesh, model, format)?;
+    let mut m = disc.new_matrix(ctx, mesh, model, format)?;
+    let t_setup = t0.elapsed().as_secs_f64();
+
+    let t0 = Instant::now();
+    assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k)?;
+    assembly::assemble_mass(&disc, mesh, model, cfg.mass, &mut m)?;
+    let t_assemble = t0.elapsed().as_secs_f64();
+    log.info(format!(
+        "modal: {} equations, {:?} mass, {} mode(s) wanted; assembly {t_assemble:.3} s",
+        6 * disc.dofs.n_global_nodes,
+        cfg.mass,
+        cfg.modes
+    ));
+
+    let t0 = Instant::now();
+    let mut eps = Eps::new(&ctx.comm, "")?;
+    eps.set_operators(&k, Some(&m))?;
+    eps.set_shift_invert(0.0)?;
+    eps.set_st_factor("cholesky", "mumps")?;
+    eps.set_dimensions(cfg.modes)?;
+    eps.set_tolerances(1e-10, 1000)?;
+    eps.set_from_options()?;
+    let pairs = agree(&ctx.comm, eps.solve().map_err(Error::from), Error::exit_code)?;
+    let t_solve = t0.elapsed().as_secs_f64();
+
+    // Influence vectors and M ι_d.
+    let n_owned = disc.dofs.n_owned_dofs();
+    let first = (6 * disc.dofs.node_offset()) as i32;
+    let idx: Vec<i32> = (0..n_owned as i32).map(|i| first + i).collect();
+    let mut m_iota = Vec::with_capacity(3);
+    let mut total_mass = [0.0; 3];
+    for d in 0..3 {
+        let vals: Vec<f64> = (0..n_owned).map(|i| if i % 6 == d { 1.0 } else { 0.0 }).collect();
+        let mut iota = Vector::new_mpi(&ctx.comm, n_owned, None)?;
+        iota.set_values(&idx, &vals)?;
+        iota.assemble()?;
+        let mut mi = Vector::new_mpi(&ctx.comm, n_owned, None)?;
+        m.mult(&iota, &mut mi)?;
+        total_mass[d] = iota.dot(&mi)?;
+        m_iota.push(mi);
+    }
+
+    let mut modes = Vec::with_capacity(pairs.len());
+    let mut shapes = Vec::with_capacity(pairs.len());
+    let mut cumulative = [0.0; 3];
+    let mut mphi = Vector::new_mpi(&ctx.comm, n_owned, None)?;
+    for (i, (lambda, mut phi)) in pairs.into_iter().take(cfg.modes).enumerate() {
+        m.mult(&phi, &mut mphi)?;
+        let modal_mass = phi.dot(&mphi)?;
+        if modal_mass > 0.0 {
+            phi.scale(1.0 / modal_mass.sqrt())?;
+        }
+        let omega = lambda.max(0.0).sqrt();
+        let mut gamma = [0.0; 3];
+        let mut meff = [0.0; 3];
+        for d in 0..3 {
+            gamma[d] = phi.dot(&m_iota[d])?;
+            meff[d] = gamma[d] * gamma[d];
+            cumulative[d] += meff[d];
+        }
+        let ratio = [0, 1, 2].map(|d| if total_mass[d] > 0.0 { cumulative[d] / total_mass[d] } else { 0.0 });
+        modes.push(Mode {
+            mode: i + 1,
+            frequency: omega / (2.0 * std::f64::consts::PI),
+            period: if omega > 0.0 { 2.0 * std::f64::consts::PI / omega } else { f64::INFINITY },
+            omega,
+            participation: gamma,
+            effective_mass: meff,
+            cumulative_ratio: ratio,
+        });
+        shapes.push(phi.owned_values()?);
+    }
+    log.info(format!("eigensolve: {t_solve:.3} s; total mass (x, y, z) = ({:.4e}, {:.4e}, {:.4e}) kg", total_mass[0], total_mass[1], total_mass[2]));
+    log.info("mode  frequency [Hz]   period [s]   eff. mass ratio x     y      z   (cumulative)");
+    for md in &modes {
+        log.info(format!(
+            "{:4}  {:14.6}  {:11.6}   {:6.3} {:6.3} {:6.3}   ({:.3} {:.3} {:.3})",
+            md.mode,
+            md.frequency,
+            md.period,
+            md.effective_mass[0] / total_mass[0].max(f64::MIN_POSITIVE),
+            md.effective_mass[1] / total_mass[1].max(f64::MIN_POSITIVE),
+            md.effective_mass[2] / total_mass[2].max(f64::MIN_POSITIVE),
+            md.cumulative_ratio[0],
+            md.cumulative_ratio[1],
+            md.cumulative_ratio[2]
+        ));
+    }
+
+    // Mode shapes: one output step per mode, the step's "time" is the mode number.
+    let t0 = Instant::now();
+    let piece = MeshPiece::new(ctx, job, mesh, model, &disc);
+    let written: Result<(), Error> = (|| {
+        let mut w = ResultsWriter::create(&ctx.comm, &job.output_dir, "modes", &piece.view())?;
+        let n_nodes = disc.dofs.owned.len();
+        for (md, shape) in modes.iter().zip(&shapes) {
+            w.begin_step(md.mode as f64)?;
+            w.write_node_field("mode_translation", 3, &node_triplets(shape, n_nodes, 0))?;
+            w.write_node_field("mode_rotation", 3, &node_triplets(shape, n_nodes, 3))?;
+            w.end_step()?;
+        }
+        w.close()?;
+        Ok(())
+    })();
+    agree(&ctx.comm, written, Error::exit_code)?;
+    let t_output = t0.elapsed().as_secs_f64();
+    log.info(format!("mode shapes: {}", job.output_dir.join("modes.xdmf").display()));
+
+    Ok(ModalSummary {
+        ranks: ctx.size,
+        nodes: disc.dofs.n_global_nodes,
+        elements: model.cells.len(),
+        equations: 6 * disc.dofs.n_global_nodes,
+        mass: format!("{:?}", cfg.mass).to_lowercase(),
+        total_mass,
+        modes,
+        seconds: [t_setup, t_assemble, t_solve, t_output],
+    })
+}
