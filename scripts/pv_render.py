@@ -21,6 +21,8 @@ def main():
     ap.add_argument("xdmf")
     ap.add_argument("--field", default="displacement")
     ap.add_argument("--warp", type=float, default=0.0, help="displacement scale factor (0: undeformed)")
+    ap.add_argument("--warp-field", default="displacement", help="node vector field to warp by")
+    ap.add_argument("--time", type=float, default=None, help="time step to show (default: the last)")
     ap.add_argument("--out", default="render.png")
     ap.add_argument("--size", default="1200x900")
     ap.add_argument("--view", default="iso", choices=["iso", "x", "y", "z"])
@@ -32,12 +34,12 @@ def main():
     scene = GetAnimationScene()
     scene.UpdateAnimationUsingDataTimeSteps()
     times = list(getattr(src, "TimestepValues", []) or [0.0])
-    t = times[-1]
+    t = times[-1] if a.time is None else min(times, key=lambda x: abs(x - a.time))
     UpdatePipeline(time=t, proxy=src)
     shown = src
     if a.warp:
         shown = WarpByVector(Input=src)
-        shown.Vectors = ["POINTS", "displacement"]
+        shown.Vectors = ["POINTS", a.warp_field]
         shown.ScaleFactor = a.warp
     view = GetActiveViewOrCreate("RenderView")
     view.ViewTime = t
