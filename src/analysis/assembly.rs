@@ -43,10 +43,26 @@ pub fn assemble_stiffness(
     u_local: Option<&[f64]>,
     k: &mut Matrix,
 ) -> Result<(), Error> {
+    assemble_stiffness_of(disc, mesh, model, u_local, &|_| true, k)
+}
+
+/// Collective. As [`assemble_stiffness`], over the elements of the parts (indices into the
+/// job's `parts`) for which `part_filter` is true.
+pub fn assemble_stiffness_of(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: Option<&[f64]>,
+    part_filter: &dyn Fn(usize) -> bool,
+    k: &mut Matrix,
+) -> Result<(), Error> {
     let mut s = Scratch::default();
     let mut out = ElementOutput::new(12);
     let local = u_local.map(|_| disc.dofs.local_index());
     for (i, &c) in disc.local_cells.iter().enumerate() {
+        if !part_filter(model.cells[c].part) {
+            continue;
+        }
         let cell = &mesh.cells[model.cells[c].cell];
         disc.element_equations(&cell.nodes, &mut s.free, &mut s.all);
         gather(&cell.nodes, u_local, local.as_ref(), &mut s.u_e);

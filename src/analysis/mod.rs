@@ -5,6 +5,7 @@ mod discretization;
 pub mod linear_static;
 pub mod material_point;
 pub mod modal;
+pub mod modal_updating;
 pub mod output;
 mod rigid_modes;
 

@@ -15,7 +15,7 @@ use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::petsc::{Eps, Vector};
+use crate::petsc::{Eps, Matrix, Vector};
 use crate::run::Error;
 use std::time::Instant;
 
@@ -59,6 +59,34 @@ pub struct ModalSummary {
     pub seconds: [f64; 4],
 }
 
+/// Collective. The `n` lowest eigenpairs `(λ = ω², φ)` of `K φ = λ M φ`, ascending, with
+/// `φᵀ M φ = 1`. SLEPc options (`-eps_*`, `-st_*`) from the command line apply.
+pub fn lowest_modes(ctx: &Context, k: &Matrix, m: &Matrix, n: usize) -> Result<Vec<(f64, Vector)>, Error> {
+    let mut eps = Eps::new(&ctx.comm, "")?;
+    eps.set_operators(k, Some(m))?;
+    eps.set_shift_invert(0.0)?;
+    eps.set_st_factor("cholesky", "mumps")?;
+    eps.set_dimensions(n)?;
+    eps.set_tolerances(1e-10, 1000)?;
+    eps.set_from_options()?;
+    let pairs = agree(&ctx.comm, eps.solve().map_err(Error::from), Error::exit_code)?;
+    let mut out = Vec::with_capacity(n);
+    let mut mphi: Option<Vector> = None;
+    for (lambda, mut phi) in pairs.into_iter().take(n) {
+        let mp = match &mut mphi {
+            Some(v) => v,
+            None => mphi.insert(phi.duplicate()?),
+        };
+        m.mult(&phi, mp)?;
+        let modal_mass = phi.dot(mp)?;
+        if modal_mass > 0.0 {
+            phi.scale(1.0 / modal_mass.sqrt())?;
+        }
+        out.push((lambda, phi));
+    }
+    Ok(out)
+}
+
 /// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
 pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &StructuralModel) -> Result<ModalSummary, Error> {
     let log = &ctx.log;
@@ -81,14 +109,7 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &Str
     ));
 
     let t0 = Instant::now();
-    let mut eps = Eps::new(&ctx.comm, "")?;
-    eps.set_operators(&k, Some(&m))?;
-    eps.set_shift_invert(0.0)?;
-    eps.set_st_factor("cholesky", "mumps")?;
-    eps.set_dimensions(cfg.modes)?;
-    eps.set_tolerances(1e-10, 1000)?;
-    eps.set_from_options()?;
-    let pairs = agree(&ctx.comm, eps.solve().map_err(Error::from), Error::exit_code)?;
+    let pairs = lowest_modes(ctx, &k, &m, cfg.modes)?;
     let t_solve = t0.elapsed().as_secs_f64();
 
     // Influence vectors and M ι_d.
@@ -111,13 +132,7 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &Str
     let mut modes = Vec::with_capacity(pairs.len());
     let mut shapes = Vec::with_capacity(pairs.len());
     let mut cumulative = [0.0; 3];
-    let mut mphi = Vector::new_mpi(&ctx.comm, n_owned, None)?;
-    for (i, (lambda, mut phi)) in pairs.into_iter().take(cfg.modes).enumerate() {
-        m.mult(&phi, &mut mphi)?;
-        let modal_mass = phi.dot(&mphi)?;
-        if modal_mass > 0.0 {
-            phi.scale(1.0 / modal_mass.sqrt())?;
-        }
+    for (i, (lambda, phi)) in pairs.into_iter().enumerate() {
         let omega = lambda.max(0.0).sqrt();
         let mut gamma = [0.0; 3];
         let mut meff = [0.0; 3];

@@ -50,6 +50,8 @@ pub enum AnalysisConfig {
     LinearStatic,
     /// Modal analysis: the lowest modes of K φ = ω² M φ.
     Modal(ModalConfig),
+    /// Modal updating: Young's moduli of chosen groups fitted to target frequencies.
+    ModalUpdating(ModalUpdatingConfig),
 }
 
 impl AnalysisConfig {
@@ -58,6 +60,7 @@ impl AnalysisConfig {
         match self {
             AnalysisConfig::LinearStatic => "linear_static",
             AnalysisConfig::Modal(_) => "modal",
+            AnalysisConfig::ModalUpdating(_) => "modal_updating",
         }
     }
 }
@@ -72,6 +75,65 @@ pub struct ModalConfig {
     /// Mass matrix: `"consistent"` (default) or `"lumped"`.
     #[serde(default = "default_mass")]
     pub mass: crate::element::MassKind,
+}
+
+/// `[analysis] type = "modal_updating"`: the factors `s_g` multiplying the elastic moduli (E,
+/// and G with it) of the parts of chosen groups are fitted so that computed frequencies match
+/// targets.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ModalUpdatingConfig {
+    /// Modes computed at each iteration (at least the highest target mode).
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    /// Mass matrix.
+    #[serde(default = "default_mass")]
+    pub mass: crate::element::MassKind,
+    /// Target frequencies, paired with computed modes by mode number, or by MAC when
+    /// `target_shapes` is given.
+    pub targets: Vec<TargetFrequency>,
+    /// Target mode shapes: an HDF5 file laid out as a modal run's `modes.h5`
+    /// (`mesh/node_ids`, `steps/<k>/mode_translation`, k = mode − 1), possibly for a few nodes
+    /// only (sensor locations). Relative to the job file's folder.
+    pub target_shapes: Option<PathBuf>,
+    /// The groups whose modulus is updated, with bounds on the factor.
+    pub parameters: Vec<UpdateParameter>,
+    /// Largest number of iterations (each one eigensolve), default 50.
+    #[serde(default = "default_update_iterations")]
+    pub max_iterations: usize,
+    /// Stop when the RMS relative frequency error is below this, default 1e-9.
+    #[serde(default = "default_update_tolerance")]
+    pub tolerance: f64,
+}
+
+/// A measured (or assumed) natural frequency.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TargetFrequency {
+    /// Mode number (1 = lowest); with `target_shapes`, the shape `mode` of that file.
+    pub mode: usize,
+    /// Frequency [Hz].
+    pub frequency: f64,
+}
+
+/// One updating parameter: the factor on E of the parts of a group.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct UpdateParameter {
+    /// Physical group (one of the job's parts).
+    pub group: String,
+    /// Smallest factor (> 0).
+    pub min: f64,
+    /// Largest factor.
+    pub max: f64,
+}
+
+fn default_update_iterations() -> usize {
+    50
+}
+
+fn default_update_tolerance() -> f64 {
+    1e-9
 }
 
 fn default_modes() -> usize {

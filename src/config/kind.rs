@@ -15,7 +15,7 @@ pub enum JobKind {
 
 /// Every `[analysis] type` a job file may give, with its kind.
 pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
-    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("material_point", JobKind::MaterialPoint)];
+    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("modal_updating", JobKind::Structural), ("material_point", JobKind::MaterialPoint)];
 
 /// The kind of the job in `src`.
 pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {

@@ -49,6 +49,19 @@ impl Job {
         validate::validate_structural(&source, &spec)?;
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let mesh_file = resolve(&folder, &spec.mesh.file);
+        let mut spec = spec;
+        if let AnalysisConfig::ModalUpdating(u) = &mut spec.analysis {
+            if let Some(p) = &u.target_shapes {
+                let file = resolve(&folder, p);
+                if !file.is_file() {
+                    return Err(source.error_at(
+                        &[Seg::Key("analysis".into()), Seg::Key("target_shapes".into())],
+                        format!("target shapes file {} does not exist", file.display()),
+                    ));
+                }
+                u.target_shapes = Some(file);
+            }
+        }
         let output_dir = output_dir(path, &spec.output);
         let petsc_options = spec
             .solver

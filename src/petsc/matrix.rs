@@ -158,6 +158,13 @@ impl Matrix {
         petsc_call!(MatZeroEntries(self.raw))
     }
 
+    /// `self ← self + alpha · x`, where the nonzero pattern of `x` is contained in that of
+    /// `self` (PETSc's `SUBSET_NONZERO_PATTERN`; e.g. `x` assembled from a subset of the
+    /// elements that assembled `self`). Collective.
+    pub fn axpy(&mut self, alpha: f64, x: &Matrix) -> Result<(), PetscError> {
+        petsc_call!(MatAXPY(self.raw, alpha, x.raw, sys::SUBSET_NONZERO_PATTERN))
+    }
+
     /// `y ← A·x`. Collective; `x`, `y` laid out as [`create_vectors`](Self::create_vectors).
     pub fn mult(&self, x: &Vector, y: &mut Vector) -> Result<(), PetscError> {
         petsc_call!(MatMult(self.raw, x.as_raw(), y.as_raw()))

@@ -61,6 +61,9 @@ pub enum Error {
     /// A material-point computation failed (Newton did not converge, a chart could not be drawn).
     #[error("material point: {0}")]
     MaterialPoint(String),
+    /// An analysis could not produce its result (too few converged modes, ...).
+    #[error("{0}")]
+    Analysis(String),
     /// A failure injected for testing (see `run::fault`).
     #[error("{0}")]
     Injected(String),

@@ -128,6 +128,11 @@ fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String]) -
             let summary = linear_static::run(ctx, &petsc, job, &input.mesh, &input.model)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
+        AnalysisConfig::ModalUpdating(cfg) => {
+            ctx.log.info("analysis: modal updating");
+            let summary = crate::analysis::modal_updating::run(ctx, job, cfg, &input.mesh, &input.model)?;
+            write_summary(ctx, &job.output_dir, &summary)?;
+        }
         AnalysisConfig::Modal(cfg) => {
             ctx.log.info(format!("analysis: modal, {} mode(s)", cfg.modes));
             let summary = crate::analysis::modal::run(ctx, job, cfg, &input.mesh, &input.model)?;

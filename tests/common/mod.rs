@@ -123,6 +123,62 @@ pub fn write_line_mesh(path: &Path, nodes: &[[f64; 3]], lines: &[[usize; 2]], po
     std::fs::write(path, s).expect("write mesh");
 }
 
+/// Writes an ASCII MSH 4.1 file of 2-node lines in several physical curve groups (`line_groups`:
+/// name and the indices of its lines), plus point groups, as [`write_line_mesh`] does for one.
+pub fn write_line_mesh_groups(
+    path: &Path,
+    nodes: &[[f64; 3]],
+    lines: &[[usize; 2]],
+    line_groups: &[(&str, Vec<usize>)],
+    point_groups: &[(&str, &[usize])],
+) {
+    let ng = line_groups.len();
+    let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
+    s += &format!("{}\n", ng + point_groups.len());
+    for (g, (name, _)) in line_groups.iter().enumerate() {
+        s += &format!("1 {} \"{}\"\n", g + 1, name);
+    }
+    for (i, (name, _)) in point_groups.iter().enumerate() {
+        s += &format!("0 {} \"{}\"\n", ng + i + 1, name);
+    }
+    s += "$EndPhysicalNames\n$Entities\n";
+    let pts: Vec<(usize, usize)> =
+        point_groups.iter().enumerate().flat_map(|(g, (_, ns))| ns.iter().map(move |&n| (g, n))).collect();
+    s += &format!("{} {} 0 0\n", pts.len(), ng);
+    for (k, (g, n)) in pts.iter().enumerate() {
+        let x = nodes[*n];
+        s += &format!("{} {} {} {} 1 {}\n", k + 1, x[0], x[1], x[2], ng + g + 1);
+    }
+    for g in 0..ng {
+        s += &format!("{} -1e9 -1e9 -1e9 1e9 1e9 1e9 1 {} 0\n", g + 1, g + 1);
+    }
+    s += "$EndEntities\n";
+    s += &format!("$Nodes\n1 {} 1 {}\n1 1 0 {}\n", nodes.len(), nodes.len(), nodes.len());
+    for i in 0..nodes.len() {
+        s += &format!("{}\n", i + 1);
+    }
+    for x in nodes {
+        s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    s += "$EndNodes\n$Elements\n";
+    let n_el = lines.len() + pts.len();
+    s += &format!("{} {} 1 {}\n", ng + pts.len(), n_el, n_el);
+    let mut tag = 1;
+    for (k, (_, n)) in pts.iter().enumerate() {
+        s += &format!("0 {} 15 1\n{} {}\n", k + 1, tag, n + 1);
+        tag += 1;
+    }
+    for (g, (_, ls)) in line_groups.iter().enumerate() {
+        s += &format!("1 {} 1 {}\n", g + 1, ls.len());
+        for &l in ls {
+            s += &format!("{} {} {}\n", tag, lines[l][0] + 1, lines[l][1] + 1);
+            tag += 1;
+        }
+    }
+    s += "$EndElements\n";
+    std::fs::write(path, s).expect("write mesh");
+}
+
 /// A job file for a frame made of the `"beams"` group of `mesh`, with the given extra TOML.
 pub fn frame_job(mesh: &str, e: f64, g: f64, sec: [f64; 4], orientation: Option<[f64; 3]>, extra: &str) -> String {
     let ori = orientation.map(|v| format!("orientation = [{}, {}, {}]\n", v[0], v[1], v[2])).unwrap_or_default();
