@@ -143,3 +143,18 @@ fn modal_updating_recovers_known_moduli_of_three_zones() {
         }
     }
 }
+
+#[test]
+fn inverted_updating_bounds_are_rejected_with_their_key() {
+    let dir = scratch("updating-bounds");
+    let analysis = "type = \"modal_updating\"\nmodes = 4\n[[analysis.targets]]\nmode = 1\nfrequency = 3.5\n\
+                    [[analysis.parameters]]\ngroup = \"z1\"\nmin = 2.0\nmax = 0.5\n";
+    let job = zoned_cantilever(&dir, [1.0; 3], analysis);
+    for np in [0, 2] {
+        let out = run(np, &[job.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("key 'analysis.parameters[0].max'") && err.contains("expected max > min = 2"), "np={np}: {err}");
+        assert_eq!(err.matches("error:").count(), 1, "{err}");
+    }
+}
