@@ -178,28 +178,78 @@ pub fn assemble_internal_forces(
     Ok(())
 }
 
-/// Cell quantities of the owned elements (`names.len()` per cell, cell-major), at `u_local`.
+/// Collective. Cell quantities of the owned elements, as named fields that are the same on every
+/// rank: the union of the names of all element kinds in the model, in order of first appearance
+/// (rank by rank). An element that does not define a field gets NaN there ("not applicable").
+/// Returns the names and the values, field-major (`values[f][i]` for owned element `i`).
 pub fn cell_outputs(
+    ctx: &crate::parallel::Context,
     disc: &Discretization,
     mesh: &Mesh,
     model: &StructuralModel,
     u_local: &[f64],
     loads: &AppliedLoads,
-) -> Result<(Vec<&'static str>, Vec<f64>), Error> {
+) -> Result<(Vec<String>, Vec<Vec<f64>>), Error> {
+    let mut local_names: Vec<&'static str> = Vec::new();
+    for e in &disc.elements {
+        for n in e.cell_output_names() {
+            if !local_names.contains(n) {
+                local_names.push(n);
+            }
+        }
+    }
+    let names = union_across_ranks(ctx, &local_names);
+    let index: std::collections::HashMap<&str, usize> = names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
     let local = disc.dofs.local_index();
-    let names: Vec<&'static str> =
-        disc.elements.first().map(|e| e.cell_output_names().to_vec()).unwrap_or_default();
-    let mut values = vec![0.0; names.len() * disc.elements.len()];
+    let mut values = vec![vec![f64::NAN; disc.elements.len()]; names.len()];
     let mut u_e = Vec::new();
+    let mut buf = Vec::new();
     for (i, &c) in disc.local_cells.iter().enumerate() {
         let cell = &mesh.cells[model.cells[c].cell];
         gather(&cell.nodes, Some(u_local), Some(&local), &mut u_e);
-        let k = names.len();
-        disc.elements[i]
-            .cell_output(&u_e, loads, &mut values[i * k..(i + 1) * k])
+        let e = &disc.elements[i];
+        let own = e.cell_output_names();
+        buf.clear();
+        buf.resize(own.len(), 0.0);
+        e.cell_output(&u_e, loads, &mut buf)
             .map_err(|source| Error::Element { tag: cell.tag, group: String::new(), source })?;
+        for (n, v) in own.iter().zip(&buf) {
+            values[index[n]][i] = *v;
+        }
     }
     Ok((names, values))
+}
+
+/// Collective. The union of every rank's names, in order of first appearance, rank by rank.
+fn union_across_ranks(ctx: &crate::parallel::Context, local: &[&str]) -> Vec<String> {
+    use mpi::traits::CommunicatorCollectives;
+    let joined = local.join("\n");
+    let bytes = joined.as_bytes();
+    let n = ctx.size;
+    let mut lens = vec![0u64; n];
+    ctx.comm.all_gather_into(&(bytes.len() as u64), &mut lens[..]);
+    let total: u64 = lens.iter().sum();
+    let mut all = vec![0u8; total as usize];
+    let counts: Vec<i32> = lens.iter().map(|&l| l as i32).collect();
+    let displs: Vec<i32> = counts.iter().scan(0, |acc, &c| {
+        let d = *acc;
+        *acc += c;
+        Some(d)
+    }).collect();
+    {
+        let mut partition = mpi::datatype::PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+        mpi::traits::CommunicatorCollectives::all_gather_varcount_into(&ctx.comm, bytes, &mut partition);
+    }
+    let mut out: Vec<String> = Vec::new();
+    for r in 0..n {
+        let piece = &all[displs[r] as usize..(displs[r] + counts[r]) as usize];
+        for name in String::from_utf8_lossy(piece).split('\n') {
+            if !name.is_empty() && !out.iter().any(|o| o == name) {
+                out.push(name.to_string());
+            }
+        }
+    }
+    out
 }
 
 /// The element's DOF values from the local form of a ghosted vector.

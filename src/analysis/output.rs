@@ -126,12 +126,10 @@ pub fn write_static_results(
     w.write_node_field("reaction_force", 3, &pick(&react, 0))?;
     w.write_node_field("reaction_moment", 3, &pick(&react, 3))?;
     let loads = AppliedLoads { gravity: model.gravity.unwrap_or([0.0; 3]) };
-    let (names, values) = super::assembly::cell_outputs(disc, mesh, model, u_local, &loads)?;
-    // Every rank must write the same fields: take the names from the element kinds of the model.
-    let k = names.len();
-    for (j, name) in names.iter().enumerate() {
-        let v: Vec<f64> = (0..disc.local_cells.len()).map(|i| values[i * k + j]).collect();
-        w.write_cell_field(name, 1, &v)?;
+    // The same field names on every rank, whatever element kinds each one holds.
+    let (names, values) = super::assembly::cell_outputs(ctx, disc, mesh, model, u_local, &loads)?;
+    for (name, v) in names.iter().zip(&values) {
+        w.write_cell_field(name, 1, v)?;
     }
     w.end_step()?;
     Ok(())
