@@ -199,3 +199,29 @@ fn random_sample(n: usize) -> Sample {
     })
     .unwrap()
 }
+
+#[test]
+#[ignore = "long run: the paper's wall compressed to 8e-3 (report only)"]
+fn paper_wall_compression_to_failure_report() {
+    let s = paper_wall();
+    let t = VirtualTest::Compression { max_strain: 8e-3, steps: 160 };
+    let r = run_test(&s, &MechParams::default(), &t).unwrap();
+    let d = &r.derived;
+    let last = r.curve.last().unwrap();
+    println!(
+        "paper wall to 8e-3: peak = {:.3} MPa at ε = {:.2e}, first crack {:.3} MPa, events {} ({} T / {} S), {:.2} s, {:.0} events/s, factorizations {}, solves {}, loss of load {}, imbalance {:.2e} of W_ext {:.3e}",
+        d.peak_stress / 1e6,
+        d.strain_at_peak,
+        d.first_crack_stress.unwrap_or(f64::NAN) / 1e6,
+        r.stats.events,
+        last.broken[1],
+        last.broken[2],
+        r.stats.seconds,
+        r.stats.events as f64 / r.stats.seconds,
+        r.stats.factorizations,
+        r.stats.solves,
+        r.stats.loss_of_load,
+        balance(last),
+        last.external_work
+    );
+}
