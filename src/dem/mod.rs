@@ -3,3 +3,4 @@
 pub mod mechanics;
 pub mod polygon;
 pub mod sample;
+pub mod solver;

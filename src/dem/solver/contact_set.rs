@@ -1,0 +1,170 @@
+//! Contacts and friction between stones not bonded by an intact beam (SPEC §1, eqs. 3–5).
+//!
+//! **Candidates.** Pairs whose beam is broken, plus pairs of stones whose current bounding
+//! boxes overlap, found with a uniform grid of cell size = the largest box (each stone is
+//! entered in every cell its box touches; a pair is tested once). Pairs with an intact beam are
+//! skipped: the bond carries their interaction.
+//!
+//! **Evaluation.** For each candidate, [`mechanics::contact`] on the *current* polygons
+//! (`Particle::polygon` moved rigidly by `q`) gives `F_n`, the normal `n_c`, the point `x_c` and
+//! the penalty stiffness `k_n`. Friction: the trial force is the committed `F_t` plus
+//! `k_t Δg_t`, `Δg_t` the tangential slip of the increment from the last committed equilibrium
+//! state (rotations included), followed by the Coulomb return map ([`mechanics::friction_update`]).
+//! Internal forces `F_n b + F_t c` ([`Contact::normal_forces`], [`Contact::tangential_forces`]).
+//!
+//! **Stored energy.** For a flat contact the overlap is a strip, `S_r = L δ`, so `F_n = k_n δ`
+//! and the normal energy is `F_n²/(2 k_n)`; the elastic tangential energy is `F_t²/(2 k_t)`.
+//! These state functions are what the energy bookkeeping counts (exact for flat contacts).
+use std::collections::{HashMap, HashSet};
+
+use super::dofs::DofMap;
+use super::error::DemError;
+use crate::dem::mechanics::{self, Contact, FrictionUpdate, MechParams, SlipState};
+use crate::dem::polygon::Polygon;
+use crate::dem::sample::Sample;
+
+/// An active contact in a trial state.
+#[derive(Clone, Debug)]
+pub struct ActiveContact {
+    /// First stone (lower index).
+    pub i: usize,
+    /// Second stone.
+    pub j: usize,
+    /// Normal contact.
+    pub contact: Contact,
+    /// Friction return map result.
+    pub friction: FrictionUpdate,
+    /// Tangential stiffness used.
+    pub k_t: f64,
+}
+
+impl ActiveContact {
+    /// Whether the contact sticks.
+    pub fn sticks(&self) -> bool {
+        self.friction.state == SlipState::Stick
+    }
+
+    /// Stored elastic energy `F_n²/(2k_n) + F_t²/(2k_t)`.
+    pub fn energy(&self) -> f64 {
+        let c = &self.contact;
+        let en = if c.k_n > 0.0 { 0.5 * c.f_n * c.f_n / c.k_n } else { 0.0 };
+        en + 0.5 * self.friction.f_t * self.friction.f_t / self.k_t
+    }
+}
+
+/// The current polygon of stone `p` for its DOFs `q`.
+fn current_polygon(sample: &Sample, p: usize, q: [f64; 3]) -> Polygon {
+    let part = &sample.particles[p];
+    part.polygon.moved(part.centroid, [q[0], q[1]], q[2])
+}
+
+/// Candidate pairs `(i < j)` without an intact beam (see the module docs).
+pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> Vec<(usize, usize)> {
+    let mut set: HashSet<(usize, usize)> = HashSet::new();
+    for (b, beam) in sample.beams.iter().enumerate() {
+        if !intact[b] {
+            set.insert((beam.i, beam.j));
+        }
+    }
+    // Bounding boxes of the current polygons.
+    let n = sample.particles.len();
+    let boxes: Vec<[f64; 4]> = (0..n)
+        .map(|p| {
+            let poly = current_polygon(sample, p, map.particle_dofs(p, z));
+            poly.vertices.iter().fold([f64::MAX, f64::MAX, f64::MIN, f64::MIN], |b, v| {
+                [b[0].min(v[0]), b[1].min(v[1]), b[2].max(v[0]), b[3].max(v[1])]
+            })
+        })
+        .collect();
+    let cell = boxes.iter().fold(0.0f64, |m, b| m.max(b[2] - b[0]).max(b[3] - b[1])).max(1e-12);
+    let (x0, y0) = boxes.iter().fold((f64::MAX, f64::MAX), |m, b| (m.0.min(b[0]), m.1.min(b[1])));
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (p, b) in boxes.iter().enumerate() {
+        let (ia, ib) = (((b[0] - x0) / cell) as i64, ((b[2] - x0) / cell) as i64);
+        let (ja, jb) = (((b[1] - y0) / cell) as i64, ((b[3] - y0) / cell) as i64);
+        for gi in ia..=ib {
+            for gj in ja..=jb {
+                grid.entry((gi, gj)).or_default().push(p);
+            }
+        }
+    }
+    // A small tolerance so stones that touch along an edge (zero overlap) are candidates.
+    let tol = 1e-9 * cell;
+    for list in grid.values() {
+        for (a, &p) in list.iter().enumerate() {
+            for &q in &list[a + 1..] {
+                let (i, j) = if p < q { (p, q) } else { (q, p) };
+                let (bi, bj) = (&boxes[i], &boxes[j]);
+                let overlap = bi[0] <= bj[2] + tol && bj[0] <= bi[2] + tol && bi[1] <= bj[3] + tol && bj[1] <= bi[3] + tol;
+                if !overlap || map.is_slave(i) && map.is_slave(j) && same_platen(sample, i, j) {
+                    continue;
+                }
+                match sample.beam_between(i, j) {
+                    Some(b) if intact[b] => {}
+                    _ => {
+                        set.insert((i, j));
+                    }
+                }
+            }
+        }
+    }
+    let mut v: Vec<_> = set.into_iter().collect();
+    v.sort_unstable();
+    v
+}
+
+fn same_platen(sample: &Sample, i: usize, j: usize) -> bool {
+    let b = &sample.boundary;
+    (b.bottom.contains(&i) && b.bottom.contains(&j)) || (b.top.contains(&i) && b.top.contains(&j))
+}
+
+/// Evaluates the candidate pairs at `z`, with friction trial states from the committed tangential
+/// forces `committed` and the committed coordinates `z_commit`.
+pub fn evaluate(
+    sample: &Sample,
+    map: &DofMap,
+    params: &MechParams,
+    pairs: &[(usize, usize)],
+    z: &[f64],
+    z_commit: &[f64],
+    committed: &HashMap<(usize, usize), f64>,
+) -> Result<Vec<ActiveContact>, DemError> {
+    let mut out = Vec::new();
+    for &(i, j) in pairs {
+        let (qi, qj) = (map.particle_dofs(i, z), map.particle_dofs(j, z));
+        let (pi, pj) = (&sample.particles[i], &sample.particles[j]);
+        let err = |source| DemError::Contact { i, j, source };
+        let ri = [pi.centroid[0] + qi[0], pi.centroid[1] + qi[1]];
+        let rj = [pj.centroid[0] + qj[0], pj.centroid[1] + qj[1]];
+        let c = mechanics::contact(
+            &current_polygon(sample, i, qi),
+            &current_polygon(sample, j, qj),
+            ri,
+            rj,
+            pi.diameter,
+            pj.diameter,
+            params,
+        )
+        .map_err(err)?;
+        let Some(c) = c else { continue };
+        let (ci, cj) = (map.particle_dofs(i, z_commit), map.particle_dofs(j, z_commit));
+        let dqi = [qi[0] - ci[0], qi[1] - ci[1], qi[2] - ci[2]];
+        let dqj = [qj[0] - cj[0], qj[1] - cj[1], qj[2] - cj[2]];
+        let dg = c.tangential_increment(dqi, dqj);
+        let k_t = (params.kt_over_kn * c.k_n).max(f64::MIN_POSITIVE);
+        let old = committed.get(&(i, j)).copied().unwrap_or(0.0);
+        let friction = mechanics::friction_update(old, dg, k_t, params.mu, c.f_n).map_err(err)?;
+        out.push(ActiveContact { i, j, contact: c, friction, k_t });
+    }
+    Ok(out)
+}
+
+/// Adds the internal contact and friction forces to `out` (length `n_z`).
+pub fn add_contact_forces(map: &DofMap, contacts: &[ActiveContact], out: &mut [f64]) {
+    for a in contacts {
+        let (ni, nj) = a.contact.normal_forces();
+        let (ti, tj) = a.contact.tangential_forces(a.friction.f_t);
+        map.scatter_force(a.i, [ni[0] + ti[0], ni[1] + ti[1], ni[2] + ti[2]], out);
+        map.scatter_force(a.j, [nj[0] + tj[0], nj[1] + tj[1], nj[2] + tj[2]], out);
+    }
+}

@@ -1,0 +1,643 @@
+//! The quasi-static, incremental, event-driven solution algorithm (SPEC §1, steps 1–4).
+//!
+//! ```text
+//! for each load step  t → t_target  (t = load parameter of the stage, in [0, 1]):
+//!   1. z_new = equilibrium at t_target (modified Newton on the residual, contacts + friction)
+//!   2. λ* = min over intact beams of failure_lambda(z_old → z_new)   (P piecewise linear in λ)
+//!   3. λ* ≥ 1: commit z_new (state "loading").
+//!      λ* < 1: t ← t + λ*(t_target − t); equilibrium there (z_old + λ*Δz when no contact is
+//!              active: exact, the problem is then linear); commit (state "pre-break");
+//!              break that beam; re-equilibrate at fixed load, commit ("relaxed");
+//!              while some intact beam has P ≥ 1: break the most critical one, re-equilibrate,
+//!              commit; then continue the step from t.
+//! stop at t = 1 of the last stage, or on loss of load (|R| < loss_fraction × peak).
+//! ```
+//!
+//! **Equilibrium iteration.** Residual `r = f_ext − f_int(z) − ε (z − z_commit)` on the
+//! unknowns; `Δz = K̃⁻¹ r` with `K̃` the factorized operator (intact beams, contact normal
+//! penalties `k_n b bᵀ`, sticking tangential terms `k_t c cᵀ`, the regularization `ε`). Converged
+//! when `‖r‖∞ ≤ tol · scale` and the contact and stick/slip sets did not change in the iteration.
+//! Without contacts the beam problem is linear and one solve is exact.
+//!
+//! **Regularization (free-floating stones).** Every unknown has a tiny spring
+//! `ε_k = 10⁻¹⁰ × (its diagonal with all beams intact)` to its position at the last committed
+//! equilibrium state. It changes connected stones' response by O(10⁻¹⁰) relative and holds a stone
+//! that lost every bond and contact where it was, so the matrix stays positive definite. Such
+//! stones are detected after every break (no intact beam, no active contact) and either reported
+//! ([`FloatingPolicy::Regularize`], default) or turned into [`DemError::FreeFloating`].
+//!
+//! **Low-rank updates.** A break adds `−Σ u uᵀ` (rank ≤ 3) to the Woodbury correction of the
+//! factorization ([`LowRankCholesky`]); contact terms entering / leaving the operator likewise
+//! (rank 1 each). The base matrix is refactorized when the correction's rank exceeds
+//! `max_rank`, or when a Newton iteration needs more than 3 solves (accuracy safeguard).
+//!
+//! **Energy.** Per committed state: external work (trapezoid of the platen forces times the
+//! platen displacement increments, prescribed and force-controlled DOFs), stored energy (intact
+//! beams `½ zᵀK z`, contacts [`ActiveContact::energy`]), dissipation = fracture (each beam's
+//! energy at the moment it breaks) + friction (return-map dissipation) + relaxation (what the
+//! re-equilibration at fixed load releases beyond the broken beam's own energy: the kinetic
+//! energy a dynamic model would damp). The relaxation term closes the balance over re-
+//! equilibration steps by definition; the balance check is meaningful over the loading steps,
+//! where `W_ext` and `E_stored` are computed independently (reactions vs. beam energies).
+use std::collections::HashMap;
+
+use super::contact_set::{self, ActiveContact};
+use super::error::DemError;
+use super::factor::LowRankCholesky;
+use super::system::{Model, ZTerm};
+use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
+
+/// What to do with a stone that lost every bond and contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FloatingPolicy {
+    /// Hold it by the regularization spring and report it (default).
+    #[default]
+    Regularize,
+    /// Stop with [`DemError::FreeFloating`].
+    Error,
+}
+
+/// Solver options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverOptions {
+    /// Relative residual tolerance.
+    pub tol: f64,
+    /// Maximum equilibrium iterations.
+    pub max_iterations: usize,
+    /// Refactorize when the Woodbury correction has more columns than this (90 = 30 beams).
+    pub max_rank: usize,
+    /// Stop when `|R| < loss_fraction × peak |R|` (after the peak).
+    pub loss_fraction: f64,
+    /// Cap on the number of beam breaks.
+    pub max_events: usize,
+    /// Contacts and friction between unbonded stones.
+    pub contacts: bool,
+    /// Free-floating stones.
+    pub floating: FloatingPolicy,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            tol: 1e-9,
+            max_iterations: 60,
+            max_rank: 90,
+            loss_fraction: 0.05,
+            max_events: 1_000_000,
+            contacts: true,
+            floating: FloatingPolicy::Regularize,
+        }
+    }
+}
+
+/// The load of a stage: prescribed platen values (order of [`DofMap::prescribed`]) and forces
+/// (order of [`DofMap::forced`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadPoint {
+    /// Imposed displacements/rotations.
+    pub prescribed: Vec<f64>,
+    /// External forces/moments.
+    pub forces: Vec<f64>,
+}
+
+impl LoadPoint {
+    fn lerp(a: &LoadPoint, b: &LoadPoint, t: f64) -> LoadPoint {
+        let l = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(u, v)| u + t * (v - u)).collect();
+        LoadPoint { prescribed: l(&a.prescribed, &b.prescribed), forces: l(&a.forces, &b.forces) }
+    }
+}
+
+/// Why a committed state was recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StateKind {
+    /// End of a load step.
+    Loading,
+    /// Load scaled to the first beam reaching P = 1.
+    PreBreak,
+    /// Re-equilibrated at fixed load after a break.
+    Relaxed,
+}
+
+/// One committed equilibrium state.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct StateRecord {
+    /// Load stage index.
+    pub stage: usize,
+    /// Load parameter within the stage.
+    pub t: f64,
+    /// Kind.
+    pub kind: StateKind,
+    /// Platen DOFs `(U_x, U_y, Θ)`, bottom then top.
+    pub platen: [[f64; 3]; 2],
+    /// Platen generalized forces (internal = reactions for prescribed DOFs).
+    pub platen_force: [[f64; 3]; 2],
+    /// Mean `u_x` of the left and of the right boundary stones.
+    pub lateral_ux: [f64; 2],
+    /// Broken beams so far: total, tension, shear.
+    pub broken: [usize; 3],
+    /// Active contacts.
+    pub contacts: usize,
+    /// External work (J).
+    pub external_work: f64,
+    /// Stored elastic energy (J).
+    pub stored: f64,
+    /// Dissipated: fracture, friction, relaxation (J).
+    pub dissipated: [f64; 3],
+}
+
+/// A broken beam.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct BrokenBeam {
+    /// Beam index.
+    pub beam: usize,
+    /// Failure mode at breaking.
+    pub mode: FailureModeTag,
+    /// Index of the recorded state at which it broke (the last state with it intact).
+    pub state: usize,
+    /// Its elastic energy when it broke (J).
+    pub energy: f64,
+}
+
+/// Serializable failure mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FailureModeTag {
+    /// Tension-dominated.
+    Tension,
+    /// Rotation/shear-dominated.
+    Shear,
+}
+
+/// The solver state of one test.
+pub struct Solver<'a> {
+    model: Model<'a>,
+    opts: SolverOptions,
+    /// Generalized coordinates (trial during an iteration, committed after `commit`).
+    pub z: Vec<f64>,
+    z_commit: Vec<f64>,
+    /// Beam intact flags.
+    pub intact: Vec<bool>,
+    reg: Vec<f64>,
+    factor: LowRankCholesky,
+    needs_factor: bool,
+    // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential).
+    op_terms: HashMap<(usize, usize, u8), ZTerm>,
+    contacts: Vec<ActiveContact>,
+    committed_ft: HashMap<(usize, usize), f64>,
+    load: LoadPoint,
+    /// Recorded states.
+    pub states: Vec<StateRecord>,
+    /// Broken beams in order.
+    pub broken: Vec<BrokenBeam>,
+    /// Stones found free-floating, with the event count.
+    pub floating: Vec<(usize, usize)>,
+    energy: Energy,
+    stage: usize,
+    /// Total equilibrium solves (linear solves).
+    pub n_solves: usize,
+    lateral: [Vec<usize>; 2],
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Energy {
+    external: f64,
+    fracture: f64,
+    friction: f64,
+    relaxation: f64,
+}
+
+/// How a stage ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StageEnd {
+    /// The target was reached.
+    Completed,
+    /// The monitored force dropped below the loss fraction of its peak.
+    LossOfLoad,
+}
+
+impl<'a> Solver<'a> {
+    /// A solver at the unloaded state (nothing broken, no contact), with the first load point.
+    pub fn new(model: Model<'a>, opts: SolverOptions, initial: LoadPoint) -> Result<Solver<'a>, DemError> {
+        let map = &model.map;
+        if initial.prescribed.len() != map.prescribed.len() || initial.forces.len() != map.forced.len() {
+            return Err(DemError::InvalidParameter {
+                field: "load point",
+                value: format!("{} prescribed / {} forces", initial.prescribed.len(), initial.forces.len()),
+                expected: "one value per prescribed and per force-controlled platen DOF",
+            });
+        }
+        let diag = model.diagonal();
+        let positive: Vec<f64> = diag.iter().copied().filter(|d| *d > 0.0).collect();
+        let mean = positive.iter().sum::<f64>() / positive.len().max(1) as f64;
+        let reg = diag.iter().map(|&d| 1e-10 * if d > 0.0 { d } else { mean.max(1.0) }).collect();
+        let n_z = map.n_z;
+        let n_eq = map.n_eq();
+        let lateral = [model.sample.boundary.left.clone(), model.sample.boundary.right.clone()];
+        let intact = vec![true; model.sample.beams.len()];
+        Ok(Solver {
+            opts,
+            z: vec![0.0; n_z],
+            z_commit: vec![0.0; n_z],
+            intact,
+            reg,
+            factor: LowRankCholesky::new(n_eq),
+            needs_factor: true,
+            op_terms: HashMap::new(),
+            contacts: Vec::new(),
+            committed_ft: HashMap::new(),
+            load: initial,
+            states: Vec::new(),
+            broken: Vec::new(),
+            floating: Vec::new(),
+            energy: Energy::default(),
+            stage: 0,
+            n_solves: 0,
+            lateral,
+            model,
+        })
+    }
+
+    /// The active contacts of the last equilibrium state.
+    pub fn contacts(&self) -> &[ActiveContact] {
+        &self.contacts
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model<'a> {
+        &self.model
+    }
+
+    /// The factorization statistics `(numeric factorizations, symbolic analyses)`.
+    pub fn factor_stats(&self) -> (usize, usize) {
+        (self.factor.n_factorizations, self.factor.n_symbolic)
+    }
+
+    fn refactorize(&mut self) -> Result<(), DemError> {
+        let extra: Vec<ZTerm> = self.op_terms.values().cloned().collect();
+        let t = self.model.assemble(&self.intact, &self.reg, &extra);
+        self.factor
+            .factorize(&t)
+            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+        self.needs_factor = false;
+        Ok(())
+    }
+
+    fn add_low_rank(&mut self, term: &ZTerm, sign: f64) -> Result<(), DemError> {
+        if self.needs_factor {
+            return Ok(()); // the next factorization will include the current terms
+        }
+        let cols = self.model.factors(term);
+        if self.factor.rank() + cols.len() > self.opts.max_rank {
+            self.needs_factor = true;
+            return Ok(());
+        }
+        self.factor
+            .add_terms(cols, sign)
+            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })
+    }
+
+    /// Internal forces in `z` (beams, contacts, regularization on the unknowns).
+    fn internal(&self, z: &[f64], contacts: &[ActiveContact]) -> Vec<f64> {
+        let mut f = vec![0.0; self.model.map.n_z];
+        self.model.add_beam_forces(&self.intact, z, &mut f);
+        contact_set::add_contact_forces(&self.model.map, contacts, &mut f);
+        f
+    }
+
+    /// Brings the operator's contact terms in line with `contacts` (Woodbury updates).
+    fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
+        let mut want: HashMap<(usize, usize, u8), ()> = HashMap::new();
+        for a in contacts {
+            want.insert((a.i, a.j, 0), ());
+            if a.sticks() {
+                want.insert((a.i, a.j, 1), ());
+            }
+        }
+        let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
+        for k in gone {
+            if let Some(t) = self.op_terms.remove(&k) {
+                self.add_low_rank(&t, -1.0)?;
+            }
+        }
+        for a in contacts {
+            for (kind, dir, k) in [
+                (0u8, a.contact.normal_direction(), a.contact.k_n),
+                (1u8, a.contact.tangential_direction(), a.k_t),
+            ] {
+                let key = (a.i, a.j, kind);
+                if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
+                    let t = self.model.rank_one(a.i, a.j, &dir, k);
+                    self.add_low_rank(&t, 1.0)?;
+                    self.op_terms.insert(key, t);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Finds equilibrium at `load` starting from the current `z`; leaves the trial contacts in
+    /// `self.contacts`.
+    pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
+        let map = &self.model.map;
+        for (k, &zi) in map.prescribed.iter().enumerate() {
+            self.z[zi] = load.prescribed[k];
+        }
+        let mut f_ext = vec![0.0; map.n_z];
+        for (k, &zi) in map.forced.iter().enumerate() {
+            f_ext[zi] = load.forces[k];
+        }
+        let has_broken = self.intact.iter().any(|ok| !ok);
+        let mut prev_sig: Option<Vec<(usize, usize, bool)>> = None;
+        let mut last_res = f64::NAN;
+        for it in 0..self.opts.max_iterations {
+            let contacts = if self.opts.contacts && has_broken {
+                let pairs = contact_set::candidates(self.model.sample, &self.model.map, &self.z, &self.intact);
+                contact_set::evaluate(
+                    self.model.sample,
+                    &self.model.map,
+                    &self.model.params,
+                    &pairs,
+                    &self.z,
+                    &self.z_commit,
+                    &self.committed_ft,
+                )?
+            } else {
+                Vec::new()
+            };
+            let sig: Vec<(usize, usize, bool)> = contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect();
+            let f = self.internal(&self.z, &contacts);
+            let map = &self.model.map;
+            let mut r = vec![0.0; map.n_eq()];
+            let mut scale = 1e-9 * self.model.params.e_bar * self.model.params.t_z * self.model.sample.width;
+            for (e, &zi) in map.unknowns.iter().enumerate() {
+                r[e] = f_ext[zi] - f[zi] - self.reg[e] * (self.z[zi] - self.z_commit[zi]);
+            }
+            for v in f.iter().chain(f_ext.iter()) {
+                scale = scale.max(v.abs());
+            }
+            let res = r.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale;
+            last_res = res;
+            let stable = prev_sig.as_ref() == Some(&sig);
+            if res <= self.opts.tol && (stable || sig.is_empty()) {
+                self.contacts = contacts;
+                return Ok(());
+            }
+            prev_sig = Some(sig);
+            self.sync_operator(&contacts)?;
+            if it >= 3 && self.factor.rank() > 0 {
+                self.needs_factor = true;
+            }
+            if self.needs_factor {
+                self.refactorize()?;
+            }
+            self.factor
+                .solve(&mut r)
+                .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+            self.n_solves += 1;
+            for (e, &zi) in self.model.map.unknowns.iter().enumerate() {
+                self.z[zi] += r[e];
+            }
+        }
+        Err(DemError::NoConvergence {
+            stage: self.stage,
+            load: t,
+            event: self.broken.len(),
+            iterations: self.opts.max_iterations,
+            residual: last_res,
+        })
+    }
+
+    fn stored_energy(&self) -> f64 {
+        let beams: f64 =
+            (0..self.intact.len()).filter(|&b| self.intact[b]).map(|b| self.model.beam_energy(b, &self.z)).sum();
+        beams + self.contacts.iter().map(|a| a.energy()).sum::<f64>()
+    }
+
+    fn platen_forces(&self, f: &[f64]) -> [[f64; 3]; 2] {
+        let b = self.model.map.platen_base;
+        [[f[b[0]], f[b[0] + 1], f[b[0] + 2]], [f[b[1]], f[b[1] + 1], f[b[1] + 2]]]
+    }
+
+    /// Commits the trial state and records it.
+    fn commit(&mut self, t: f64, kind: StateKind) {
+        let f = self.internal(&self.z, &self.contacts);
+        let pf = self.platen_forces(&f);
+        let b = self.model.map.platen_base;
+        let platen = [
+            [self.z[b[0]], self.z[b[0] + 1], self.z[b[0] + 2]],
+            [self.z[b[1]], self.z[b[1] + 1], self.z[b[1] + 2]],
+        ];
+        // External work, trapezoid over the platen DOFs (prescribed and force-controlled).
+        if let Some(prev) = self.states.last() {
+            for k in 0..2 {
+                for a in 0..3 {
+                    self.energy.external +=
+                        0.5 * (prev.platen_force[k][a] + pf[k][a]) * (platen[k][a] - prev.platen[k][a]);
+                }
+            }
+        }
+        self.energy.friction += self.contacts.iter().map(|a| a.friction.dissipation).sum::<f64>();
+        self.committed_ft = self.contacts.iter().map(|a| ((a.i, a.j), a.friction.f_t)).collect();
+        self.z_commit.clone_from(&self.z);
+        let mut lateral_ux = [0.0; 2];
+        for (s, set) in self.lateral.iter().enumerate() {
+            let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.z)[0]).sum();
+            lateral_ux[s] = sum / set.len().max(1) as f64;
+        }
+        let n_t = self.broken.iter().filter(|b| b.mode == FailureModeTag::Tension).count();
+        let stored = self.stored_energy();
+        if kind == StateKind::Relaxed {
+            // Energy released by the re-equilibration beyond the broken beam's own energy.
+            if let Some(prev) = self.states.last() {
+                let before = prev.external_work - prev.stored - prev.dissipated.iter().sum::<f64>();
+                let now = self.energy.external - stored - self.energy.fracture - self.energy.friction - self.energy.relaxation;
+                self.energy.relaxation += now - before;
+            }
+        }
+        self.states.push(StateRecord {
+            stage: self.stage,
+            t,
+            kind,
+            platen,
+            platen_force: pf,
+            lateral_ux,
+            broken: [self.broken.len(), n_t, self.broken.len() - n_t],
+            contacts: self.contacts.len(),
+            external_work: self.energy.external,
+            stored,
+            dissipated: [self.energy.fracture, self.energy.friction, self.energy.relaxation],
+        });
+    }
+
+    /// Breaks beam `b` at the committed state.
+    fn break_beam(&mut self, b: usize) -> Result<(), DemError> {
+        let (qi, qj) = self.model.beam_dofs(b, &self.z);
+        let mode = match failure_mode(&self.model.geoms[b], &self.model.thresholds, qi, qj) {
+            FailureMode::Tension => FailureModeTag::Tension,
+            FailureMode::Shear => FailureModeTag::Shear,
+        };
+        let energy = self.model.beam_energy(b, &self.z);
+        self.energy.fracture += energy;
+        // The previous state's stored energy included this beam: move it to the fracture account
+        // so the relaxation term measures only what the re-equilibration releases.
+        if let Some(last) = self.states.last_mut() {
+            last.stored -= energy;
+            last.dissipated[0] += energy;
+        }
+        self.intact[b] = false;
+        self.broken.push(BrokenBeam { beam: b, mode, state: self.states.len().saturating_sub(1), energy });
+        if self.broken.len() > self.opts.max_events {
+            return Err(DemError::TooManyEvents { max_events: self.opts.max_events });
+        }
+        let term = self.model.terms[b].clone();
+        self.add_low_rank(&term, -1.0)?;
+        let beam = &self.model.sample.beams[b];
+        for p in [beam.i, beam.j] {
+            if self.model.map.is_slave(p) {
+                continue;
+            }
+            let bonded = self.model.sample.neighbours[p].iter().any(|&(_, k)| self.intact[k]);
+            let touching = self.contacts.iter().any(|a| a.i == p || a.j == p);
+            if !bonded && !touching {
+                if self.opts.floating == FloatingPolicy::Error {
+                    return Err(DemError::FreeFloating { particle: p, event: self.broken.len() });
+                }
+                self.floating.push((p, self.broken.len()));
+                self.needs_factor = true; // avoid an ill-conditioned Woodbury correction
+            }
+        }
+        Ok(())
+    }
+
+    /// The smallest failure fraction along `z_old → z` and its beam.
+    fn first_failure(&self, z_old: &[f64]) -> Option<(f64, usize)> {
+        let mut best: Option<(f64, usize)> = None;
+        for b in 0..self.intact.len() {
+            if !self.intact[b] {
+                continue;
+            }
+            let (q0i, q0j) = self.model.beam_dofs(b, z_old);
+            let (q1i, q1j) = self.model.beam_dofs(b, &self.z);
+            let d = |a: [f64; 3], c: [f64; 3]| [a[0] - c[0], a[1] - c[1], a[2] - c[2]];
+            if let Some(l) =
+                failure_lambda(&self.model.geoms[b], &self.model.thresholds, q0i, q0j, d(q1i, q0i), d(q1j, q0j))
+            {
+                if best.is_none_or(|(bl, _)| l < bl) {
+                    best = Some((l, b));
+                }
+            }
+        }
+        best
+    }
+
+    /// The intact beam with the largest `P ≥ 1` at the current state.
+    fn most_critical(&self) -> Option<usize> {
+        let mut best: Option<(f64, usize)> = None;
+        for b in (0..self.intact.len()).filter(|&b| self.intact[b]) {
+            let (qi, qj) = self.model.beam_dofs(b, &self.z);
+            let p = failure_index(&self.model.geoms[b], &self.model.thresholds, qi, qj);
+            if p >= 1.0 && best.is_none_or(|(bp, _)| p > bp) {
+                best = Some((p, b));
+            }
+        }
+        best.map(|(_, b)| b)
+    }
+
+    /// Breaks beam `b` now (e.g. a pre-cracked sample), re-equilibrates at the current load and
+    /// records the state.
+    pub fn break_and_relax(&mut self, b: usize) -> Result<(), DemError> {
+        if b >= self.intact.len() || !self.intact[b] {
+            return Err(DemError::InvalidParameter {
+                field: "beam",
+                value: b.to_string(),
+                expected: "the index of an intact beam",
+            });
+        }
+        self.break_beam(b)?;
+        let l = self.load.clone();
+        self.equilibrate(&l, 1.0)?;
+        self.commit(1.0, StateKind::Relaxed);
+        Ok(())
+    }
+
+    /// Records the unloaded initial state (call once before the first stage).
+    pub fn start(&mut self) -> Result<(), DemError> {
+        let l = self.load.clone();
+        self.equilibrate(&l, 0.0)?;
+        self.commit(0.0, StateKind::Loading);
+        Ok(())
+    }
+
+    /// Runs one load stage from the current load to `target` in `steps` equal steps; `monitor`
+    /// is the platen force `(platen, dof)` watched for loss of load.
+    pub fn run_stage(
+        &mut self,
+        target: &LoadPoint,
+        steps: usize,
+        monitor: Option<(usize, usize)>,
+    ) -> Result<StageEnd, DemError> {
+        let from = self.load.clone();
+        let mut t = 0.0;
+        let mut peak = 0.0f64;
+        let mut seen = self.states.len();
+        for step in 1..=steps.max(1) {
+            let t_target = step as f64 / steps.max(1) as f64;
+            loop {
+                let z_old = self.z.clone();
+                let load = LoadPoint::lerp(&from, target, t_target);
+                self.equilibrate(&load, t_target)?;
+                match self.first_failure(&z_old) {
+                    None => {
+                        self.commit(t_target, StateKind::Loading);
+                        t = t_target;
+                    }
+                    Some((lam, b)) if lam >= 1.0 => {
+                        let _ = b;
+                        self.commit(t_target, StateKind::Loading);
+                        t = t_target;
+                    }
+                    Some((lam, b)) => {
+                        let t_l = t + lam * (t_target - t);
+                        let load_l = LoadPoint::lerp(&from, target, t_l);
+                        if self.contacts.is_empty() {
+                            for (zo, zn) in z_old.iter().zip(self.z.iter_mut()) {
+                                *zn = zo + lam * (*zn - zo);
+                            }
+                        } else {
+                            self.z.clone_from(&z_old);
+                            self.equilibrate(&load_l, t_l)?;
+                        }
+                        self.commit(t_l, StateKind::PreBreak);
+                        t = t_l;
+                        let mut next = Some(b);
+                        while let Some(bb) = next {
+                            self.break_beam(bb)?;
+                            self.equilibrate(&load_l, t_l)?;
+                            self.commit(t_l, StateKind::Relaxed);
+                            next = self.most_critical();
+                        }
+                    }
+                }
+                if let Some((k, a)) = monitor {
+                    for st in &self.states[seen..] {
+                        peak = peak.max(st.platen_force[k][a].abs());
+                    }
+                    seen = self.states.len();
+                    let r = self.states.last().map_or(0.0, |s| s.platen_force[k][a].abs());
+                    if !self.broken.is_empty() && peak > 0.0 && r < self.opts.loss_fraction * peak {
+                        self.load = LoadPoint::lerp(&from, target, t);
+                        return Ok(StageEnd::LossOfLoad);
+                    }
+                }
+                if t >= t_target {
+                    break;
+                }
+            }
+        }
+        self.load = target.clone();
+        self.stage += 1;
+        Ok(StageEnd::Completed)
+    }
+}

@@ -1,0 +1,22 @@
+//! The quasi-static, incremental, event-driven DEM solver (SPEC §1, "Solution algorithm") and
+//! the virtual tests built on it.
+pub mod dofs;
+pub mod error;
+pub mod factor;
+
+pub use dofs::{DofControl, DofMap, PlatenControl};
+pub use error::DemError;
+pub use factor::LowRankCholesky;
+pub mod contact_set;
+pub mod events;
+pub mod system;
+
+pub use events::{
+    BrokenBeam, FailureModeTag, FloatingPolicy, LoadPoint, Solver, SolverOptions, StageEnd, StateKind, StateRecord,
+};
+pub use system::Model;
+pub mod virtual_test;
+#[cfg(test)]
+mod tests;
+
+pub use virtual_test::{run_test, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats, TestResult, VirtualTest};

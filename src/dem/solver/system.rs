@@ -1,0 +1,175 @@
+//! The assembled mechanical model: beam stiffnesses mapped to the generalized coordinates,
+//! internal forces, the global sparse matrix and the low-rank factors of element terms.
+//!
+//! A beam `b` between stones `i`, `j` has the 6×6 stiffness `K_b = ∂f/∂(q_i, q_j)`
+//! ([`mechanics::beam_stiffness`]); with `q = G z[idx]` ([`DofMap::pair_map`]) its contribution
+//! in `z` is `K_z = Gᵀ K_b G` and its internal force `f_z = K_z z[idx]` (exact: the beam law is
+//! linear). The equations are the unknown rows of `Σ f_z = f_ext`; the rows of prescribed `z`
+//! entries give the reactions. The global matrix is `K_uu` (unknown rows and columns), assembled
+//! as an upper triangle.
+use nalgebra::{SMatrix, SVector};
+
+use super::dofs::DofMap;
+use super::error::DemError;
+use super::factor::UpperTriplets;
+use crate::dem::mechanics::{self, BeamGeom, MechParams, Thresholds};
+use crate::dem::sample::Sample;
+use faer::sparse::Triplet;
+
+/// A symmetric element term in `z`: indices and 6×6 matrix.
+#[derive(Clone, Debug)]
+pub struct ZTerm {
+    /// The six `z` indices (may repeat for two stones of one platen).
+    pub idx: [usize; 6],
+    /// The matrix `Gᵀ K G`.
+    pub k: SMatrix<f64, 6, 6>,
+}
+
+/// The beams of a sample, ready for assembly.
+pub struct Model<'a> {
+    /// The sample.
+    pub sample: &'a Sample,
+    /// Lattice parameters.
+    pub params: MechParams,
+    /// Failure thresholds (deterministic).
+    pub thresholds: Thresholds,
+    /// DOF map.
+    pub map: DofMap,
+    /// Per beam geometry.
+    pub geoms: Vec<BeamGeom>,
+    /// Per beam stiffness in `z`.
+    pub terms: Vec<ZTerm>,
+}
+
+impl<'a> Model<'a> {
+    /// Builds the geometry and `z`-stiffness of every beam. Errors: invalid parameters or beams.
+    pub fn new(sample: &'a Sample, params: &MechParams, map: DofMap) -> Result<Model<'a>, DemError> {
+        params.validate().map_err(DemError::Params)?;
+        let mut geoms = Vec::with_capacity(sample.beams.len());
+        let mut terms = Vec::with_capacity(sample.beams.len());
+        for (k, b) in sample.beams.iter().enumerate() {
+            let err = |source| DemError::Beam { beam: k, i: b.i, j: b.j, source };
+            let g = BeamGeom {
+                ell: b.length,
+                n: b.normal,
+                r_i: b.arm_i,
+                r_j: b.arm_j,
+                area: b.area,
+                inertia: b.inertia,
+            };
+            g.validate().map_err(err)?;
+            let (idx, gm) = map.pair_map(b.i, b.j);
+            let kz = gm.transpose() * mechanics::beam_stiffness(&g, params) * gm;
+            geoms.push(g);
+            terms.push(ZTerm { idx, k: (kz + kz.transpose()) * 0.5 });
+        }
+        Ok(Model { sample, params: *params, thresholds: params.thresholds(), map, geoms, terms })
+    }
+
+    /// Stones `(q_i, q_j)` of beam `b` for coordinates `z`.
+    pub fn beam_dofs(&self, b: usize, z: &[f64]) -> ([f64; 3], [f64; 3]) {
+        let beam = &self.sample.beams[b];
+        (self.map.particle_dofs(beam.i, z), self.map.particle_dofs(beam.j, z))
+    }
+
+    /// `z[idx]` of a term.
+    pub fn gather(idx: &[usize; 6], z: &[f64]) -> SVector<f64, 6> {
+        SVector::<f64, 6>::from_fn(|a, _| z[idx[a]])
+    }
+
+    /// Adds the internal forces of the intact beams to `out` (length `n_z`).
+    pub fn add_beam_forces(&self, intact: &[bool], z: &[f64], out: &mut [f64]) {
+        for (t, _) in self.terms.iter().zip(intact).filter(|(_, &ok)| ok) {
+            let f = t.k * Self::gather(&t.idx, z);
+            for a in 0..6 {
+                out[t.idx[a]] += f[a];
+            }
+        }
+    }
+
+    /// Elastic energy `½ z_bᵀ K_z z_b` of beam `b`.
+    pub fn beam_energy(&self, b: usize, z: &[f64]) -> f64 {
+        let t = &self.terms[b];
+        let v = Self::gather(&t.idx, z);
+        0.5 * v.dot(&(t.k * v))
+    }
+
+    /// Scatters a `z`-space 6×6 term (times `scale`) into upper triplets in equation space.
+    pub fn push_term(&self, idx: &[usize; 6], k: &SMatrix<f64, 6, 6>, scale: f64, out: &mut UpperTriplets) {
+        for a in 0..6 {
+            let Some(r) = self.map.eq[idx[a]] else { continue };
+            for b in 0..6 {
+                let Some(c) = self.map.eq[idx[b]] else { continue };
+                if r <= c {
+                    out.push(Triplet::new(r, c, scale * k[(a, b)]));
+                }
+            }
+        }
+    }
+
+    /// The upper triangle of `K_uu` from all beams (broken ones as explicit zeros, so the
+    /// structure never changes), plus the diagonal `reg`, plus `extra` terms.
+    pub fn assemble(&self, intact: &[bool], reg: &[f64], extra: &[ZTerm]) -> UpperTriplets {
+        let mut t = Vec::with_capacity(self.terms.len() * 21 + reg.len());
+        for (term, &ok) in self.terms.iter().zip(intact) {
+            self.push_term(&term.idx, &term.k, if ok { 1.0 } else { 0.0 }, &mut t);
+        }
+        for e in extra {
+            self.push_term(&e.idx, &e.k, 1.0, &mut t);
+        }
+        for (r, &v) in reg.iter().enumerate() {
+            t.push(Triplet::new(r, r, v));
+        }
+        t
+    }
+
+    /// The diagonal of `K_uu` with all beams intact.
+    pub fn diagonal(&self) -> Vec<f64> {
+        let mut d = vec![0.0; self.map.n_eq()];
+        for t in &self.terms {
+            for a in 0..6 {
+                for b in 0..6 {
+                    if let (Some(r), Some(c)) = (self.map.eq[t.idx[a]], self.map.eq[t.idx[b]]) {
+                        if r == c {
+                            d[r] += t.k[(a, b)];
+                        }
+                    }
+                }
+            }
+        }
+        d
+    }
+
+    /// Low-rank factors of a PSD `z` term in equation space: `R K_z Rᵀ = Σ u uᵀ`, from the
+    /// eigen-decomposition `K_z = Σ λ v vᵀ` (`u = √λ R v`, eigenvalues below 1e-12 λ_max dropped).
+    pub fn factors(&self, term: &ZTerm) -> Vec<Vec<f64>> {
+        let eig = nalgebra::SymmetricEigen::new(term.k);
+        let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
+        let mut cols = Vec::new();
+        for (k, &l) in eig.eigenvalues.iter().enumerate() {
+            if l <= 1e-12 * lmax || l <= 0.0 {
+                continue;
+            }
+            let mut u = vec![0.0; self.map.n_eq()];
+            let mut any = false;
+            for a in 0..6 {
+                if let Some(r) = self.map.eq[term.idx[a]] {
+                    u[r] += l.sqrt() * eig.eigenvectors[(a, k)];
+                    any = true;
+                }
+            }
+            if any {
+                cols.push(u);
+            }
+        }
+        cols
+    }
+
+    /// A rank-1 term `w wᵀ` in `z` for a pair direction `d` (in `(q_i, q_j)`) of stiffness `k`:
+    /// `w = √k Gᵀ d`.
+    pub fn rank_one(&self, i: usize, j: usize, d: &SVector<f64, 6>, k: f64) -> ZTerm {
+        let (idx, g) = self.map.pair_map(i, j);
+        let w = g.transpose() * d * k.max(0.0).sqrt();
+        ZTerm { idx, k: w * w.transpose() }
+    }
+}
