@@ -200,8 +200,10 @@ fn random_sample(n: usize) -> Sample {
     .unwrap()
 }
 
+/// The paper's wall compressed far past first cracking (8e-3): the energy balance of the whole
+/// test holds within 1% (the issue's tolerance: external work = stored + dissipated), with
+/// cracking events on the way. Also prints the figures reported in the issue notes.
 #[test]
-#[ignore = "long run: the paper's wall compressed to 8e-3 (report only)"]
 fn paper_wall_compression_to_failure_report() {
     let s = paper_wall();
     let t = VirtualTest::Compression { max_strain: 8e-3, steps: 160 };
@@ -224,4 +226,6 @@ fn paper_wall_compression_to_failure_report() {
         balance(last),
         last.external_work
     );
+    assert!(r.stats.events > 0, "cracks form");
+    assert!(balance(last).abs() <= 0.01 * last.external_work, "energy balance {} of {}", balance(last), last.external_work);
 }
