@@ -11,11 +11,13 @@ pub enum JobKind {
     Structural,
     /// One point of the damage law along a strain path: see [`super::MaterialPointJobFile`].
     MaterialPoint,
+    /// A DEM virtual test on a batch of samples: see [`super::DemJobFile`].
+    Dem,
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
 pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
-    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("modal_updating", JobKind::Structural), ("material_point", JobKind::MaterialPoint)];
+    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("modal_updating", JobKind::Structural), ("material_point", JobKind::MaterialPoint), ("dem", JobKind::Dem)];
 
 /// The kind of the job in `src`.
 pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {

@@ -2,6 +2,7 @@
 //!
 //! Every error names the file, the line and column, the key and what was expected
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
+mod dem;
 mod error;
 mod job;
 mod kind;
@@ -11,6 +12,7 @@ mod tagged;
 mod validate;
 
 pub use error::{ConfigError, Location};
+pub use dem::*;
 pub use job::*;
 pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
@@ -37,10 +39,8 @@ impl Job {
     pub fn load(path: &Path) -> Result<Job, ConfigError> {
         match load_job(path)? {
             AnyJob::Structural(job) => Ok(job),
-            AnyJob::MaterialPoint(j) => Err(j.source.error_at(
-                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
-                "expected a structural analysis here, not a material-point one",
-            )),
+            AnyJob::MaterialPoint(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
+            AnyJob::Dem(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
         }
     }
 
@@ -90,6 +90,47 @@ pub enum AnyJob {
     Structural(Job),
     /// A material-point job.
     MaterialPoint(MaterialPointJob),
+    /// A DEM virtual test (a batch of samples).
+    Dem(DemJob),
+}
+
+/// A loaded, validated DEM job.
+pub struct DemJob {
+    /// The file and its text.
+    pub source: Source,
+    /// What it says.
+    pub spec: DemJobFile,
+    /// The lattice parameters (thickness from the sample).
+    pub params: crate::dem::mechanics::MechParams,
+    /// The results folder.
+    pub output_dir: PathBuf,
+}
+
+impl DemJob {
+    fn from_source(source: Source, path: &Path) -> Result<DemJob, ConfigError> {
+        let spec: DemJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
+        let key = |k: &str| Seg::Key(k.to_string());
+        if spec.analysis.samples == 0 {
+            return Err(source.error_at(&[key("analysis"), key("samples")], "expected at least 1 sample"));
+        }
+        spec.sample.validate().map_err(|e| source.error_at(&[key("sample")], e.to_string()))?;
+        spec.test.validate().map_err(|e| source.error_at(&[key("test")], e.to_string()))?;
+        let m = &spec.mechanics;
+        let params = crate::dem::mechanics::MechParams {
+            e_bar: m.e_bar,
+            t_z: spec.sample.thickness,
+            eps_cr: m.eps_cr,
+            theta_cr: m.theta_cr,
+            mu: m.mu,
+            kt_over_kn: m.kt_over_kn,
+        };
+        params.validate().map_err(|e| {
+            let field = e.to_string().split('`').nth(1).unwrap_or("").to_string();
+            source.error_at(&[key("mechanics"), key(&field)], e.to_string())
+        })?;
+        let output_dir = output_dir(path, &spec.output);
+        Ok(DemJob { source, spec, params, output_dir })
+    }
 }
 
 /// Reads a job file, finds its kind from `[analysis] type`, parses and validates it.
@@ -98,6 +139,7 @@ pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
     Ok(match job_kind(&source)? {
         JobKind::Structural => AnyJob::Structural(Job::from_source(source, path)?),
         JobKind::MaterialPoint => AnyJob::MaterialPoint(MaterialPointJob::from_source(source, path)?),
+        JobKind::Dem => AnyJob::Dem(DemJob::from_source(source, path)?),
     })
 }
 

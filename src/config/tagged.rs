@@ -24,6 +24,7 @@ pub fn refine(src: &Source, err: ConfigError) -> ConfigError {
         ("materials" | "sections", 2) => path.clone(),
         ("loads", 2) => path.clone(),
         ("path", 1) => path.clone(),
+        ("test", 1) => path.clone(),
         _ => return err,
     };
     let refined = match kind {

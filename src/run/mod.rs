@@ -41,6 +41,12 @@ pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
                 input.job.output_dir.display()
             ))
         }
+        AnyJob::Dem(job) => Ok(format!(
+            "DEM, {} sample(s), test {:?}; results would go to {}",
+            job.spec.analysis.samples,
+            job.spec.test,
+            job.output_dir.display()
+        )),
         AnyJob::MaterialPoint(job) => Ok(format!(
             "material point, h = {} m (B_t = {:.6e}); results would go to {}",
             job.spec.analysis.element_size,
@@ -79,6 +85,7 @@ pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), 
     match agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)? {
         AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args),
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
+        AnyJob::Dem(job) => run_dem(ctx, path, &job),
     }
 }
 
@@ -108,6 +115,18 @@ fn run_material_point(ctx: &Context, path: &Path, job: &MaterialPointJob) -> Res
     ));
     prepare(ctx, &job.output_dir, job.spec.output.existing)?;
     let summary = crate::analysis::material_point::run(ctx, job)?;
+    ctx.log.info(format!("results: {}", job.output_dir.display()));
+    write_summary(ctx, &job.output_dir, &summary)
+}
+
+fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob) -> Result<(), Error> {
+    ctx.log.info(format!(
+        "job {}{}",
+        path.display(),
+        job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+    ));
+    prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+    let summary = crate::analysis::dem::run(ctx, job)?;
     ctx.log.info(format!("results: {}", job.output_dir.display()));
     write_summary(ctx, &job.output_dir, &summary)
 }

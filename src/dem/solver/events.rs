@@ -109,7 +109,7 @@ impl LoadPoint {
 }
 
 /// Why a committed state was recorded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StateKind {
     /// End of a load step.
@@ -121,7 +121,7 @@ pub enum StateKind {
 }
 
 /// One committed equilibrium state.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StateRecord {
     /// Load stage index.
     pub stage: usize,
@@ -148,7 +148,7 @@ pub struct StateRecord {
 }
 
 /// A broken beam.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BrokenBeam {
     /// Beam index.
     pub beam: usize,
@@ -161,7 +161,7 @@ pub struct BrokenBeam {
 }
 
 /// Serializable failure mode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FailureModeTag {
     /// Tension-dominated.

@@ -113,7 +113,7 @@ impl VirtualTest {
 }
 
 /// One point of the curve (one recorded equilibrium state).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct CurvePoint {
     /// Index of the recorded state.
     pub state: usize,
@@ -138,7 +138,7 @@ pub struct CurvePoint {
 }
 
 /// Derived numbers of a test.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct Derived {
     /// Initial modulus `σ/ε` (Pa; shear test: the shear modulus-like ratio τ/γ).
     pub young_modulus: f64,
@@ -153,7 +153,7 @@ pub struct Derived {
 }
 
 /// Run statistics.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct RunStats {
     /// Beam breaks.
     pub events: usize,
@@ -168,7 +168,7 @@ pub struct RunStats {
 }
 
 /// The result of a virtual test.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct TestResult {
     /// The curve.
     pub curve: Vec<CurvePoint>,

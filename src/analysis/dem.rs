@@ -1,0 +1,264 @@
+//! DEM virtual tests on a batch of random samples, spread over the ranks with dynamic scheduling
+//! (`parallel::run_batch`: samples differ in cost, one that cracks early ends early).
+//!
+//! Outputs (rank 0), in the results folder:
+//! * `sample-KKK/curve.csv`: every recorded equilibrium state (strain, stress, lateral strain,
+//!   broken beams by mode, external work, stored and dissipated energy);
+//! * `sample-KKK/cracks-first.svg`, `cracks-peak.svg`, `cracks-end.svg`: the stones with the
+//!   broken beams drawn along their facets, tension in red, shear/rotation in blue;
+//! * `stress_strain.png`: all samples' curves, with the experiment's modulus line and its
+//!   first-crack and peak stresses overlaid when `[experiment]` gives them;
+//! * `summary.json`: per sample E, ν, first-crack stress, peak stress, strain at peak, events and
+//!   timing; their mean and sample standard deviation; the experiment's values beside them.
+//!
+//! Signs: the curve files keep the solver's convention (tension positive); the chart plots
+//! compression tests as shortening and compressive stress, both positive.
+use crate::config::DemJob;
+use crate::dem::sample::{draw_svg, Sample, SvgStyle};
+use crate::dem::solver::{run_test, FailureModeTag, TestResult, VirtualTest};
+use crate::parallel::{agree, run_batch, Context};
+use crate::plot::{LineChart, SeriesStyle};
+use crate::run::Error;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Mean and sample standard deviation.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct Stat {
+    /// Mean.
+    pub mean: f64,
+    /// Sample standard deviation (0 for one sample).
+    pub std: f64,
+    /// Number of values.
+    pub n: usize,
+}
+
+fn stat(v: &[f64]) -> Stat {
+    let n = v.len();
+    let mean = v.iter().sum::<f64>() / n.max(1) as f64;
+    let var = if n > 1 { v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64 } else { 0.0 };
+    Stat { mean, std: var.sqrt(), n }
+}
+
+/// One sample's numbers.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SampleReport {
+    /// Sample number.
+    pub sample: usize,
+    /// Its seed.
+    pub seed: u64,
+    /// Derived numbers (Pa, -), or the error that stopped it.
+    pub result: Result<crate::dem::solver::Derived, String>,
+    /// Beam-break events.
+    pub events: usize,
+    /// Wall time of the test [s].
+    pub seconds: f64,
+}
+
+/// What a DEM batch reports.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DemSummary {
+    /// The test.
+    pub test: VirtualTest,
+    /// Ranks.
+    pub ranks: usize,
+    /// Samples.
+    pub samples: Vec<SampleReport>,
+    /// Young modulus (or τ/γ for shear) [Pa].
+    pub young_modulus: Stat,
+    /// Poisson ratio.
+    pub poisson: Stat,
+    /// First-crack stress [Pa] (samples that cracked).
+    pub first_crack_stress: Stat,
+    /// Peak stress [Pa].
+    pub peak_stress: Stat,
+    /// Strain at peak.
+    pub strain_at_peak: Stat,
+    /// The experiment, if given.
+    pub experiment: Option<crate::config::ExperimentConfig>,
+    /// Wall time of the whole batch [s].
+    pub seconds: f64,
+    /// Beam-break events per second of test time, over the batch.
+    pub events_per_second: f64,
+}
+
+fn sample_config(job: &DemJob, k: usize) -> crate::dem::sample::SampleConfig {
+    let mut c = job.spec.sample.clone();
+    c.seed = job.spec.sample.seed.wrapping_add(k as u64);
+    c
+}
+
+/// Collective. Runs the batch and writes the outputs.
+pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
+    let n = job.spec.analysis.samples;
+    let t0 = std::time::Instant::now();
+    ctx.log.info(format!("DEM: {n} sample(s) of {:?}, over {} rank(s)", job.spec.test, ctx.size));
+    let work = |k: usize| -> Result<(Sample, TestResult), String> {
+        let sample = Sample::build(&sample_config(job, k)).map_err(|e| format!("sample {k}: {e}"))?;
+        let result = run_test(&sample, &job.params, &job.spec.test).map_err(|e| format!("sample {k}: {e}"))?;
+        Ok((sample, result))
+    };
+    let log = &ctx.log;
+    let batch = run_batch(
+        &ctx.comm,
+        n,
+        |k| work(k).map(|(_, r)| r),
+        |done, total| log.info(format!("  {done}/{total} samples done")),
+    );
+    let results = agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let written = match results {
+        Some(results) => write_outputs(ctx, job, &results, seconds).map(Some),
+        None => Ok(None),
+    };
+    let summary = agree(&ctx.comm, written, Error::exit_code)?;
+    Ok(summary.unwrap_or_else(|| DemSummary {
+        test: job.spec.test.clone(),
+        ranks: ctx.size,
+        samples: Vec::new(),
+        young_modulus: stat(&[]),
+        poisson: stat(&[]),
+        first_crack_stress: stat(&[]),
+        peak_stress: stat(&[]),
+        strain_at_peak: stat(&[]),
+        experiment: None,
+        seconds,
+        events_per_second: 0.0,
+    }))
+}
+
+fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::OutputDir { path: path.to_path_buf(), source }
+}
+
+fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, String>], seconds: f64) -> Result<DemSummary, Error> {
+    let dir = &job.output_dir;
+    let compression = matches!(job.spec.test, VirtualTest::Compression { .. });
+    let sign = if compression { -1.0 } else { 1.0 };
+    let mut chart = LineChart::new(
+        job.spec.title.as_deref().unwrap_or("DEM virtual test"),
+        if compression { "shortening ε [-]" } else { "strain ε [-]" },
+        if compression { "compressive stress σ [MPa]" } else { "stress σ [MPa]" },
+    );
+    let mut reports = Vec::with_capacity(results.len());
+    let (mut e, mut nu, mut fc, mut pk, mut sp) = (vec![], vec![], vec![], vec![], vec![]);
+    let (mut events, mut test_seconds) = (0usize, 0.0f64);
+    for (k, r) in results.iter().enumerate() {
+        let seed = sample_config(job, k).seed;
+        match r {
+            Err(msg) => {
+                ctx.log.warn(msg);
+                reports.push(SampleReport { sample: k, seed, result: Err(msg.clone()), events: 0, seconds: 0.0 });
+            }
+            Ok(t) => {
+                let sdir = dir.join(format!("sample-{k:03}"));
+                std::fs::create_dir_all(&sdir).map_err(io_err(&sdir))?;
+                write_curve(&sdir.join("curve.csv"), t)?;
+                write_cracks(job, k, &sdir, t)?;
+                let pts: Vec<(f64, f64)> = t.curve.iter().map(|c| (sign * c.strain, sign * c.stress / 1e6)).collect();
+                chart = chart.series(if k == 0 { "DEM samples" } else { "" }, pts, SeriesStyle::Line);
+                let d = &t.derived;
+                e.push(d.young_modulus);
+                nu.push(d.poisson);
+                if let Some(f) = d.first_crack_stress {
+                    fc.push(f);
+                }
+                pk.push(d.peak_stress);
+                sp.push(d.strain_at_peak.abs());
+                events += t.stats.events;
+                test_seconds += t.stats.seconds;
+                reports.push(SampleReport { sample: k, seed, result: Ok(d.clone()), events: t.stats.events, seconds: t.stats.seconds });
+            }
+        }
+    }
+    if e.is_empty() {
+        return Err(Error::Analysis("DEM: every sample failed (see the warnings above)".into()));
+    }
+    if let Some(x) = &job.spec.experiment {
+        if let Some(ex) = x.young_modulus {
+            let top = x.peak_stress.or(x.first_crack_stress).unwrap_or(pk.iter().cloned().fold(0.0, f64::max));
+            chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / ex, top / 1e6)], SeriesStyle::Dashed);
+            let mut pts = Vec::new();
+            if let Some(f) = x.first_crack_stress {
+                pts.push((f / ex, f / 1e6));
+            }
+            if let Some(p) = x.peak_stress {
+                pts.push((p / ex, p / 1e6));
+            }
+            if !pts.is_empty() {
+                chart = chart.series("experiment: first crack, peak", pts, SeriesStyle::Markers);
+            }
+        }
+    }
+    chart.save_png(&dir.join("stress_strain.png")).map_err(|e| Error::Analysis(e.to_string()))?;
+    let s = DemSummary {
+        test: job.spec.test.clone(),
+        ranks: ctx.size,
+        samples: reports,
+        young_modulus: stat(&e),
+        poisson: stat(&nu),
+        first_crack_stress: stat(&fc),
+        peak_stress: stat(&pk),
+        strain_at_peak: stat(&sp),
+        experiment: job.spec.experiment.clone(),
+        seconds,
+        events_per_second: if test_seconds > 0.0 { events as f64 / test_seconds } else { 0.0 },
+    };
+    let line = |name: &str, st: &Stat, scale: f64, unit: &str, exp: Option<f64>| {
+        let x = exp.map(|v| format!("   experiment {:.4} {unit}", v / scale)).unwrap_or_default();
+        ctx.log.info(format!("{name:20} {:10.4} ± {:.4} {unit} (n = {}){x}", st.mean / scale, st.std / scale, st.n));
+    };
+    let ex = job.spec.experiment.clone().unwrap_or_default();
+    line("Young modulus", &s.young_modulus, 1e9, "GPa", ex.young_modulus);
+    line("Poisson ratio", &s.poisson, 1.0, "", ex.poisson);
+    line("first-crack stress", &s.first_crack_stress, 1e6, "MPa", ex.first_crack_stress);
+    line("peak stress", &s.peak_stress, 1e6, "MPa", ex.peak_stress);
+    line("strain at peak", &s.strain_at_peak, 1.0, "", None);
+    ctx.log.info(format!("{events} events in {test_seconds:.2} s of test time ({:.0} events/s); batch wall time {seconds:.2} s", s.events_per_second));
+    Ok(s)
+}
+
+fn write_curve(file: &Path, t: &TestResult) -> Result<(), Error> {
+    let mut s = String::from(
+        "state,kind,displacement,strain,stress,lateral_strain,broken,broken_tension,broken_shear,external_work,stored,dissipated_fracture,dissipated_friction,dissipated_relaxation\n",
+    );
+    for c in &t.curve {
+        let kind = serde_json::to_string(&c.kind).unwrap_or_default().replace('"', "");
+        let _ = writeln!(
+            s,
+            "{},{kind},{:e},{:e},{:e},{:e},{},{},{},{:e},{:e},{:e},{:e},{:e}",
+            c.state, c.displacement, c.strain, c.stress, c.lateral_strain, c.broken[0], c.broken[1], c.broken[2],
+            c.external_work, c.stored, c.dissipated[0], c.dissipated[1], c.dissipated[2]
+        );
+    }
+    std::fs::write(file, s).map_err(io_err(file))
+}
+
+/// Crack pictures at the first crack, at the peak and at the end (undeformed stones).
+fn write_cracks(job: &DemJob, k: usize, dir: &Path, t: &TestResult) -> Result<(), Error> {
+    let sample = Sample::build(&sample_config(job, k)).map_err(|e| Error::Analysis(format!("sample {k}: {e}")))?;
+    let peak_state = t
+        .curve
+        .iter()
+        .max_by(|a, b| a.stress.abs().total_cmp(&b.stress.abs()))
+        .map(|c| c.state)
+        .unwrap_or(0);
+    let first_state = t.broken.first().map(|b| b.state).unwrap_or(0);
+    let cat = |m: FailureModeTag| match m {
+        FailureModeTag::Tension => 0u8,
+        FailureModeTag::Shear => 1u8,
+    };
+    for (name, upto) in [("first", Some(first_state)), ("peak", Some(peak_state)), ("end", None)] {
+        let broken: Vec<(usize, u8)> = t
+            .broken
+            .iter()
+            .filter(|b| upto.is_none_or(|s| b.state <= s))
+            .map(|b| (b.beam, cat(b.mode)))
+            .collect();
+        let style = SvgStyle { title: Some(format!("sample {k}: cracks at {name}")), ..SvgStyle::default() };
+        let svg = draw_svg(&sample, None, &broken, &style).map_err(|e| Error::Analysis(e.to_string()))?;
+        let f = dir.join(format!("cracks-{name}.svg"));
+        std::fs::write(&f, svg).map_err(io_err(&f))?;
+    }
+    Ok(())
+}

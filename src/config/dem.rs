@@ -1,0 +1,99 @@
+//! The job file of a DEM virtual test: a batch of random samples of one virtual wall, one test.
+//!
+//! ```toml
+//! [analysis]
+//! type = "dem"
+//! samples = 16                 # samples with seeds seed, seed+1, ...: mean ± std in the summary
+//! [sample]                     # dem::sample::SampleConfig
+//! seed = 1
+//! layout = { type = "coursed", width = 1.0, height = 1.2, n_courses = 10, n_per_course = 6, jitter = 0.2, size_variability = 0.2 }
+//! [mechanics]                  # lattice parameters; defaults: the paper's Table 1 set
+//! e_bar = 2.5e9
+//! [test]                       # dem::solver::VirtualTest
+//! type = "compression"
+//! max_strain = 2.0e-3
+//! steps = 40
+//! [experiment]                 # optional: values to overlay and compare (Table 1)
+//! young_modulus = 2.885e9
+//! ```
+use crate::dem::sample::SampleConfig;
+use crate::dem::solver::VirtualTest;
+use serde::Deserialize;
+
+/// `[analysis]` of a DEM job.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DemAnalysis {
+    /// Always `"dem"`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Number of random samples (seeds `sample.seed + k`), default 1.
+    #[serde(default = "one")]
+    pub samples: usize,
+}
+
+fn one() -> usize {
+    1
+}
+
+/// `[mechanics]`: the lattice's parameters (SPEC §1). Defaults are the paper's set
+/// (Ē = 2.5 GPa, ε_cr = 1e-4, θ_cr = 7e-4, μ = 0.6); α is in `[sample]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct MechanicsConfig {
+    /// Lattice Young modulus Ē [Pa].
+    pub e_bar: f64,
+    /// Critical beam strain ε_cr.
+    pub eps_cr: f64,
+    /// Critical relative rotation θ_cr [rad].
+    pub theta_cr: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Tangential over normal contact stiffness.
+    pub kt_over_kn: f64,
+}
+
+impl Default for MechanicsConfig {
+    fn default() -> Self {
+        let d = crate::dem::mechanics::MechParams::default();
+        MechanicsConfig { e_bar: d.e_bar, eps_cr: d.eps_cr, theta_cr: d.theta_cr, mu: d.mu, kt_over_kn: d.kt_over_kn }
+    }
+}
+
+/// `[experiment]`: measured values to compare with (all optional).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentConfig {
+    /// Young's modulus [Pa].
+    pub young_modulus: Option<f64>,
+    /// Poisson ratio.
+    pub poisson: Option<f64>,
+    /// First-crack stress [Pa].
+    pub first_crack_stress: Option<f64>,
+    /// Peak stress [Pa].
+    pub peak_stress: Option<f64>,
+    /// Where the numbers come from.
+    pub source: Option<String>,
+}
+
+/// A DEM job file, as written.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DemJobFile {
+    /// A one-line description.
+    pub title: Option<String>,
+    /// `[analysis]`.
+    pub analysis: DemAnalysis,
+    /// The virtual wall.
+    pub sample: SampleConfig,
+    /// Lattice parameters.
+    #[serde(default)]
+    pub mechanics: MechanicsConfig,
+    /// The virtual test.
+    pub test: VirtualTest,
+    /// Values to compare with.
+    pub experiment: Option<ExperimentConfig>,
+    /// Where results go.
+    #[serde(default)]
+    pub output: super::OutputConfig,
+}
