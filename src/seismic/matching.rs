@@ -125,8 +125,9 @@ mod tests {
         let periods: Vec<f64> = (0..30).map(|k| 0.05 * (2.0f64 / 0.05).powf(k as f64 / 29.0)).collect();
         let settings = MatchSettings { damping: 0.05, periods, iterations: 6 };
         let (_m, rep) = match_spectrum(&r, &|t| ec8.se(t), &settings).unwrap();
-        // Tolerance from this seeded case: the mean misfit falls from ~50% to under 10%
-        // and the worst period to under 30% (frequency-domain matching is approximate).
+        // This seeded case: mean misfit 53% → 2.3%, worst period 72% → 8% after 6 iterations.
+        // Tolerances (mean < 10% and a third of the start, worst < 30%) leave room for other
+        // platforms' round-off; frequency-domain matching is approximate.
         let (m0, mb) = (rep.mean_misfit[0], rep.mean_misfit[rep.best]);
         assert!(mb < 0.10 && mb < m0 / 3.0, "{:?}", rep);
         assert!(rep.max_misfit[rep.best] < 0.30, "{:?}", rep);
