@@ -86,7 +86,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn short_period_sa_tends_to_pga_and_long_period_sd_to_pgd() {
+    fn short_period_sa_tends_to_pga() {
         // A smooth 1 Hz pulse: a stiff oscillator (T = 0.01 s) follows the ground, Sa → PGA
         // (ω² u ≈ −a_g, error ~ (T/T_pulse)² ~ 1e-4: tolerance 1%); T = 0 gives PGA exactly.
         let dt = 0.005;
