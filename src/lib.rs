@@ -28,3 +28,4 @@ pub mod parallel;
 pub mod petsc;
 pub mod plot;
 pub mod run;
+pub mod seismic;
