@@ -57,7 +57,8 @@ pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};
 pub use output::{ElementOutput, EvalRequest};
 pub use shell::{
-    ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3, ThicknessRule,
+    PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3,
+    ThicknessRule,
     DEFAULT_LAYERS, DRILLING_FACTOR, SHEAR_CORRECTION, SHELL_CELL_OUTPUT_NAMES, WARPING_LIMIT,
 };
 

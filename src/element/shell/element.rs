@@ -71,9 +71,27 @@ pub const DRILLING_FACTOR: f64 = 1e-2;
 
 /// Names of the cell outputs of shell elements (module docs).
 pub const CELL_OUTPUT_NAMES: [&str; 11] = [
-    "d_t_max", "d_t_mean", "d_c_max", "d_c_mean", "Nxx", "Nyy", "Nxy", "Mxx", "Myy", "Mxy",
+    "d_t_max",
+    "d_t_mean",
+    "d_c_max",
+    "d_c_mean",
+    "Nxx",
+    "Nyy",
+    "Nxy",
+    "Mxx",
+    "Myy",
+    "Mxy",
     "dissipated_energy",
 ];
+
+/// Stress resultants at one in-plane integration point, element local axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointResultants {
+    /// Membrane forces [N_xx, N_yy, N_xy] (N/m).
+    pub n: Vector3<f64>,
+    /// Moments [M_xx, M_yy, M_xy] = ∫ σ z dz (N m/m).
+    pub m: Vector3<f64>,
+}
 
 /// Strain–displacement matrices of one in-plane integration point, in the flat local frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -136,7 +154,8 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
                 SectionLaw::Elastic(rule.elastic_section(&plane_stress_matrix(e, nu)))
             }
             ShellMaterial::Damage(p) => SectionLaw::Damage(
-                p.for_element(h).map_err(|source| ShellError::Material { h, source })?,
+                p.for_element(h)
+                    .map_err(|source| ShellError::Material { h, source })?,
             ),
         };
         let n_states = match law {
@@ -154,7 +173,9 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             rule,
             law,
             shear_stiffness: section.shear_stiffness(),
-            drilling_stiffness: DRILLING_FACTOR * section.material.shear_modulus() * section.thickness,
+            drilling_stiffness: DRILLING_FACTOR
+                * section.material.shear_modulus()
+                * section.thickness,
             committed: vec![DamageState::default(); n_states],
             trial: vec![DamageState::default(); n_states],
             dissipated: 0.0,
@@ -244,15 +265,22 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
 
     /// Membrane forces N and moments M (local axes) at every in-plane integration point, at the
     /// total displacement `u_e` from the committed state.
-    pub fn point_resultants(&self, u_e: &[f64]) -> Result<Vec<(Vector3<f64>, Vector3<f64>)>, ElementError> {
+    pub fn point_resultants(&self, u_e: &[f64]) -> Result<Vec<PointResultants>, ElementError> {
         let uf = self.flat_displacement(u_e)?;
         let nz = self.rule.len();
         let mut scratch = vec![DamageState::default(); nz];
         let mut out = Vec::with_capacity(self.points.len());
         for (p, pt) in self.points.iter().enumerate() {
             let committed = self.states_of(p, &self.committed);
-            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch[..committed.len()]);
-            out.push((r.n, r.m));
+            let r = Self::section_at(
+                &self.law,
+                &self.rule,
+                pt,
+                &uf,
+                committed,
+                &mut scratch[..committed.len()],
+            );
+            out.push(PointResultants { n: r.n, m: r.m });
         }
         Ok(out)
     }
@@ -313,7 +341,11 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let mut k = SMatrix::<f64, D, D>::zeros();
         let mut dissipation = 0.0;
         for (p, pt) in self.points.iter().enumerate() {
-            let range = if has_state { p * nz..(p + 1) * nz } else { 0..0 };
+            let range = if has_state {
+                p * nz..(p + 1) * nz
+            } else {
+                0..0
+            };
             let r = Self::section_at(
                 &self.law,
                 &self.rule,
@@ -388,7 +420,8 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let uf = self.flat_displacement(u_e)?;
         let nz = self.rule.len();
-        let mut scratch = vec![DamageState::default(); if self.committed.is_empty() { 0 } else { nz }];
+        let mut scratch =
+            vec![DamageState::default(); if self.committed.is_empty() { 0 } else { nz }];
         let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
         let mut n = Vector3::zeros();
         let mut m = Vector3::zeros();
@@ -432,7 +465,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         if self.committed.is_empty() {
             return Ok(());
         }
-        for (chunk, s) in out.chunks_exact_mut(DamageState::N_VALUES).zip(&self.committed) {
+        for (chunk, s) in out
+            .chunks_exact_mut(DamageState::N_VALUES)
+            .zip(&self.committed)
+        {
             chunk.copy_from_slice(&s.to_array());
         }
         out[out.len() - 1] = self.dissipated;
@@ -444,7 +480,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         if self.committed.is_empty() {
             return Ok(());
         }
-        for (chunk, s) in state.chunks_exact(DamageState::N_VALUES).zip(self.committed.iter_mut()) {
+        for (chunk, s) in state
+            .chunks_exact(DamageState::N_VALUES)
+            .zip(self.committed.iter_mut())
+        {
             *s = DamageState::from_array([chunk[0], chunk[1], chunk[2], chunk[3]]);
         }
         self.dissipated = state[state.len() - 1];

@@ -81,7 +81,7 @@ fn frame<const N: usize>(
     coords: &[[f64; 3]; N],
     normal: Vector3<f64>,
     e1_hint: Vector3<f64>,
-) -> Option<(Matrix3<f64>, Vector3<f64>, [[f64; 2]; N], [f64; N])> {
+) -> Option<FlatGeometry<N>> {
     let nn = normal.norm();
     if !(nn > 0.0 && nn.is_finite()) {
         return None;
@@ -95,7 +95,11 @@ fn frame<const N: usize>(
     let e1 = v / vn;
     let e2 = e3.cross(&e1);
     let rotation = Matrix3::from_rows(&[e1.transpose(), e2.transpose(), e3.transpose()]);
-    let origin = coords.iter().map(|c| Vector3::from(*c)).sum::<Vector3<f64>>() / N as f64;
+    let origin = coords
+        .iter()
+        .map(|c| Vector3::from(*c))
+        .sum::<Vector3<f64>>()
+        / N as f64;
     let mut xy = [[0.0; 2]; N];
     let mut z = [0.0; N];
     for (i, c) in coords.iter().enumerate() {
@@ -103,7 +107,13 @@ fn frame<const N: usize>(
         xy[i] = [l.x, l.y];
         z[i] = l.z;
     }
-    Some((rotation, origin, xy, z))
+    Some(FlatGeometry {
+        rotation,
+        origin,
+        xy,
+        offsets: z,
+        area: 0.0,
+    })
 }
 
 /// Local geometry of a quadrilateral (module docs). Refuses non-finite coordinates, degenerate or
@@ -113,9 +123,10 @@ pub fn quad(coords: &[[f64; 3]; 4]) -> Result<FlatGeometry<4>, ShellError> {
     let x: Vec<Vector3<f64>> = coords.iter().map(|c| Vector3::from(*c)).collect();
     let normal = (x[2] - x[0]).cross(&(x[3] - x[1]));
     let hint = (x[1] + x[2] - x[0] - x[3]) * 0.5;
-    let Some((rotation, origin, xy, offsets)) = frame(coords, normal, hint) else {
+    let Some(mut geo) = frame(coords, normal, hint) else {
         return Err(degenerate(coords, 0, 0.0));
     };
+    let xy = geo.xy;
     // Jacobian of the bilinear map at corner a: ¼ (x_next − x_a) × (x_prev − x_a), and area / 4
     // on average; so corner_cross / area is 1 at every corner of a parallelogram and drops to 0
     // when the quad degenerates into a triangle or stops being convex.
@@ -132,11 +143,12 @@ pub fn quad(coords: &[[f64; 3]; 4]) -> Result<FlatGeometry<4>, ShellError> {
     let area = 0.5 * (d1[0] * d2[1] - d1[1] * d2[0]);
     for (a, &c) in corner_cross.iter().enumerate() {
         let ratio = c / area;
-        if !(area > 0.0) || !(ratio > MIN_CORNER_JACOBIAN) {
+        let valid = area > 0.0 && ratio > MIN_CORNER_JACOBIAN;
+        if !valid {
             return Err(degenerate(coords, a, if area > 0.0 { ratio } else { 0.0 }));
         }
     }
-    let offset = offsets.iter().fold(0.0f64, |m, z| m.max(z.abs()));
+    let offset = geo.offsets.iter().fold(0.0f64, |m, z| m.max(z.abs()));
     let ratio = offset / area.sqrt();
     if ratio > WARPING_LIMIT {
         return Err(ShellError::Warped {
@@ -146,7 +158,8 @@ pub fn quad(coords: &[[f64; 3]; 4]) -> Result<FlatGeometry<4>, ShellError> {
             limit: WARPING_LIMIT,
         });
     }
-    Ok(FlatGeometry { rotation, origin, xy, offsets, area })
+    geo.area = area;
+    Ok(geo)
 }
 
 /// Local geometry of a triangle (module docs). Refuses non-finite coordinates and (nearly) zero
@@ -155,15 +168,24 @@ pub fn triangle(coords: &[[f64; 3]; 3]) -> Result<FlatGeometry<3>, ShellError> {
     check_finite(coords)?;
     let x: Vec<Vector3<f64>> = coords.iter().map(|c| Vector3::from(*c)).collect();
     let normal = (x[1] - x[0]).cross(&(x[2] - x[0]));
-    let longest = (0..3).map(|i| (x[(i + 1) % 3] - x[i]).norm_squared()).fold(0.0, f64::max);
-    let ratio = if longest > 0.0 { normal.norm() / longest } else { 0.0 };
-    if !(ratio > MIN_CORNER_JACOBIAN) {
+    let longest = (0..3)
+        .map(|i| (x[(i + 1) % 3] - x[i]).norm_squared())
+        .fold(0.0, f64::max);
+    let ratio = if longest > 0.0 {
+        normal.norm() / longest
+    } else {
+        0.0
+    };
+    let valid = ratio > MIN_CORNER_JACOBIAN;
+    if !valid {
         return Err(degenerate(coords, 0, ratio));
     }
-    let Some((rotation, origin, xy, _)) = frame(coords, normal, x[1] - x[0]) else {
+    let Some(mut geo) = frame(coords, normal, x[1] - x[0]) else {
         return Err(degenerate(coords, 0, 0.0));
     };
-    Ok(FlatGeometry { rotation, origin, xy, offsets: [0.0; 3], area: 0.5 * normal.norm() })
+    geo.offsets = [0.0; 3];
+    geo.area = 0.5 * normal.norm();
+    Ok(geo)
 }
 
 impl<const N: usize> FlatGeometry<N> {

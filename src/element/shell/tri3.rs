@@ -126,7 +126,11 @@ impl ShellElement<3, 18> {
             jinv * Vector2::new(0.0, 1.0),
         ];
         let mut points = Vec::with_capacity(3);
-        for (xi, eta) in [(1.0 / 6.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 6.0), (1.0 / 6.0, 2.0 / 3.0)] {
+        for (xi, eta) in [
+            (1.0 / 6.0, 1.0 / 6.0),
+            (2.0 / 3.0, 1.0 / 6.0),
+            (1.0 / 6.0, 2.0 / 3.0),
+        ] {
             let lin = [1.0 - xi - eta, xi, eta];
             let (_, nxi, neta) = quadratic(xi, eta);
             let (hx_xi, hy_xi) = dkt_h(&coef, &nxi);
