@@ -45,6 +45,7 @@ mod frame;
 mod frame_section;
 mod local_frame;
 mod output;
+mod shell;
 
 use std::fmt::Debug;
 
@@ -55,6 +56,11 @@ pub use frame::ElasticFrame3d;
 pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};
 pub use output::{ElementOutput, EvalRequest};
+pub use shell::{
+    PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3,
+    ThicknessRule,
+    DEFAULT_LAYERS, DRILLING_FACTOR, SHEAR_CORRECTION, SHELL_CELL_OUTPUT_NAMES, WARPING_LIMIT,
+};
 
 /// Degrees of freedom per node: ux uy uz rx ry rz.
 pub const DOFS_PER_NODE: usize = 6;

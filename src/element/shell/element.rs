@@ -1,0 +1,493 @@
+//! [`ShellElement`]: the part of the flat shell elements that does not depend on the shape —
+//! layered section, integration-point state, force and tangent, mass, gravity, outputs,
+//! checkpoints. [`mitc4`](super::mitc4) and [`tri3`](super::tri3) only supply the strain–
+//! displacement matrices at the in-plane integration points.
+//!
+//! # Local DOF and strains (flat frame, [`geometry`](super::geometry))
+//! Per node `u v w θx θy θz` along/about the local axes e₁ e₂ e₃ (right-hand rule). Through the
+//! thickness (Reissner–Mindlin) a point at height z moves by (u + z θy, v − z θx, w), so with
+//! βx = θy, βy = −θx:
+//!
+//! ```text
+//!   ε₀ = [u,x,  v,y,  u,y + v,x]                  membrane strain
+//!   κ  = [βx,x, βy,y, βx,y + βy,x]                curvature (layer strain ε = ε₀ + z κ)
+//!   γ  = [w,x + βx, w,y + βy]                     transverse shear (MITC4; zero in the DKT)
+//!   δ  = θz − ω,  ω = ½ (v,x − u,y)               drilling: rotation minus in-plane rotation
+//! ```
+//! Kirchhoff limit: θx = ∂w/∂y, θy = −∂w/∂x.
+//!
+//! # Virtual work at the integration points p (weights w_p = area weight)
+//! ```text
+//!   f = Σ_p w_p [ B_pᵀ (N, M) + B_sᵀ Q + B_δᵀ k_δ δ ],   Q = k G t γ (elastic, k = 5/6)
+//!   K = Σ_p w_p [ B_pᵀ S B_p + k G t B_sᵀ B_s + k_δ B_δᵀ B_δ ]
+//! ```
+//! with B_p = [B_m; B_b] (6 × D), (N, M) and S = [[A, B], [B, D]] from the layers
+//! ([`layers`](super::layers)). Global: f_g = Gᵀ f, K_g = Gᵀ K G ([`geometry`](super::geometry)).
+//!
+//! # Drilling stiffness (Hughes–Brezzi penalty)
+//! Energy ½ ∫ k_δ (θz − ω)² dA with k_δ = α G t, α = [`DRILLING_FACTOR`] = 1e-2, integrated with
+//! the same rule as the membrane (2×2 Gauss on quads, 3 points on triangles). It vanishes for
+//! every linear displacement field with θz = ω (so the membrane patch test passes exactly) and for
+//! rigid rotations about the normal (so the element keeps exactly 6 zero-energy modes); it gives
+//! the θz DOF a stiffness where shells meet at an angle or a flat region has no other stiffness
+//! for it. Small α leaves the membrane response practically unchanged.
+//!
+//! # Mass
+//! Consistent: M_ab = ∫ N_a N_b dA × (m₀ on u v w, I_r on θx θy, I_r on θz) with the linear /
+//! bilinear shape functions, m₀ = ρ t + non-structural mass per area, I_r = ρ t³ / 12.
+//! Lumped: the row sums, i.e. the nodal areas A_a = ∫ N_a dA times the same densities, on the
+//! diagonal. The drilling rotation gets I_r, the same as the bending rotations: a small positive
+//! value that keeps M positive definite; with k_δ = α G t the drilling modes sit at
+//! sqrt(12 α G / (ρ t²)), far above the structural ones. Both are transformed with G.
+//! Gravity: f_a = ∫ N_a dA m₀ g (translations; consistent), transformed with G.
+//!
+//! # State and checkpoint layout
+//! Damage material only (elastic elements are stateless, `n_state() = 0`): one [`DamageState`]
+//! per (in-plane point p, thickness point j), p-major, and the dissipated energy:
+//!
+//! ```text
+//!   state[4 (p n_z + j) + 0..4] = [κ_t, κ_c, d_t, d_c]     p < n_points, j < n_z = 2 layers + 1
+//!   state[4 n_points n_z]       = energy dissipated by the element up to the committed state (J)
+//! ```
+//!
+//! # Cell outputs ([`CELL_OUTPUT_NAMES`])
+//! d_t and d_c max and mean (mean weighted by the integration weights, i.e. a volume mean over the
+//! element), N and M (local axes e₁ e₂, mean over the in-plane points, N/m and N m/m), and the
+//! dissipated energy (J), all at the given displacement from the committed state.
+
+use nalgebra::{DMatrix, DVector, Matrix6, SMatrix, SVector, Vector2, Vector3, Vector6};
+
+use super::geometry::FlatGeometry;
+use super::layers::{damage_section, plane_stress_matrix, SectionResponse, ThicknessRule};
+use super::section::{ShellMaterial, ShellSection};
+use super::ShellError;
+use crate::element::error::{check_finite_displacement, check_len};
+use crate::element::output::{prepare_matrix, prepare_vector};
+use crate::element::{AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind};
+use crate::material::{DamageState, PointLaw};
+
+/// α of the drilling stiffness k_δ = α G t (module docs).
+pub const DRILLING_FACTOR: f64 = 1e-2;
+
+/// Names of the cell outputs of shell elements (module docs).
+pub const CELL_OUTPUT_NAMES: [&str; 11] = [
+    "d_t_max",
+    "d_t_mean",
+    "d_c_max",
+    "d_c_mean",
+    "Nxx",
+    "Nyy",
+    "Nxy",
+    "Mxx",
+    "Myy",
+    "Mxy",
+    "dissipated_energy",
+];
+
+/// Stress resultants at one in-plane integration point, element local axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointResultants {
+    /// Membrane forces [N_xx, N_yy, N_xy] (N/m).
+    pub n: Vector3<f64>,
+    /// Moments [M_xx, M_yy, M_xy] = ∫ σ z dz (N m/m).
+    pub m: Vector3<f64>,
+}
+
+/// Strain–displacement matrices of one in-plane integration point, in the flat local frame.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct PlanePoint<const N: usize, const D: usize> {
+    /// Area weight (Gauss weight × Jacobian).
+    pub weight: f64,
+    /// Shape function values (for mass and gravity).
+    pub shape: SVector<f64, N>,
+    /// [B_m; B_b]: (ε₀, κ) = b u.
+    pub b: SMatrix<f64, 6, D>,
+    /// B_s: γ = b_s u (zero for the DKT).
+    pub b_s: SMatrix<f64, 2, D>,
+    /// B_δ: θz − ω = b_d u.
+    pub b_d: SMatrix<f64, 1, D>,
+}
+
+/// The material of the layers, ready to evaluate.
+#[derive(Clone, Debug, PartialEq)]
+enum SectionLaw {
+    /// Elastic: the section tangent [[A, B], [B, D]] integrated once by the layer rule.
+    Elastic(Matrix6<f64>),
+    /// Damage law with B_t of this element's size.
+    Damage(PointLaw),
+}
+
+/// A flat shell element with `N` nodes and `D` = 6 N DOF. Built by `ShellQuad4::new` (MITC4) and
+/// `ShellTri3::new` (DKT + CST); see the module docs for the formulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShellElement<const N: usize, const D: usize> {
+    kind: &'static str,
+    coords: [[f64; 3]; N],
+    pub(super) geometry: FlatGeometry<N>,
+    g: SMatrix<f64, D, D>,
+    pub(super) points: Vec<PlanePoint<N, D>>,
+    section: ShellSection,
+    pub(super) rule: ThicknessRule,
+    law: SectionLaw,
+    shear_stiffness: f64,
+    drilling_stiffness: f64,
+    committed: Vec<DamageState>,
+    trial: Vec<DamageState>,
+    dissipated: f64,
+    trial_dissipated: f64,
+}
+
+impl<const N: usize, const D: usize> ShellElement<N, D> {
+    /// Assemble an element from its geometry and integration points (validated section).
+    pub(super) fn from_parts(
+        kind: &'static str,
+        coords: [[f64; 3]; N],
+        geometry: FlatGeometry<N>,
+        points: Vec<PlanePoint<N, D>>,
+        section: &ShellSection,
+    ) -> Result<Self, ShellError> {
+        section.validate()?;
+        let rule = ThicknessRule::simpson(section.thickness, section.layers);
+        let h = geometry.characteristic_length();
+        let law = match section.material {
+            ShellMaterial::Elastic { e, nu } => {
+                SectionLaw::Elastic(rule.elastic_section(&plane_stress_matrix(e, nu)))
+            }
+            ShellMaterial::Damage(p) => SectionLaw::Damage(
+                p.for_element(h)
+                    .map_err(|source| ShellError::Material { h, source })?,
+            ),
+        };
+        let n_states = match law {
+            SectionLaw::Elastic(_) => 0,
+            SectionLaw::Damage(_) => points.len() * rule.len(),
+        };
+        let g = geometry.transformation::<D>();
+        Ok(ShellElement {
+            kind,
+            coords,
+            geometry,
+            g,
+            points,
+            section: *section,
+            rule,
+            law,
+            shear_stiffness: section.shear_stiffness(),
+            drilling_stiffness: DRILLING_FACTOR
+                * section.material.shear_modulus()
+                * section.thickness,
+            committed: vec![DamageState::default(); n_states],
+            trial: vec![DamageState::default(); n_states],
+            dissipated: 0.0,
+            trial_dissipated: 0.0,
+        })
+    }
+
+    /// Node coordinates the element was built from (global).
+    pub fn coords(&self) -> &[[f64; 3]; N] {
+        &self.coords
+    }
+
+    /// The section.
+    pub fn section(&self) -> &ShellSection {
+        &self.section
+    }
+
+    /// Local axes: rows e₁, e₂, e₃ in global components ([`geometry`](super::geometry) docs).
+    pub fn local_axes(&self) -> &nalgebra::Matrix3<f64> {
+        &self.geometry.rotation
+    }
+
+    /// Area of the (projected) element (m²).
+    pub fn area(&self) -> f64 {
+        self.geometry.area
+    }
+
+    /// Heights of the nodes above the mean plane (m); zero for flat elements.
+    pub fn warping_offsets(&self) -> &[f64; N] {
+        &self.geometry.offsets
+    }
+
+    /// Number of in-plane integration points.
+    pub fn n_plane_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Number of material points through the thickness (2 layers + 1).
+    pub fn n_thickness_points(&self) -> usize {
+        self.rule.len()
+    }
+
+    /// Energy dissipated up to the committed state (J).
+    pub fn dissipated_energy(&self) -> f64 {
+        self.dissipated
+    }
+
+    /// The committed states, p-major (module docs); empty for elastic sections.
+    pub fn committed_states(&self) -> &[DamageState] {
+        &self.committed
+    }
+
+    fn flat_displacement(&self, u_e: &[f64]) -> Result<SVector<f64, D>, ElementError> {
+        check_len("u_e", D, u_e.len())?;
+        check_finite_displacement(u_e)?;
+        Ok(self.g * SVector::<f64, D>::from_column_slice(u_e))
+    }
+
+    /// Section response at point `p` for the flat displacement `uf`, from `committed` (the states of
+    /// this point) into `trial`.
+    fn section_at(
+        law: &SectionLaw,
+        rule: &ThicknessRule,
+        pt: &PlanePoint<N, D>,
+        uf: &SVector<f64, D>,
+        committed: &[DamageState],
+        trial: &mut [DamageState],
+    ) -> SectionResponse {
+        let strain: Vector6<f64> = pt.b * uf;
+        match law {
+            SectionLaw::Elastic(s) => {
+                let r = s * strain;
+                SectionResponse {
+                    n: r.fixed_rows::<3>(0).into_owned(),
+                    m: r.fixed_rows::<3>(3).into_owned(),
+                    tangent: *s,
+                    dissipation: 0.0,
+                }
+            }
+            SectionLaw::Damage(law) => {
+                let e0: Vector3<f64> = strain.fixed_rows::<3>(0).into_owned();
+                let ka: Vector3<f64> = strain.fixed_rows::<3>(3).into_owned();
+                damage_section(law, rule, &e0, &ka, committed, trial)
+            }
+        }
+    }
+
+    /// Membrane forces N and moments M (local axes) at every in-plane integration point, at the
+    /// total displacement `u_e` from the committed state.
+    pub fn point_resultants(&self, u_e: &[f64]) -> Result<Vec<PointResultants>, ElementError> {
+        let uf = self.flat_displacement(u_e)?;
+        let nz = self.rule.len();
+        let mut scratch = vec![DamageState::default(); nz];
+        let mut out = Vec::with_capacity(self.points.len());
+        for (p, pt) in self.points.iter().enumerate() {
+            let committed = self.states_of(p, &self.committed);
+            let r = Self::section_at(
+                &self.law,
+                &self.rule,
+                pt,
+                &uf,
+                committed,
+                &mut scratch[..committed.len()],
+            );
+            out.push(PointResultants { n: r.n, m: r.m });
+        }
+        Ok(out)
+    }
+
+    fn states_of<'a>(&self, p: usize, all: &'a [DamageState]) -> &'a [DamageState] {
+        let nz = self.rule.len();
+        if all.is_empty() {
+            &[]
+        } else {
+            &all[p * nz..(p + 1) * nz]
+        }
+    }
+
+    /// Mass matrix in the flat local frame.
+    fn local_mass(&self, kind: MassKind) -> SMatrix<f64, D, D> {
+        let m0 = self.section.mass_per_area();
+        let ir = self.section.rotary_inertia_per_area();
+        let dens = [m0, m0, m0, ir, ir, ir];
+        let mut m = SMatrix::<f64, D, D>::zeros();
+        for pt in &self.points {
+            for a in 0..N {
+                for b in 0..N {
+                    let v = pt.weight * pt.shape[a] * pt.shape[b];
+                    for (k, d) in dens.iter().enumerate() {
+                        match kind {
+                            MassKind::Consistent => m[(6 * a + k, 6 * b + k)] += d * v,
+                            MassKind::Lumped => m[(6 * a + k, 6 * a + k)] += d * v,
+                        }
+                    }
+                }
+            }
+        }
+        m
+    }
+}
+
+impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
+    fn kind_name(&self) -> &'static str {
+        self.kind
+    }
+
+    fn n_nodes(&self) -> usize {
+        N
+    }
+
+    fn evaluate(
+        &mut self,
+        u_e: &[f64],
+        request: EvalRequest,
+        out: &mut ElementOutput,
+    ) -> Result<(), ElementError> {
+        let uf = self.flat_displacement(u_e)?;
+        out.prepare(D);
+        let want_k = request.wants_tangent();
+        let nz = self.rule.len();
+        let has_state = !self.committed.is_empty();
+        let mut f = SVector::<f64, D>::zeros();
+        let mut k = SMatrix::<f64, D, D>::zeros();
+        let mut dissipation = 0.0;
+        for (p, pt) in self.points.iter().enumerate() {
+            let range = if has_state {
+                p * nz..(p + 1) * nz
+            } else {
+                0..0
+            };
+            let r = Self::section_at(
+                &self.law,
+                &self.rule,
+                pt,
+                &uf,
+                &self.committed[range.clone()],
+                &mut self.trial[range],
+            );
+            let w = pt.weight;
+            let q: Vector2<f64> = pt.b_s * uf * self.shear_stiffness;
+            let drill = (pt.b_d * uf)[0] * self.drilling_stiffness;
+            let mut nm = Vector6::zeros();
+            nm.fixed_rows_mut::<3>(0).copy_from(&r.n);
+            nm.fixed_rows_mut::<3>(3).copy_from(&r.m);
+            f += (pt.b.tr_mul(&nm) + pt.b_s.tr_mul(&q) + pt.b_d.transpose() * drill) * w;
+            if want_k {
+                k += (pt.b.tr_mul(&(r.tangent * pt.b)) * w)
+                    + pt.b_s.tr_mul(&pt.b_s) * (w * self.shear_stiffness)
+                    + pt.b_d.tr_mul(&pt.b_d) * (w * self.drilling_stiffness);
+            }
+            dissipation += w * r.dissipation;
+        }
+        self.trial_dissipated = self.dissipated + dissipation;
+        out.f_int.copy_from(&self.g.tr_mul(&f));
+        if want_k {
+            out.k_t.copy_from(&self.g.tr_mul(&(k * self.g)));
+            out.has_tangent = true;
+        }
+        Ok(())
+    }
+
+    fn commit(&mut self) {
+        self.committed.copy_from_slice(&self.trial);
+        self.dissipated = self.trial_dissipated;
+    }
+
+    fn revert(&mut self) {
+        self.trial.copy_from_slice(&self.committed);
+        self.trial_dissipated = self.dissipated;
+    }
+
+    fn mass(&self, kind: MassKind, m: &mut DMatrix<f64>) {
+        prepare_matrix(m, D);
+        let ml = self.local_mass(kind);
+        m.copy_from(&self.g.tr_mul(&(ml * self.g)));
+    }
+
+    fn gravity_load(&self, g: [f64; 3], f: &mut DVector<f64>) {
+        prepare_vector(f, D);
+        let gl = self.geometry.rotation * Vector3::from(g) * self.section.mass_per_area();
+        let mut fl = SVector::<f64, D>::zeros();
+        for pt in &self.points {
+            for a in 0..N {
+                for k in 0..3 {
+                    fl[6 * a + k] += pt.weight * pt.shape[a] * gl[k];
+                }
+            }
+        }
+        f.copy_from(&self.g.tr_mul(&fl));
+    }
+
+    fn cell_output_names(&self) -> &'static [&'static str] {
+        &CELL_OUTPUT_NAMES
+    }
+
+    fn cell_output(
+        &self,
+        u_e: &[f64],
+        _loads: &AppliedLoads,
+        values: &mut [f64],
+    ) -> Result<(), ElementError> {
+        check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
+        let uf = self.flat_displacement(u_e)?;
+        let nz = self.rule.len();
+        let mut scratch =
+            vec![DamageState::default(); if self.committed.is_empty() { 0 } else { nz }];
+        let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
+        let mut n = Vector3::zeros();
+        let mut m = Vector3::zeros();
+        let mut dissipation = 0.0;
+        let mut volume = 0.0;
+        for (p, pt) in self.points.iter().enumerate() {
+            let committed = self.states_of(p, &self.committed);
+            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch);
+            n += r.n;
+            m += r.m;
+            dissipation += pt.weight * r.dissipation;
+            for (s, w) in scratch.iter().zip(self.rule.weights()) {
+                dt_max = dt_max.max(s.d_t);
+                dc_max = dc_max.max(s.d_c);
+                dt_mean += pt.weight * w * s.d_t;
+                dc_mean += pt.weight * w * s.d_c;
+            }
+            volume += pt.weight * self.section.thickness;
+        }
+        let np = self.points.len() as f64;
+        values[0] = dt_max;
+        values[1] = dt_mean / volume;
+        values[2] = dc_max;
+        values[3] = dc_mean / volume;
+        values[4..7].copy_from_slice((n / np).as_slice());
+        values[7..10].copy_from_slice((m / np).as_slice());
+        values[10] = self.dissipated + dissipation;
+        Ok(())
+    }
+
+    fn n_state(&self) -> usize {
+        if self.committed.is_empty() {
+            0
+        } else {
+            DamageState::N_VALUES * self.committed.len() + 1
+        }
+    }
+
+    fn save_state(&self, out: &mut [f64]) -> Result<(), ElementError> {
+        check_len("state", self.n_state(), out.len())?;
+        if self.committed.is_empty() {
+            return Ok(());
+        }
+        for (chunk, s) in out
+            .chunks_exact_mut(DamageState::N_VALUES)
+            .zip(&self.committed)
+        {
+            chunk.copy_from_slice(&s.to_array());
+        }
+        out[out.len() - 1] = self.dissipated;
+        Ok(())
+    }
+
+    fn load_state(&mut self, state: &[f64]) -> Result<(), ElementError> {
+        check_len("state", self.n_state(), state.len())?;
+        if self.committed.is_empty() {
+            return Ok(());
+        }
+        for (chunk, s) in state
+            .chunks_exact(DamageState::N_VALUES)
+            .zip(self.committed.iter_mut())
+        {
+            *s = DamageState::from_array([chunk[0], chunk[1], chunk[2], chunk[3]]);
+        }
+        self.dissipated = state[state.len() - 1];
+        self.revert();
+        Ok(())
+    }
+}

@@ -1,0 +1,37 @@
+//! Flat shell elements, 6 DOF per node, layered through the thickness with the plane-stress damage
+//! law (SPEC §4).
+//!
+//! | file          | concept                                                                    |
+//! |---------------|----------------------------------------------------------------------------|
+//! | `section.rs`  | [`ShellSection`], [`ShellMaterial`]: thickness, layers, material, masses    |
+//! | `layers.rs`   | [`ThicknessRule`] (Simpson per layer) and the section update N, M, A B D    |
+//! | `geometry.rs` | local frame of a flat element, projection of a warped quad, rigid links    |
+//! | `element.rs`  | [`ShellElement`]: force, tangent, state, mass, gravity, outputs, checkpoint|
+//! | `mitc4.rs`    | [`ShellQuad4`]: bilinear membrane + MITC4 bending/shear + drilling          |
+//! | `tri3.rs`     | [`ShellTri3`]: CST membrane + DKT bending + drilling                       |
+//! | `error.rs`    | [`ShellError`]: construction errors                                         |
+//! | `tests.rs`    | patch tests, Scordelis–Lo roof, plate frequency, layered/damage checks     |
+//!
+//! Conventions (local axes, rotation signs, drilling, mass, state layout) are documented in
+//! [`geometry`] and [`element`].
+
+pub mod element;
+mod error;
+pub mod geometry;
+pub mod layers;
+mod mitc4;
+mod section;
+mod tri3;
+
+#[cfg(test)]
+mod tests;
+
+pub use element::{
+    PointResultants, ShellElement, CELL_OUTPUT_NAMES as SHELL_CELL_OUTPUT_NAMES, DRILLING_FACTOR,
+};
+pub use error::ShellError;
+pub use geometry::WARPING_LIMIT;
+pub use layers::ThicknessRule;
+pub use mitc4::ShellQuad4;
+pub use section::{ShellMaterial, ShellSection, DEFAULT_LAYERS, SHEAR_CORRECTION};
+pub use tri3::ShellTri3;
