@@ -1,7 +1,8 @@
 //! Setup of the discrete system (deal.II's `setup_system`): partition, DOF numbering, and the
 //! element objects of the cells this rank owns.
 use crate::config::{Job, MaterialConfig, SectionConfig};
-use crate::element::{ElasticFrame3d, Element, FrameSection};
+use crate::element::{ElasticFrame3d, Element, FrameSection, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3};
+use crate::mesh::CellKind;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, partition_cells, Context, DofMap};
@@ -88,9 +89,9 @@ fn build_elements(
         let mc = model.cells[c];
         let cell = &mesh.cells[mc.cell];
         let part = &spec.parts[mc.part];
-        let MaterialConfig::Elastic(mat) = &spec.materials[&part.material];
-        let element: Box<dyn Element> = match &spec.sections[&part.section] {
-            SectionConfig::Frame(s) => {
+        let material = &spec.materials[&part.material];
+        let element: Box<dyn Element> = match (&spec.sections[&part.section], material) {
+            (SectionConfig::Frame(s), MaterialConfig::Elastic(mat)) => {
                 let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
                 let section = FrameSection {
                     e: mat.e,
@@ -107,6 +108,52 @@ fn build_elements(
                     group: part.group.clone(),
                     source,
                 })?)
+            }
+            (SectionConfig::Frame(_), MaterialConfig::Damage(_)) => {
+                // Rejected when the job is validated; kept as an error, not a panic.
+                return Err(Error::ElementInput {
+                    tag: cell.tag,
+                    group: part.group.clone(),
+                    message: "a frame section needs an elastic material".into(),
+                });
+            }
+            (SectionConfig::Shell(sh), mat) => {
+                let (material, density) = match mat {
+                    MaterialConfig::Elastic(m) => {
+                        let nu = m.nu.unwrap_or_else(|| m.e / (2.0 * m.shear_modulus()) - 1.0);
+                        (ShellMaterial::Elastic { e: m.e, nu }, m.density)
+                    }
+                    MaterialConfig::Damage(d) => match &d.law {
+                        Some(law) => (ShellMaterial::Damage(law.clone()), d.density),
+                        None => {
+                            return Err(Error::ElementInput {
+                                tag: cell.tag,
+                                group: part.group.clone(),
+                                message: "the damage material's law was not loaded".into(),
+                            })
+                        }
+                    },
+                };
+                let section = ShellSection {
+                    thickness: sh.thickness,
+                    layers: sh.layers,
+                    material,
+                    density,
+                    nonstructural_mass_per_area: sh.nonstructural_mass,
+                };
+                let err = |e: ShellError| Error::ElementInput { tag: cell.tag, group: part.group.clone(), message: e.to_string() };
+                let x = |k: usize| mesh.coords[cell.nodes[k]];
+                match cell.kind {
+                    CellKind::Quad4 => Box::new(ShellQuad4::new([x(0), x(1), x(2), x(3)], &section).map_err(err)?),
+                    CellKind::Tri3 => Box::new(ShellTri3::new([x(0), x(1), x(2)], &section).map_err(err)?),
+                    other => {
+                        return Err(Error::ElementInput {
+                            tag: cell.tag,
+                            group: part.group.clone(),
+                            message: format!("a shell section needs triangles or quadrangles, not a {other}"),
+                        })
+                    }
+                }
             }
         };
         out.push(element);

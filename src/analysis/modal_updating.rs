@@ -305,7 +305,7 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalUpdatingConfig, mesh: &Mesh, mod
             let part = parts.iter().find(|q| q.group == p.group);
             let e = part
                 .and_then(|q| job.spec.materials.get(&q.material))
-                .map(|MaterialConfig::Elastic(m)| m.e)
+                .and_then(MaterialConfig::young_modulus)
                 .unwrap_or(f64::NAN);
             UpdatedParameter {
                 group: p.group.clone(),

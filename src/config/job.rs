@@ -158,6 +158,41 @@ pub struct MeshConfig {
 pub enum MaterialConfig {
     /// Isotropic linear elasticity.
     Elastic(ElasticMaterial),
+    /// The masonry damage law (SPEC §2), for shell layers.
+    Damage(DamageMaterial),
+}
+
+impl MaterialConfig {
+    /// Mass density [kg/m³].
+    pub fn density(&self) -> f64 {
+        match self {
+            MaterialConfig::Elastic(m) => m.density,
+            MaterialConfig::Damage(m) => m.density,
+        }
+    }
+
+    /// Young's modulus [Pa] (of the law file's parameters, once loaded, for `damage`).
+    pub fn young_modulus(&self) -> Option<f64> {
+        match self {
+            MaterialConfig::Elastic(m) => Some(m.e),
+            MaterialConfig::Damage(m) => m.law.as_ref().map(|l| l.e),
+        }
+    }
+}
+
+/// `type = "damage"`: the damage law's parameters, inline (`[materials.NAME.law]`) or from the
+/// material file an identification job writes (`law_file`); exactly one of the two.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DamageMaterial {
+    /// Mass density [kg/m³].
+    #[serde(default)]
+    pub density: f64,
+    /// The law's parameters.
+    pub law: Option<crate::material::DamageParams>,
+    /// A TOML file holding the law's parameters (as `[law]`), relative to the job file's folder;
+    /// read and checked at load, after which `law` holds them.
+    pub law_file: Option<PathBuf>,
 }
 
 /// `type = "elastic"`: isotropic linear elasticity.
@@ -194,6 +229,26 @@ impl ElasticMaterial {
 pub enum SectionConfig {
     /// Elastic frame section of a 2-node beam.
     Frame(FrameSectionConfig),
+    /// Layered shell section of 3- and 4-node shells.
+    Shell(ShellSectionConfig),
+}
+
+/// `type = "shell"`: a layered shell section.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ShellSectionConfig {
+    /// Thickness [m].
+    pub thickness: f64,
+    /// Layers through the thickness (default 7).
+    #[serde(default = "default_layers")]
+    pub layers: usize,
+    /// Non-structural mass per area [kg/m²] (finishes, fill), default 0.
+    #[serde(default)]
+    pub nonstructural_mass: f64,
+}
+
+fn default_layers() -> usize {
+    7
 }
 
 /// `type = "frame"`: elastic section of a 2-node beam.
@@ -215,6 +270,7 @@ impl SectionConfig {
     pub fn type_name(&self) -> &'static str {
         match self {
             SectionConfig::Frame(_) => "frame",
+            SectionConfig::Shell(_) => "shell",
         }
     }
 }

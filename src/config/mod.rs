@@ -50,6 +50,16 @@ impl Job {
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let mesh_file = resolve(&folder, &spec.mesh.file);
         let mut spec = spec;
+        for (name, m) in spec.materials.iter_mut() {
+            if let MaterialConfig::Damage(d) = m {
+                if let Some(p) = &d.law_file {
+                    let at = [Seg::Key("materials".into()), Seg::Key(name.clone()), Seg::Key("law_file".into())];
+                    let file = resolve(&folder, p);
+                    d.law = Some(read_law_file(&file).map_err(|msg| source.error_at(&at, msg))?);
+                    d.law_file = Some(file);
+                }
+            }
+        }
         if let AnalysisConfig::ModalUpdating(u) = &mut spec.analysis {
             if let Some(p) = &u.target_shapes {
                 let file = resolve(&folder, p);
@@ -174,6 +184,19 @@ impl MaterialPointJob {
         let output_dir = output_dir(path, &spec.output);
         Ok(MaterialPointJob { source, spec, law, output_dir })
     }
+}
+
+/// Reads the damage law's parameters from a material file (its `[law]` table, as the
+/// identification writes it; other tables, e.g. provenance, are ignored).
+fn read_law_file(file: &Path) -> Result<crate::material::DamageParams, String> {
+    let src = Source::read(file).map_err(|e| e.to_string())?;
+    #[derive(serde::Deserialize)]
+    struct LawFile {
+        law: crate::material::DamageParams,
+    }
+    let f: LawFile = src.deserialize().map_err(|e| format!("in the material file: {e}"))?;
+    f.law.validate().map_err(|e| format!("{}: {e}", file.display()))?;
+    Ok(f.law)
 }
 
 fn resolve(folder: &Path, p: &Path) -> PathBuf {

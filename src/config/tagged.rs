@@ -30,10 +30,12 @@ pub fn refine(src: &Source, err: ConfigError) -> ConfigError {
     let refined = match kind {
         "materials" => variant(src, &table_path, |t, tag| match tag {
             "elastic" => sub::<ElasticMaterial>(src, t, &table_path),
+            "damage" => sub::<DamageMaterial>(src, t, &table_path),
             _ => None,
         }),
         "sections" => variant(src, &table_path, |t, tag| match tag {
             "frame" => sub::<FrameSectionConfig>(src, t, &table_path),
+            "shell" => sub::<ShellSectionConfig>(src, t, &table_path),
             _ => None,
         }),
         "loads" => variant(src, &table_path, |t, tag| match tag {

@@ -65,6 +65,17 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                     ));
                 }
             }
+            MaterialConfig::Damage(d) => {
+                if !(d.density.is_finite() && d.density >= 0.0) {
+                    return Err(src.error_at(&at("density"), format!("density [kg/m^3] must be a finite number >= 0, got {}", d.density)));
+                }
+                match (&d.law, &d.law_file) {
+                    (Some(_), Some(_)) => return Err(src.error_at(&at("law_file"), "give either [law] or law_file, not both")),
+                    (None, None) => return Err(src.error_at(&[key("materials"), key(name)], "a damage material needs its [law] table or a law_file")),
+                    (Some(law), None) => law.validate().map_err(|e| src.error_at(&at("law"), e.to_string()))?,
+                    (None, Some(_)) => {} // read and validated when the job is loaded
+                }
+            }
         }
     }
     for (name, s) in &job.sections {
@@ -76,13 +87,22 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
                 positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
             }
+            SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
+                positive(src, &at("thickness"), "shell thickness [m]", *thickness)?;
+                if *layers == 0 || *layers > 99 {
+                    return Err(src.error_at(&at("layers"), format!("expected 1 to 99 layers, got {layers}")));
+                }
+                if !(nonstructural_mass.is_finite() && *nonstructural_mass >= 0.0) {
+                    return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per area >= 0 [kg/m^2], got {nonstructural_mass}")));
+                }
+            }
         }
     }
     if let AnalysisConfig::Modal(m) = &job.analysis {
         if m.modes == 0 {
             return Err(src.error_at(&[key("analysis"), key("modes")], "expected at least 1 mode"));
         }
-        if !job.materials.values().any(|MaterialConfig::Elastic(e)| e.density > 0.0) {
+        if !job.materials.values().any(|m| m.density() > 0.0) {
             return Err(src.error_at(
                 &[key("materials")],
                 "a modal analysis needs mass: give at least one material a density > 0",
@@ -112,7 +132,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 ));
             }
         }
-        if !job.materials.values().any(|MaterialConfig::Elastic(e)| e.density > 0.0) {
+        if !job.materials.values().any(|m| m.density() > 0.0) {
             return Err(src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0"));
         }
     }
@@ -134,6 +154,12 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             return Err(src.error_at(
                 &at("material"),
                 format!("no material named '{}' ({})", p.material, names(&job.materials)),
+            ));
+        }
+        if let (SectionConfig::Frame(_), MaterialConfig::Damage(_)) = (&job.sections[&p.section], &job.materials[&p.material]) {
+            return Err(src.error_at(
+                &at("material"),
+                format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers)", p.section, p.material),
             ));
         }
         if let Some(v) = &p.orientation {

@@ -44,19 +44,21 @@ impl StructuralModel {
         for (ip, p) in spec.parts.iter().enumerate() {
             let at = [key("parts"), Seg::Index(ip), key("group")];
             let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
-            let want = match &spec.sections[&p.section] {
-                SectionConfig::Frame(_) => CellKind::Line2,
+            let want: &[CellKind] = match &spec.sections[&p.section] {
+                SectionConfig::Frame(_) => &[CellKind::Line2],
+                SectionConfig::Shell(_) => &[CellKind::Tri3, CellKind::Quad4],
             };
+            let want_text = want.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ");
             let mut n = 0;
             for c in mesh.cells_in_group(g) {
                 let kind = mesh.cells[c].kind;
-                if kind != want {
+                if !want.contains(&kind) {
                     return Err(job
                         .error_at(
                             &at,
                             format!(
                                 "group '{}' holds a {kind} (element {}), but section '{}' of type '{}' \
-                                 needs {want} cells",
+                                 needs {want_text} cells",
                                 p.group,
                                 mesh.cells[c].tag,
                                 p.section,
@@ -83,7 +85,7 @@ impl StructuralModel {
             }
             if n == 0 {
                 return Err(job
-                    .error_at(&at, format!("group '{}' has no cells of dimension {}", p.group, want.dim()))
+                    .error_at(&at, format!("group '{}' has no cells of dimension {}", p.group, want[0].dim()))
                     .into());
             }
         }

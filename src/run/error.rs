@@ -37,6 +37,17 @@ pub enum Error {
         /// The cause.
         source: ElementError,
     },
+    /// An element cannot be built from its input (a warped quadrangle, a damage law that does
+    /// not fit the element size, ...).
+    #[error("element {tag} (group '{group}'): {message}")]
+    ElementInput {
+        /// Gmsh element tag.
+        tag: u64,
+        /// Its physical group.
+        group: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A PETSc call failed.
     #[error(transparent)]
     Petsc(#[from] PetscError),
@@ -77,7 +88,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Config(_) | Error::Mesh(_) | Error::Model(_) | Error::OutputExists(_) => 2,
-            Error::Mechanism(_) => 2,
+            Error::Mechanism(_) | Error::ElementInput { .. } => 2,
             Error::Agreed(a) => a.exit_code,
             _ => 1,
         }

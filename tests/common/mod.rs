@@ -205,3 +205,44 @@ pub fn node_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
     let nc = v.len() / ids.len();
     ids.iter().enumerate().map(|(i, &id)| (id, v[i * nc..(i + 1) * nc].to_vec())).collect()
 }
+
+/// Writes an ASCII MSH 4.1 file of 4-node quadrangles in one physical surface group `surface`,
+/// plus point groups (name, node indices), as [`write_line_mesh`] does for lines.
+pub fn write_quad_mesh(path: &Path, nodes: &[[f64; 3]], quads: &[[usize; 4]], surface: &str, point_groups: &[(&str, Vec<usize>)]) {
+    let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
+    s += &format!("{}\n2 1 \"{surface}\"\n", 1 + point_groups.len());
+    for (i, (name, _)) in point_groups.iter().enumerate() {
+        s += &format!("0 {} \"{}\"\n", i + 2, name);
+    }
+    s += "$EndPhysicalNames\n$Entities\n";
+    let pts: Vec<(usize, usize)> =
+        point_groups.iter().enumerate().flat_map(|(g, (_, ns))| ns.iter().map(move |&n| (g, n))).collect();
+    s += &format!("{} 0 1 0\n", pts.len());
+    for (k, (g, n)) in pts.iter().enumerate() {
+        let x = nodes[*n];
+        s += &format!("{} {} {} {} 1 {}\n", k + 1, x[0], x[1], x[2], g + 2);
+    }
+    s += "1 -1e9 -1e9 -1e9 1e9 1e9 1e9 1 1 0\n$EndEntities\n";
+    s += &format!("$Nodes\n1 {} 1 {}\n2 1 0 {}\n", nodes.len(), nodes.len(), nodes.len());
+    for i in 0..nodes.len() {
+        s += &format!("{}\n", i + 1);
+    }
+    for x in nodes {
+        s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    s += "$EndNodes\n$Elements\n";
+    let n_el = quads.len() + pts.len();
+    s += &format!("{} {} 1 {}\n", 1 + pts.len(), n_el, n_el);
+    let mut tag = 1;
+    for (k, (_, n)) in pts.iter().enumerate() {
+        s += &format!("0 {} 15 1\n{} {}\n", k + 1, tag, n + 1);
+        tag += 1;
+    }
+    s += &format!("2 1 3 {}\n", quads.len());
+    for q in quads {
+        s += &format!("{} {} {} {} {}\n", tag, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        tag += 1;
+    }
+    s += "$EndElements\n";
+    std::fs::write(path, s).expect("write mesh");
+}
