@@ -8,6 +8,7 @@ pub mod material_point;
 pub mod modal;
 pub mod modal_updating;
 pub mod output;
+pub mod spectrum;
 mod rigid_modes;
 
 pub use discretization::{default_orientation, Discretization};

@@ -13,11 +13,13 @@ pub enum JobKind {
     MaterialPoint,
     /// A DEM virtual test on a batch of samples: see [`super::DemJobFile`].
     Dem,
+    /// Response spectra of a ground motion: see [`super::SpectrumJobFile`].
+    Spectrum,
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
 pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
-    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("modal_updating", JobKind::Structural), ("material_point", JobKind::MaterialPoint), ("dem", JobKind::Dem)];
+    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("modal_updating", JobKind::Structural), ("material_point", JobKind::MaterialPoint), ("dem", JobKind::Dem), ("spectrum", JobKind::Spectrum)];
 
 /// The kind of the job in `src`.
 pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {

@@ -8,6 +8,7 @@ mod job;
 mod kind;
 mod material_point;
 mod source;
+mod spectrum;
 mod tagged;
 mod validate;
 
@@ -17,6 +18,7 @@ pub use job::*;
 pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
 pub use source::{format_path, Seg, Source};
+pub use spectrum::*;
 
 use std::path::{Path, PathBuf};
 
@@ -40,6 +42,7 @@ impl Job {
         match load_job(path)? {
             AnyJob::Structural(job) => Ok(job),
             AnyJob::MaterialPoint(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
+            AnyJob::Spectrum(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
             AnyJob::Dem(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
         }
     }
@@ -102,6 +105,74 @@ pub enum AnyJob {
     MaterialPoint(MaterialPointJob),
     /// A DEM virtual test (a batch of samples).
     Dem(DemJob),
+    /// Response spectra of a ground motion.
+    Spectrum(SpectrumJob),
+}
+
+/// A loaded, validated spectrum job: the record is read (and checked) at load.
+pub struct SpectrumJob {
+    /// The file and its text.
+    pub source: Source,
+    /// What it says.
+    pub spec: SpectrumJobFile,
+    /// The ground motion, scaled, in m/s².
+    pub record: crate::seismic::Record,
+    /// The results folder.
+    pub output_dir: PathBuf,
+}
+
+impl SpectrumJob {
+    fn from_source(source: Source, path: &Path) -> Result<SpectrumJob, ConfigError> {
+        use crate::seismic as sm;
+        let spec: SpectrumJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
+        let key = |k: &str| Seg::Key(k.to_string());
+        let a = &spec.analysis;
+        if !(a.damping.is_finite() && a.damping >= 0.0 && a.damping < 1.0) {
+            return Err(source.error_at(&[key("analysis"), key("damping")], format!("expected a damping ratio in [0, 1), got {}", a.damping)));
+        }
+        let p = &a.periods;
+        if !(p.min > 0.0 && p.max > p.min && p.count >= 2) {
+            return Err(source.error_at(&[key("analysis"), key("periods")], "expected 0 < min < max and count >= 2"));
+        }
+        let r = &spec.record;
+        let at = |k: &str| vec![key("record"), key(k)];
+        let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let record = match (&r.file, &r.synthetic) {
+            (Some(_), Some(_)) | (None, None) => {
+                return Err(source.error_at(&[key("record")], "give either file (with format) or synthetic = \"vallorcine_like\""))
+            }
+            (None, Some(name)) => match name.as_str() {
+                "vallorcine_like" => sm::vallorcine_like_synthetic(),
+                other => return Err(source.error_at(&at("synthetic"), format!("unknown synthetic record '{other}', expected vallorcine_like"))),
+            },
+            (Some(f), None) => {
+                let file = resolve(&folder, f);
+                let units = || -> Result<sm::AccelUnit, ConfigError> {
+                    let u = r.units.as_deref().ok_or_else(|| source.error_at(&at("units"), "a column file needs units = \"g\", \"m/s2\" or \"cm/s2\""))?;
+                    sm::AccelUnit::parse(u).ok_or_else(|| source.error_at(&at("units"), format!("unknown units '{u}', expected g, m/s2 or cm/s2")))
+                };
+                let read = match r.format {
+                    None => return Err(source.error_at(&at("file"), "give the format: at2, esm, two_column or one_column")),
+                    Some(RecordFormat::At2) => sm::read_at2(&file),
+                    Some(RecordFormat::Esm) => sm::read_esm(&file),
+                    Some(RecordFormat::TwoColumn) => sm::read_two_column(&file, units()?, sm::DEFAULT_DT_TOLERANCE),
+                    Some(RecordFormat::OneColumn) => {
+                        let dt = r.dt.ok_or_else(|| source.error_at(&at("dt"), "a one-column file needs dt [s]"))?;
+                        sm::read_one_column(&file, dt, units()?)
+                    }
+                };
+                read.map_err(|e| source.error_at(&at("file"), e.to_string()))?
+            }
+        };
+        let record = record.scaled(r.scale).map_err(|e| source.error_at(&at("scale"), e.to_string()))?;
+        if let Some(e) = &spec.ec8 {
+            if !(e.ag.is_finite() && e.ag > 0.0) {
+                return Err(source.error_at(&[key("ec8"), key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag)));
+            }
+        }
+        let output_dir = output_dir(path, &spec.output);
+        Ok(SpectrumJob { source, spec, record, output_dir })
+    }
 }
 
 /// A loaded, validated DEM job.
@@ -150,6 +221,7 @@ pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
         JobKind::Structural => AnyJob::Structural(Job::from_source(source, path)?),
         JobKind::MaterialPoint => AnyJob::MaterialPoint(MaterialPointJob::from_source(source, path)?),
         JobKind::Dem => AnyJob::Dem(DemJob::from_source(source, path)?),
+        JobKind::Spectrum => AnyJob::Spectrum(SpectrumJob::from_source(source, path)?),
     })
 }
 

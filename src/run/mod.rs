@@ -41,6 +41,13 @@ pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
                 input.job.output_dir.display()
             ))
         }
+        AnyJob::Spectrum(job) => Ok(format!(
+            "spectrum of {} ({} s, PGA {:.4} m/s²); results would go to {}",
+            job.record.name,
+            job.record.duration(),
+            crate::seismic::pga(&job.record),
+            job.output_dir.display()
+        )),
         AnyJob::Dem(job) => Ok(format!(
             "DEM, {} sample(s), test {:?}; results would go to {}",
             job.spec.analysis.samples,
@@ -86,6 +93,13 @@ pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), 
         AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args),
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
         AnyJob::Dem(job) => run_dem(ctx, path, &job),
+        AnyJob::Spectrum(job) => {
+            ctx.log.info(format!("job {}", path.display()));
+            prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+            let summary = crate::analysis::spectrum::run(ctx, &job)?;
+            ctx.log.info(format!("results: {}", job.output_dir.display()));
+            write_summary(ctx, &job.output_dir, &summary)
+        }
     }
 }
 

@@ -133,31 +133,4 @@ mod tests {
         assert!((im.pga - 0.45).abs() < 1e-12);
         assert!(im.d5_95() > 2.0 && im.d5_95() < 8.0, "D5-95 = {}", im.d5_95());
     }
-
-    /// Regenerates the committed file and draws the two charts into `target/seismic/`:
-    /// `cargo test --lib seismic::vallorcine -- --ignored`.
-    #[test]
-    #[ignore]
-    fn regenerate_file_and_charts() {
-        use crate::seismic::charts::{record_png, spectrum_png};
-        use crate::seismic::ec8::{Ec8Spectrum, Ec8Type, GroundType};
-        use crate::seismic::spectrum::{log_periods, response_spectrum};
-        let r = write_vallorcine_like(&repo_file()).unwrap();
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/seismic");
-        std::fs::create_dir_all(&dir).unwrap();
-        record_png(&dir.join("vallorcine-like-record.png"), &r).unwrap();
-        let periods = log_periods(0.02, 4.0, 200);
-        let sa = response_spectrum(&r, &periods, 0.05).unwrap();
-        let fine: Vec<f64> = (0..=400).map(|i| i as f64 * 0.01).collect();
-        let mut code = Vec::new();
-        for (kind, label) in [(Ec8Type::Type1, "EC8 type 1"), (Ec8Type::Type2, "EC8 type 2")] {
-            let sp = Ec8Spectrum::new(kind, GroundType::A, 1.6, 5.0).unwrap();
-            code.push((format!("{label}, ground A, a_g = 1.6 m/s²"), sp.curve(&fine)));
-        }
-        spectrum_png(&dir.join("vallorcine-like-spectrum.png"), "Vallorcine-like SYNTHETIC record vs EC8 elastic spectra", &[("synthetic record", &sa)], &code).unwrap();
-        let im = intensity(&r);
-        println!("{im:?} D5-95 = {}", im.d5_95());
-        let peak = sa.sa.iter().zip(&sa.periods).fold((0.0, 0.0), |m, (s, t)| if *s > m.0 { (*s, *t) } else { m });
-        println!("peak Sa = {} m/s² at T = {} s", peak.0, peak.1);
-    }
 }
