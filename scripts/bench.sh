@@ -73,3 +73,45 @@ print(json.dumps({
 PY
   done
 done
+
+# DEM: (a) 32 tension tests of the paper's wall as one batch on 2 ranks (the paper: ~2 hours);
+# (b) compression of random samples (1k and 10k stones): seconds, events/s, peak memory per rank.
+sed -e 's/^samples = 16/samples = 32/' -e "s#\"../results/wall-tension\"#\"$work/dem-out\"#" \
+    -e 's/^existing = .*//' jobs/wall-tension.toml > "$work/tension32.toml"
+start=$(date +%s.%N)
+mpirun -n 2 target/release/masonry-hpc -q "$work/tension32.toml" >/dev/null 2>&1 || true
+end=$(date +%s.%N)
+python3 - "$work/dem-out/summary.json" "$start" "$end" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1])); wall = float(sys.argv[3]) - float(sys.argv[2])
+ok = sum(1 for x in s["samples"] if "Ok" in x["result"])
+print(json.dumps({"case": "dem-paper-wall-tension-batch", "size": 32, "ranks": 2, "seconds": round(wall, 3),
+                  "samples_completed": ok, "paper_seconds": 7200, "ratio_paper_over_ours": round(7200 / wall, 1),
+                  "events_per_second": round(s["events_per_second"], 1)}))
+PY
+for n in 1000 10000; do
+  cat > "$work/random-$n.toml" <<TOML
+[analysis]
+type = "dem"
+samples = 1
+[sample]
+seed = 7
+layout = { type = "random", width = 1.0, height = 1.0, n_particles = $n }
+[test]
+type = "compression"
+max_strain = 2.0e-3
+steps = 40
+[output]
+dir = "$work/random-$n-out"
+existing = "overwrite"
+TOML
+  rss=$( { /usr/bin/time -f "%M" target/release/masonry-hpc -q "$work/random-$n.toml" >/dev/null 2>/dev/null; } 2>&1 | tail -1 )
+  python3 - "$work/random-$n-out/summary.json" "$n" "$rss" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1])); smp = s["samples"][0]
+print(json.dumps({"case": "dem-random-compression", "size": int(sys.argv[2]), "ranks": 1,
+                  "seconds": round(smp["seconds"], 3), "events": smp["events"],
+                  "events_per_second": round(smp["events"] / max(smp["seconds"], 1e-9), 1),
+                  "peak_memory_mb": round(int(sys.argv[3]) / 1024, 1) if sys.argv[3].isdigit() else None}))
+PY
+done
