@@ -105,13 +105,23 @@ steps = 40
 dir = "$work/random-$n-out"
 existing = "overwrite"
 TOML
-  rss=$( { /usr/bin/time -f "%M" target/release/masonry-hpc -q "$work/random-$n.toml" >/dev/null 2>/dev/null; } 2>&1 | tail -1 )
-  python3 - "$work/random-$n-out/summary.json" "$n" "$rss" <<'PY'
-import json, sys
-s = json.load(open(sys.argv[1])); smp = s["samples"][0]
-print(json.dumps({"case": "dem-random-compression", "size": int(sys.argv[2]), "ranks": 1,
-                  "seconds": round(smp["seconds"], 3), "events": smp["events"],
-                  "events_per_second": round(smp["events"] / max(smp["seconds"], 1e-9), 1),
-                  "peak_memory_mb": round(int(sys.argv[3]) / 1024, 1) if sys.argv[3].isdigit() else None}))
+  t0=$(date +%s.%N)
+  out=$( { /usr/bin/time -f "rss_kb=%M" target/release/masonry-hpc "$work/random-$n.toml" 2>&1 >/dev/null; } 2>&1 || true )
+  t1=$(date +%s.%N)
+  python3 - "$work/random-$n-out/summary.json" "$n" "$t0" "$t1" "$out" <<'PY'
+import json, os, re, sys
+n, wall, out = int(sys.argv[2]), float(sys.argv[4]) - float(sys.argv[3]), sys.argv[5]
+rss = re.search(r"rss_kb=(\d+)", out)
+line = {"case": "dem-random-compression", "size": n, "ranks": 1, "seconds": round(wall, 3),
+        "peak_memory_mb": round(int(rss.group(1)) / 1024, 1) if rss else None}
+if os.path.exists(sys.argv[1]):
+    smp = json.load(open(sys.argv[1]))["samples"][0]
+    line.update({"completed": True, "events": smp["events"], "events_per_second": round(smp["events"] / max(smp["seconds"], 1e-9), 1)})
+else:
+    ev = re.search(r"event (\d+)\)", out)
+    line.update({"completed": False, "events_before_failure": int(ev.group(1)) if ev else None,
+                 "events_per_second": round(int(ev.group(1)) / wall, 1) if ev else None,
+                 "error": (re.search(r"warning: (.*)", out) or re.search(r"error: (.*)", out)).group(1)[:200]})
+print(json.dumps(line))
 PY
 done
