@@ -81,46 +81,7 @@ pub fn stdout(o: &Output) -> String {
 /// node indices in physical curve group 1 `"beams"`, and point groups (name, node indices) as
 /// physical point groups 2, 3, ...
 pub fn write_line_mesh(path: &Path, nodes: &[[f64; 3]], lines: &[[usize; 2]], point_groups: &[(&str, &[usize])]) {
-    let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
-    s += &format!("{}\n1 1 \"beams\"\n", 1 + point_groups.len());
-    for (i, (name, _)) in point_groups.iter().enumerate() {
-        s += &format!("0 {} \"{}\"\n", i + 2, name);
-    }
-    s += "$EndPhysicalNames\n$Entities\n";
-    // One point entity per node of a point group; one curve entity holding all lines.
-    let pts: Vec<(usize, usize)> = point_groups
-        .iter()
-        .enumerate()
-        .flat_map(|(g, (_, ns))| ns.iter().map(move |&n| (g, n)))
-        .collect();
-    s += &format!("{} 1 0 0\n", pts.len());
-    for (k, (g, n)) in pts.iter().enumerate() {
-        let x = nodes[*n];
-        s += &format!("{} {} {} {} 1 {}\n", k + 1, x[0], x[1], x[2], g + 2);
-    }
-    s += "1 -1e9 -1e9 -1e9 1e9 1e9 1e9 1 1 0\n$EndEntities\n";
-    s += &format!("$Nodes\n1 {} 1 {}\n1 1 0 {}\n", nodes.len(), nodes.len(), nodes.len());
-    for i in 0..nodes.len() {
-        s += &format!("{}\n", i + 1);
-    }
-    for x in nodes {
-        s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
-    }
-    s += "$EndNodes\n$Elements\n";
-    let n_el = lines.len() + pts.len();
-    s += &format!("{} {} 1 {}\n", 1 + pts.len(), n_el, n_el);
-    let mut tag = 1;
-    for (k, (_, n)) in pts.iter().enumerate() {
-        s += &format!("0 {} 15 1\n{} {}\n", k + 1, tag, n + 1);
-        tag += 1;
-    }
-    s += &format!("1 1 1 {}\n", lines.len());
-    for l in lines {
-        s += &format!("{} {} {}\n", tag, l[0] + 1, l[1] + 1);
-        tag += 1;
-    }
-    s += "$EndElements\n";
-    std::fs::write(path, s).expect("write mesh");
+    write_line_mesh_groups(path, nodes, lines, &[("beams", (0..lines.len()).collect())], point_groups);
 }
 
 /// Writes an ASCII MSH 4.1 file of 2-node lines in several physical curve groups (`line_groups`:
