@@ -116,3 +116,26 @@ fn petsc_options_environment_wins_over_the_job() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(stdout(&out).contains("ksp=cg pc=gamg"), "{}", stdout(&out));
 }
+
+#[test]
+fn nonlinear_static_of_an_elastic_model_equals_linear_static() {
+    // With elastic elements, Newton load stepping must land on K u = f: equal displacements to
+    // 1e-9 of the largest (the force tolerance is 1e-8 on the residual), on 2 ranks; and every
+    // converged step is in the XDMF time series (λ = 1/3, 2/3, 1).
+    let d1 = scratch("nl-linear");
+    let d2 = scratch("nl-nonlinear");
+    let j1 = demo_job(&d1, "");
+    let j2 = demo_job(&d2, "");
+    let t = std::fs::read_to_string(&j2).unwrap().replace("type = \"linear_static\"", "type = \"static_nonlinear\"\nsteps = 3");
+    std::fs::write(&j2, t).unwrap();
+    let o1 = run(2, &[j1.to_str().unwrap()]);
+    assert!(o1.status.success(), "{}", stderr(&o1));
+    let o2 = run(2, &[j2.to_str().unwrap()]);
+    assert!(o2.status.success(), "{}", stderr(&o2));
+    let diff = max_rel_diff(&node_field(&d1.join("out"), "displacement"), &node_field(&d2.join("out"), "displacement"));
+    assert!(diff < 1e-9, "nonlinear static vs linear static: {diff:e}");
+    let f = hdf5::File::open(d2.join("out/results.h5")).unwrap();
+    let times: Vec<f64> = f.dataset("steps/times").unwrap().read_raw().unwrap();
+    assert_eq!(times.len(), 3, "{times:?}");
+    assert!((times[0] - 1.0 / 3.0).abs() < 1e-12 && (times[2] - 1.0).abs() < 1e-12, "{times:?}");
+}

@@ -161,6 +161,18 @@ pub fn assemble_internal_forces(
     u_local: &[f64],
     f: &mut Vector,
 ) -> Result<(), Error> {
+    assemble_internal_forces_on(disc, mesh, model, u_local, Rows::All, f)
+}
+
+/// Collective. Internal forces `f_int(u)` on the chosen rows (free rows only for a residual).
+pub fn assemble_internal_forces_on(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: &[f64],
+    rows: Rows,
+    f: &mut Vector,
+) -> Result<(), Error> {
     f.set_all(0.0)?;
     let mut s = Scratch::default();
     let mut out = ElementOutput::new(12);
@@ -172,7 +184,8 @@ pub fn assemble_internal_forces(
         disc.elements[i].evaluate(&s.u_e, EvalRequest::Force, &mut out).map_err(|source| {
             Error::Element { tag: cell.tag, group: String::new(), source }
         })?;
-        f.add_values(&s.all, out.f_int.as_slice())?;
+        let idx = if rows == Rows::Free { &s.free } else { &s.all };
+        f.add_values(idx, out.f_int.as_slice())?;
     }
     f.assemble()?;
     Ok(())

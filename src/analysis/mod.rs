@@ -9,6 +9,7 @@ pub mod modal;
 pub mod modal_updating;
 pub mod output;
 pub mod spectrum;
+pub mod static_nonlinear;
 mod rigid_modes;
 
 pub use discretization::{default_orientation, Discretization};

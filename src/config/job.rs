@@ -52,6 +52,48 @@ pub enum AnalysisConfig {
     Modal(ModalConfig),
     /// Modal updating: Young's moduli of chosen groups fitted to target frequencies.
     ModalUpdating(ModalUpdatingConfig),
+    /// Nonlinear static analysis: the loads applied in steps, Newton iterations in each.
+    StaticNonlinear(StaticNonlinearConfig),
+}
+
+/// `[analysis] type = "static_nonlinear"`: the job's loads (nodal loads and gravity) scaled by a
+/// load factor λ going from 0 to 1 in `steps` equal steps; in each, Newton iterations on the
+/// tangent stiffness until the out-of-balance force and energy are small; a step that fails is
+/// cut in half (up to `max_cuts` times) before the run stops with a diagnosis.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StaticNonlinearConfig {
+    /// Load steps (default 10).
+    #[serde(default = "default_load_steps")]
+    pub steps: usize,
+    /// Newton iterations per step (default 25).
+    #[serde(default = "default_newton_iterations")]
+    pub max_iterations: usize,
+    /// Relative tolerance on the out-of-balance force, ‖r‖ ≤ tol ‖λ f‖ (default 1e-8).
+    #[serde(default = "default_force_tolerance")]
+    pub force_tolerance: f64,
+    /// Relative tolerance on the energy norm |Δu·r| ≤ tol |Δu₀·r₀| (default 1e-14).
+    #[serde(default = "default_energy_tolerance")]
+    pub energy_tolerance: f64,
+    /// Halvings of a failing step before the run stops (default 6).
+    #[serde(default = "default_max_cuts")]
+    pub max_cuts: usize,
+}
+
+fn default_load_steps() -> usize {
+    10
+}
+fn default_newton_iterations() -> usize {
+    25
+}
+fn default_force_tolerance() -> f64 {
+    1e-8
+}
+fn default_energy_tolerance() -> f64 {
+    1e-14
+}
+fn default_max_cuts() -> usize {
+    6
 }
 
 impl AnalysisConfig {
@@ -61,6 +103,7 @@ impl AnalysisConfig {
             AnalysisConfig::LinearStatic => "linear_static",
             AnalysisConfig::Modal(_) => "modal",
             AnalysisConfig::ModalUpdating(_) => "modal_updating",
+            AnalysisConfig::StaticNonlinear(_) => "static_nonlinear",
         }
     }
 }

@@ -161,6 +161,11 @@ fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String]) -
             let summary = linear_static::run(ctx, &petsc, job, &input.mesh, &input.model)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
+        AnalysisConfig::StaticNonlinear(cfg) => {
+            ctx.log.info(format!("analysis: nonlinear static, {} load step(s)", cfg.steps));
+            let summary = crate::analysis::static_nonlinear::run(ctx, job, cfg, &input.mesh, &input.model)?;
+            write_summary(ctx, &job.output_dir, &summary)?;
+        }
         AnalysisConfig::ModalUpdating(cfg) => {
             ctx.log.info("analysis: modal updating");
             let summary = crate::analysis::modal_updating::run(ctx, job, cfg, &input.mesh, &input.model)?;
