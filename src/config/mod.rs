@@ -330,7 +330,10 @@ mod tests {
     fn load_str(text: &str) -> Result<Job, ConfigError> {
         let dir = std::env::temp_dir().join(format!("mhpc-config-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let f = dir.join(format!("t{}.toml", text.len()));
+        // A unique name per call: tests run in parallel threads of one process.
+        static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        let f = dir.join(format!("t{}-{k}.toml", text.len()));
         std::fs::write(&f, text).unwrap();
         Job::load(&f)
     }
@@ -364,7 +367,9 @@ ksp_rtol = 1e-10
         let job = load_str(GOOD).unwrap();
         assert!(job.mesh_file.ends_with("m.msh"));
         assert!(job.mesh_file.parent().unwrap().ends_with(format!("mhpc-config-{}", std::process::id())));
-        assert!(job.output_dir.ends_with(format!("results/t{}", GOOD.len())));
+        // Default results folder: results/<job file stem> beside the job file.
+        let stem = job.source.file.file_stem().unwrap().to_owned();
+        assert!(job.output_dir.ends_with(std::path::Path::new("results").join(stem)), "{}", job.output_dir.display());
         assert!(job.petsc_options.contains(&("-ksp_type".to_string(), "cg".to_string())));
         let rtol = job.petsc_options.iter().find(|(k, _)| k == "-ksp_rtol").unwrap();
         assert_eq!(rtol.1.parse::<f64>().unwrap(), 1e-10);

@@ -65,7 +65,7 @@ pub mod uniaxial;
 #[cfg(test)]
 mod bar_tests;
 #[cfg(test)]
-mod test_support;
+pub(crate) mod test_support;
 
 pub use error::MaterialError;
 pub use law::PointLaw;

@@ -184,6 +184,27 @@ impl SampleLayout {
 }
 
 impl SampleConfig {
+    /// The paper's wall (SPEC §1, Table 1): 1.00 m wide × 1.20 m high, 10 staggered courses of 6
+    /// stones (jitter 0.2, size variability 0.2), 1 m thick, α = 0.8, tiny facets merged.
+    pub fn paper_wall(seed: u64) -> SampleConfig {
+        SampleConfig {
+            layout: SampleLayout::Coursed(CoursedLayout {
+                width: 1.0,
+                height: 1.2,
+                n_courses: 10,
+                n_per_course: 6,
+                jitter: 0.2,
+                stagger: 1.0,
+                size_variability: 0.2,
+            }),
+            thickness: 1.0,
+            seed,
+            alpha: 0.8,
+            facet_tolerance: 0.02,
+            tiny_facets: TinyFacetPolicy::Merge,
+        }
+    }
+
     /// The layout-independent options.
     pub fn geometry_options(&self) -> GeometryOptions {
         GeometryOptions {

@@ -4,24 +4,9 @@ use super::*;
 use crate::dem::polygon::P2;
 use std::collections::HashSet;
 
-/// The paper's wall (SPEC §1, Table 1): 1.20 m high × 1.00 m wide, 10 courses of 6 stones, staggered.
+/// The paper's wall (SPEC §1, Table 1).
 fn paper_wall(seed: u64) -> SampleConfig {
-    SampleConfig {
-        layout: SampleLayout::Coursed(CoursedLayout {
-            width: 1.0,
-            height: 1.2,
-            n_courses: 10,
-            n_per_course: 6,
-            jitter: 0.2,
-            stagger: 1.0,
-            size_variability: 0.2,
-        }),
-        thickness: 1.0,
-        seed,
-        alpha: 0.8,
-        facet_tolerance: 0.02,
-        tiny_facets: TinyFacetPolicy::Merge,
-    }
+    SampleConfig::paper_wall(seed)
 }
 
 fn random(n: usize, seed: u64) -> SampleConfig {

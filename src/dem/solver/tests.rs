@@ -2,7 +2,7 @@
 //! the solver, and the paper's wall (report printed with `--nocapture`).
 use super::*;
 use crate::dem::mechanics::MechParams;
-use crate::dem::sample::{CoursedLayout, GeometryOptions, RandomLayout, Sample, SampleConfig, SampleLayout};
+use crate::dem::sample::{GeometryOptions, RandomLayout, Sample, SampleConfig, SampleLayout};
 
 fn column(n: usize) -> Sample {
     // n unit squares stacked: width 1, height n, seeds at the centres (arms 0, ℓ = 1, A = 1).
@@ -12,23 +12,7 @@ fn column(n: usize) -> Sample {
 }
 
 fn paper_wall() -> Sample {
-    Sample::build(&SampleConfig {
-        layout: SampleLayout::Coursed(CoursedLayout {
-            width: 1.0,
-            height: 1.2,
-            n_courses: 10,
-            n_per_course: 6,
-            jitter: 0.2,
-            stagger: 1.0,
-            size_variability: 0.2,
-        }),
-        thickness: 1.0,
-        seed: 1,
-        alpha: 0.8,
-        facet_tolerance: 0.02,
-        tiny_facets: Default::default(),
-    })
-    .unwrap()
+    Sample::build(&SampleConfig::paper_wall(1)).unwrap()
 }
 
 fn balance(c: &CurvePoint) -> f64 {

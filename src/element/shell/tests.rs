@@ -10,7 +10,7 @@ use nalgebra::{DMatrix, DVector, Matrix2, SymmetricEigen, Vector3};
 use super::layers::{plane_stress_matrix, ThicknessRule};
 use super::{ShellMaterial, ShellQuad4, ShellSection, ShellTri3};
 use crate::element::{AppliedLoads, Element, ElementOutput, EvalRequest, MassKind};
-use crate::material::{DamageParams, Regularization};
+use crate::material::DamageParams;
 
 // ---------------------------------------------------------------------------------------------
 // A tiny dense model: nodes, elements with their node lists, prescribed DOFs.
@@ -209,17 +209,8 @@ fn elastic(t: f64, e: f64, nu: f64, rho: f64) -> ShellSection {
 }
 
 fn damage_params() -> DamageParams {
-    // Same values as the material module's reference set (material/test_support.rs).
-    DamageParams {
-        e: 3.0e9,
-        nu: 0.2,
-        eps0_t: 1.0e-4,
-        eps0_c: 2.0e-4,
-        gf_t: 50.0,
-        a_c: 0.8,
-        b_c: 800.0,
-        regularization: Regularization::Hillerborg,
-    }
+    // The material module's reference set.
+    crate::material::test_support::params()
 }
 
 /// Components (11, 22, 12) of the symmetric 2×2 tensor `s` (global xy) in the element's local
