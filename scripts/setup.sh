@@ -18,7 +18,9 @@ for a in "$@"; do
 done
 
 debs=(build-essential pkg-config libclang-dev libopenmpi-dev openmpi-bin
-      petsc-dev slepc-dev libhdf5-openmpi-dev libmetis-dev)
+      petsc-dev slepc-dev libhdf5-openmpi-dev libmetis-dev
+      # shared libraries the PyPI gmsh wheel loads (the church mesh script)
+      libglu1-mesa libgl1 libxrender1 libxcursor1 libxft2 libxinerama1 libgomp1)
 [ "$want_paraview" = 1 ] && debs+=(paraview python3-paraview xvfb xauth)
 
 missing=()
@@ -35,10 +37,12 @@ if [ "${#missing[@]}" -gt 0 ]; then
   "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-# Independent readers used by the tests to check HDF5/XDMF output.
+# Independent readers used by the tests to check HDF5/XDMF output; gmsh (its Python API ships
+# the library) for the church mesh script.
 py_missing=()
 python3 -c "import meshio" 2>/dev/null || py_missing+=(meshio)
 python3 -c "import h5py" 2>/dev/null || py_missing+=(h5py)
+python3 -c "import gmsh" 2>/dev/null || py_missing+=(gmsh)
 if [ "${#py_missing[@]}" -gt 0 ]; then
   echo "setup: installing Python packages: ${py_missing[*]}"
   python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore "${py_missing[@]}"
