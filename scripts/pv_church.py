@@ -114,7 +114,6 @@ def read_msh(path):
 
 def msh_source(path, skip):
     """A ParaView source holding the Gmsh mesh as an unstructured grid with cell field `group`."""
-    from paraview.vtk.util.numpy_support import numpy_to_vtk  # noqa: F401 (checks numpy is there)
     from vtkmodules.vtkCommonCore import vtkIdList, vtkIntArray, vtkPoints
     from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
 
@@ -139,10 +138,6 @@ def msh_source(path, skip):
     src = pv.TrivialProducer()
     src.GetClientSideObject().SetOutput(grid)
     return src, names
-
-
-def physical_names(path):
-    return read_msh_names(path) if path else {}
 
 
 def read_msh_names(path):
@@ -284,10 +279,11 @@ def main():
                 lut.RescaleTransferFunction(lo, hi)
             else:
                 disp.RescaleTransferFunctionToDataRange(False, True)
+        disp.LineWidth = 3.0
         if a.edges == "on" or (a.edges == "auto" and is_msh):
             disp.SetRepresentationType("Surface With Edges")
-            disp.EdgeColor = [0.15, 0.15, 0.15]
-        disp.LineWidth = 3.0
+            disp.EdgeColor = [0.25, 0.25, 0.25]
+            disp.LineWidth = 1.5  # the element edges too: thinner, or they hide the colours
         disp.Ambient = 0.25
         disp.Diffuse = 0.8
         if k == 0:

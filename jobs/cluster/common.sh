@@ -34,9 +34,10 @@ if ! pkg-config --exists ompi-c; then
     echo "cannot find the MPI include path (no ompi-c.pc and no -I in 'mpicc -show')" >&2
     exit 2
   fi
-  mkdir -p .pkgconfig
-  printf 'Name: ompi-c\nDescription: MPI include path (stand-in)\nVersion: 0\nCflags: -I%s\n' "$inc" > .pkgconfig/ompi-c.pc
-  export PKG_CONFIG_PATH="$PWD/.pkgconfig:${PKG_CONFIG_PATH:-}"
+  pc="$HOME/.cache/masonry-hpc/pkgconfig"
+  mkdir -p "$pc"
+  printf 'Name: ompi-c\nDescription: MPI include path (stand-in)\nVersion: 0\nCflags: -I%s\n' "$inc" > "$pc/ompi-c.pc"
+  export PKG_CONFIG_PATH="$pc:${PKG_CONFIG_PATH:-}"
 fi
 for p in petsc slepc; do
   pkg-config --exists "$p" || { echo "pkg-config cannot find '$p': load the module or set PETSC_DIR/SLEPC_DIR" >&2; exit 2; }
