@@ -42,7 +42,7 @@ fi
 py_missing=()
 python3 -c "import meshio" 2>/dev/null || py_missing+=(meshio)
 python3 -c "import h5py" 2>/dev/null || py_missing+=(h5py)
-python3 -c "import gmsh" 2>/dev/null || py_missing+=(gmsh)
+python3 -c "import gmsh" 2>/dev/null || py_missing+=(gmsh==4.15.2)   # the version of meshes/church*.msh
 if [ "${#py_missing[@]}" -gt 0 ]; then
   echo "setup: installing Python packages: ${py_missing[*]}"
   python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore "${py_missing[@]}"
