@@ -115,6 +115,18 @@ pub fn assemble_mass(
         }
         m.add_values(&s.free, &s.free, &s.row_major)?;
     }
+    // Point masses: the diagonal of their node's block, free DOFs only (rank that owns the node).
+    for &(n, diag) in &model.point_masses {
+        if disc.dofs.owner[n] != disc.dofs.rank {
+            continue;
+        }
+        for (d, &v) in diag.iter().enumerate() {
+            let eq = disc.dofs.equation(n, d);
+            if eq >= 0 && v != 0.0 {
+                m.add_values(&[eq], &[eq], &[v])?;
+            }
+        }
+    }
     m.assemble()?;
     Ok(())
 }
@@ -140,6 +152,16 @@ pub fn assemble_loads(
         f.add_values(&idx, &load)?;
     }
     if let Some(g) = model.gravity {
+        // Weight of the point masses on the nodes this rank owns.
+        for &(n, diag) in &model.point_masses {
+            if disc.dofs.owner[n] != disc.dofs.rank {
+                continue;
+            }
+            let idx: Vec<i32> = (0..3)
+                .map(|d| if rows == Rows::Free { disc.dofs.equation(n, d) } else { disc.dofs.dof(n, d) })
+                .collect();
+            f.add_values(&idx, &[diag[0] * g[0], diag[1] * g[1], diag[2] * g[2]])?;
+        }
         let mut fe = nalgebra::DVector::zeros(12);
         for (i, &c) in disc.local_cells.iter().enumerate() {
             let cell = &mesh.cells[model.cells[c].cell];

@@ -3,10 +3,12 @@
 pub mod assembly;
 pub mod dem;
 mod discretization;
+pub mod line_search;
 pub mod linear_static;
 pub mod material_point;
 pub mod modal;
 pub mod modal_updating;
+pub mod newton;
 pub mod output;
 pub mod spectrum;
 pub mod static_nonlinear;
