@@ -259,8 +259,9 @@ impl NonlinearSystem {
                 outcome.reason = "the residual is not finite".into();
                 return Ok(outcome);
             }
-            let control_gap = inc.control_target.map(|t| t - self.control_value(ctx, &self.u)).unwrap_or(0.0);
-            if rn == 0.0 || (outcome.residual <= set.force_tolerance && control_gap == 0.0) {
+            // The control constraint holds after the first iteration (to round-off).
+            let gap_ok = inc.control_target.is_none_or(|t| (t - self.control_value(ctx, &self.u)).abs() <= 1e-12 * t.abs());
+            if gap_ok && (rn == 0.0 || outcome.residual <= set.force_tolerance) {
                 outcome.converged = true;
                 return Ok(outcome);
             }
@@ -294,7 +295,7 @@ impl NonlinearSystem {
             let energy = global_sum(ctx, dot(&du, &r)).abs();
             if it == 0 {
                 energy0 = energy.max(f64::MIN_POSITIVE);
-            } else if energy <= set.energy_tolerance * energy0 && control_gap == 0.0 {
+            } else if energy <= set.energy_tolerance * energy0 && gap_ok {
                 outcome.converged = true;
                 return Ok(outcome);
             }
