@@ -130,3 +130,31 @@ fn nonstructural_mass_per_length_lowers_frequencies_by_root_two() {
         }
     }
 }
+
+/// Bad input names the key: one fiber across a side, a zero-length element (both nodes at the
+/// same place), and an orientation vector along the member; exit code 2, no panic.
+#[test]
+fn bad_fiber_input_is_a_clear_error() {
+    let dir = scratch("fiber-bad-input");
+    let job = cantilever(&dir, "type = \"linear_static\"", "");
+    let text = std::fs::read_to_string(&job).unwrap();
+    for (from, to, expect) in [
+        ("ny = 20", "ny = 1", "sections.s.ny"),
+        ("orientation = [0.0, 0.0, 1.0]", "orientation = [2.0, 0.0, 0.0]", "parallel to the element axis"),
+    ] {
+        std::fs::write(&job, text.replace(from, to)).unwrap();
+        let out = run(0, &[job.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{from}: {err}");
+        assert!(err.contains(expect) && !err.contains("panicked"), "{from}: {err}");
+    }
+    // Zero length: the tip node moved onto its neighbour.
+    let nodes: Vec<[f64; 3]> = (0..=N_EL).map(|i| [L * (i.min(N_EL - 1)) as f64 / N_EL as f64, 0.0, 0.0]).collect();
+    let lines: Vec<[usize; 2]> = (0..N_EL).map(|i| [i, i + 1]).collect();
+    write_line_mesh(&dir.join("m.msh"), &nodes, &lines, &[("base", &[0]), ("tip", &[N_EL])]);
+    std::fs::write(&job, &text).unwrap();
+    let out = run(0, &[job.to_str().unwrap()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("zero-length") && err.contains("element 12"), "{err}");
+}

@@ -154,10 +154,11 @@ fn build_elements(
                     torsion_constant: fs.torsion_constant,
                 };
                 let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
-                Box::new(FiberBeam3d::new(x1, x2, v, section).map_err(|source| Error::Element {
+                // A fiber beam that cannot be built is bad input (exit code 2).
+                Box::new(FiberBeam3d::new(x1, x2, v, section).map_err(|e| Error::ElementInput {
                     tag: cell.tag,
                     group: part.group.clone(),
-                    source,
+                    message: e.to_string(),
                 })?)
             }
             (SectionConfig::Shell(sh), mat) => {
