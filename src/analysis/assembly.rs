@@ -56,6 +56,31 @@ pub fn assemble_stiffness_of(
     part_filter: &dyn Fn(usize) -> bool,
     k: &mut Matrix,
 ) -> Result<(), Error> {
+    assemble_matrix_of(disc, mesh, model, u_local, part_filter, EvalRequest::ForceAndTangent, k)
+}
+
+/// Collective. As [`assemble_stiffness`], with the matrix the `request` asks for (the tangent,
+/// or the secant stiffness for secant iterations).
+pub fn assemble_secant_or_tangent(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: Option<&[f64]>,
+    request: EvalRequest,
+    k: &mut Matrix,
+) -> Result<(), Error> {
+    assemble_matrix_of(disc, mesh, model, u_local, &|_| true, request, k)
+}
+
+fn assemble_matrix_of(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: Option<&[f64]>,
+    part_filter: &dyn Fn(usize) -> bool,
+    request: EvalRequest,
+    k: &mut Matrix,
+) -> Result<(), Error> {
     let mut s = Scratch::default();
     let mut out = ElementOutput::new(12);
     let local = u_local.map(|_| disc.dofs.local_index());
@@ -67,7 +92,7 @@ pub fn assemble_stiffness_of(
         disc.element_equations(&cell.nodes, &mut s.free, &mut s.all);
         gather(&cell.nodes, u_local, local.as_ref(), &mut s.u_e);
         let el = &mut disc.elements[i];
-        el.evaluate(&s.u_e, EvalRequest::ForceAndTangent, &mut out).map_err(|source| Error::Element {
+        el.evaluate(&s.u_e, request, &mut out).map_err(|source| Error::Element {
             tag: cell.tag,
             group: String::new(),
             source,

@@ -7,7 +7,8 @@
 //!
 //! ```text
 //!   r_k = f_ext − f_int(u_k)                        (free rows)
-//!   K_t(u_k) δu_r = r_k                             (the elements' consistent tangent)
+//!   K(u_k) δu_r = r_k                               (the elements' consistent tangent, or their
+//!                                                    secant stiffness for secant iterations)
 //!   pattern control: K_t δu_p = f_p,  δμ = (u_c* − u_c − δu_r,c) / δu_p,c,  δu = δu_r + δμ δu_p
 //!   otherwise:       δu = δu_r
 //!   line search:     η with δu · r(u_k + η δu) ≈ 0  (analysis::line_search), η = 1 under
@@ -24,6 +25,7 @@
 use super::assembly::{self, Rows};
 use super::line_search::{self, LineSearchSettings};
 use super::Discretization;
+use crate::element::EvalRequest;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
@@ -43,6 +45,9 @@ pub struct NewtonSettings {
     pub energy_tolerance: f64,
     /// Line search, if any.
     pub line_search: Option<LineSearchSettings>,
+    /// Iterate on the secant stiffness (damage: (1 − d) C₀, positive definite; linear but
+    /// robust convergence through softening) instead of the consistent tangent.
+    pub secant: bool,
 }
 
 /// What one increment asks for.
@@ -124,6 +129,8 @@ impl NonlinearSystem {
         let n_owned = disc.dofs.n_owned_dofs();
         let first = 6 * disc.dofs.node_offset();
         let mut k = disc.new_matrix(ctx, mesh, model, matrix)?;
+        // The damage law's consistent tangent is not symmetric: no solver may assume it.
+        k.set_option_symmetric(false)?;
         k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
         let mut f = Vector::new_mpi(&ctx.comm, n_owned, None)?;
         assembly::assemble_loads(disc, mesh, model, Rows::Free, &mut f)?;
@@ -206,10 +213,12 @@ impl NonlinearSystem {
     }
 
     /// Collective. Tangent at `u`, factored; solves K x = b for each b.
-    fn solve(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64], rhs: &[&[f64]]) -> Result<Vec<Vec<f64>>, Error> {
+    #[allow(clippy::too_many_arguments)]
+    fn solve(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64], rhs: &[&[f64]], secant: bool) -> Result<Vec<Vec<f64>>, Error> {
         let local = self.local_form(u)?;
         self.k.zero_entries()?;
-        assembly::assemble_stiffness(disc, mesh, model, Some(&local), &mut self.k)?;
+        let request = if secant { EvalRequest::ForceAndSecant } else { EvalRequest::ForceAndTangent };
+        assembly::assemble_secant_or_tangent(disc, mesh, model, Some(&local), request, &mut self.k)?;
         self.fresh = true; // the stiffness evaluation left the trial state at u
         self.ksp.set_operators(&self.k)?;
         if !self.options_set {
@@ -268,13 +277,19 @@ impl NonlinearSystem {
             let u = self.u.clone();
             let pattern = self.f_pattern.clone();
             let sols = match inc.control_target {
-                Some(_) => self.solve(ctx, disc, mesh, model, &u, &[&r, &pattern]),
-                None => self.solve(ctx, disc, mesh, model, &u, &[&r]),
+                Some(_) => self.solve(ctx, disc, mesh, model, &u, &[&r, &pattern], set.secant),
+                None => self.solve(ctx, disc, mesh, model, &u, &[&r], set.secant),
             };
             let sols = match sols {
                 Ok(s) => s,
+                // The only agreed error of `solve` is the linear solve's (a singular or
+                // indefinite matrix in a softening state): the increment fails, the run goes on.
                 Err(Error::Solver(e)) => {
                     outcome.reason = format!("linear solve failed: {e}");
+                    return Ok(outcome);
+                }
+                Err(Error::Agreed(e)) => {
+                    outcome.reason = format!("linear solve failed: {}", e.message);
                     return Ok(outcome);
                 }
                 Err(e) => return Err(e),

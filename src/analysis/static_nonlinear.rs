@@ -10,10 +10,12 @@
 //! ```
 //!
 //! # Substepping and the stop
-//! An increment that does not converge is abandoned (elements revert to their committed state)
-//! and retried with half the size, up to `max_cuts` halvings in a row; after a success the size
-//! grows back by 1.5× up to the nominal one. When the last halving fails too, the run stops with a
-//! diagnosis: where it stopped, the largest out-of-balance force (node tag and DOF), and the
+//! An increment whose tangent iterations fail is retried with secant iterations (the damaged
+//! elastic stiffness: positive definite, slower but robust through softening). An increment that
+//! still does not converge is abandoned (elements revert to their committed state) and retried
+//! with half the size, up to `max_cuts` halvings in a row and never below the nominal size /
+//! 2^max_cuts; after a success the size grows back by 1.5× up to the nominal one. When the last
+//! halving fails too, the run stops with a diagnosis: where it stopped, the largest out-of-balance force (node tag and DOF), and the
 //! elements whose damage grew in the failed increment (count, and the five largest increases with
 //! their element tags). Every converged increment is written to `results.xdmf` before, so a run
 //! that stops keeps what it computed.
@@ -21,8 +23,9 @@
 //! # Outputs
 //! `results.xdmf` (one step per converged increment; time = λ in the loads stage, 1 + the
 //! fraction of the control target in the control stage), `curve.csv` (one line per converged
-//! increment: stage, λ, control displacement and force, dissipated energy, iterations), and the
-//! summary returned to `summary.json`.
+//! increment: stage, λ, control displacement and force, dissipated energy, iterations),
+//! `curve.png` under displacement control (force against displacement, with the optional overlay
+//! curve of `[analysis.control.overlay]`), and the summary returned to `summary.json`.
 use std::io::Write;
 
 use super::assembly;
@@ -30,7 +33,7 @@ use super::line_search::LineSearchSettings;
 use super::newton::{global_sum, Increment, NewtonSettings, NonlinearSystem};
 use super::output::{global_max_with_tag, node_triplets, MeshPiece};
 use super::Discretization;
-use crate::config::{Job, LineSearchKind, StaticNonlinearConfig};
+use crate::config::{IterationMatrix, Job, LineSearchKind, StaticNonlinearConfig};
 use crate::element::AppliedLoads;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
@@ -92,7 +95,11 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
             LineSearchKind::None => None,
             LineSearchKind::Secant => Some(LineSearchSettings::default()),
         },
+        secant: cfg.stiffness == IterationMatrix::Secant,
     };
+    // Secant iterations converge linearly: more of them.
+    let secant_settings = NewtonSettings { secant: true, max_iterations: 4 * cfg.max_iterations, ..settings };
+    let settings = if settings.secant { secant_settings } else { settings };
     let piece = MeshPiece::new(ctx, job, mesh, model, &disc);
     let mut writer = agree(&ctx.comm, ResultsWriter::create(&ctx.comm, &job.output_dir, "results", &piece.view()).map_err(Error::from), Error::exit_code)?;
     let curve_path = job.output_dir.join("curve.csv");
@@ -101,6 +108,10 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
         std::fs::write(&curve_path, header).map_err(|e| Error::Analysis(format!("{}: {e}", curve_path.display())))?;
     }
 
+    let overlay = match cfg.control.as_ref().and_then(|c| c.overlay.as_ref()) {
+        Some(o) => Some((o.label.clone(), agree(&ctx.comm, super::curve_plot::read_overlay(o), Error::exit_code)?)),
+        None => None,
+    };
     let has_loads = global_sum(ctx, sys.f_loads.iter().map(|x| x * x).sum()) > 0.0;
     let mut stages: Vec<Stage> = Vec::new();
     if has_loads || model.control.is_none() {
@@ -144,8 +155,17 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
         while t < 1.0 - 1e-12 {
             let target = (t + dt).min(1.0);
             let inc = (stage.at)(target);
-            let out = sys.solve_increment(ctx, &mut disc, mesh, model, &inc, &settings)?;
+            let mut out = sys.solve_increment(ctx, &mut disc, mesh, model, &inc, &settings)?;
             ls_total += out.line_search_evaluations;
+            if !out.converged && !settings.secant {
+                // The tangent failed (softening, a change of branch): secant iterations next.
+                sys.revert(&mut disc);
+                log.info(format!("{} towards {target:.4}: tangent iterations failed ({}); retrying with the secant stiffness", stage.name, out.reason));
+                let tangent_iterations = out.iterations;
+                out = sys.solve_increment(ctx, &mut disc, mesh, model, &inc, &secant_settings)?;
+                out.iterations += tangent_iterations;
+                ls_total += out.line_search_evaluations;
+            }
             if out.converged {
                 sys.commit(&mut disc, mesh, model)?;
                 t = target;
@@ -160,7 +180,10 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
             } else {
                 let diagnosis = diagnose(ctx, &disc, mesh, model, &sys, &inc)?;
                 sys.revert(&mut disc);
-                if cuts_in_row >= cfg.max_cuts {
+                // Stop after max_cuts halvings in a row, or when the increment would fall below
+                // the nominal one / 2^max_cuts (successes in between do not make it shrink forever).
+                if cuts_in_row >= cfg.max_cuts || dt * 0.5 < nominal / f64::powi(2.0, cfg.max_cuts as i32) {
+                    draw_curve(ctx, job, model, &reports, overlay.as_ref())?;
                     return Err(Error::Analysis(format!(
                         "static_nonlinear: stage '{}' stopped at {:.6} of the stage: the increment towards {:.6} failed ({}, relative residual {:.3e}) \
                          after {} halvings; {diagnosis}; results up to the last converged increment are in {}",
@@ -180,7 +203,23 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
             }
         }
     }
+    draw_curve(ctx, job, model, &reports, overlay.as_ref())?;
     Ok(StaticNonlinearSummary { steps: reports, cuts: cuts_total, line_search_evaluations: ls_total })
+}
+
+/// Collective. `curve.png` of the control stage (rank 0 draws; all agree on the outcome).
+fn draw_curve(ctx: &Context, job: &Job, model: &StructuralModel, reports: &[StepReport], overlay: Option<&(String, Vec<(f64, f64)>)>) -> Result<(), Error> {
+    let Some(ctl) = &model.control else { return Ok(()) };
+    let drawn = if ctx.rank == 0 {
+        let mut points = vec![(0.0, 0.0)];
+        points.extend(reports.iter().filter(|r| r.stage == "control").map(|r| (r.control_displacement, r.control_force)));
+        let dof = ["ux", "uy", "uz", "rx", "ry", "rz"][ctl.dof];
+        super::curve_plot::plot_curve(&job.output_dir.join("curve.png"), dof, &points, overlay.map(|(l, p)| (l.as_str(), p.as_slice())))
+    } else {
+        Ok(())
+    };
+    agree(&ctx.comm, drawn, Error::exit_code)?;
+    Ok(())
 }
 
 /// Collective. The committed value of the control DOF (the first control node's).

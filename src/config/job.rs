@@ -81,8 +81,23 @@ pub struct StaticNonlinearConfig {
     /// Line search along each Newton correction: `"secant"` (default) or `"none"`.
     #[serde(default)]
     pub line_search: LineSearchKind,
+    /// Iteration matrix: `"tangent"` (default: the consistent tangent; an increment that fails
+    /// is retried with secant iterations before it is halved) or `"secant"` (always).
+    #[serde(default)]
+    pub stiffness: IterationMatrix,
     /// Displacement control after the loads (pushover); absent: load control only.
     pub control: Option<DisplacementControlConfig>,
+}
+
+/// `[analysis] stiffness`: the matrix of the Newton-type iterations.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum IterationMatrix {
+    /// The consistent tangent (quadratic convergence), with the secant as fallback.
+    #[default]
+    Tangent,
+    /// The secant stiffness (damage: (1 − d) C₀), 4× the iterations allowed.
+    Secant,
 }
 
 /// `[analysis] line_search`.
@@ -134,6 +149,48 @@ pub struct DisplacementControlConfig {
     /// Load pattern scaled by the unknown factor (optional; see the type's docs).
     #[serde(default)]
     pub pattern: Vec<NodalLoadConfig>,
+    /// A second curve drawn on `curve.png` (e.g. the DEM virtual test's), optional.
+    pub overlay: Option<CurveOverlayConfig>,
+}
+
+/// `[analysis.control.overlay]`: a curve read from a CSV file with a header line, drawn on the
+/// force–displacement chart beside the computed one; x and y are columns picked by name and
+/// multiplied by the scales (e.g. a DEM stress times the wall's cross-section to get a force).
+///
+/// ```toml
+/// [analysis.control.overlay]
+/// file = "../results/wall-shear/sample-000/curve.csv"   # relative to the job file's folder
+/// x = "displacement"
+/// y = "stress"
+/// y_scale = 0.5            # [m^2] stress -> force on the 1.0 m x 0.5 m section
+/// label = "DEM"
+/// ```
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CurveOverlayConfig {
+    /// The CSV file (resolved against the job file's folder at load).
+    pub file: PathBuf,
+    /// Column of the abscissa.
+    pub x: String,
+    /// Column of the ordinate.
+    pub y: String,
+    /// Factor on x (default 1).
+    #[serde(default = "one")]
+    pub x_scale: f64,
+    /// Factor on y (default 1).
+    #[serde(default = "one")]
+    pub y_scale: f64,
+    /// Legend entry (default "reference").
+    #[serde(default = "default_overlay_label")]
+    pub label: String,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn default_overlay_label() -> String {
+    "reference".into()
 }
 
 fn default_control_steps() -> usize {

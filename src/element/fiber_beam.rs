@@ -17,7 +17,8 @@
 //!   K_l = Σ_g w_g L Bᵀ k_s B  + GJ/L [1 −1; −1 1] on (θx1, θx2)
 //! ```
 //! and in global axes f = Tᵀ f_l, K = Tᵀ K_l T. K_l is the consistent tangent of f_l (the fibers
-//! return their consistent tangent dσ/dε).
+//! return their consistent tangent dσ/dε), or, for [`EvalRequest::ForceAndSecant`], the secant
+//! matrix with E_f = (1 − d) E.
 //!
 //! # Choice: displacement-based, and its known error
 //! The displacement-based formulation is the simple, robust one (no element-level iterations) and
@@ -220,6 +221,7 @@ impl FiberBeam3d {
         &self,
         u_l: &Vec12,
         want_k: bool,
+        secant: bool,
         committed: &[DamageState],
         trial: &mut [DamageState],
     ) -> LocalResponse {
@@ -242,7 +244,7 @@ impl FiberBeam3d {
                         let r = uniaxial::update(law, eps, &committed[g * nf + i]);
                         trial[g * nf + i] = r.state;
                         diss += fib.area * r.dissipation;
-                        (r.stress, r.tangent)
+                        (r.stress, if secant { r.secant } else { r.tangent })
                     }
                 };
                 s += a * (fib.area * sigma);
@@ -270,7 +272,7 @@ impl FiberBeam3d {
     pub fn local_tangent(&self, u_e: &[f64]) -> Result<Mat12, ElementError> {
         let u_l = self.local_displacement(u_e)?;
         let mut scratch = self.committed.clone();
-        Ok(self.respond(&u_l, true, &self.committed, &mut scratch).k)
+        Ok(self.respond(&u_l, true, false, &self.committed, &mut scratch).k)
     }
 
     /// Local mass matrix of the chosen kind ([`beam_inertia`](super::beam_inertia)).
@@ -304,7 +306,7 @@ impl Element for FiberBeam3d {
         out.prepare(N_DOFS);
         let want_k = request.wants_tangent();
         let mut trial = std::mem::take(&mut self.trial);
-        let r = self.respond(&u_l, want_k, &self.committed, &mut trial);
+        let r = self.respond(&u_l, want_k, request.wants_secant(), &self.committed, &mut trial);
         self.trial = trial;
         self.trial_dissipated = self.dissipated + r.dissipation;
         out.f_int.copy_from(&self.frame.vec12_to_global(&r.f));
@@ -349,7 +351,7 @@ impl Element for FiberBeam3d {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let u_l = self.local_displacement(u_e)?;
         let mut scratch = self.committed.clone();
-        let r = self.respond(&u_l, false, &self.committed, &mut scratch);
+        let r = self.respond(&u_l, false, false, &self.committed, &mut scratch);
         let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
         if !scratch.is_empty() {
             let nf = self.fibers.len();

@@ -290,3 +290,22 @@ fn bad_input_is_an_error() {
     assert!(el.evaluate(&u, EvalRequest::Force, &mut out).is_err());
     assert!(el.cell_output(&[0.0; 12], &AppliedLoads::default(), &mut [0.0; 13]).is_err());
 }
+
+/// Secant matrix: after uniform tensile damage d in every fiber, the axial secant stiffness is
+/// (1 − d) E A / L (σ = (1 − d) E ε), while the consistent tangent is negative on the softening
+/// branch. 1e-12 relative.
+#[test]
+fn secant_request_gives_the_damaged_elastic_stiffness() {
+    let s = damage_section(Regularization::Hillerborg);
+    let mut el = FiberBeam3d::new([0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], s).unwrap();
+    let mut u = [0.0; 12];
+    u[6] = 3.0 * params().eps0_t;
+    let mut out = ElementOutput::new(12);
+    el.evaluate(&u, EvalRequest::ForceAndSecant, &mut out).unwrap();
+    let d = el.trial[0].d_t;
+    assert!(d > 0.1 && el.trial.iter().all(|t| (t.d_t - d).abs() < 1e-15));
+    let want = (1.0 - d) * params().e * s.area();
+    assert!((out.k_t[(6, 6)] - want).abs() < 1e-12 * want, "{} vs {want}", out.k_t[(6, 6)]);
+    el.evaluate(&u, EvalRequest::ForceAndTangent, &mut out).unwrap();
+    assert!(out.k_t[(6, 6)] < 0.0, "softening tangent {}", out.k_t[(6, 6)]);
+}
