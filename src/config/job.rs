@@ -19,6 +19,13 @@
 //! iy = 1.5e-6                           # second moment about local y [m^4]
 //! iz = 1.5e-6                           # second moment about local z [m^4]
 //! j = 3.0e-6                            # torsion constant [m^4]
+//! nonstructural_mass = 0.0              # [kg/m], optional
+//! [sections.pilaster]                   # a fiber beam (element::fiber_section)
+//! type = "fiber"
+//! width = 0.6                           # [m] along local y
+//! height = 0.8                          # [m] along local z
+//! ny = 12                               # fibers along y (>= 2)
+//! nz = 16                               # fibers along z (>= 2)
 //! [[parts]]
 //! group = "legs"                        # a physical group of the mesh
 //! section = "leg"
@@ -31,6 +38,9 @@
 //! type = "nodal"
 //! group = "top"
 //! force = [1.0e3, 0.0, 0.0]             # [N] on every node of the group
+//! [[masses]]                            # point masses (optional)
+//! group = "top"                         # or node = <Gmsh tag>
+//! mass = 500.0                          # [kg] per node
 //! [gravity]
 //! acceleration = [0.0, 0.0, -9.81]      # [m/s^2]
 //! [solver.petsc]                        # PETSc options; the command line wins
