@@ -56,6 +56,31 @@ pub fn assemble_stiffness_of(
     part_filter: &dyn Fn(usize) -> bool,
     k: &mut Matrix,
 ) -> Result<(), Error> {
+    assemble_matrix_of(disc, mesh, model, u_local, part_filter, EvalRequest::ForceAndTangent, k)
+}
+
+/// Collective. As [`assemble_stiffness`], with the matrix the `request` asks for (the tangent,
+/// or the secant stiffness for secant iterations).
+pub fn assemble_secant_or_tangent(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: Option<&[f64]>,
+    request: EvalRequest,
+    k: &mut Matrix,
+) -> Result<(), Error> {
+    assemble_matrix_of(disc, mesh, model, u_local, &|_| true, request, k)
+}
+
+fn assemble_matrix_of(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: Option<&[f64]>,
+    part_filter: &dyn Fn(usize) -> bool,
+    request: EvalRequest,
+    k: &mut Matrix,
+) -> Result<(), Error> {
     let mut s = Scratch::default();
     let mut out = ElementOutput::new(12);
     let local = u_local.map(|_| disc.dofs.local_index());
@@ -67,7 +92,7 @@ pub fn assemble_stiffness_of(
         disc.element_equations(&cell.nodes, &mut s.free, &mut s.all);
         gather(&cell.nodes, u_local, local.as_ref(), &mut s.u_e);
         let el = &mut disc.elements[i];
-        el.evaluate(&s.u_e, EvalRequest::ForceAndTangent, &mut out).map_err(|source| Error::Element {
+        el.evaluate(&s.u_e, request, &mut out).map_err(|source| Error::Element {
             tag: cell.tag,
             group: String::new(),
             source,
@@ -115,6 +140,18 @@ pub fn assemble_mass(
         }
         m.add_values(&s.free, &s.free, &s.row_major)?;
     }
+    // Point masses: the diagonal of their node's block, free DOFs only (rank that owns the node).
+    for &(n, diag) in &model.point_masses {
+        if disc.dofs.owner[n] != disc.dofs.rank {
+            continue;
+        }
+        for (d, &v) in diag.iter().enumerate() {
+            let eq = disc.dofs.equation(n, d);
+            if eq >= 0 && v != 0.0 {
+                m.add_values(&[eq], &[eq], &[v])?;
+            }
+        }
+    }
     m.assemble()?;
     Ok(())
 }
@@ -140,6 +177,16 @@ pub fn assemble_loads(
         f.add_values(&idx, &load)?;
     }
     if let Some(g) = model.gravity {
+        // Weight of the point masses on the nodes this rank owns.
+        for &(n, diag) in &model.point_masses {
+            if disc.dofs.owner[n] != disc.dofs.rank {
+                continue;
+            }
+            let idx: Vec<i32> = (0..3)
+                .map(|d| if rows == Rows::Free { disc.dofs.equation(n, d) } else { disc.dofs.dof(n, d) })
+                .collect();
+            f.add_values(&idx, &[diag[0] * g[0], diag[1] * g[1], diag[2] * g[2]])?;
+        }
         let mut fe = nalgebra::DVector::zeros(12);
         for (i, &c) in disc.local_cells.iter().enumerate() {
             let cell = &mesh.cells[model.cells[c].cell];

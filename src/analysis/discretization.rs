@@ -1,7 +1,10 @@
 //! Setup of the discrete system (deal.II's `setup_system`): partition, DOF numbering, and the
 //! element objects of the cells this rank owns.
 use crate::config::{Job, MaterialConfig, SectionConfig};
-use crate::element::{ElasticFrame3d, Element, FrameSection, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3};
+use crate::element::{
+    ElasticFrame3d, Element, FiberBeam3d, FiberSection, FrameSection, ShellError, ShellMaterial, ShellQuad4, ShellSection,
+    ShellTri3,
+};
 use crate::mesh::CellKind;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
@@ -77,6 +80,20 @@ impl Discretization {
     }
 }
 
+/// The material of shell layers and beam fibers (elastic, or the damage law) and its density.
+fn point_material(mat: &MaterialConfig) -> Result<(ShellMaterial, f64), String> {
+    match mat {
+        MaterialConfig::Elastic(m) => {
+            let nu = m.nu.unwrap_or_else(|| m.e / (2.0 * m.shear_modulus()) - 1.0);
+            Ok((ShellMaterial::Elastic { e: m.e, nu }, m.density))
+        }
+        MaterialConfig::Damage(d) => match &d.law {
+            Some(law) => Ok((ShellMaterial::Damage(law.clone()), d.density)),
+            None => Err("the damage material's law was not loaded".into()),
+        },
+    }
+}
+
 fn build_elements(
     job: &Job,
     mesh: &Mesh,
@@ -101,6 +118,7 @@ fn build_elements(
                     iz: s.iz,
                     j: s.j,
                     density: mat.density,
+                    nonstructural_mass: s.nonstructural_mass,
                 };
                 let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
                 Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::Element {
@@ -117,23 +135,38 @@ fn build_elements(
                     message: "a frame section needs an elastic material".into(),
                 });
             }
-            (SectionConfig::Shell(sh), mat) => {
-                let (material, density) = match mat {
-                    MaterialConfig::Elastic(m) => {
-                        let nu = m.nu.unwrap_or_else(|| m.e / (2.0 * m.shear_modulus()) - 1.0);
-                        (ShellMaterial::Elastic { e: m.e, nu }, m.density)
-                    }
-                    MaterialConfig::Damage(d) => match &d.law {
-                        Some(law) => (ShellMaterial::Damage(law.clone()), d.density),
-                        None => {
-                            return Err(Error::ElementInput {
-                                tag: cell.tag,
-                                group: part.group.clone(),
-                                message: "the damage material's law was not loaded".into(),
-                            })
-                        }
-                    },
+            (SectionConfig::Fiber(fs), mat) => {
+                let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
+                    tag: cell.tag,
+                    group: part.group.clone(),
+                    message,
+                })?;
+                let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
+                let section = FiberSection {
+                    width: fs.width,
+                    height: fs.height,
+                    ny: fs.ny,
+                    nz: fs.nz,
+                    integration_points: fs.integration_points,
+                    material,
+                    density,
+                    nonstructural_mass: fs.nonstructural_mass,
+                    torsion_constant: fs.torsion_constant,
                 };
+                let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
+                // A fiber beam that cannot be built is bad input (exit code 2).
+                Box::new(FiberBeam3d::new(x1, x2, v, section).map_err(|e| Error::ElementInput {
+                    tag: cell.tag,
+                    group: part.group.clone(),
+                    message: e.to_string(),
+                })?)
+            }
+            (SectionConfig::Shell(sh), mat) => {
+                let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
+                    tag: cell.tag,
+                    group: part.group.clone(),
+                    message,
+                })?;
                 let section = ShellSection {
                     thickness: sh.thickness,
                     layers: sh.layers,

@@ -1,12 +1,15 @@
 //! Analysis drivers. Each reads as phases — setup, assemble, solve, check, output — each timed,
 //! and takes what it needs (context, job, mesh, model) as arguments.
 pub mod assembly;
+pub mod curve_plot;
 pub mod dem;
 mod discretization;
+pub mod line_search;
 pub mod linear_static;
 pub mod material_point;
 pub mod modal;
 pub mod modal_updating;
+pub mod newton;
 pub mod output;
 pub mod spectrum;
 pub mod static_nonlinear;

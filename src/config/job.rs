@@ -19,6 +19,13 @@
 //! iy = 1.5e-6                           # second moment about local y [m^4]
 //! iz = 1.5e-6                           # second moment about local z [m^4]
 //! j = 3.0e-6                            # torsion constant [m^4]
+//! nonstructural_mass = 0.0              # [kg/m], optional
+//! [sections.pilaster]                   # a fiber beam (element::fiber_section)
+//! type = "fiber"
+//! width = 0.6                           # [m] along local y
+//! height = 0.8                          # [m] along local z
+//! ny = 12                               # fibers along y (>= 2)
+//! nz = 16                               # fibers along z (>= 2)
 //! [[parts]]
 //! group = "legs"                        # a physical group of the mesh
 //! section = "leg"
@@ -31,6 +38,9 @@
 //! type = "nodal"
 //! group = "top"
 //! force = [1.0e3, 0.0, 0.0]             # [N] on every node of the group
+//! [[masses]]                            # point masses (optional)
+//! group = "top"                         # or node = <Gmsh tag>
+//! mass = 500.0                          # [kg] per node
 //! [gravity]
 //! acceleration = [0.0, 0.0, -9.81]      # [m/s^2]
 //! [solver.petsc]                        # PETSc options; the command line wins
@@ -78,6 +88,123 @@ pub struct StaticNonlinearConfig {
     /// Halvings of a failing step before the run stops (default 6).
     #[serde(default = "default_max_cuts")]
     pub max_cuts: usize,
+    /// Line search along each Newton correction: `"secant"` (default) or `"none"`.
+    #[serde(default)]
+    pub line_search: LineSearchKind,
+    /// Iteration matrix: `"tangent"` (default: the consistent tangent; an increment that fails
+    /// is retried with secant iterations before it is halved) or `"secant"` (always).
+    #[serde(default)]
+    pub stiffness: IterationMatrix,
+    /// Displacement control after the loads (pushover); absent: load control only.
+    pub control: Option<DisplacementControlConfig>,
+}
+
+/// `[analysis] stiffness`: the matrix of the Newton-type iterations.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum IterationMatrix {
+    /// The consistent tangent (quadratic convergence), with the secant as fallback.
+    #[default]
+    Tangent,
+    /// The secant stiffness (damage: (1 − d) C₀), 4× the iterations allowed.
+    Secant,
+}
+
+/// `[analysis] line_search`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum LineSearchKind {
+    /// Full Newton steps.
+    None,
+    /// Secant search for Δu · r(u + η Δu) = 0 (`analysis::line_search`).
+    #[default]
+    Secant,
+}
+
+/// `[analysis.control]`: once the job's loads and gravity are applied (load control, `steps`),
+/// they are held and the DOF `dof` of the control node(s) is driven from its value to `target`
+/// (added to it) in `steps` equal increments.
+///
+/// Without `pattern`, the DOF of every node of `group` (or of `node`) is imposed: the nodes are
+/// pushed like a stiff platen, and the force is the reaction they need. With `pattern`, one
+/// control node (a one-node group, or `node`) is free, the pattern's nodal loads are scaled by an
+/// unknown factor μ, and each increment finds μ so that the control DOF reaches its value
+/// (displacement control, Batoz & Dhatt 1979): the force is μ times the pattern's resultant along
+/// `dof`.
+///
+/// ```toml
+/// [analysis.control]
+/// group = "top"            # or: node = 57 (Gmsh tag)
+/// dof = "ux"
+/// target = 0.004           # [m] (or [rad] for a rotation)
+/// steps = 40
+/// # [[analysis.control.pattern]]   # optional
+/// # group = "floors"
+/// # force = [1.0e3, 0.0, 0.0]
+/// ```
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DisplacementControlConfig {
+    /// Physical group of the control node(s).
+    pub group: Option<String>,
+    /// One control node, by its Gmsh tag.
+    pub node: Option<u64>,
+    /// The controlled DOF (one of ux uy uz rx ry rz).
+    pub dof: DofName,
+    /// Displacement (or rotation) added to the DOF over the control stage.
+    pub target: f64,
+    /// Increments (default 20).
+    #[serde(default = "default_control_steps")]
+    pub steps: usize,
+    /// Load pattern scaled by the unknown factor (optional; see the type's docs).
+    #[serde(default)]
+    pub pattern: Vec<NodalLoadConfig>,
+    /// A second curve drawn on `curve.png` (e.g. the DEM virtual test's), optional.
+    pub overlay: Option<CurveOverlayConfig>,
+}
+
+/// `[analysis.control.overlay]`: a curve read from a CSV file with a header line, drawn on the
+/// force–displacement chart beside the computed one; x and y are columns picked by name and
+/// multiplied by the scales (e.g. a DEM stress times the wall's cross-section to get a force).
+///
+/// ```toml
+/// [analysis.control.overlay]
+/// file = "../results/wall-shear/sample-000/curve.csv"   # relative to the job file's folder
+/// x = "displacement"
+/// y = "stress"
+/// y_scale = 0.5            # [m^2] stress -> force on the 1.0 m x 0.5 m section
+/// label = "DEM"
+/// ```
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CurveOverlayConfig {
+    /// The CSV file (resolved against the job file's folder at load).
+    pub file: PathBuf,
+    /// Column of the abscissa.
+    pub x: String,
+    /// Column of the ordinate.
+    pub y: String,
+    /// Factor on x (default 1).
+    #[serde(default = "one")]
+    pub x_scale: f64,
+    /// Factor on y (default 1).
+    #[serde(default = "one")]
+    pub y_scale: f64,
+    /// Legend entry (default "reference").
+    #[serde(default = "default_overlay_label")]
+    pub label: String,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn default_overlay_label() -> String {
+    "reference".into()
+}
+
+fn default_control_steps() -> usize {
+    20
 }
 
 fn default_load_steps() -> usize {
@@ -201,7 +328,7 @@ pub struct MeshConfig {
 pub enum MaterialConfig {
     /// Isotropic linear elasticity.
     Elastic(ElasticMaterial),
-    /// The masonry damage law (SPEC §2), for shell layers.
+    /// The masonry damage law (SPEC §2), for shell layers and beam fibers.
     Damage(DamageMaterial),
 }
 
@@ -223,7 +350,7 @@ impl MaterialConfig {
     }
 }
 
-/// `type = "damage"`: the damage law's parameters, inline (`[materials.NAME.law]`) or from the
+/// `type = "damage"` (shell layers and beam fibers): the damage law's parameters, inline (`[materials.NAME.law]`) or from the
 /// material file an identification job writes (`law_file`); exactly one of the two.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -274,6 +401,35 @@ pub enum SectionConfig {
     Frame(FrameSectionConfig),
     /// Layered shell section of 3- and 4-node shells.
     Shell(ShellSectionConfig),
+    /// Rectangular fiber section of a 2-node beam (elastic or damage material per fiber).
+    Fiber(FiberSectionConfig),
+}
+
+/// `type = "fiber"`: a rectangular section cut into `ny × nz` fibers (`element::fiber_section`),
+/// each with the part's material (elastic, or the damage law in uniaxial form).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FiberSectionConfig {
+    /// Width along the local y axis [m].
+    pub width: f64,
+    /// Height along the local z axis [m].
+    pub height: f64,
+    /// Fibers along y.
+    pub ny: usize,
+    /// Fibers along z.
+    pub nz: usize,
+    /// Gauss points along each element (2 to 5), default 2.
+    #[serde(default = "default_integration_points")]
+    pub integration_points: usize,
+    /// Saint-Venant torsion constant [m⁴]; default: Roark's formula for the rectangle.
+    pub torsion_constant: Option<f64>,
+    /// Non-structural mass per length [kg/m], default 0.
+    #[serde(default)]
+    pub nonstructural_mass: f64,
+}
+
+fn default_integration_points() -> usize {
+    crate::element::DEFAULT_INTEGRATION_POINTS
 }
 
 /// `type = "shell"`: a layered shell section.
@@ -306,6 +462,9 @@ pub struct FrameSectionConfig {
     pub iz: f64,
     /// Torsion constant [m⁴].
     pub j: f64,
+    /// Non-structural mass per length [kg/m] (finishes, loads carried as mass), default 0.
+    #[serde(default)]
+    pub nonstructural_mass: f64,
 }
 
 impl SectionConfig {
@@ -314,6 +473,7 @@ impl SectionConfig {
         match self {
             SectionConfig::Frame(_) => "frame",
             SectionConfig::Shell(_) => "shell",
+            SectionConfig::Fiber(_) => "fiber",
         }
     }
 }
@@ -398,6 +558,30 @@ pub struct NodalLoadConfig {
     pub moment: [f64; 3],
 }
 
+/// `[[masses]]`: a point mass (and optional rotary inertia) on every node of a group, or on one
+/// node given by its Gmsh tag (exactly one of the two). It adds to the mass matrix (modal and
+/// dynamic analyses) and, under `[gravity]`, to the self weight.
+///
+/// ```toml
+/// [[masses]]
+/// group = "bells"                       # or: node = 1234 (Gmsh node tag)
+/// mass = 1800.0                         # [kg] on each node
+/// rotary_inertia = [0.0, 0.0, 350.0]    # [kg m^2] about global x, y, z (optional)
+/// ```
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PointMassConfig {
+    /// Physical group whose every node carries the mass.
+    pub group: Option<String>,
+    /// One node, by its Gmsh tag.
+    pub node: Option<u64>,
+    /// Mass on each node [kg].
+    pub mass: f64,
+    /// Rotary inertia about the global axes [kg m²], default zero.
+    #[serde(default)]
+    pub rotary_inertia: [f64; 3],
+}
+
 /// `[gravity]`: self-weight of every element with a density.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -479,6 +663,9 @@ pub struct StructuralJobFile {
     /// Applied loads.
     #[serde(default)]
     pub loads: Vec<LoadConfig>,
+    /// Point masses.
+    #[serde(default)]
+    pub masses: Vec<PointMassConfig>,
     /// Self-weight.
     pub gravity: Option<GravityConfig>,
     /// Linear solver options.

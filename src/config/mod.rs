@@ -63,6 +63,18 @@ impl Job {
                 }
             }
         }
+        if let AnalysisConfig::StaticNonlinear(c) = &mut spec.analysis {
+            if let Some(o) = c.control.as_mut().and_then(|c| c.overlay.as_mut()) {
+                let file = resolve(&folder, &o.file);
+                if !file.is_file() {
+                    return Err(source.error_at(
+                        &[Seg::Key("analysis".into()), Seg::Key("control".into()), Seg::Key("overlay".into()), Seg::Key("file".into())],
+                        format!("overlay curve file {} does not exist", file.display()),
+                    ));
+                }
+                o.file = file;
+            }
+        }
         if let AnalysisConfig::ModalUpdating(u) = &mut spec.analysis {
             if let Some(p) = &u.target_shapes {
                 let file = resolve(&folder, p);

@@ -31,6 +31,18 @@ fn names<T>(m: &std::collections::BTreeMap<String, T>) -> String {
     }
 }
 
+/// Whether anything in the job carries mass: a material density, a non-structural mass of a
+/// section, or a point mass.
+fn has_mass(job: &StructuralJobFile) -> bool {
+    job.materials.values().any(|m| m.density() > 0.0)
+        || job.masses.iter().any(|m| m.mass > 0.0)
+        || job.sections.values().any(|s| match s {
+            SectionConfig::Frame(f) => f.nonstructural_mass > 0.0,
+            SectionConfig::Shell(sh) => sh.nonstructural_mass > 0.0,
+            SectionConfig::Fiber(f) => f.nonstructural_mass > 0.0,
+        })
+}
+
 /// Validates a structural job file; the first problem found is returned.
 pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
     for (name, m) in &job.materials {
@@ -81,11 +93,33 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
     for (name, s) in &job.sections {
         let at = |k: &str| vec![key("sections"), key(name), key(k)];
         match s {
-            SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j }) => {
+            SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j, nonstructural_mass }) => {
                 positive(src, &at("area"), "section area [m^2]", *area)?;
                 positive(src, &at("iy"), "second moment iy [m^4]", *iy)?;
                 positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
                 positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
+                if !(nonstructural_mass.is_finite() && *nonstructural_mass >= 0.0) {
+                    return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per length >= 0 [kg/m], got {nonstructural_mass}")));
+                }
+            }
+            SectionConfig::Fiber(f) => {
+                positive(src, &at("width"), "section width [m]", f.width)?;
+                positive(src, &at("height"), "section height [m]", f.height)?;
+                let max = crate::element::MAX_FIBERS_PER_SIDE;
+                for (k, n) in [("ny", f.ny), ("nz", f.nz)] {
+                    if n < 2 || n > max {
+                        return Err(src.error_at(&at(k), format!("expected 2 to {max} fibers (one fiber across a side has no bending stiffness), got {n}")));
+                    }
+                }
+                if !(2..=5).contains(&f.integration_points) {
+                    return Err(src.error_at(&at("integration_points"), format!("expected 2 to 5 Gauss points, got {}", f.integration_points)));
+                }
+                if let Some(j) = f.torsion_constant {
+                    positive(src, &at("torsion_constant"), "torsion constant [m^4]", j)?;
+                }
+                if !(f.nonstructural_mass.is_finite() && f.nonstructural_mass >= 0.0) {
+                    return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per length >= 0 [kg/m], got {}", f.nonstructural_mass)));
+                }
             }
             SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
                 positive(src, &at("thickness"), "shell thickness [m]", *thickness)?;
@@ -102,11 +136,44 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         if m.modes == 0 {
             return Err(src.error_at(&[key("analysis"), key("modes")], "expected at least 1 mode"));
         }
-        if !job.materials.values().any(|m| m.density() > 0.0) {
+        if !has_mass(job) {
             return Err(src.error_at(
                 &[key("materials")],
-                "a modal analysis needs mass: give at least one material a density > 0",
+                "a modal analysis needs mass: give at least one material a density > 0 (or a non-structural or point mass)",
             ));
+        }
+    }
+    if let AnalysisConfig::StaticNonlinear(c) = &job.analysis {
+        let at = |k: &str| vec![key("analysis"), key(k)];
+        if c.steps == 0 {
+            return Err(src.error_at(&at("steps"), "expected at least 1 load step"));
+        }
+        if c.max_iterations == 0 {
+            return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
+        }
+        positive(src, &at("force_tolerance"), "force tolerance", c.force_tolerance)?;
+        positive(src, &at("energy_tolerance"), "energy tolerance", c.energy_tolerance)?;
+        if let Some(ctl) = &c.control {
+            let at = |k: &str| vec![key("analysis"), key("control"), key(k)];
+            match (&ctl.group, &ctl.node) {
+                (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
+                (None, None) => return Err(src.error_at(&[key("analysis"), key("control")], "the control needs a group or a node (Gmsh node tag)")),
+                _ => {}
+            }
+            if matches!(ctl.dof, DofName::All) {
+                return Err(src.error_at(&at("dof"), "expected one DOF: ux, uy, uz, rx, ry or rz"));
+            }
+            if !(ctl.target.is_finite() && ctl.target != 0.0) {
+                return Err(src.error_at(&at("target"), format!("expected a finite, non-zero target, got {}", ctl.target)));
+            }
+            if ctl.steps == 0 {
+                return Err(src.error_at(&at("steps"), "expected at least 1 step"));
+            }
+            for (i, p) in ctl.pattern.iter().enumerate() {
+                let at = |k: &str| vec![key("analysis"), key("control"), key("pattern"), Seg::Index(i), key(k)];
+                finite3(src, &at("force"), &p.force)?;
+                finite3(src, &at("moment"), &p.moment)?;
+            }
         }
     }
     if let AnalysisConfig::ModalUpdating(u) = &job.analysis {
@@ -132,7 +199,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 ));
             }
         }
-        if !job.materials.values().any(|m| m.density() > 0.0) {
+        if !has_mass(job) {
             return Err(src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0"));
         }
     }
@@ -159,7 +226,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         if let (SectionConfig::Frame(_), MaterialConfig::Damage(_)) = (&job.sections[&p.section], &job.materials[&p.material]) {
             return Err(src.error_at(
                 &at("material"),
-                format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers)", p.section, p.material),
+                format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers and fiber sections)", p.section, p.material),
             ));
         }
         if let Some(v) = &p.orientation {
@@ -183,6 +250,20 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 finite3(src, &[key("loads"), Seg::Index(i), key("force")], force)?;
                 finite3(src, &[key("loads"), Seg::Index(i), key("moment")], moment)?;
             }
+        }
+    }
+    for (i, m) in job.masses.iter().enumerate() {
+        let at = |k: &str| vec![key("masses"), Seg::Index(i), key(k)];
+        match (&m.group, &m.node) {
+            (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
+            (None, None) => return Err(src.error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node (Gmsh node tag)")),
+            _ => {}
+        }
+        if !(m.mass.is_finite() && m.mass >= 0.0) {
+            return Err(src.error_at(&at("mass"), format!("expected a finite mass >= 0 [kg], got {}", m.mass)));
+        }
+        if m.rotary_inertia.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+            return Err(src.error_at(&at("rotary_inertia"), format!("expected three finite inertias >= 0 [kg m^2], got {:?}", m.rotary_inertia)));
         }
     }
     if let Some(g) = &job.gravity {

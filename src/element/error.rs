@@ -60,6 +60,27 @@ pub enum ElementError {
         /// The length received.
         got: usize,
     },
+    /// A count of a section (fibers, integration points) lies outside its admissible range.
+    #[error("section quantity `{quantity}` must lie in {min}..={max}, got {value}")]
+    InvalidCount {
+        /// The field name (`ny`, `nz`, `integration_points`).
+        quantity: &'static str,
+        /// The value given.
+        value: usize,
+        /// Smallest admissible value.
+        min: usize,
+        /// Largest admissible value.
+        max: usize,
+    },
+    /// The damage law cannot be set up for this element (invalid parameters, an element longer
+    /// than the `hillerborg_no_elastic` size limit).
+    #[error("damage law for an element of characteristic length h = {h} m: {source}")]
+    Material {
+        /// The element's characteristic length (m).
+        h: f64,
+        /// What the law reported.
+        source: crate::material::MaterialError,
+    },
     /// An element displacement component is NaN or infinite (typically a diverged iteration).
     #[error("element displacement component {index} is not finite ({value})")]
     NonFiniteDisplacement {

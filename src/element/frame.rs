@@ -25,41 +25,21 @@
 //! ```
 //! Global: K = Tᵀ K_l T with T = diag(R, R, R, R).
 //!
-//! # Distributed load (self weight)
-//! q = ρ A g per unit length (global), q_l = R q. Consistent (= fixed-end) nodal loads f_q = ∫ Nᵀ q_l:
-//! ```text
-//!   node 1: ( qx L/2, qy L/2, qz L/2, 0, −qz L²/12, +qy L²/12 )
-//!   node 2: ( qx L/2, qy L/2, qz L/2, 0, +qz L²/12, −qy L²/12 )
-//! ```
-//! Global: f = Tᵀ f_q.
+//! # Self weight and mass
+//! From the line mass m = ρA + m_ns (non-structural mass per length) and the rotary inertia ρ Ip
+//! per length: consistent nodal loads f_q and consistent or lumped mass, in
+//! [`beam_inertia`](super::beam_inertia) (shared with the fiber beam). Global: f = Tᵀ f_q,
+//! M = Tᵀ M_l T; the lumped matrix stays block diagonal per node in global axes.
 //!
 //! # Member end forces
 //! f_l = K_l T u_e − f_q: the forces and moments the nodes exert on the element, in local axes, at
 //! each end (OpenSees `localForce` convention: components along the local axes, **not** a section
 //! sign convention). So a member in tension has N_1 < 0 and N_2 > 0; a cantilever carrying a tip
 //! load P along +y at node 2 has Vy_2 = P, Vy_1 = −P, Mz_1 = −P L.
-//!
-//! # Mass
-//! Consistent (Przemieniecki §11): axial ρAL/6 [2 1; 1 2]; torsion ρIpL/6 [2 1; 1 2] with the polar
-//! moment Ip = Iy + Iz (the mass moment of inertia per length is ρ∫r²dA = ρ Ip; J is a stiffness
-//! constant and equals Ip only for circles); bending ρAL/420 ·
-//! ```text
-//!        [ 156    22L    54   −13L ]
-//!        [ 22L    4L²   13L   −3L² ]
-//!        [  54    13L   156   −22L ]
-//!        [ −13L  −3L²  −22L    4L² ]
-//! ```
-//! in the x–y plane and S·S-signed in the x–z plane. The rotary inertia of the cross-section in
-//! bending (terms in ρI/L) is neglected, consistent with Euler–Bernoulli kinematics.
-//!
-//! Lumped: ρAL/2 on each translation; ρ Ip L/2 on each torsional rotation; on each bending rotation
-//! ρ A (L/2)³ / 3 = ρAL³/24, the moment of inertia of the half-element (a rod of length L/2) about
-//! its node. The bending values keep M positive definite and barely change the low frequencies.
-//! Rotated to global axes the lumped matrix stays block diagonal per node (translations diagonal,
-//! rotations a 3×3 block).
 
-use nalgebra::{DMatrix, DVector, Matrix4, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix4};
 
+use super::beam_inertia::{self, add_bar, add_plane, PLANE_XY, PLANE_XZ, S_XZ};
 use super::error::{check_finite_displacement, check_len, ElementError};
 use super::frame_section::FrameSection;
 use super::local_frame::{LocalFrame, Mat12, Vec12};
@@ -68,13 +48,6 @@ use super::{AppliedLoads, Element, MassKind};
 
 /// Number of DOF of the element.
 const N_DOFS: usize = 12;
-
-/// Local DOF indices of the x–y bending plane: v1, θz1, v2, θz2.
-const PLANE_XY: [usize; 4] = [1, 5, 7, 11];
-/// Local DOF indices of the x–z bending plane: w1, θy1, w2, θy2.
-const PLANE_XZ: [usize; 4] = [2, 4, 8, 10];
-/// Sign flip S = diag(1, −1, 1, −1) that maps the x–y bending matrices to the x–z plane.
-const S_XZ: [f64; 4] = [1.0, -1.0, 1.0, -1.0];
 
 /// Names of the cell quantities: member end forces in local axes at node 1 then node 2.
 /// Cell outputs: `axial_force` (engineering sign: tension positive; the mean of the two ends,
@@ -95,23 +68,6 @@ pub struct ElasticFrame3d {
     section: FrameSection,
 }
 
-/// Add the 2×2 block `c [1 −1; −1 1]` on DOF `i`, `j`.
-fn add_bar(m: &mut Mat12, i: usize, j: usize, diag: f64, off: f64) {
-    m[(i, i)] += diag;
-    m[(j, j)] += diag;
-    m[(i, j)] += off;
-    m[(j, i)] += off;
-}
-
-/// Scatter the 4×4 bending block `b` into `m` on `dofs`, signed by `s` (m[dᵢ,dⱼ] += sᵢ sⱼ bᵢⱼ).
-fn add_plane(m: &mut Mat12, dofs: [usize; 4], s: [f64; 4], b: &Matrix4<f64>) {
-    for (a, &da) in dofs.iter().enumerate() {
-        for (c, &dc) in dofs.iter().enumerate() {
-            m[(da, dc)] += s[a] * s[c] * b[(a, c)];
-        }
-    }
-}
-
 /// Euler–Bernoulli bending stiffness of the x–y plane (v1 θz1 v2 θz2) for EI = 1.
 fn bending_stiffness_unit(l: f64) -> Matrix4<f64> {
     let (l2, l3) = (l * l, l * l * l);
@@ -123,19 +79,6 @@ fn bending_stiffness_unit(l: f64) -> Matrix4<f64> {
         6.0 * l,   2.0 * l2, -6.0 * l,   4.0 * l2,
     );
     b / l3
-}
-
-/// Consistent bending mass of the x–y plane (v1 θz1 v2 θz2) for ρA = 1.
-fn bending_mass_unit(l: f64) -> Matrix4<f64> {
-    let l2 = l * l;
-    #[rustfmt::skip]
-    let b = Matrix4::new(
-        156.0,     22.0 * l,   54.0,     -13.0 * l,
-        22.0 * l,  4.0 * l2,   13.0 * l, -3.0 * l2,
-        54.0,      13.0 * l,   156.0,    -22.0 * l,
-        -13.0 * l, -3.0 * l2, -22.0 * l,  4.0 * l2,
-    );
-    b * (l / 420.0)
 }
 
 /// Copy a 12×12 static matrix into a dynamic one of the same size.
@@ -198,61 +141,22 @@ impl ElasticFrame3d {
         self.frame.mat12_to_global(&self.local_stiffness())
     }
 
-    /// Local mass matrix of the chosen kind (module docs).
-    pub fn local_mass(&self, kind: MassKind) -> Mat12 {
-        let s = &self.section;
-        let l = self.frame.length();
-        let m_line = s.density * s.area; // ρA, mass per length
-        let i_line = s.density * s.polar_moment(); // ρ Ip, rotary inertia per length
-        let mut m = Mat12::zeros();
-        match kind {
-            MassKind::Consistent => {
-                add_bar(&mut m, 0, 6, m_line * l / 3.0, m_line * l / 6.0);
-                add_bar(&mut m, 3, 9, i_line * l / 3.0, i_line * l / 6.0);
-                let b = bending_mass_unit(l) * m_line;
-                add_plane(&mut m, PLANE_XY, [1.0; 4], &b);
-                add_plane(&mut m, PLANE_XZ, S_XZ, &b);
-            }
-            MassKind::Lumped => {
-                let half = m_line * l / 2.0;
-                let rot_bending = m_line * l * l * l / 24.0;
-                for n in 0..2 {
-                    let o = 6 * n;
-                    m[(o, o)] = half;
-                    m[(o + 1, o + 1)] = half;
-                    m[(o + 2, o + 2)] = half;
-                    m[(o + 3, o + 3)] = i_line * l / 2.0;
-                    m[(o + 4, o + 4)] = rot_bending;
-                    m[(o + 5, o + 5)] = rot_bending;
-                }
-            }
-        }
-        m
+    /// Line mass ρA + non-structural mass per length (kg/m).
+    pub fn line_mass(&self) -> f64 {
+        self.section.density * self.section.area + self.section.nonstructural_mass
     }
 
-    /// Consistent nodal loads f_q of the self weight under acceleration `g`, in local axes
-    /// (module docs). These are also the fixed-end forces subtracted in [`Self::end_forces`].
-    pub fn local_gravity_load(&self, g: [f64; 3]) -> Vec12 {
+    /// Local mass matrix of the chosen kind ([`beam_inertia`](super::beam_inertia) docs).
+    pub fn local_mass(&self, kind: MassKind) -> Mat12 {
         let s = &self.section;
-        let l = self.frame.length();
-        let q = self
-            .frame
-            .to_local(&(Vector3::from(g) * (s.density * s.area)));
-        let (f, m) = (l / 2.0, l * l / 12.0);
-        Vec12::from_column_slice(&[
-            q.x * f,
-            q.y * f,
-            q.z * f,
-            0.0,
-            -q.z * m,
-            q.y * m, //
-            q.x * f,
-            q.y * f,
-            q.z * f,
-            0.0,
-            q.z * m,
-            -q.y * m,
-        ])
+        beam_inertia::local_mass(self.frame.length(), self.line_mass(), s.density * s.polar_moment(), kind)
+    }
+
+    /// Consistent nodal loads f_q of the self weight (structural and non-structural mass) under
+    /// acceleration `g`, in local axes. These are also the fixed-end forces subtracted in
+    /// [`Self::end_forces`].
+    pub fn local_gravity_load(&self, g: [f64; 3]) -> Vec12 {
+        beam_inertia::local_gravity_load(&self.frame, self.line_mass(), g)
     }
 
     /// Member end forces f_l = K_l T u_e − f_q(loads.gravity), local axes, ordered as
@@ -340,7 +244,7 @@ impl Element for ElasticFrame3d {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, SymmetricEigen};
+    use nalgebra::{Cholesky, DMatrix, DVector, Matrix3, SymmetricEigen, Vector3};
 
     /// A 0.3 m (along local y) × 0.5 m (along local z) concrete-like section; Iy ≠ Iz on purpose so
     /// a swapped inertia shows. J from Roark's rectangle formula (its value does not matter here).
@@ -354,6 +258,7 @@ mod tests {
             iz: h * b * b * b / 12.0,
             j: 2.65e-3,
             density: 2500.0,
+            nonstructural_mass: 0.0,
         }
     }
 

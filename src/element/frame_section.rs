@@ -29,6 +29,10 @@ pub struct FrameSection {
     pub j: f64,
     /// Mass density ρ (kg/m³).
     pub density: f64,
+    /// Non-structural mass per length (kg/m), ≥ 0: adds to the translational mass and the self
+    /// weight, carries no stiffness (default 0).
+    #[serde(default)]
+    pub nonstructural_mass: f64,
 }
 
 impl FrameSection {
@@ -51,6 +55,12 @@ impl FrameSection {
         // A massless member (density 0) is allowed: a static model without self-weight.
         if !(self.density.is_finite() && self.density >= 0.0) {
             return Err(ElementError::InvalidSection { quantity: "density", value: self.density });
+        }
+        if !(self.nonstructural_mass.is_finite() && self.nonstructural_mass >= 0.0) {
+            return Err(ElementError::InvalidSection {
+                quantity: "nonstructural_mass",
+                value: self.nonstructural_mass,
+            });
         }
         Ok(())
     }
@@ -75,6 +85,7 @@ mod tests {
             iz: 2.0e-4,
             j: 4.7e-4,
             density: 2500.0,
+            nonstructural_mass: 0.0,
         }
     }
 

@@ -8,6 +8,9 @@
 //! | `local_frame.rs`   | [`LocalFrame`]: local axes of a line element, T = diag(R,R,R,R)   |
 //! | `frame_section.rs` | [`FrameSection`]: E, G, A, Iy, Iz, J, ρ                           |
 //! | `frame.rs`         | [`ElasticFrame3d`]: 2-node Euler–Bernoulli 3D frame               |
+//! | `beam_inertia.rs`  | mass matrices and self weight of 2-node beams (frame and fiber)   |
+//! | `fiber_section.rs` | [`FiberSection`]: rectangular fiber grid, Gauss points            |
+//! | `fiber_beam.rs`    | [`FiberBeam3d`]: displacement-based fiber beam, damage per fiber  |
 //!
 //! # DOF layout
 //! Every node carries [`DOFS_PER_NODE`] = 6 DOF, in the order ux uy uz rx ry rz (global axes,
@@ -40,7 +43,10 @@
 //! `Vec<Box<dyn Element>>` or in one `Vec` per concrete kind (faster, and natural with one
 //! [`ElementOutput`] per element size). The trait is object safe so both work.
 
+mod beam_inertia;
 mod error;
+mod fiber_beam;
+mod fiber_section;
 mod frame;
 mod frame_section;
 mod local_frame;
@@ -52,6 +58,11 @@ use std::fmt::Debug;
 use nalgebra::{DMatrix, DVector};
 
 pub use error::ElementError;
+pub use fiber_beam::{FiberBeam3d, CELL_OUTPUT_NAMES as FIBER_CELL_OUTPUT_NAMES};
+pub use fiber_section::{
+    gauss_points, Fiber, FiberMaterial, FiberSection, DEFAULT_INTEGRATION_POINTS,
+    MAX_FIBERS_PER_SIDE,
+};
 pub use frame::ElasticFrame3d;
 pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};

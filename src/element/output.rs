@@ -13,12 +13,21 @@ pub enum EvalRequest {
     Force,
     /// Internal force and consistent tangent stiffness (Newton iteration).
     ForceAndTangent,
+    /// Internal force and the secant stiffness (damage: the damaged elastic matrix
+    /// (1 − d) C₀ at every point, positive definite; elastic elements: their stiffness), for
+    /// secant iterations through softening. `k_t` then holds the secant matrix.
+    ForceAndSecant,
 }
 
 impl EvalRequest {
-    /// Whether the tangent is wanted.
+    /// Whether a stiffness matrix (tangent or secant) is wanted.
     pub fn wants_tangent(self) -> bool {
-        matches!(self, EvalRequest::ForceAndTangent)
+        matches!(self, EvalRequest::ForceAndTangent | EvalRequest::ForceAndSecant)
+    }
+
+    /// Whether the matrix wanted is the secant one.
+    pub fn wants_secant(self) -> bool {
+        matches!(self, EvalRequest::ForceAndSecant)
     }
 }
 

@@ -1,5 +1,5 @@
 //! Resolving a job's parts, supports and loads against the mesh.
-use crate::config::{Job, LoadConfig, NodalLoadConfig, Seg, SectionConfig};
+use crate::config::{AnalysisConfig, Job, LoadConfig, NodalLoadConfig, Seg, SectionConfig};
 use crate::mesh::{CellKind, Mesh};
 
 /// A mesh cell that is a structural element.
@@ -19,17 +19,39 @@ pub enum ModelError {
     Config(#[from] crate::config::ConfigError),
 }
 
+/// Displacement control of a nonlinear static analysis, resolved against the mesh
+/// (`[analysis.control]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ControlSpec {
+    /// The control nodes (mesh indices): imposed without a pattern; exactly one with a pattern.
+    pub nodes: Vec<usize>,
+    /// The controlled DOF (0..6: ux uy uz rx ry rz).
+    pub dof: usize,
+    /// Value added to the DOF over the control stage.
+    pub target: f64,
+    /// Increments.
+    pub steps: usize,
+    /// Pattern loads `(mesh node, [Fx Fy Fz Mx My Mz])` summed per node; empty: imposed DOFs.
+    pub pattern: Vec<(usize, [f64; 6])>,
+}
+
 /// The model: structural cells, fixed DOFs and nodal loads, over the whole mesh.
 #[derive(Clone, Debug)]
 pub struct StructuralModel {
     /// The structural cells, in mesh order.
     pub cells: Vec<ModelCell>,
-    /// Fixed-DOF bit mask per mesh node (bit d: DOF d of ux uy uz rx ry rz).
+    /// Fixed-DOF bit mask per mesh node (bit d: DOF d of ux uy uz rx ry rz): the supports, and
+    /// the imposed DOFs of a displacement control without a pattern.
     pub fixed: Vec<u8>,
     /// Nodal loads `(mesh node, [Fx Fy Fz Mx My Mz])`, summed per node, in node order.
     pub nodal_loads: Vec<(usize, [f64; 6])>,
     /// Gravitational acceleration, if self-weight is on.
     pub gravity: Option<[f64; 3]>,
+    /// Point masses `(mesh node, [m, m, m, Ix, Iy, Iz])` (kg, kg m² about the global axes),
+    /// summed per node, in node order: the diagonal of the node's 6×6 mass block.
+    pub point_masses: Vec<(usize, [f64; 6])>,
+    /// Displacement control of a nonlinear static analysis, if any.
+    pub control: Option<ControlSpec>,
 }
 
 fn key(k: &str) -> Seg {
@@ -45,7 +67,7 @@ impl StructuralModel {
             let at = [key("parts"), Seg::Index(ip), key("group")];
             let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
             let want: &[CellKind] = match &spec.sections[&p.section] {
-                SectionConfig::Frame(_) => &[CellKind::Line2],
+                SectionConfig::Frame(_) | SectionConfig::Fiber(_) => &[CellKind::Line2],
                 SectionConfig::Shell(_) => &[CellKind::Tri3, CellKind::Quad4],
             };
             let want_text = want.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ");
@@ -136,21 +158,102 @@ impl StructuralModel {
             }
         }
 
-        let mut load = vec![[0.0f64; 6]; mesh.coords.len()];
-        let mut loaded = vec![false; mesh.coords.len()];
-        for (i, l) in spec.loads.iter().enumerate() {
-            let LoadConfig::Nodal(NodalLoadConfig { group, force, moment }) = l;
-            let at = [key("loads"), Seg::Index(i), key("group")];
-            for n in group_nodes(&at, group)? {
-                for k in 0..3 {
-                    load[n][k] += force[k];
-                    load[n][3 + k] += moment[k];
+        let sum_loads = |prefix: &[Seg], loads: &mut dyn Iterator<Item = &NodalLoadConfig>| -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+            let mut load = vec![[0.0f64; 6]; mesh.coords.len()];
+            let mut loaded = vec![false; mesh.coords.len()];
+            for (i, NodalLoadConfig { group, force, moment }) in loads.enumerate() {
+                let mut at = prefix.to_vec();
+                at.extend([Seg::Index(i), key("group")]);
+                for n in group_nodes(&at, group)? {
+                    for k in 0..3 {
+                        load[n][k] += force[k];
+                        load[n][3 + k] += moment[k];
+                    }
+                    loaded[n] = true;
                 }
-                loaded[n] = true;
+            }
+            Ok((0..mesh.coords.len()).filter(|&n| loaded[n]).map(|n| (n, load[n])).collect())
+        };
+        let nodal_loads = sum_loads(&[key("loads")], &mut spec.loads.iter().map(|l| match l {
+            LoadConfig::Nodal(n) => n,
+        }))?;
+
+        let mut masses = vec![[0.0f64; 6]; mesh.coords.len()];
+        let mut massive = vec![false; mesh.coords.len()];
+        for (i, m) in spec.masses.iter().enumerate() {
+            let nodes = match (&m.group, m.node) {
+                (Some(group), _) => group_nodes(&[key("masses"), Seg::Index(i), key("group")], group)?,
+                (None, Some(tag)) => {
+                    let at = [key("masses"), Seg::Index(i), key("node")];
+                    let n = mesh.node_tags.iter().position(|&t| t == tag).ok_or_else(|| {
+                        job.error_at(&at, format!("the mesh has no node with tag {tag}"))
+                    })?;
+                    if !active[n] {
+                        return Err(job.error_at(&at, format!("node {tag} belongs to no element of the model's parts")).into());
+                    }
+                    vec![n]
+                }
+                // Rejected by validation; kept as an error, not a panic.
+                (None, None) => return Err(job.error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node").into()),
+            };
+            for n in nodes {
+                for k in 0..3 {
+                    masses[n][k] += m.mass;
+                    masses[n][3 + k] += m.rotary_inertia[k];
+                }
+                massive[n] = true;
             }
         }
-        let nodal_loads = (0..mesh.coords.len()).filter(|&n| loaded[n]).map(|n| (n, load[n])).collect();
-        Ok(StructuralModel { cells, fixed, nodal_loads, gravity: spec.gravity.as_ref().map(|g| g.acceleration) })
+        let point_masses = (0..mesh.coords.len()).filter(|&n| massive[n]).map(|n| (n, masses[n])).collect();
+
+        let control = match &spec.analysis {
+            AnalysisConfig::StaticNonlinear(c) => match &c.control {
+                Some(ctl) => {
+                    let base = [key("analysis"), key("control")];
+                    let nodes = match (&ctl.group, ctl.node) {
+                        (Some(group), _) => group_nodes(&[key("analysis"), key("control"), key("group")], group)?,
+                        (None, Some(tag)) => {
+                            let at = [key("analysis"), key("control"), key("node")];
+                            let n = mesh.node_tags.iter().position(|&t| t == tag).ok_or_else(|| job.error_at(&at, format!("the mesh has no node with tag {tag}")))?;
+                            if !active[n] {
+                                return Err(job.error_at(&at, format!("node {tag} belongs to no element of the model's parts")).into());
+                            }
+                            vec![n]
+                        }
+                        (None, None) => return Err(job.error_at(&base, "the control needs a group or a node").into()),
+                    };
+                    let dof = ctl.dof.indices().start;
+                    let pattern = sum_loads(&[key("analysis"), key("control"), key("pattern")], &mut ctl.pattern.iter())?;
+                    if !pattern.is_empty() && nodes.len() != 1 {
+                        return Err(job
+                            .error_at(&base, format!("with a load pattern the control is one node; the group has {} nodes (use node = <tag>)", nodes.len()))
+                            .into());
+                    }
+                    if let Some(&n) = nodes.iter().find(|&&n| fixed[n] & (1 << dof) != 0) {
+                        return Err(job
+                            .error_at(&[key("analysis"), key("control"), key("dof")], format!("DOF {:?} of control node {} is fixed by a support", ctl.dof, mesh.node_tags[n]))
+                            .into());
+                    }
+                    Some(ControlSpec { nodes, dof, target: ctl.target, steps: ctl.steps, pattern })
+                }
+                None => None,
+            },
+            _ => None,
+        };
+        // Imposed control DOFs are supports that move: fixed in the DOF numbering.
+        if let Some(c) = control.as_ref().filter(|c| c.pattern.is_empty()) {
+            for &n in &c.nodes {
+                fixed[n] |= 1 << c.dof;
+            }
+        }
+        Ok(StructuralModel {
+            cells,
+            fixed,
+            nodal_loads,
+            gravity: spec.gravity.as_ref().map(|g| g.acceleration),
+            point_masses,
+            control,
+        })
     }
 
     /// The node lists of the structural cells, in model order.

@@ -5,5 +5,5 @@
 mod build;
 mod stability;
 
-pub use build::{ModelCell, ModelError, StructuralModel};
+pub use build::{ControlSpec, ModelCell, ModelError, StructuralModel};
 pub use stability::{find_mechanisms, Mechanism};

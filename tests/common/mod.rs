@@ -207,3 +207,72 @@ pub fn write_quad_mesh(path: &Path, nodes: &[[f64; 3]], quads: &[[usize; 4]], su
     s += "$EndElements\n";
     std::fs::write(path, s).expect("write mesh");
 }
+
+/// Writes an ASCII MSH 4.1 file with quadrangles and 2-node lines in named physical groups
+/// (surfaces, then curves), plus point groups (name, node indices), all numbered in that order.
+pub fn write_mixed_mesh(
+    path: &Path,
+    nodes: &[[f64; 3]],
+    surfaces: &[(&str, Vec<[usize; 4]>)],
+    curves: &[(&str, Vec<[usize; 2]>)],
+    point_groups: &[(&str, Vec<usize>)],
+) {
+    let (ns, nc) = (surfaces.len(), curves.len());
+    let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
+    s += &format!("{}\n", ns + nc + point_groups.len());
+    for (g, (name, _)) in surfaces.iter().enumerate() {
+        s += &format!("2 {} \"{name}\"\n", g + 1);
+    }
+    for (g, (name, _)) in curves.iter().enumerate() {
+        s += &format!("1 {} \"{name}\"\n", ns + g + 1);
+    }
+    for (g, (name, _)) in point_groups.iter().enumerate() {
+        s += &format!("0 {} \"{name}\"\n", ns + nc + g + 1);
+    }
+    s += "$EndPhysicalNames\n$Entities\n";
+    let pts: Vec<(usize, usize)> =
+        point_groups.iter().enumerate().flat_map(|(g, (_, v))| v.iter().map(move |&n| (g, n))).collect();
+    s += &format!("{} {} {} 0\n", pts.len(), nc, ns);
+    for (k, (g, n)) in pts.iter().enumerate() {
+        let x = nodes[*n];
+        s += &format!("{} {} {} {} 1 {}\n", k + 1, x[0], x[1], x[2], ns + nc + g + 1);
+    }
+    for g in 0..nc {
+        s += &format!("{} -1e9 -1e9 -1e9 1e9 1e9 1e9 1 {} 0\n", g + 1, ns + g + 1);
+    }
+    for g in 0..ns {
+        s += &format!("{} -1e9 -1e9 -1e9 1e9 1e9 1e9 1 {} 0\n", g + 1, g + 1);
+    }
+    s += "$EndEntities\n";
+    s += &format!("$Nodes\n1 {} 1 {}\n2 1 0 {}\n", nodes.len(), nodes.len(), nodes.len());
+    for i in 0..nodes.len() {
+        s += &format!("{}\n", i + 1);
+    }
+    for x in nodes {
+        s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    s += "$EndNodes\n$Elements\n";
+    let n_el: usize = surfaces.iter().map(|g| g.1.len()).sum::<usize>() + curves.iter().map(|g| g.1.len()).sum::<usize>() + pts.len();
+    s += &format!("{} {} 1 {}\n", ns + nc + pts.len(), n_el, n_el);
+    let mut tag = 1;
+    for (k, (_, n)) in pts.iter().enumerate() {
+        s += &format!("0 {} 15 1\n{} {}\n", k + 1, tag, n + 1);
+        tag += 1;
+    }
+    for (g, (_, ls)) in curves.iter().enumerate() {
+        s += &format!("1 {} 1 {}\n", g + 1, ls.len());
+        for l in ls {
+            s += &format!("{} {} {}\n", tag, l[0] + 1, l[1] + 1);
+            tag += 1;
+        }
+    }
+    for (g, (_, qs)) in surfaces.iter().enumerate() {
+        s += &format!("2 {} 3 {}\n", g + 1, qs.len());
+        for q in qs {
+            s += &format!("{} {} {} {} {}\n", tag, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+            tag += 1;
+        }
+    }
+    s += "$EndElements\n";
+    std::fs::write(path, s).expect("write mesh");
+}

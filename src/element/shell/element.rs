@@ -21,7 +21,8 @@
 //!   f = Σ_p w_p [ B_pᵀ (N, M) + B_sᵀ Q + B_δᵀ k_δ δ ],   Q = k G t γ (elastic, k = 5/6)
 //!   K = Σ_p w_p [ B_pᵀ S B_p + k G t B_sᵀ B_s + k_δ B_δᵀ B_δ ]
 //! ```
-//! with B_p = [B_m; B_b] (6 × D), (N, M) and S = [[A, B], [B, D]] from the layers
+//! with B_p = [B_m; B_b] (6 × D), (N, M) and S = [[A, B], [B, D]] from the layers (their
+//! consistent tangent, or their secant (1 − d) C₀ for [`EvalRequest::ForceAndSecant`])
 //! ([`layers`](super::layers)). Global: f_g = Gᵀ f, K_g = Gᵀ K G ([`geometry`](super::geometry)).
 //!
 //! # Drilling stiffness (Hughes–Brezzi penalty)
@@ -243,6 +244,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         uf: &SVector<f64, D>,
         committed: &[DamageState],
         trial: &mut [DamageState],
+        secant: bool,
     ) -> SectionResponse {
         let strain: Vector6<f64> = pt.b * uf;
         match law {
@@ -258,7 +260,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             SectionLaw::Damage(law) => {
                 let e0: Vector3<f64> = strain.fixed_rows::<3>(0).into_owned();
                 let ka: Vector3<f64> = strain.fixed_rows::<3>(3).into_owned();
-                damage_section(law, rule, &e0, &ka, committed, trial)
+                damage_section(law, rule, &e0, &ka, committed, trial, secant)
             }
         }
     }
@@ -279,6 +281,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
                 &uf,
                 committed,
                 &mut scratch[..committed.len()],
+                false,
             );
             out.push(PointResultants { n: r.n, m: r.m });
         }
@@ -353,6 +356,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
                 &uf,
                 &self.committed[range.clone()],
                 &mut self.trial[range],
+                request.wants_secant(),
             );
             let w = pt.weight;
             let q: Vector2<f64> = pt.b_s * uf * self.shear_stiffness;
@@ -429,7 +433,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let mut volume = 0.0;
         for (p, pt) in self.points.iter().enumerate() {
             let committed = self.states_of(p, &self.committed);
-            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch);
+            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch, false);
             n += r.n;
             m += r.m;
             dissipation += pt.weight * r.dissipation;

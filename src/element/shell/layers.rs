@@ -126,6 +126,7 @@ pub fn damage_section(
     kappa: &Vector3<f64>,
     committed: &[DamageState],
     trial: &mut [DamageState],
+    secant: bool,
 ) -> SectionResponse {
     debug_assert_eq!(committed.len(), rule.len());
     debug_assert_eq!(trial.len(), rule.len());
@@ -140,9 +141,10 @@ pub fn damage_section(
         let r = plane_stress::update(law, &(eps0 + kappa * z), &committed[j]);
         n += r.stress * w;
         m += r.stress * (w * z);
-        a += r.tangent * w;
-        b += r.tangent * (w * z);
-        d += r.tangent * (w * z * z);
+        let c = if secant { r.secant } else { r.tangent };
+        a += c * w;
+        b += c * (w * z);
+        d += c * (w * z * z);
         dissipation += w * r.dissipation;
         trial[j] = r.state;
     }

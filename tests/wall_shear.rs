@@ -1,0 +1,141 @@
+//! The paper's wall as a layered shell in its plane, under a constant 1 MPa compression and an
+//! in-plane shear pushover, on three meshes.
+//!
+//! ```text
+//!        ux imposed →  ========== stiff platen (elastic frame), kept horizontal (ry = 0)
+//!        σ = 1 MPa ↓  |          |
+//!                     |   wall   |  1.0 m wide (x) × 1.2 m high (z), 0.5 m thick (shell, normal y)
+//!                     |          |  damage law in every layer point; out-of-plane DOFs fixed
+//!                     ############  base clamped
+//! ```
+//! Damage parameters: the illustrative rubble-masonry set of `jobs/material-tension.toml` with the
+//! compressive threshold of the paper's strength (ε₀^c = 2e-4: damage in uniaxial compression
+//! starts at E ε₀^c/(√2 ν) = 2.1 MPa, Table 1's σ_max), so the 1 MPa preload stays elastic.
+mod common;
+use common::*;
+
+const W: f64 = 1.0;
+const H: f64 = 1.2;
+const T: f64 = 0.5;
+const SIGMA: f64 = 1.0e6;
+const TARGET: f64 = 2.0e-3;
+
+/// Writes the wall with nx × nz quads and its job; returns the job path.
+fn wall(dir: &std::path::Path, nx: usize, nz: usize, steps: usize) -> std::path::PathBuf {
+    let idx = |i: usize, k: usize| k * (nx + 1) + i;
+    let mut nodes = Vec::new();
+    for k in 0..=nz {
+        for i in 0..=nx {
+            nodes.push([W * i as f64 / nx as f64, 0.0, H * k as f64 / nz as f64]);
+        }
+    }
+    let mut quads = Vec::new();
+    for k in 0..nz {
+        for i in 0..nx {
+            quads.push([idx(i, k), idx(i + 1, k), idx(i + 1, k + 1), idx(i, k + 1)]);
+        }
+    }
+    let platen: Vec<[usize; 2]> = (0..nx).map(|i| [idx(i, nz), idx(i + 1, nz)]).collect();
+    write_mixed_mesh(
+        &dir.join("wall.msh"),
+        &nodes,
+        &[("wall", quads)],
+        &[("platen", platen)],
+        &[
+            ("base", (0..=nx).map(|i| idx(i, 0)).collect()),
+            ("top", (0..=nx).map(|i| idx(i, nz)).collect()),
+            ("all", (0..nodes.len()).collect()),
+        ],
+    );
+    let per_node = SIGMA * W * T / (nx + 1) as f64;
+    let job = format!(
+        "[analysis]\ntype = \"static_nonlinear\"\nsteps = 2\n\
+         [analysis.control]\ngroup = \"top\"\ndof = \"ux\"\ntarget = {TARGET:e}\nsteps = {steps}\n\
+         [mesh]\nfile = \"wall.msh\"\n\
+         [materials.masonry]\ntype = \"damage\"\n[materials.masonry.law]\n\
+         E = 2.885e9\nnu = 0.19\neps0_t = 5.0e-5\neps0_c = 2.0e-4\ngf_t = 20.0\na_c = 0.8\nb_c = 1500.0\n\
+         regularization = \"hillerborg\"\n\
+         [materials.steel]\ntype = \"elastic\"\nE = 2.0e11\nnu = 0.3\n\
+         [sections.wall]\ntype = \"shell\"\nthickness = {T}\nlayers = 1\n\
+         [sections.platen]\ntype = \"frame\"\narea = 0.5\niy = 0.05\niz = 0.05\nj = 0.05\n\
+         [[parts]]\ngroup = \"wall\"\nsection = \"wall\"\nmaterial = \"masonry\"\n\
+         [[parts]]\ngroup = \"platen\"\nsection = \"platen\"\nmaterial = \"steel\"\n\
+         [[supports]]\ngroup = \"base\"\ndofs = [\"all\"]\n\
+         [[supports]]\ngroup = \"all\"\ndofs = [\"uy\", \"rx\", \"rz\"]\n\
+         [[supports]]\ngroup = \"top\"\ndofs = [\"ry\"]\n\
+         [[loads]]\ntype = \"nodal\"\ngroup = \"top\"\nforce = [0.0, 0.0, {}]\n\
+         [output]\ndir = \"out\"\nexisting = \"overwrite\"\n",
+        -per_node
+    );
+    std::fs::write(dir.join("job.toml"), job).unwrap();
+    dir.join("job.toml")
+}
+
+/// (displacement, force, dissipated energy) of the control stage.
+fn curve(dir: &std::path::Path) -> Vec<(f64, f64, f64)> {
+    let text = std::fs::read_to_string(dir.join("out/curve.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .filter(|l| l.starts_with("control"))
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            (c[2].parse().unwrap(), c[3].parse().unwrap(), c[4].parse().unwrap())
+        })
+        .collect()
+}
+
+/// The issue's acceptance: the wall softens, damage localizes diagonally, and the dissipated
+/// energy at the end varies by less than 5% over three meshes (Hillerborg regularization of the
+/// tension branch with h = sqrt(element area)).
+///
+/// NOT MET YET, so ignored: on the 5 × 6 mesh the tangent and then the secant iterations stop
+/// converging at about 1.16 mm (0.27 MN, the force still rising), after flexural cracks at the
+/// base heel and the opposite top corner (d_t ≈ 0.98) and compression damage along the loaded
+/// diagonal (d_c 0.1–0.2); the run ends with the diagnosis. Run it with `--ignored` once a path
+/// through the peak exists (arc length, or a viscous regularization of the damage).
+#[test]
+#[ignore = "the shell wall does not yet converge through its peak (see the doc comment)"]
+fn wall_shear_softens_and_dissipates_the_same_energy_on_three_meshes() {
+    let mut energies = Vec::new();
+    for (nx, nz) in [(5, 6), (10, 12), (15, 18)] {
+        let dir = scratch(&format!("wall-shear-{nx}"));
+        let job = wall(&dir, nx, nz, 40);
+        let out = run(0, &[job.to_str().unwrap()]);
+        assert!(out.status.success(), "{nx}x{nz}: {}\n{}", stdout(&out), stderr(&out));
+        let c = curve(&dir);
+        let peak = c.iter().map(|x| x.1).fold(f64::MIN, f64::max);
+        let last = c.last().unwrap();
+        println!("{nx:>2} x {nz:<2}: peak {peak:.4e} N, final {:.4e} N at {:.2e} m, dissipated {:.4e} J", last.1, last.0, last.2);
+        assert!(last.1 < 0.8 * peak, "{nx}x{nz}: no softening (final {} vs peak {peak})", last.1);
+        energies.push(last.2);
+    }
+    let mean = energies.iter().sum::<f64>() / energies.len() as f64;
+    for e in &energies {
+        assert!((e - mean).abs() < 0.05 * mean, "dissipated energies {energies:?}");
+    }
+}
+
+/// What works today, on the coarse mesh with few increments: the preload by load control, then
+/// the shear pushover elastic up to the first crack and into the damaged range; the stiffness of
+/// the elastic part matches the wall's shear-flexure stiffness of a fixed–fixed member,
+/// K = 1/(H/(κ G A) + H³/(12 E I)) with κ = 5/6, A = W T, I = T W³/12, within 15% (the 2D stress
+/// field at the clamped ends is stiffer than beam theory's; 5 × 6 elements).
+#[test]
+fn wall_shear_elastic_branch_and_first_damage() {
+    let dir = scratch("wall-shear-elastic");
+    let job = wall(&dir, 5, 6, 40);
+    let text = std::fs::read_to_string(&job).unwrap().replace("target = 2e-3", "target = 6e-4").replace("steps = 40", "steps = 6");
+    std::fs::write(&job, text).unwrap();
+    let out = run(0, &[job.to_str().unwrap()]);
+    assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
+    let c = curve(&dir);
+    assert_eq!(c.len(), 6);
+    let (e, nu) = (2.885e9, 0.19);
+    let g = e / (2.0 * (1.0 + nu));
+    let k = 1.0 / (H / (5.0 / 6.0 * g * W * T) + H.powi(3) / (12.0 * e * T * W.powi(3) / 12.0));
+    let k_fe = c[0].1 / c[0].0;
+    println!("elastic stiffness {k_fe:.4e} N/m vs beam theory {k:.4e} N/m");
+    assert!((k_fe - k).abs() < 0.15 * k, "{k_fe} vs {k}");
+    assert!(c[0].2 == 0.0, "no damage in the first increment");
+    assert!(c.last().unwrap().2 > 0.0, "damage by 0.6 mm");
+}
