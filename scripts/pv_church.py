@@ -21,11 +21,13 @@ dynamic result is warped by `--warp` (scale factor, 0 = undeformed) along `--war
 
 Gmsh files are read by this script (ASCII MSH 4.1; ParaView has no reader for them): 2-node
 lines, 3-node triangles and 4-node quads, with the physical tag of each element as the cell
-field `group`; the `supports` group is left out (it lies on the wall bases).
+field `group`; the `supports` group is left out (it lies on the wall bases). Cells where a field
+is not defined (NaN: the beams in the shells' damage fields) are grey.
 Needs `scripts/setup.sh --paraview` (ParaView 5.11 + xvfb).
 """
 import argparse
 import math
+import os
 import sys
 
 from paraview import simple as pv
@@ -187,6 +189,9 @@ def main():
         sys.exit(f"--views: one to four of {', '.join(VIEWS)}; got {a.views}")
     width, height = (int(x) for x in a.size.lower().split("x"))
 
+    for path in [a.input] + ([a.names] if a.names else []):
+        if not os.path.isfile(path):
+            sys.exit(f"no such file: {path}")
     is_msh = a.input.lower().endswith(".msh")
     if is_msh:
         src, names = msh_source(a.input, skip={"supports"})
@@ -246,6 +251,7 @@ def main():
         lut.IndexedColors = colours
     else:
         lut.ApplyPreset("Turbo" if a.mode is None else "Viridis (matplotlib)", True)
+        lut.NanColor = [0.62, 0.62, 0.62]  # cells without the field (beams for shell damage): grey
 
     layout = pv.CreateLayout("church")
     n = len(views)
