@@ -10,6 +10,7 @@ pub mod modal_updating;
 pub mod output;
 pub mod spectrum;
 pub mod static_nonlinear;
+pub mod time_history;
 mod rigid_modes;
 
 pub use discretization::{default_orientation, Discretization};
