@@ -10,6 +10,8 @@
 //! or the initial stiffness. Modified Newton calls [`DynamicSystem::prepare`] once per step, so
 //! the factorization is reused across its iterations.
 //!
+//! For a linear model (no element has state) the internal force is the product `K₀ u`.
+//!
 //! Element errors (a material update that fails) happen on one rank: the loops below record the
 //! first one, still take part in every collective call, and the ranks then agree on it, so a
 //! failing element makes the step fail on every rank (and be substepped), never hang.
@@ -207,6 +209,13 @@ impl DynamicSystem for PetscSystem<'_> {
         global
     }
 
+    fn dots(&self, pairs: &[(&[f64], &[f64])]) -> Vec<f64> {
+        let local: Vec<f64> = pairs.iter().map(|(a, b)| a.iter().zip(b.iter()).map(|(x, y)| x * y).sum()).collect();
+        let mut global = vec![0.0; local.len()];
+        self.ctx.comm.all_reduce_into(&local[..], &mut global[..], mpi::collective::SystemOperation::sum());
+        global
+    }
+
     fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
         self.x.set_values(&self.idx, x)?;
         self.x.assemble()?;
@@ -247,6 +256,22 @@ impl DynamicSystem for PetscSystem<'_> {
     }
 
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
+        if self.linear {
+            // No element has state: f_int(u) = K₀ u on the free rows (K₀'s fixed rows hold only
+            // their diagonal and u vanishes there), one sparse product instead of an element loop.
+            self.x.set_values(&self.idx, u)?;
+            self.x.assemble()?;
+            self.k0.mult(&self.x, &mut self.y)?;
+            self.y.with_owned_values(|s| f.copy_from_slice(s))?;
+            for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
+                for d in 0..6 {
+                    if self.disc.dofs.is_fixed(node, d) {
+                        f[6 * i + d] = 0.0;
+                    }
+                }
+            }
+            return Ok(());
+        }
         let u_local = self.local_form(u)?;
         self.y.set_all(0.0)?;
         let mut out = ElementOutput::new(12);

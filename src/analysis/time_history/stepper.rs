@@ -227,8 +227,7 @@ impl Stepper {
         if let Err(e) = sys.mass_mult(&s.du, &mut s.ma) {
             return Attempt::Failed { residual: f64::INFINITY, reason: e.to_string() };
         }
-        let norm = |sys: &S, v: &[f64]| sys.dot(v, v).sqrt();
-        let rhs_norm = norm(sys, &s.rhs) + norm(sys, &s.ma) + norm(sys, &state.f_int) + norm(sys, &state.cv);
+        let rhs_norm: f64 = sys.dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)]).iter().map(|x| x.sqrt()).sum();
         let (c_m, c_c) = sc.jacobian_coefficients(h);
         s.u.copy_from_slice(&state.u);
         sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
@@ -243,8 +242,9 @@ impl Stepper {
             for i in 0..n {
                 s.r[i] = s.rhs[i] - s.ma[i] - (1.0 + al) * (s.cv[i] + s.fi[i]);
             }
-            let rn = sys.dot(&s.r, &s.r).sqrt();
-            let scale = rhs_norm + sys.dot(&s.ma, &s.ma).sqrt() + (1.0 + al) * (sys.dot(&s.cv, &s.cv).sqrt() + sys.dot(&s.fi, &s.fi).sqrt());
+            let d = sys.dots(&[(&s.r, &s.r), (&s.ma, &s.ma), (&s.cv, &s.cv), (&s.fi, &s.fi)]);
+            let rn = d[0].sqrt();
+            let scale = rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt());
             residual = if scale > 0.0 { rn / scale } else { rn };
             if !residual.is_finite() {
                 return Attempt::Failed { residual, reason: "the residual is not finite".into() };
@@ -283,22 +283,18 @@ impl Stepper {
         let e = &mut state.energy;
         // f_0, f_1 were evaluated at the attempt's times: recompute for exactness of t1.
         external_force(sys, ground(t1), &mut s.f1);
-        let half_sum = |a: &[f64], b: &[f64], out: &mut Vec<f64>| {
-            out.clear();
-            out.extend(a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)));
-        };
-        let mut tmp = Vec::with_capacity(n);
-        half_sum(&s.f0, &s.f1, &mut tmp);
-        e.input += sys.dot(&du, &tmp);
-        half_sum(&state.cv, &s.cv, &mut tmp);
-        e.damping += sys.dot(&du, &tmp);
-        half_sum(&state.f_int, &s.fi, &mut tmp);
-        e.internal_work += sys.dot(&du, &tmp);
-        e.strain = 0.5 * sys.dot(&s.u, &s.fi);
+        let avg = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect() };
+        let (f_avg, cv_avg, fi_avg) = (avg(&s.f0, &s.f1), avg(&state.cv, &s.cv), avg(&state.f_int, &s.fi));
         let mut mv = vec![0.0; n];
-        // A failure here would have shown in the iterations (same operator): keep the old value.
-        if sys.mass_mult(&s.v, &mut mv).is_ok() {
-            e.kinetic = 0.5 * sys.dot(&s.v, &mv);
+        // A failure here would have shown in the iterations (same operator).
+        let mv_ok = sys.mass_mult(&s.v, &mut mv).is_ok();
+        let d = sys.dots(&[(&du, &f_avg), (&du, &cv_avg), (&du, &fi_avg), (&s.u, &s.fi), (&s.v, &mv)]);
+        e.input += d[0];
+        e.damping += d[1];
+        e.internal_work += d[2];
+        e.strain = 0.5 * d[3];
+        if mv_ok {
+            e.kinetic = 0.5 * d[4];
         }
         state.u.copy_from_slice(&s.u);
         state.v.copy_from_slice(&s.v);

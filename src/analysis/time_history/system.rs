@@ -14,6 +14,10 @@ pub trait DynamicSystem {
     fn len(&self) -> usize;
     /// Global dot product. Collective.
     fn dot(&self, a: &[f64], b: &[f64]) -> f64;
+    /// Several global dot products with one reduction. Collective.
+    fn dots(&self, pairs: &[(&[f64], &[f64])]) -> Vec<f64> {
+        pairs.iter().map(|(a, b)| self.dot(a, b)).collect()
+    }
     /// `y = M x`. Collective.
     fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error>;
     /// `y = C x`. Collective.
