@@ -211,3 +211,80 @@ fn hht_dissipates_high_frequencies_and_keeps_the_low() {
     let out = run(&mut sys, sc, vec![1.0], vec![0.0], &|_| 0.0, 0.05 / w, (2.0 * PI / 0.05) as usize);
     assert!(e(out.last().unwrap()) > 0.99 * e(&out[0]));
 }
+
+/// An SDOF with a hardening spring f_int = k u + k₃ u³ (Duffing), to exercise Newton and the
+/// substepping on a nonlinear system.
+struct Duffing {
+    lin: DenseSystem,
+    k3: f64,
+    lu: f64,
+}
+
+impl DynamicSystem for Duffing {
+    fn len(&self) -> usize {
+        1
+    }
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a[0] * b[0]
+    }
+    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::run::Error> {
+        self.lin.mass_mult(x, y)
+    }
+    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::run::Error> {
+        self.lin.damping_mult(x, y)
+    }
+    fn mass_influence(&self, d: usize) -> &[f64] {
+        self.lin.mass_influence(d)
+    }
+    fn influence(&self, d: usize) -> &[f64] {
+        self.lin.influence(d)
+    }
+    fn static_load(&self) -> &[f64] {
+        self.lin.static_load()
+    }
+    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), crate::run::Error> {
+        f[0] = self.lin.k[(0, 0)] * u[0] + self.k3 * u[0].powi(3);
+        Ok(())
+    }
+    fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), crate::run::Error> {
+        let u = tangent_at.map_or(0.0, |u| u[0]);
+        self.lu = self.lin.k[(0, 0)] + 3.0 * self.k3 * u * u + c_m * self.lin.m[(0, 0)] + c_c * self.lin.c[(0, 0)];
+        Ok(())
+    }
+    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), crate::run::Error> {
+        x[0] = r[0] / self.lu;
+        Ok(())
+    }
+    fn commit(&mut self) {}
+    fn revert(&mut self) {}
+}
+
+#[test]
+fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
+    // A stiffly hardening spring released from u₀ = 1 with modified Newton limited to 6
+    // iterations: the whole step (ω₀h = 0.5, k₃ u² = 50 k) cannot converge, halves can.
+    // Every substep ends in equilibrium, so the trapezoidal energy identity (`energy.rs`) holds
+    // across them: E_k + W_int stays 0 (no input, no damping) to round-off, 1e-10 relative.
+    let mk = || Duffing { lin: sdof(1.0, 0.0, 1.0), k3: 50.0, lu: 1.0 };
+    let run_with = |max_iterations: usize, max_substeps: usize, dt: f64, steps: usize| {
+        let mut sys = mk();
+        let mut st = State::new(&mut sys, vec![1.0], vec![0.0], vec![-51.0]).unwrap();
+        let mut stepper = Stepper::new(StepSettings { scheme: Scheme::default(), newton: NewtonKind::Modified, max_iterations, tolerance: 1e-12, max_substeps });
+        let mut reports = Vec::new();
+        for k in 1..=steps {
+            match stepper.advance(&mut sys, &|_| [0.0; 3], &mut st, k as f64 * dt, dt) {
+                Ok(r) => reports.push(r),
+                Err(f) => return Err(f),
+            }
+        }
+        Ok((st, reports))
+    };
+    let (st, reports) = run_with(6, 6, 0.5, 1).unwrap();
+    assert!(reports[0].substeps > 1, "{reports:?}");
+    assert!(st.energy.relative_error() < 1e-10, "{:?}", st.energy);
+    assert!(st.energy.kinetic > 0.0 && st.u[0].abs() < 1.0 + 1e-9);
+    // With no halving allowed the step fails, and says why.
+    let f = run_with(6, 0, 0.5, 1).unwrap_err();
+    assert!(f.reason.contains("no convergence in 6 iterations"), "{}", f.reason);
+    assert_eq!(f.r.len(), 1);
+}
