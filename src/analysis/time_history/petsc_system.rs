@@ -146,8 +146,7 @@ impl<'a> PetscSystem<'a> {
 
     /// Collective. The local form (owned, then ghosts) of the owned vector `u`.
     pub fn local_form(&mut self, u: &[f64]) -> Result<Vec<f64>, Error> {
-        self.ug.set_values(&self.idx, u)?;
-        self.ug.assemble()?;
+        self.ug.copy_owned_from(u)?;
         self.ug.ghost_update()?;
         Ok(self.ug.with_local_form(|s| s.to_vec())?)
     }
@@ -217,8 +216,7 @@ impl DynamicSystem for PetscSystem<'_> {
     }
 
     fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
-        self.x.set_values(&self.idx, x)?;
-        self.x.assemble()?;
+        self.x.copy_owned_from(x)?;
         self.m.mult(&self.x, &mut self.y)?;
         self.y.with_owned_values(|s| y.copy_from_slice(s))?;
         Ok(())
@@ -230,8 +228,7 @@ impl DynamicSystem for PetscSystem<'_> {
             y.iter_mut().for_each(|v| *v = 0.0);
             return Ok(());
         }
-        self.x.set_values(&self.idx, x)?;
-        self.x.assemble()?;
+        self.x.copy_owned_from(x)?;
         self.m.mult(&self.x, &mut self.y)?;
         let my = self.y.owned_values()?;
         self.k0.mult(&self.x, &mut self.y)?;
@@ -259,8 +256,7 @@ impl DynamicSystem for PetscSystem<'_> {
         if self.linear {
             // No element has state: f_int(u) = K₀ u on the free rows (K₀'s fixed rows hold only
             // their diagonal and u vanishes there), one sparse product instead of an element loop.
-            self.x.set_values(&self.idx, u)?;
-            self.x.assemble()?;
+            self.x.copy_owned_from(u)?;
             self.k0.mult(&self.x, &mut self.y)?;
             self.y.with_owned_values(|s| f.copy_from_slice(s))?;
             for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
@@ -323,8 +319,7 @@ impl DynamicSystem for PetscSystem<'_> {
 
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
         let t0 = Instant::now();
-        self.x.set_values(&self.idx, r)?;
-        self.x.assemble()?;
+        self.x.copy_owned_from(r)?;
         let solved = self.ksp.solve(&self.x, &mut self.y).map_err(Error::from);
         agree(&self.ctx.comm, solved, Error::exit_code)?;
         self.y.with_owned_values(|s| x.copy_from_slice(s))?;
