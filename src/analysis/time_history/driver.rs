@@ -111,6 +111,9 @@ pub struct Integration<'a> {
     pub restart: bool,
 }
 
+/// Envelopes read from a checkpoint: node values, cell values (see [`Envelopes`]).
+pub type SavedEnvelopes = (Vec<f64>, Vec<f64>);
+
 /// The ground motion of the job's components.
 pub fn ground_motion(cfg: &DynamicsConfig) -> GroundMotion {
     let mut c: [Option<crate::seismic::Record>; 3] = Default::default();
@@ -171,7 +174,7 @@ pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, resta
 }
 
 /// Collective. Restores a checkpoint into the system's elements; the state and envelopes.
-fn restore(ctx: &Context, sys: &mut PetscSystem, c: Checkpoint) -> Result<(State, Option<(Vec<f64>, Vec<f64>)>), Error> {
+fn restore(ctx: &Context, sys: &mut PetscSystem, c: Checkpoint) -> Result<(State, Option<SavedEnvelopes>), Error> {
     let n = sys.len();
     let loaded = (|| -> Result<(), Error> {
         if c.vectors[0].len() != n || c.states.len() != sys.disc.elements.len() {
@@ -217,7 +220,7 @@ fn absolute(rel: &[f64], g: [f64; 3]) -> Vec<f64> {
 }
 
 /// Collective. The stepping loop from `state` to the end of `[dynamics] duration`.
-pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, settings: StepSettings, mut state: State, envelopes: Option<(Vec<f64>, Vec<f64>)>) -> Result<TimeHistorySummary, Error> {
+pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, settings: StepSettings, mut state: State, envelopes: Option<SavedEnvelopes>) -> Result<TimeHistorySummary, Error> {
     let log = &ctx.log;
     let cfg = it.cfg;
     let dir = &it.job.output_dir;

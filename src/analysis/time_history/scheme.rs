@@ -57,6 +57,7 @@ impl Scheme {
     }
 
     /// `a_{n+1}` and `v_{n+1}` from `u_{n+1}`, element-wise (the formulas of the module docs).
+    #[allow(clippy::too_many_arguments)]
     pub fn kinematics(&self, h: f64, un: &[f64], vn: &[f64], an: &[f64], u: &[f64], v: &mut [f64], a: &mut [f64]) {
         let (b, g) = (self.beta, self.gamma);
         let c1 = 1.0 / (b * h * h);

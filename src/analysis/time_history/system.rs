@@ -12,6 +12,10 @@ use nalgebra::{DMatrix, DVector};
 pub trait DynamicSystem {
     /// Owned entries of a vector.
     fn len(&self) -> usize;
+    /// True when this rank owns no entry.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
     /// Global dot product. Collective.
     fn dot(&self, a: &[f64], b: &[f64]) -> f64;
     /// Several global dot products with one reduction. Collective.
