@@ -21,7 +21,8 @@ use std::process::ExitCode;
 #[command(name = "masonry-hpc", version, about, args_conflicts_with_subcommands = true)]
 #[command(after_help = "Examples:\n  mpirun -n 2 masonry-hpc jobs/tower.toml\n  \
     masonry-hpc jobs/tower.toml -ksp_type cg -pc_type gamg -ksp_rtol 1e-10\n  \
-    masonry-hpc check jobs/tower.toml")]
+    masonry-hpc check jobs/tower.toml\n  \
+    masonry-hpc --restart jobs/tower-earthquake.toml")]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -33,6 +34,9 @@ struct Cli {
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
+    /// Continue a time history from the last checkpoint in its results folder.
+    #[arg(long)]
+    restart: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -58,7 +62,7 @@ fn main() -> ExitCode {
     let ctx = Context::new(universe.world(), cli.quiet);
     let result = match (&cli.command, &cli.job) {
         (Some(Command::Check { job }), _) => check(&ctx, job),
-        (None, Some(job)) => run::run_job(&ctx, job, &cli.petsc),
+        (None, Some(job)) => run::run_job_with(&ctx, job, &cli.petsc, cli.restart),
         (None, None) => {
             if ctx.rank == 0 {
                 eprintln!("error: no job file given\n\nUsage: masonry-hpc <JOB> [PETSC_OPTIONS]...\n       masonry-hpc check <JOB>\n\nFor more information, try '--help'.");

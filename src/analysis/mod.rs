@@ -13,6 +13,7 @@ pub mod newton;
 pub mod output;
 pub mod spectrum;
 pub mod static_nonlinear;
+pub mod time_history;
 mod rigid_modes;
 
 pub use discretization::{default_orientation, Discretization};

@@ -64,6 +64,8 @@ pub enum AnalysisConfig {
     ModalUpdating(ModalUpdatingConfig),
     /// Nonlinear static analysis: the loads applied in steps, Newton iterations in each.
     StaticNonlinear(StaticNonlinearConfig),
+    /// Seismic time history: gravity, then the base acceleration of `[dynamics]`.
+    TimeHistory,
 }
 
 /// `[analysis] type = "static_nonlinear"`: the job's loads (nodal loads and gravity) scaled by a
@@ -231,6 +233,7 @@ impl AnalysisConfig {
             AnalysisConfig::Modal(_) => "modal",
             AnalysisConfig::ModalUpdating(_) => "modal_updating",
             AnalysisConfig::StaticNonlinear(_) => "static_nonlinear",
+            AnalysisConfig::TimeHistory => "time_history",
         }
     }
 }
@@ -674,4 +677,6 @@ pub struct StructuralJobFile {
     /// Where results go.
     #[serde(default)]
     pub output: OutputConfig,
+    /// Time integration settings (`type = "time_history"`): see [`super::DynamicsConfig`].
+    pub dynamics: Option<super::DynamicsConfig>,
 }

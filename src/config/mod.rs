@@ -3,6 +3,7 @@
 //! Every error names the file, the line and column, the key and what was expected
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
 mod dem;
+mod dynamics;
 mod error;
 mod job;
 mod kind;
@@ -14,6 +15,7 @@ mod validate;
 
 pub use error::{ConfigError, Location};
 pub use dem::*;
+pub use dynamics::*;
 pub use job::*;
 pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
@@ -86,6 +88,14 @@ impl Job {
                 }
                 u.target_shapes = Some(file);
             }
+        }
+        match (&spec.analysis, &mut spec.dynamics) {
+            (AnalysisConfig::TimeHistory, Some(d)) => dynamics::load_dynamics(&source, &folder, d)?,
+            (AnalysisConfig::TimeHistory, None) => {
+                return Err(source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "a time history needs a [dynamics] table"))
+            }
+            (_, Some(_)) => return Err(source.error_at(&[Seg::Key("dynamics".into())], "[dynamics] is read only by [analysis] type = \"time_history\"")),
+            _ => {}
         }
         let output_dir = output_dir(path, &spec.output);
         let petsc_options = spec

@@ -179,6 +179,22 @@ impl Vector {
         read_array(self.raw, f)
     }
 
+    /// Overwrites this rank's owned entries with `values` (length: the local size), without the
+    /// assembly that [`set_values`](Self::set_values) needs. Not collective.
+    pub fn copy_owned_from(&mut self, values: &[f64]) -> Result<(), PetscError> {
+        let mut n: sys::PetscInt = 0;
+        petsc_call!(VecGetLocalSize(self.raw, &mut n))?;
+        check_pairs("VecGetArray", to_usize(n), values.len())?;
+        let mut ptr: *mut f64 = std::ptr::null_mut();
+        petsc_call!(VecGetArray(self.raw, &mut ptr))?;
+        if !ptr.is_null() && !values.is_empty() {
+            // SAFETY: PETSc guarantees `n` writable entries at `ptr` until VecRestoreArray, and
+            // `values` has exactly `n` entries (checked above).
+            unsafe { std::ptr::copy_nonoverlapping(values.as_ptr(), ptr, values.len()) };
+        }
+        petsc_call!(VecRestoreArray(self.raw, &mut ptr))
+    }
+
     /// A copy of this rank's owned entries.
     pub fn owned_values(&self) -> Result<std::vec::Vec<f64>, PetscError> {
         self.with_owned_values(<[f64]>::to_vec)

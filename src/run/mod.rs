@@ -89,8 +89,19 @@ pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> 
 
 /// Collective. Runs the job at `path`; `petsc_args` are the command-line PETSc options.
 pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), Error> {
-    match agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)? {
-        AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args),
+    run_job_with(ctx, path, petsc_args, false)
+}
+
+/// Collective. As [`run_job`]; `restart` continues a time history from its last checkpoint.
+pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: bool) -> Result<(), Error> {
+    let job = agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)?;
+    if restart && !matches!(&job, AnyJob::Structural(j) if j.spec.analysis == AnalysisConfig::TimeHistory) {
+        // Every rank knows it: print it once.
+        let message = format!("{}: --restart applies to [analysis] type = \"time_history\" jobs only", path.display());
+        return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
+    }
+    match job {
+        AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args, restart),
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
         AnyJob::Dem(job) => run_dem(ctx, path, &job),
         AnyJob::Spectrum(job) => {
@@ -145,10 +156,12 @@ fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob) -> Result<()
     write_summary(ctx, &job.output_dir, &summary)
 }
 
-fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String]) -> Result<(), Error> {
+fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String], restart: bool) -> Result<(), Error> {
     let input = load_input(ctx, path, job)?;
     let job = &input.job;
-    prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+    if !restart {
+        prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+    }
 
     let mut argv = vec!["masonry-hpc".to_string()];
     argv.extend(petsc_args.iter().cloned());
@@ -169,6 +182,11 @@ fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String]) -
         AnalysisConfig::ModalUpdating(cfg) => {
             ctx.log.info("analysis: modal updating");
             let summary = crate::analysis::modal_updating::run(ctx, job, cfg, &input.mesh, &input.model)?;
+            write_summary(ctx, &job.output_dir, &summary)?;
+        }
+        AnalysisConfig::TimeHistory => {
+            ctx.log.info(format!("analysis: time history{}", if restart { " (restart)" } else { "" }));
+            let summary = crate::analysis::time_history::run(ctx, job, &input.mesh, &input.model, restart)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::Modal(cfg) => {

@@ -1,0 +1,233 @@
+//! Checkpoints: the whole state of a time history, written atomically, read back by `--restart`.
+//!
+//! Layout under the results folder:
+//!
+//! ```text
+//!   checkpoint/latest.json              {"step", "time", "ranks", "dir"} — the only entry point
+//!   checkpoint/step-000120/rank-0000.bin  one file per rank (its owned DOFs and elements)
+//! ```
+//!
+//! Each rank writes `rank-RRRR.bin.tmp`, syncs it and renames it; after a barrier rank 0
+//! replaces `latest.json` the same way, then removes older step folders. A run killed at any
+//! moment leaves `latest.json` pointing at a complete checkpoint (the previous one until the new
+//! one is whole). The rank file (little-endian): magic `MHPCCKP1`; u64 ranks, rank, owned DOFs,
+//! step, elements, node-envelope and cell-envelope lengths; f64 time and the six energies; the
+//! vectors u, v, a, f_int, C v; per element its state length (u64) then all states (f64); the
+//! envelopes; an FNV-1a checksum of everything before it. A restart needs the same rank count
+//! (the partition, hence the owned DOFs and elements, depends on it).
+use crate::element::Element;
+use crate::parallel::Context;
+use crate::run::Error;
+use mpi::traits::CommunicatorCollectives;
+use std::path::{Path, PathBuf};
+
+const MAGIC: &[u8; 8] = b"MHPCCKP1";
+
+/// The state of one rank at the end of a converged step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Checkpoint {
+    /// Steps done.
+    pub step: usize,
+    /// Time [s].
+    pub t: f64,
+    /// Energies ([`super::EnergyBalance::to_array`]).
+    pub energy: [f64; 6],
+    /// u, v, a, f_int, C v (owned entries).
+    pub vectors: [Vec<f64>; 5],
+    /// Committed state of every owned element.
+    pub states: Vec<Vec<f64>>,
+    /// Node envelopes (owned nodes).
+    pub node_envelope: Vec<f64>,
+    /// Cell envelopes (owned cells).
+    pub cell_envelope: Vec<f64>,
+}
+
+/// The committed states of `elements`.
+pub fn element_states(elements: &[Box<dyn Element>]) -> Result<Vec<Vec<f64>>, Error> {
+    elements
+        .iter()
+        .map(|e| {
+            let mut s = vec![0.0; e.n_state()];
+            e.save_state(&mut s).map(|_| s).map_err(|source| Error::Analysis(format!("checkpoint: {} state: {source}", e.kind_name())))
+        })
+        .collect()
+}
+
+fn checkpoint_dir(results: &Path) -> PathBuf {
+    results.join("checkpoint")
+}
+
+fn io_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Analysis(format!("checkpoint {}: {e}", path.display()))
+}
+
+fn fnv(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf29ce484222325;
+    for b in bytes {
+        h ^= *b as u64;
+        h = h.wrapping_mul(0x100000001b3);
+    }
+    h
+}
+
+fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let tmp = path.with_extension("tmp");
+    {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    std::fs::rename(&tmp, path)
+}
+
+fn encode(c: &Checkpoint, ranks: usize, rank: usize) -> Vec<u8> {
+    let mut b = Vec::new();
+    b.extend_from_slice(MAGIC);
+    let n = c.vectors[0].len();
+    for v in [ranks, rank, n, c.step, c.states.len(), c.node_envelope.len(), c.cell_envelope.len()] {
+        b.extend_from_slice(&(v as u64).to_le_bytes());
+    }
+    b.extend_from_slice(&c.t.to_le_bytes());
+    let f = |b: &mut Vec<u8>, xs: &[f64]| xs.iter().for_each(|x| b.extend_from_slice(&x.to_le_bytes()));
+    f(&mut b, &c.energy);
+    for v in &c.vectors {
+        f(&mut b, v);
+    }
+    for s in &c.states {
+        b.extend_from_slice(&(s.len() as u64).to_le_bytes());
+    }
+    for s in &c.states {
+        f(&mut b, s);
+    }
+    f(&mut b, &c.node_envelope);
+    f(&mut b, &c.cell_envelope);
+    let h = fnv(&b);
+    b.extend_from_slice(&h.to_le_bytes());
+    b
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn u64(&mut self) -> Option<u64> {
+        let s = self.b.get(self.at..self.at + 8)?;
+        self.at += 8;
+        Some(u64::from_le_bytes(s.try_into().ok()?))
+    }
+    fn f64s(&mut self, n: usize) -> Option<Vec<f64>> {
+        let s = self.b.get(self.at..self.at.checked_add(n.checked_mul(8)?)?)?;
+        self.at += 8 * n;
+        Some(s.chunks_exact(8).map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])).collect())
+    }
+}
+
+/// Decodes a rank file; checks magic, checksum and the rank layout.
+fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, String> {
+    if b.len() < 8 + 8 * 8 + 8 || &b[..8] != MAGIC {
+        return Err("not a checkpoint file (bad magic or too short)".into());
+    }
+    let (body, tail) = b.split_at(b.len() - 8);
+    let want = u64::from_le_bytes(tail.try_into().map_err(|_| "truncated")?);
+    if fnv(body) != want {
+        return Err("checksum mismatch (a damaged file)".into());
+    }
+    let mut r = Reader { b: body, at: 8 };
+    let bad = || "truncated file".to_string();
+    let h: Vec<usize> = (0..7).map(|_| r.u64().map(|v| v as usize)).collect::<Option<_>>().ok_or_else(bad)?;
+    if h[0] != ranks {
+        return Err(format!("written by a run on {} rank(s); restart it on {} rank(s) (mpirun -n {})", h[0], h[0], h[0]));
+    }
+    if h[1] != rank {
+        return Err(format!("holds rank {}, expected {rank}", h[1]));
+    }
+    let (n, step, n_el, n_ne, n_ce) = (h[2], h[3], h[4], h[5], h[6]);
+    let t = r.f64s(1).ok_or_else(bad)?[0];
+    let e = r.f64s(6).ok_or_else(bad)?;
+    let energy = [e[0], e[1], e[2], e[3], e[4], e[5]];
+    let mut vecs = Vec::new();
+    for _ in 0..5 {
+        vecs.push(r.f64s(n).ok_or_else(bad)?);
+    }
+    let lens: Vec<usize> = (0..n_el).map(|_| r.u64().map(|v| v as usize)).collect::<Option<_>>().ok_or_else(bad)?;
+    let states = lens.iter().map(|&l| r.f64s(l)).collect::<Option<Vec<_>>>().ok_or_else(bad)?;
+    let node_envelope = r.f64s(n_ne).ok_or_else(bad)?;
+    let cell_envelope = r.f64s(n_ce).ok_or_else(bad)?;
+    let [u, v, a, fi, cv]: [Vec<f64>; 5] = vecs.try_into().map_err(|_| bad())?;
+    Ok(Checkpoint { step, t, energy, vectors: [u, v, a, fi, cv], states, node_envelope, cell_envelope })
+}
+
+/// Collective. Writes `c` (this rank's part) as the latest checkpoint under `results`.
+pub fn write(ctx: &Context, results: &Path, c: &Checkpoint) -> Result<PathBuf, Error> {
+    let root = checkpoint_dir(results);
+    let name = format!("step-{:09}", c.step);
+    let dir = root.join(&name);
+    let file = dir.join(format!("rank-{:04}.bin", ctx.rank));
+    let mine = std::fs::create_dir_all(&dir).and_then(|_| write_atomic(&file, &encode(c, ctx.size, ctx.rank))).map_err(|e| io_err(&file, e));
+    crate::parallel::agree(&ctx.comm, mine, Error::exit_code)?;
+    let latest = root.join("latest.json");
+    let published = if ctx.rank == 0 {
+        let text = serde_json::json!({ "step": c.step, "time": c.t, "ranks": ctx.size, "dir": name }).to_string();
+        let done = write_atomic(&latest, text.as_bytes()).map_err(|e| io_err(&latest, e));
+        if done.is_ok() {
+            // Older checkpoints are no longer referenced.
+            if let Ok(entries) = std::fs::read_dir(&root) {
+                for e in entries.flatten() {
+                    let p = e.path();
+                    if p.is_dir() && p.file_name().is_some_and(|f| f.to_string_lossy().starts_with("step-") && f.to_string_lossy() != name.as_str()) {
+                        let _ = std::fs::remove_dir_all(p);
+                    }
+                }
+            }
+        }
+        done
+    } else {
+        Ok(())
+    };
+    crate::parallel::agree(&ctx.comm, published, Error::exit_code)?;
+    ctx.comm.barrier();
+    Ok(dir)
+}
+
+/// Collective. Reads this rank's part of the latest checkpoint under `results`.
+pub fn read_latest(ctx: &Context, results: &Path) -> Result<Checkpoint, Error> {
+    let root = checkpoint_dir(results);
+    let latest = root.join("latest.json");
+    let read = (|| -> Result<Checkpoint, Error> {
+        let text = std::fs::read_to_string(&latest).map_err(|e| io_err(&latest, format!("{e} (no checkpoint to restart from)")))?;
+        let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| io_err(&latest, e))?;
+        let dir = v["dir"].as_str().ok_or_else(|| io_err(&latest, "no \"dir\" entry"))?;
+        let file = root.join(dir).join(format!("rank-{:04}.bin", ctx.rank));
+        let bytes = std::fs::read(&file).map_err(|e| io_err(&file, e))?;
+        decode(&bytes, ctx.size, ctx.rank).map_err(|e| io_err(&file, e))
+    })();
+    Ok(crate::parallel::agree(&ctx.comm, read, Error::exit_code)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encode_decode_round_trip_and_damage_detection() {
+        let c = Checkpoint {
+            step: 7,
+            t: 0.07,
+            energy: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            vectors: [vec![1.0, -2.0], vec![3.0, 4.0], vec![5.0, 6.0], vec![7.0, 8.0], vec![9.0, 10.0]],
+            states: vec![vec![], vec![0.1, 0.2, 0.3]],
+            node_envelope: vec![1.5],
+            cell_envelope: vec![0.25, 0.5],
+        };
+        let b = encode(&c, 2, 1);
+        assert_eq!(decode(&b, 2, 1).unwrap(), c);
+        assert!(decode(&b, 1, 0).unwrap_err().contains("2 rank(s)"));
+        let mut bad = b.clone();
+        bad[100] ^= 1;
+        assert!(decode(&bad, 2, 1).unwrap_err().contains("checksum"));
+        assert!(decode(&b[..50], 2, 1).is_err());
+    }
+}

@@ -1,0 +1,89 @@
+//! The static step before the earthquake: the static loads (self-weight, nodal loads) applied by
+//! a load factor λ from 0 to 1 in `steps` steps, full Newton in each on
+//! `r(u) = λ f_static − f_int(u)`, a failing step halved up to `max_cuts` times. It uses the same
+//! [`DynamicSystem`] as the time history (with `c_m = c_c = 0` the Jacobian is the tangent), so the
+//! gravity state the earthquake starts from lives in the same elements.
+use super::system::DynamicSystem;
+use crate::parallel::Log;
+use crate::run::Error;
+
+/// Settings of the gravity phase.
+#[derive(Clone, Copy, Debug)]
+pub struct GravitySettings {
+    /// Load steps.
+    pub steps: usize,
+    /// Newton iterations per step.
+    pub max_iterations: usize,
+    /// Relative tolerance on ‖r‖ / ‖λ f‖.
+    pub tolerance: f64,
+    /// Halvings of a failing step.
+    pub max_cuts: usize,
+}
+
+/// Collective. The static equilibrium under the full static load, committed in the elements.
+/// Returns the displacement (zero when there is no static load).
+pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Log) -> Result<Vec<f64>, Error> {
+    let n = sys.len();
+    let f = sys.static_load().to_vec();
+    let f_norm = sys.dot(&f, &f).sqrt();
+    let mut u = vec![0.0; n];
+    if f_norm == 0.0 {
+        log.info("gravity: no static load; the time history starts from rest at u = 0");
+        return Ok(u);
+    }
+    let (mut fi, mut r, mut du) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut lambda = 0.0f64;
+    let mut dl = 1.0 / s.steps as f64;
+    let mut cuts = 0;
+    while lambda < 1.0 - 1e-12 {
+        let target = (lambda + dl).min(1.0);
+        let mut trial = u.clone();
+        let mut converged = false;
+        let mut rel = f64::INFINITY;
+        let mut its = 0;
+        for it in 0..=s.max_iterations {
+            its = it;
+            if sys.internal_force(&trial, &mut fi).is_err() {
+                break;
+            }
+            for i in 0..n {
+                r[i] = target * f[i] - fi[i];
+            }
+            rel = sys.dot(&r, &r).sqrt() / (target * f_norm);
+            if !rel.is_finite() {
+                break;
+            }
+            if rel <= s.tolerance {
+                converged = true;
+                break;
+            }
+            if it == s.max_iterations {
+                break;
+            }
+            if sys.prepare(Some(&trial), 0.0, 0.0).and_then(|_| sys.solve(&r, &mut du)).is_err() {
+                break;
+            }
+            for i in 0..n {
+                trial[i] += du[i];
+            }
+        }
+        if converged {
+            sys.commit();
+            u = trial;
+            lambda = target;
+            log.info(format!("gravity: λ = {lambda:.4}, {its} iteration(s), relative residual {rel:.2e}"));
+        } else {
+            sys.revert();
+            cuts += 1;
+            if cuts > s.max_cuts {
+                return Err(Error::Analysis(format!(
+                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6} after {} halvings (relative residual {rel:.3e})",
+                    s.max_cuts
+                )));
+            }
+            dl /= 2.0;
+            log.info(format!("gravity: step towards λ = {target:.4} failed (residual {rel:.2e}); Δλ = {dl:.4e}"));
+        }
+    }
+    Ok(u)
+}

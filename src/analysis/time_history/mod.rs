@@ -1,0 +1,53 @@
+//! Seismic time history: gravity as a static step, then the base acceleration integrated
+//! implicitly (Newmark or HHT-α) in the relative formulation
+//!
+//! ```text
+//!   M ü + C u̇ + f_int(u) = f_static − M Σ_d ι_d a_g,d(t)
+//! ```
+//!
+//! (u relative to the moving base, ι_d the unit translation along d at every free DOF).
+//!
+//! | file               | concept                                                          |
+//! |--------------------|------------------------------------------------------------------|
+//! | `scheme.rs`        | Newmark β, γ and HHT α: the kinematic updates and the Jacobian    |
+//! | `damping.rs`       | Rayleigh damping from two frequencies and a ratio, or α and β    |
+//! | `ground.rs`        | `a_g(t)` of up to three records; ground velocity and displacement |
+//! | `system.rs`        | the [`DynamicSystem`] trait and a dense implementation            |
+//! | `stepper.rs`       | one step: Newton (tangent, modified, initial) and substepping     |
+//! | `energy.rs`        | the energy balance                                                |
+//! | `petsc_system.rs`  | [`PetscSystem`]: the distributed model (PETSc matrices, KSP reuse) |
+//! | `gravity.rs`       | the static gravity step the earthquake starts from               |
+//! | `checkpoint.rs`    | atomic checkpoints and `--restart`                               |
+//! | `diagnosis.rs`     | where a failed step is out of balance, which elements changed     |
+//! | `monitor.rs`       | monitored nodes to CSV and PNG                                   |
+//! | `envelope.rs`      | peak displacement, drift and damage                              |
+//! | `progress.rs`      | progress lines with ETA on rank 0                                |
+//! | `driver.rs`        | the `time_history` job and the reusable stepping loop            |
+mod checkpoint;
+mod damping;
+mod diagnosis;
+mod driver;
+mod envelope;
+mod gravity;
+mod monitor;
+mod petsc_system;
+mod progress;
+mod energy;
+mod ground;
+mod scheme;
+mod stepper;
+mod system;
+#[cfg(test)]
+mod tests;
+
+pub use checkpoint::Checkpoint;
+pub use damping::Rayleigh;
+pub use driver::{ground_motion, integrate, run, Integration, TimeHistorySummary};
+pub use envelope::Envelopes;
+pub use gravity::{solve_gravity, GravitySettings};
+pub use petsc_system::PetscSystem;
+pub use energy::EnergyBalance;
+pub use ground::GroundMotion;
+pub use scheme::Scheme;
+pub use stepper::{external_force, State, StepFailure, StepReport, StepSettings, Stepper};
+pub use system::{DenseSystem, DynamicSystem};

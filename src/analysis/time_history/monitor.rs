@@ -1,0 +1,156 @@
+//! Monitored nodes: their relative displacement and absolute acceleration at every step, to
+//! `monitors.csv` (rank 0 appends a row per step and flushes it, so a killed run keeps its rows)
+//! and, at the end, one PNG per node.
+//!
+//! A monitor names a node by its Gmsh tag, or by a physical group and a point: the group's node
+//! nearest to it. The rank that owns the node supplies its values; a sum over ranks brings them to
+//! every rank (the others add zeros).
+use crate::config::MonitorConfig;
+use crate::mesh::Mesh;
+use crate::parallel::{Context, DofMap};
+use crate::run::Error;
+use mpi::traits::CommunicatorCollectives;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Values per monitor per row: u_x, u_y, u_z (relative), a_x, a_y, a_z (absolute).
+pub const VALUES: usize = 6;
+
+/// One resolved monitor.
+#[derive(Clone, Debug)]
+pub struct Monitor {
+    /// Its name.
+    pub name: String,
+    /// Mesh node index.
+    pub node: usize,
+    /// Gmsh tag.
+    pub tag: u64,
+    /// Index among this rank's owned nodes, if it owns it.
+    pub owned_index: Option<usize>,
+}
+
+/// Resolves the job's monitors against the mesh (errors name the monitor).
+pub fn resolve(cfg: &[MonitorConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<Monitor>, Error> {
+    let mut out = Vec::new();
+    for (i, m) in cfg.iter().enumerate() {
+        let what = format!("dynamics.monitor[{i}] ('{}')", m.name);
+        let node = match (m.node, &m.group, m.near) {
+            (Some(tag), _, _) => mesh.node_tags.iter().position(|&t| t == tag).ok_or_else(|| Error::Analysis(format!("{what}: the mesh has no node with tag {tag}")))?,
+            (None, Some(g), Some(p)) => {
+                let group = mesh.group(g).map_err(|e| Error::Analysis(format!("{what}: {e}")))?;
+                let nodes = mesh.nodes_in_group(group);
+                let d2 = |n: usize| (0..3).map(|k| (mesh.coords[n][k] - p[k]).powi(2)).sum::<f64>();
+                nodes.into_iter().filter(|&n| dofs.global[n] != usize::MAX).min_by(|&a, &b| d2(a).total_cmp(&d2(b))).ok_or_else(|| Error::Analysis(format!("{what}: group '{g}' has no node of the model")))?
+            }
+            _ => return Err(Error::Analysis(format!("{what}: give node, or group with near"))),
+        };
+        if dofs.global[node] == usize::MAX {
+            return Err(Error::Analysis(format!("{what}: node {} belongs to no element of the model", mesh.node_tags[node])));
+        }
+        let owned_index = dofs.owned.iter().position(|&n| n == node);
+        out.push(Monitor { name: m.name.clone(), node, tag: mesh.node_tags[node], owned_index });
+    }
+    Ok(out)
+}
+
+/// Collective. The monitors' values this step, on every rank: from the owner's relative
+/// displacement `u` and absolute acceleration `a_abs` (owned DOFs, 6 per node).
+pub fn values(ctx: &Context, monitors: &[Monitor], u: &[f64], a_abs: &[f64]) -> Vec<f64> {
+    let mut local = vec![0.0; VALUES * monitors.len()];
+    for (k, m) in monitors.iter().enumerate() {
+        if let Some(i) = m.owned_index {
+            local[VALUES * k..VALUES * k + 3].copy_from_slice(&u[6 * i..6 * i + 3]);
+            local[VALUES * k + 3..VALUES * k + 6].copy_from_slice(&a_abs[6 * i..6 * i + 3]);
+        }
+    }
+    let mut global = vec![0.0; local.len()];
+    if !local.is_empty() {
+        ctx.comm.all_reduce_into(&local[..], &mut global[..], mpi::collective::SystemOperation::sum());
+    }
+    global
+}
+
+/// The CSV header.
+pub fn header(monitors: &[Monitor]) -> String {
+    let mut h = String::from("step,time");
+    for m in monitors {
+        for q in ["ux", "uy", "uz", "ax_abs", "ay_abs", "az_abs"] {
+            h += &format!(",{}:{q}", m.name);
+        }
+    }
+    h
+}
+
+/// A CSV file that rank 0 appends rows to, flushed per row; on a restart, rows after the
+/// checkpoint's step are dropped first, so the file continues exactly where the state does.
+pub struct CsvLog {
+    file: Option<std::fs::File>,
+    /// Its path.
+    pub path: PathBuf,
+}
+
+impl CsvLog {
+    /// Rank 0 creates (or, with `restart_step`, truncates after that step and reopens) `path`.
+    pub fn open(ctx: &Context, path: &Path, header: &str, restart_step: Option<usize>) -> Result<CsvLog, Error> {
+        let opened = if ctx.rank == 0 {
+            (|| -> std::io::Result<std::fs::File> {
+                let mut text = format!("{header}\n");
+                if let Some(k) = restart_step {
+                    if let Ok(old) = std::fs::read_to_string(path) {
+                        for line in old.lines().skip(1) {
+                            match line.split(',').next().and_then(|s| s.parse::<usize>().ok()) {
+                                Some(s) if s <= k => text += &format!("{line}\n"),
+                                _ => {}
+                            }
+                        }
+                    }
+                }
+                let mut f = std::fs::File::create(path)?;
+                f.write_all(text.as_bytes())?;
+                f.flush()?;
+                Ok(f)
+            })()
+            .map(Some)
+            .map_err(|e| Error::Analysis(format!("cannot write {}: {e}", path.display())))
+        } else {
+            Ok(None)
+        };
+        let file = crate::parallel::agree(&ctx.comm, opened, Error::exit_code)?;
+        Ok(CsvLog { file, path: path.to_path_buf() })
+    }
+
+    /// Rank 0 appends a row (write errors are reported once, then the file is dropped).
+    pub fn row(&mut self, line: &str, log: &crate::parallel::Log) {
+        if let Some(f) = &mut self.file {
+            if let Err(e) = writeln!(f, "{line}").and_then(|_| f.flush()) {
+                log.warn(format!("cannot append to {}: {e}; no more rows", self.path.display()));
+                self.file = None;
+            }
+        }
+    }
+}
+
+/// Rank 0 draws one PNG per monitor (relative displacement against time) from the CSV file.
+pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>, String> {
+    use crate::plot::{LineChart, SeriesStyle};
+    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()).collect();
+    let mut files = Vec::new();
+    for (k, m) in monitors.iter().enumerate() {
+        let mut chart = LineChart::new(&format!("monitor '{}' (node {}): displacement relative to the base", m.name, m.tag), "time [s]", "displacement [m]");
+        let mut drawn = 0;
+        for (c, q) in ["u_x", "u_y", "u_z"].iter().enumerate() {
+            let col = 2 + VALUES * k + c;
+            let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.len() > col).map(|r| (r[1], r[col])).collect();
+            // Components that stay exactly zero are left out, unless all do.
+            if pts.iter().any(|p| p.1 != 0.0) || (c == 2 && drawn == 0) {
+                chart = chart.series(q, pts, SeriesStyle::Line);
+                drawn += 1;
+            }
+        }
+        let file = dir.join(format!("monitor-{}.png", m.name));
+        chart.save_png(&file).map_err(|e| e.to_string())?;
+        files.push(file);
+    }
+    Ok(files)
+}

@@ -1,0 +1,342 @@
+//! The distributed structural model as a [`DynamicSystem`]: PETSc matrices and KSP, the rank's
+//! elements, ghosted displacements.
+//!
+//! Matrices: `M` (mass, free rows only), `K₀` (initial stiffness, assembled before gravity, for
+//! Rayleigh damping and the `initial` Newton variant) and `J = K + c_m M + c_c C` with
+//! `C = α M + β K₀`, i.e. `J = K + (c_m + c_c α) M + c_c β K₀`. `J` is factored (default: MUMPS
+//! LU, or Cholesky when every element is linear; any `-ksp_type`/`-pc_type` from the command
+//! line or `[solver.petsc]` wins) and the factorization is kept — `KSPSetOperators` is simply not
+//! called again — as long as `J` cannot have changed: same coefficients and either a linear model
+//! or the initial stiffness. Modified Newton calls [`DynamicSystem::prepare`] once per step, so
+//! the factorization is reused across its iterations.
+//!
+//! For a linear model (no element has state) the internal force is the product `K₀ u`.
+//!
+//! Element errors (a material update that fails) happen on one rank: the loops below record the
+//! first one, still take part in every collective call, and the ranks then agree on it, so a
+//! failing element makes the step fail on every rank (and be substepped), never hang.
+use super::damping::Rayleigh;
+use super::system::DynamicSystem;
+use crate::analysis::assembly::{self, Rows};
+use crate::analysis::Discretization;
+use crate::config::Job;
+use crate::element::{ElementOutput, EvalRequest, MassKind};
+use crate::mesh::Mesh;
+use crate::model::StructuralModel;
+use crate::parallel::{agree, Context};
+use crate::petsc::{Ksp, Matrix, Vector};
+use crate::run::Error;
+use mpi::traits::CommunicatorCollectives;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// The model as a dynamic system on the ranks of `ctx`.
+pub struct PetscSystem<'a> {
+    ctx: &'a Context,
+    mesh: &'a Mesh,
+    model: &'a StructuralModel,
+    /// Partition, numbering and the owned elements.
+    pub disc: Discretization,
+    m: Matrix,
+    k0: Matrix,
+    j: Matrix,
+    ksp: Ksp,
+    rayleigh: Rayleigh,
+    x: Vector,
+    y: Vector,
+    ug: Vector,
+    idx: Vec<i32>,
+    local: HashMap<usize, usize>,
+    iota: [Vec<f64>; 3],
+    m_iota: [Vec<f64>; 3],
+    f_static: Vec<f64>,
+    /// True when no element has state: the tangent is K₀ everywhere.
+    pub linear: bool,
+    key: Option<(u64, u64, bool)>,
+    /// Factorizations (operator changes) so far.
+    pub factorizations: usize,
+    /// Linear solves so far.
+    pub solves: usize,
+    /// Seconds spent assembling Jacobians.
+    pub assemble_seconds: f64,
+    /// Seconds spent in KSP solves (factorizations included).
+    pub solve_seconds: f64,
+}
+
+impl<'a> PetscSystem<'a> {
+    /// Collective. Sets up the discretization, assembles `M`, `K₀`, the static load and the
+    /// influence vectors, and creates the solver (options read now, under no prefix).
+    pub fn new(ctx: &'a Context, job: &Job, mesh: &'a Mesh, model: &'a StructuralModel, mass: MassKind, rayleigh: Rayleigh) -> Result<PetscSystem<'a>, Error> {
+        let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+        let n = disc.dofs.n_owned_dofs();
+        let format = job.spec.solver.matrix;
+        let mut m = disc.new_matrix(ctx, mesh, model, format)?;
+        let mut k0 = disc.new_matrix(ctx, mesh, model, format)?;
+        let mut j = disc.new_matrix(ctx, mesh, model, format)?;
+        assembly::assemble_mass(&disc, mesh, model, mass, &mut m)?;
+        assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k0)?;
+        assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut j)?;
+        j.set_near_null_space(&ctx.comm, crate::analysis::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
+        for e in disc.elements.iter_mut() {
+            e.revert();
+        }
+        let nonlinear_local = disc.elements.iter().filter(|e| e.n_state() > 0).count() as u64;
+        let mut nonlinear = 0u64;
+        ctx.comm.all_reduce_into(&nonlinear_local, &mut nonlinear, mpi::collective::SystemOperation::sum());
+        let linear = nonlinear == 0;
+        let mut ksp = Ksp::new(&ctx.comm, "")?;
+        ksp.set_type("preonly")?;
+        ksp.set_pc_type(if linear { "cholesky" } else { "lu" })?;
+        ksp.set_factor_solver("mumps")?;
+        ksp.set_from_options()?;
+        let first = (6 * disc.dofs.node_offset()) as i32;
+        let idx: Vec<i32> = (0..n as i32).map(|i| first + i).collect();
+        let mut x = Vector::new_mpi(&ctx.comm, n, None)?;
+        let mut y = Vector::new_mpi(&ctx.comm, n, None)?;
+        let ug = Vector::new_ghosted(&ctx.comm, n, &disc.dofs.ghost_dofs())?;
+        let mut iota: [Vec<f64>; 3] = Default::default();
+        let mut m_iota: [Vec<f64>; 3] = Default::default();
+        for d in 0..3 {
+            let mut v = vec![0.0; n];
+            for (i, &node) in disc.dofs.owned.iter().enumerate() {
+                if !disc.dofs.is_fixed(node, d) {
+                    v[6 * i + d] = 1.0;
+                }
+            }
+            x.set_values(&idx, &v)?;
+            x.assemble()?;
+            m.mult(&x, &mut y)?;
+            m_iota[d] = y.owned_values()?;
+            iota[d] = v;
+        }
+        assembly::assemble_loads(&disc, mesh, model, Rows::Free, &mut y)?;
+        let f_static = y.owned_values()?;
+        let local = disc.dofs.local_index();
+        Ok(PetscSystem {
+            ctx,
+            mesh,
+            model,
+            disc,
+            m,
+            k0,
+            j,
+            ksp,
+            rayleigh,
+            x,
+            y,
+            ug,
+            idx,
+            local,
+            iota,
+            m_iota,
+            f_static,
+            linear,
+            key: None,
+            factorizations: 0,
+            solves: 0,
+            assemble_seconds: 0.0,
+            solve_seconds: 0.0,
+        })
+    }
+
+    /// The solver in one line.
+    pub fn describe_solver(&self) -> String {
+        self.ksp.describe().unwrap_or_else(|e| e.to_string())
+    }
+
+    /// Collective. The local form (owned, then ghosts) of the owned vector `u`.
+    pub fn local_form(&mut self, u: &[f64]) -> Result<Vec<f64>, Error> {
+        self.ug.copy_owned_from(u)?;
+        self.ug.ghost_update()?;
+        Ok(self.ug.with_local_form(|s| s.to_vec())?)
+    }
+
+    /// The element DOF values of local cell `i` from a local-form vector.
+    fn gather(&self, i: usize, u_local: &[f64], u_e: &mut Vec<f64>) {
+        let cell = &self.mesh.cells[self.model.cells[self.disc.local_cells[i]].cell];
+        u_e.clear();
+        for n in &cell.nodes {
+            let l = self.local[n];
+            u_e.extend_from_slice(&u_local[6 * l..6 * l + 6]);
+        }
+    }
+
+    /// Collective. Adds the tangent at `u_local` into `self.j` (zeroed first) and assembles it;
+    /// element errors are agreed across ranks after the collective assembly.
+    fn assemble_tangent(&mut self, u_local: &[f64]) -> Result<(), Error> {
+        self.j.zero_entries()?;
+        let mut out = ElementOutput::new(12);
+        let (mut free, mut all, mut u_e, mut rows) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut first_err: Option<Error> = None;
+        for i in 0..self.disc.local_cells.len() {
+            let cell = &self.mesh.cells[self.model.cells[self.disc.local_cells[i]].cell];
+            self.disc.element_equations(&cell.nodes, &mut free, &mut all);
+            self.gather(i, u_local, &mut u_e);
+            if let Err(source) = self.disc.elements[i].evaluate(&u_e, EvalRequest::ForceAndTangent, &mut out) {
+                first_err.get_or_insert(Error::Element { tag: cell.tag, group: String::new(), source });
+                continue;
+            }
+            let n = free.len();
+            rows.clear();
+            for r in 0..n {
+                for c in 0..n {
+                    rows.push(out.k_t[(r, c)]);
+                }
+            }
+            self.j.add_values(&free, &free, &rows)?;
+            for r in 0..n {
+                if free[r] < 0 {
+                    self.j.add_values(&all[r..r + 1], &all[r..r + 1], &[out.k_t[(r, r)]])?;
+                }
+            }
+        }
+        self.j.assemble()?;
+        agree(&self.ctx.comm, first_err.map_or(Ok(()), Err), Error::exit_code)?;
+        Ok(())
+    }
+}
+
+impl DynamicSystem for PetscSystem<'_> {
+    fn len(&self) -> usize {
+        self.idx.len()
+    }
+
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        let local: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+        let mut global = 0.0;
+        self.ctx.comm.all_reduce_into(&local, &mut global, mpi::collective::SystemOperation::sum());
+        global
+    }
+
+    fn dots(&self, pairs: &[(&[f64], &[f64])]) -> Vec<f64> {
+        let local: Vec<f64> = pairs.iter().map(|(a, b)| a.iter().zip(b.iter()).map(|(x, y)| x * y).sum()).collect();
+        let mut global = vec![0.0; local.len()];
+        self.ctx.comm.all_reduce_into(&local[..], &mut global[..], mpi::collective::SystemOperation::sum());
+        global
+    }
+
+    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
+        self.x.copy_owned_from(x)?;
+        self.m.mult(&self.x, &mut self.y)?;
+        self.y.with_owned_values(|s| y.copy_from_slice(s))?;
+        Ok(())
+    }
+
+    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
+        let Rayleigh { alpha, beta } = self.rayleigh;
+        if alpha == 0.0 && beta == 0.0 {
+            y.iter_mut().for_each(|v| *v = 0.0);
+            return Ok(());
+        }
+        self.x.copy_owned_from(x)?;
+        self.m.mult(&self.x, &mut self.y)?;
+        let my = self.y.owned_values()?;
+        self.k0.mult(&self.x, &mut self.y)?;
+        self.y.with_owned_values(|ky| {
+            for i in 0..y.len() {
+                y[i] = alpha * my[i] + beta * ky[i];
+            }
+        })?;
+        Ok(())
+    }
+
+    fn mass_influence(&self, d: usize) -> &[f64] {
+        &self.m_iota[d]
+    }
+
+    fn influence(&self, d: usize) -> &[f64] {
+        &self.iota[d]
+    }
+
+    fn static_load(&self) -> &[f64] {
+        &self.f_static
+    }
+
+    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
+        if self.linear {
+            // No element has state: f_int(u) = K₀ u on the free rows (K₀'s fixed rows hold only
+            // their diagonal and u vanishes there), one sparse product instead of an element loop.
+            self.x.copy_owned_from(u)?;
+            self.k0.mult(&self.x, &mut self.y)?;
+            self.y.with_owned_values(|s| f.copy_from_slice(s))?;
+            for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
+                for d in 0..6 {
+                    if self.disc.dofs.is_fixed(node, d) {
+                        f[6 * i + d] = 0.0;
+                    }
+                }
+            }
+            return Ok(());
+        }
+        let u_local = self.local_form(u)?;
+        self.y.set_all(0.0)?;
+        let mut out = ElementOutput::new(12);
+        let (mut free, mut all, mut u_e) = (Vec::new(), Vec::new(), Vec::new());
+        let mut first_err: Option<Error> = None;
+        for i in 0..self.disc.local_cells.len() {
+            let cell = &self.mesh.cells[self.model.cells[self.disc.local_cells[i]].cell];
+            self.disc.element_equations(&cell.nodes, &mut free, &mut all);
+            self.gather(i, &u_local, &mut u_e);
+            match self.disc.elements[i].evaluate(&u_e, EvalRequest::Force, &mut out) {
+                Ok(()) => self.y.add_values(&free, out.f_int.as_slice())?,
+                Err(source) => {
+                    first_err.get_or_insert(Error::Element { tag: cell.tag, group: String::new(), source });
+                }
+            }
+        }
+        self.y.assemble()?;
+        agree(&self.ctx.comm, first_err.map_or(Ok(()), Err), Error::exit_code)?;
+        self.y.with_owned_values(|s| f.copy_from_slice(s))?;
+        Ok(())
+    }
+
+    fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error> {
+        let initial = tangent_at.is_none() || self.linear;
+        let key = (c_m.to_bits(), c_c.to_bits(), initial);
+        if initial && self.key == Some(key) {
+            return Ok(());
+        }
+        let t0 = Instant::now();
+        let Rayleigh { alpha, beta } = self.rayleigh;
+        match tangent_at {
+            Some(u) if !self.linear => {
+                let u_local = self.local_form(u)?;
+                self.assemble_tangent(&u_local)?;
+                self.j.axpy(c_c * beta, &self.k0)?;
+            }
+            _ => {
+                self.j.zero_entries()?;
+                self.j.axpy(1.0 + c_c * beta, &self.k0)?;
+            }
+        }
+        self.j.axpy(c_m + c_c * alpha, &self.m)?;
+        self.ksp.set_operators(&self.j)?;
+        self.assemble_seconds += t0.elapsed().as_secs_f64();
+        self.factorizations += 1;
+        self.key = Some(key);
+        Ok(())
+    }
+
+    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        let t0 = Instant::now();
+        self.x.copy_owned_from(r)?;
+        let solved = self.ksp.solve(&self.x, &mut self.y).map_err(Error::from);
+        agree(&self.ctx.comm, solved, Error::exit_code)?;
+        self.y.with_owned_values(|s| x.copy_from_slice(s))?;
+        self.solves += 1;
+        self.solve_seconds += t0.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    fn commit(&mut self) {
+        for e in self.disc.elements.iter_mut() {
+            e.commit();
+        }
+    }
+
+    fn revert(&mut self) {
+        for e in self.disc.elements.iter_mut() {
+            e.revert();
+        }
+    }
+}

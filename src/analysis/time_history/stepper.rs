@@ -1,0 +1,306 @@
+//! One time step: Newton iterations on the scheme's residual, halved substeps when they fail.
+//!
+//! The residual of step `n → n+1` (size `h`) at the trial `u = u_{n+1}` (see [`super::scheme`]):
+//!
+//! ```text
+//!   r(u) = (1+α) f_{n+1} − α f_n + α (C v_n + f_int,n) − M a_{n+1} − (1+α)(C v_{n+1} + f_int(u))
+//! ```
+//!
+//! Newton: `(K + c_m M + c_c C) Δu = r / (1+α)`, `u ← u + Δu`, from the predictor `u = u_n`,
+//! converged when `‖r‖ ≤ tol · (‖(1+α) f_{n+1} − α f_n + α(C v_n + f_int,n)‖ + ‖M a‖ + (1+α)(‖C v‖ + ‖f_int‖))`.
+//! `K` is the tangent at every iteration (`tangent`), at the step's start (`modified`) or the
+//! initial stiffness (`initial`); the system keeps a factorization while `K` and the coefficients
+//! stay the same, so a linear model factors once per step size.
+//!
+//! A step that does not converge (too many iterations, a non-finite residual, an element or solver
+//! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
+//! are reverted before each retry. When even that fails, the elements keep the failed trial state
+//! (for the diagnosis) and the caller decides.
+use super::energy::EnergyBalance;
+use super::scheme::Scheme;
+use super::system::DynamicSystem;
+use crate::config::NewtonKind;
+
+/// Settings of the iterations.
+#[derive(Clone, Copy, Debug)]
+pub struct StepSettings {
+    /// Scheme.
+    pub scheme: Scheme,
+    /// Newton variant.
+    pub newton: NewtonKind,
+    /// Iterations per (sub)step.
+    pub max_iterations: usize,
+    /// Relative force tolerance.
+    pub tolerance: f64,
+    /// Halvings allowed.
+    pub max_substeps: usize,
+}
+
+/// The state at the end of the last converged step (relative motion).
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    /// Steps done.
+    pub step: usize,
+    /// Time [s] (0 at the start of the time history).
+    pub t: f64,
+    /// Displacement.
+    pub u: Vec<f64>,
+    /// Velocity.
+    pub v: Vec<f64>,
+    /// Acceleration.
+    pub a: Vec<f64>,
+    /// `f_int(u)` (committed).
+    pub f_int: Vec<f64>,
+    /// `C v`.
+    pub cv: Vec<f64>,
+    /// Energies so far.
+    pub energy: EnergyBalance,
+}
+
+impl State {
+    /// At rest at `u0` (a static equilibrium under `f_static`) when the ground starts moving with
+    /// `a_g(0)`: `v = 0` and `M a = −Σ M ι_d a_g,d(0)`, so `a = −Σ ι_d a_g,d(0)`.
+    pub fn at_rest<S: DynamicSystem>(sys: &mut S, u0: Vec<f64>, ag0: [f64; 3]) -> Result<State, crate::run::Error> {
+        let n = sys.len();
+        let mut a = vec![0.0; n];
+        for d in 0..3 {
+            for (ai, ii) in a.iter_mut().zip(sys.influence(d)) {
+                *ai -= ii * ag0[d];
+            }
+        }
+        State::new(sys, u0, vec![0.0; n], a)
+    }
+
+    /// From given `u`, `v`, `a` (the caller ensures that `a` satisfies the equation of motion).
+    pub fn new<S: DynamicSystem>(sys: &mut S, u: Vec<f64>, v: Vec<f64>, a: Vec<f64>) -> Result<State, crate::run::Error> {
+        let n = sys.len();
+        let mut f_int = vec![0.0; n];
+        sys.internal_force(&u, &mut f_int)?;
+        let mut cv = vec![0.0; n];
+        sys.damping_mult(&v, &mut cv)?;
+        let mut mv = vec![0.0; n];
+        sys.mass_mult(&v, &mut mv)?;
+        let strain = 0.5 * sys.dot(&u, &f_int);
+        let energy = EnergyBalance { kinetic: 0.5 * sys.dot(&v, &mv), strain, strain0: strain, ..Default::default() };
+        Ok(State { step: 0, t: 0.0, u, v, a, f_int, cv, energy })
+    }
+}
+
+/// What a converged step took.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StepReport {
+    /// Newton iterations (solves), summed over substeps.
+    pub iterations: usize,
+    /// Substeps (1 when the step converged whole).
+    pub substeps: usize,
+    /// Relative residual at convergence (largest over substeps).
+    pub residual: f64,
+}
+
+/// Why a step failed.
+#[derive(Debug)]
+pub struct StepFailure {
+    /// Time reached (the last converged substep).
+    pub t: f64,
+    /// Smallest substep tried.
+    pub h: f64,
+    /// Its last relative residual.
+    pub residual: f64,
+    /// Its last residual vector (owned entries).
+    pub r: Vec<f64>,
+    /// What stopped it.
+    pub reason: String,
+}
+
+/// The step driver, with its scratch vectors. It holds no state of the analysis.
+pub struct Stepper {
+    /// Settings.
+    pub settings: StepSettings,
+    s: Scratch,
+}
+
+#[derive(Default)]
+struct Scratch {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    fi: Vec<f64>,
+    cv: Vec<f64>,
+    ma: Vec<f64>,
+    r: Vec<f64>,
+    du: Vec<f64>,
+    rhs: Vec<f64>,
+    f0: Vec<f64>,
+    f1: Vec<f64>,
+}
+
+/// `f(t) = f_static − Σ_d M ι_d a_g,d(t)`.
+pub fn external_force<S: DynamicSystem>(sys: &S, ag: [f64; 3], f: &mut Vec<f64>) {
+    f.clear();
+    f.extend_from_slice(sys.static_load());
+    for d in 0..3 {
+        if ag[d] != 0.0 {
+            for (fi, mi) in f.iter_mut().zip(sys.mass_influence(d)) {
+                *fi -= mi * ag[d];
+            }
+        }
+    }
+}
+
+enum Attempt {
+    Converged { iterations: usize, residual: f64 },
+    Failed { residual: f64, reason: String },
+}
+
+impl Stepper {
+    /// A stepper.
+    pub fn new(settings: StepSettings) -> Stepper {
+        Stepper { settings, s: Scratch::default() }
+    }
+
+    /// Advances `state` to time `target` (one nominal step), substepping if needed. On success
+    /// every element is committed; on failure the elements hold the last failed trial state.
+    pub fn advance<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        ground: &dyn Fn(f64) -> [f64; 3],
+        state: &mut State,
+        target: f64,
+        dt: f64,
+    ) -> Result<StepReport, StepFailure> {
+        // Substeps are dt / 2^k exactly (not differences of times, whose round-off would change
+        // the Jacobian's coefficients and defeat the reuse of its factorization); the last one
+        // ends exactly at `target`.
+        let h_min = dt / f64::powi(2.0, self.settings.max_substeps as i32);
+        let mut h = dt.min(target - state.t).max(f64::MIN_POSITIVE);
+        if (h - dt).abs() <= 1e-9 * dt {
+            h = dt;
+        }
+        let mut report = StepReport::default();
+        loop {
+            let last = target - state.t <= h * (1.0 + 1e-9);
+            let t1 = if last { target } else { state.t + h };
+            match self.attempt(sys, ground, state, t1, h) {
+                Attempt::Converged { iterations, residual } => {
+                    sys.commit();
+                    self.accept(sys, ground, state, t1);
+                    report.iterations += iterations;
+                    report.substeps += 1;
+                    report.residual = report.residual.max(residual);
+                    if last {
+                        state.step += 1;
+                        return Ok(report);
+                    }
+                }
+                Attempt::Failed { residual, reason } => {
+                    if h / 2.0 < h_min * (1.0 - 1e-9) {
+                        return Err(StepFailure { t: state.t, h, residual, r: self.s.r.clone(), reason });
+                    }
+                    sys.revert();
+                    h /= 2.0;
+                }
+            }
+        }
+    }
+
+    /// Newton iterations from `state` to `t1`; the trial solution is left in the scratch vectors.
+    fn attempt<S: DynamicSystem>(&mut self, sys: &mut S, ground: &dyn Fn(f64) -> [f64; 3], state: &State, t1: f64, h: f64) -> Attempt {
+        let st = self.settings;
+        let sc = st.scheme;
+        let n = sys.len();
+        let s = &mut self.s;
+        for v in [&mut s.u, &mut s.v, &mut s.a, &mut s.fi, &mut s.cv, &mut s.ma, &mut s.r, &mut s.du, &mut s.rhs] {
+            v.resize(n, 0.0);
+        }
+        external_force(sys, ground(state.t), &mut s.f0);
+        external_force(sys, ground(t1), &mut s.f1);
+        let al = sc.alpha;
+        for i in 0..n {
+            s.rhs[i] = (1.0 + al) * s.f1[i] - al * s.f0[i] + al * (state.cv[i] + state.f_int[i]);
+        }
+        // The size of the terms that cancel in r: the loads, the start's forces and the inertia
+        // of the predictor, M (v_n/(βh) + (1/(2β) − 1) a_n); the tolerance is relative to it, so
+        // that a step whose forces all pass through zero is not asked for more than round-off.
+        for i in 0..n {
+            s.du[i] = state.v[i] / (sc.beta * h) + (0.5 / sc.beta - 1.0) * state.a[i];
+        }
+        if let Err(e) = sys.mass_mult(&s.du, &mut s.ma) {
+            return Attempt::Failed { residual: f64::INFINITY, reason: e.to_string() };
+        }
+        let rhs_norm: f64 = sys.dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)]).iter().map(|x| x.sqrt()).sum();
+        let (c_m, c_c) = sc.jacobian_coefficients(h);
+        s.u.copy_from_slice(&state.u);
+        sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
+        let mut residual = f64::INFINITY;
+        for it in 0..=st.max_iterations {
+            if let Err(e) = sys.internal_force(&s.u, &mut s.fi) {
+                return Attempt::Failed { residual, reason: e.to_string() };
+            }
+            if let Err(e) = sys.damping_mult(&s.v, &mut s.cv).and_then(|_| sys.mass_mult(&s.a, &mut s.ma)) {
+                return Attempt::Failed { residual, reason: e.to_string() };
+            }
+            for i in 0..n {
+                s.r[i] = s.rhs[i] - s.ma[i] - (1.0 + al) * (s.cv[i] + s.fi[i]);
+            }
+            let d = sys.dots(&[(&s.r, &s.r), (&s.ma, &s.ma), (&s.cv, &s.cv), (&s.fi, &s.fi)]);
+            let rn = d[0].sqrt();
+            let scale = rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt());
+            residual = if scale > 0.0 { rn / scale } else { rn };
+            if !residual.is_finite() {
+                return Attempt::Failed { residual, reason: "the residual is not finite".into() };
+            }
+            if rn == 0.0 || residual <= st.tolerance {
+                return Attempt::Converged { iterations: it, residual };
+            }
+            if it == st.max_iterations {
+                break;
+            }
+            let prepared = match st.newton {
+                NewtonKind::Tangent => sys.prepare(Some(&s.u), c_m, c_c),
+                NewtonKind::Modified if it == 0 => sys.prepare(Some(&s.u), c_m, c_c),
+                NewtonKind::Modified => Ok(()),
+                NewtonKind::Initial => sys.prepare(None, c_m, c_c),
+            };
+            for x in s.r.iter_mut() {
+                *x /= 1.0 + al;
+            }
+            if let Err(e) = prepared.and_then(|_| sys.solve(&s.r, &mut s.du)) {
+                return Attempt::Failed { residual, reason: e.to_string() };
+            }
+            for i in 0..n {
+                s.u[i] += s.du[i];
+            }
+            sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
+        }
+        Attempt::Failed { residual, reason: format!("no convergence in {} iterations", st.max_iterations) }
+    }
+
+    /// Moves the converged trial solution into `state` and updates the energies.
+    fn accept<S: DynamicSystem>(&mut self, sys: &mut S, ground: &dyn Fn(f64) -> [f64; 3], state: &mut State, t1: f64) {
+        let s = &mut self.s;
+        let n = s.u.len();
+        let du: Vec<f64> = (0..n).map(|i| s.u[i] - state.u[i]).collect();
+        let e = &mut state.energy;
+        // f_0, f_1 were evaluated at the attempt's times: recompute for exactness of t1.
+        external_force(sys, ground(t1), &mut s.f1);
+        let avg = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect() };
+        let (f_avg, cv_avg, fi_avg) = (avg(&s.f0, &s.f1), avg(&state.cv, &s.cv), avg(&state.f_int, &s.fi));
+        let mut mv = vec![0.0; n];
+        // A failure here would have shown in the iterations (same operator).
+        let mv_ok = sys.mass_mult(&s.v, &mut mv).is_ok();
+        let d = sys.dots(&[(&du, &f_avg), (&du, &cv_avg), (&du, &fi_avg), (&s.u, &s.fi), (&s.v, &mv)]);
+        e.input += d[0];
+        e.damping += d[1];
+        e.internal_work += d[2];
+        e.strain = 0.5 * d[3];
+        if mv_ok {
+            e.kinetic = 0.5 * d[4];
+        }
+        state.u.copy_from_slice(&s.u);
+        state.v.copy_from_slice(&s.v);
+        state.a.copy_from_slice(&s.a);
+        state.f_int.copy_from_slice(&s.fi);
+        state.cv.copy_from_slice(&s.cv);
+        state.t = t1;
+    }
+}

@@ -1,0 +1,132 @@
+//! What the step driver needs from a discrete structural model, behind a small trait, so the same
+//! algorithm runs on dense matrices (the SDOF/2-DOF unit tests) and on the PETSc-distributed
+//! model ([`super::PetscSystem`]).
+//!
+//! Vectors are the rank's **owned** entries of the global vectors (the whole vector on one
+//! rank); [`DynamicSystem::dot`] reduces over ranks. Fixed DOFs stay in the vectors with the
+//! value 0 in every residual and every load, so they never move relative to the ground.
+use crate::run::Error;
+use nalgebra::{DMatrix, DVector};
+
+/// A semi-discrete structure `M ü + C u̇ + f_int(u) = f(t)`.
+pub trait DynamicSystem {
+    /// Owned entries of a vector.
+    fn len(&self) -> usize;
+    /// True when this rank owns no entry.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Global dot product. Collective.
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64;
+    /// Several global dot products with one reduction. Collective.
+    fn dots(&self, pairs: &[(&[f64], &[f64])]) -> Vec<f64> {
+        pairs.iter().map(|(a, b)| self.dot(a, b)).collect()
+    }
+    /// `y = M x`. Collective.
+    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error>;
+    /// `y = C x`. Collective.
+    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error>;
+    /// `M ι_d` for ground-motion direction `d` (ι_d: unit translation along `d` at free DOFs).
+    fn mass_influence(&self, d: usize) -> &[f64];
+    /// `ι_d` itself.
+    fn influence(&self, d: usize) -> &[f64];
+    /// The constant static load (gravity, nodal loads) on the free DOFs.
+    fn static_load(&self) -> &[f64];
+    /// Internal forces at total displacement `u` from the committed state (elements keep the result
+    /// as their trial state), on free DOFs. Collective.
+    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error>;
+    /// Prepares solves with `J = K + c_m M + c_c C`, `K` the tangent at `u` when `tangent_at` is
+    /// given (elements evaluated there), else the initial stiffness K₀. An implementation may keep
+    /// a previous factorization when `J` cannot have changed. Collective.
+    fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error>;
+    /// `x = J⁻¹ r` with the last prepared `J`. Collective.
+    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error>;
+    /// Accepts the trial state of every element.
+    fn commit(&mut self);
+    /// Discards the trial state of every element.
+    fn revert(&mut self);
+}
+
+/// A dense linear system (`f_int = K u`) for tests and small models.
+pub struct DenseSystem {
+    /// Mass.
+    pub m: DMatrix<f64>,
+    /// Damping.
+    pub c: DMatrix<f64>,
+    /// Stiffness.
+    pub k: DMatrix<f64>,
+    /// Static load.
+    pub f_static: Vec<f64>,
+    iota: Vec<Vec<f64>>,
+    m_iota: Vec<Vec<f64>>,
+    lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    /// Factorizations done (to test reuse).
+    pub factorizations: usize,
+    key: Option<(u64, u64)>,
+}
+
+impl DenseSystem {
+    /// `M`, `C`, `K` and the influence vector of each direction (x, y, z; missing ones are zero).
+    pub fn new(m: DMatrix<f64>, c: DMatrix<f64>, k: DMatrix<f64>, iota: Vec<Vec<f64>>) -> DenseSystem {
+        let n = m.nrows();
+        let mut iota = iota;
+        iota.resize(3, vec![0.0; n]);
+        let m_iota = iota.iter().map(|i| (&m * DVector::from_column_slice(i)).as_slice().to_vec()).collect();
+        DenseSystem { m, c, k, f_static: vec![0.0; n], iota, m_iota, lu: None, factorizations: 0, key: None }
+    }
+}
+
+fn mult(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
+    let r = a * DVector::from_column_slice(x);
+    y.copy_from_slice(r.as_slice());
+}
+
+impl DynamicSystem for DenseSystem {
+    fn len(&self) -> usize {
+        self.m.nrows()
+    }
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    }
+    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
+        mult(&self.m, x, y);
+        Ok(())
+    }
+    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
+        mult(&self.c, x, y);
+        Ok(())
+    }
+    fn mass_influence(&self, d: usize) -> &[f64] {
+        &self.m_iota[d]
+    }
+    fn influence(&self, d: usize) -> &[f64] {
+        &self.iota[d]
+    }
+    fn static_load(&self) -> &[f64] {
+        &self.f_static
+    }
+    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
+        mult(&self.k, u, f);
+        Ok(())
+    }
+    fn prepare(&mut self, _tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error> {
+        // Linear: J depends only on the coefficients.
+        let key = (c_m.to_bits(), c_c.to_bits());
+        if self.key == Some(key) {
+            return Ok(());
+        }
+        let j = &self.k + &self.m * c_m + &self.c * c_c;
+        self.lu = Some(j.lu());
+        self.factorizations += 1;
+        self.key = Some(key);
+        Ok(())
+    }
+    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        let lu = self.lu.as_ref().ok_or_else(|| Error::Analysis("solve before prepare".into()))?;
+        let s = lu.solve(&DVector::from_column_slice(r)).ok_or_else(|| Error::Analysis("singular dense Jacobian".into()))?;
+        x.copy_from_slice(s.as_slice());
+        Ok(())
+    }
+    fn commit(&mut self) {}
+    fn revert(&mut self) {}
+}

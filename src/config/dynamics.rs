@@ -1,0 +1,383 @@
+//! `[dynamics]`: the settings of a seismic time-history analysis (`[analysis] type =
+//! "time_history"`): gravity first (a static step), then the base acceleration integrated implicitly.
+//!
+//! ```toml
+//! [analysis]
+//! type = "time_history"
+//! [dynamics]
+//! duration = 22.0                 # [s] analysed time after gravity
+//! dt = 0.01                       # [s] time step (the records are interpolated linearly)
+//! scheme = "newmark"              # or "hht"
+//! beta = 0.25                     # Newmark β (default 1/4: average acceleration)
+//! gamma = 0.5                     # Newmark γ (default 1/2)
+//! # alpha = -0.05                 # HHT α in [-1/3, 0] (scheme = "hht"; then β, γ follow from α)
+//! mass = "consistent"             # or "lumped"
+//! newton = "modified"             # tangent | modified | initial
+//! max_iterations = 20
+//! force_tolerance = 1e-6          # ‖r‖ ≤ tol · max(‖M ι a_g‖, ‖f_grav‖, ‖f_int‖)
+//! max_substeps = 4                # halvings of a failing step
+//! output_every = 5                # steps between results (XDMF), CSV rows every step
+//! gravity_steps = 1               # load steps of the static gravity phase
+//! [dynamics.damping]              # Rayleigh C = α M + β K₀
+//! frequencies = [1.0, 10.0]       # [Hz] two frequencies with the same ratio ...
+//! ratio = 0.05
+//! # alpha = 0.3  beta = 1e-3      # ... or the coefficients themselves
+//! [[dynamics.ground_motion]]      # up to three, one per direction
+//! direction = "x"
+//! file = "records/vallorcine-like-synthetic.txt"
+//! format = "two_column"
+//! units = "m/s2"
+//! scale = 1.0
+//! [dynamics.checkpoint]
+//! every_steps = 200
+//! every_minutes = 10.0
+//! [[dynamics.monitor]]
+//! name = "top"
+//! node = 123                      # a Gmsh node tag, or:
+//! # group = "top"  near = [0, 0, 90]   # the group's node nearest to a point
+//! ```
+use super::source::{Seg, Source};
+use super::{ConfigError, RecordConfig, RecordFormat};
+use crate::seismic::Record;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Time-integration scheme.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SchemeName {
+    /// Newmark's family (β, γ).
+    #[default]
+    Newmark,
+    /// Hilber–Hughes–Taylor α.
+    Hht,
+}
+
+/// Newton-type iteration within a step.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum NewtonKind {
+    /// Full Newton: the tangent is reassembled and factored at every iteration.
+    Tangent,
+    /// Modified Newton: the tangent of the step's start, factored once per step.
+    #[default]
+    Modified,
+    /// Initial stiffness: the initial tangent, factored once for the whole run (refactored only
+    /// when the step size changes).
+    Initial,
+}
+
+/// Ground-motion direction.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Direction {
+    /// Global X.
+    X,
+    /// Global Y.
+    Y,
+    /// Global Z.
+    Z,
+}
+
+impl Direction {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// `[dynamics.damping]`: Rayleigh damping `C = α M + β K₀` (K₀ the initial stiffness).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DampingConfig {
+    /// Two frequencies [Hz] at which the damping ratio is `ratio`.
+    pub frequencies: Option<[f64; 2]>,
+    /// Damping ratio at those frequencies.
+    pub ratio: Option<f64>,
+    /// Mass-proportional coefficient α [1/s].
+    pub alpha: Option<f64>,
+    /// Stiffness-proportional coefficient β [s].
+    pub beta: Option<f64>,
+}
+
+/// `[[dynamics.ground_motion]]`: one component of the base acceleration.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GroundMotionConfig {
+    /// Direction of the component.
+    pub direction: Direction,
+    /// A record file (relative to the job file's folder).
+    pub file: Option<PathBuf>,
+    /// Its format.
+    pub format: Option<RecordFormat>,
+    /// Units of a column file: `g`, `m/s2`, `cm/s2`.
+    pub units: Option<String>,
+    /// Time step of a one-column file [s].
+    pub dt: Option<f64>,
+    /// A built-in synthetic record instead of a file: `"vallorcine_like"`.
+    pub synthetic: Option<String>,
+    /// Scale factor (default 1).
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// The record, read and scaled at load (m/s²).
+    #[serde(skip)]
+    pub record: Option<Record>,
+}
+
+/// `[dynamics.checkpoint]`: when to write the restart state.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CheckpointConfig {
+    /// Every this many steps (0 = never by count).
+    #[serde(default)]
+    pub every_steps: usize,
+    /// Every this many minutes of wall time (0 = never by time).
+    #[serde(default)]
+    pub every_minutes: f64,
+}
+
+/// `[[dynamics.monitor]]`: a node whose history goes to `monitors.csv` and a PNG.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MonitorConfig {
+    /// Name in the CSV header and the picture's file name.
+    pub name: String,
+    /// A Gmsh node tag.
+    pub node: Option<u64>,
+    /// A physical group, with `near`: its node nearest to that point.
+    pub group: Option<String>,
+    /// Point [m] (with `group`).
+    pub near: Option<[f64; 3]>,
+}
+
+/// `[dynamics]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsConfig {
+    /// Analysed time [s] (after gravity).
+    pub duration: f64,
+    /// Time step [s].
+    pub dt: f64,
+    /// Scheme.
+    #[serde(default)]
+    pub scheme: SchemeName,
+    /// Newmark β (default 1/4; with `hht`, (1 − α)²/4).
+    pub beta: Option<f64>,
+    /// Newmark γ (default 1/2; with `hht`, 1/2 − α).
+    pub gamma: Option<f64>,
+    /// HHT α ∈ [−1/3, 0] (default −0.05 with `hht`).
+    pub alpha: Option<f64>,
+    /// Mass matrix.
+    #[serde(default = "consistent")]
+    pub mass: crate::element::MassKind,
+    /// Newton variant.
+    #[serde(default)]
+    pub newton: NewtonKind,
+    /// Newton iterations per (sub)step (default 20).
+    #[serde(default = "twenty")]
+    pub max_iterations: usize,
+    /// Relative force tolerance (default 1e-6).
+    #[serde(default = "tol")]
+    pub force_tolerance: f64,
+    /// Halvings of a failing step (default 4).
+    #[serde(default = "four")]
+    pub max_substeps: usize,
+    /// Results every this many steps (default 1).
+    #[serde(default = "one_usize")]
+    pub output_every: usize,
+    /// Load steps of the gravity phase (default 1; ignored without `[gravity]`).
+    #[serde(default = "one_usize")]
+    pub gravity_steps: usize,
+    /// Rayleigh damping (default none).
+    #[serde(default)]
+    pub damping: DampingConfig,
+    /// Base acceleration components.
+    #[serde(default)]
+    pub ground_motion: Vec<GroundMotionConfig>,
+    /// Checkpoints.
+    #[serde(default)]
+    pub checkpoint: CheckpointConfig,
+    /// Monitored nodes.
+    #[serde(default)]
+    pub monitor: Vec<MonitorConfig>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn one_usize() -> usize {
+    1
+}
+fn twenty() -> usize {
+    20
+}
+fn four() -> usize {
+    4
+}
+fn tol() -> f64 {
+    1e-6
+}
+fn consistent() -> crate::element::MassKind {
+    crate::element::MassKind::Consistent
+}
+
+/// Newmark parameters after defaults: (β, γ, α_HHT).
+pub fn scheme_parameters(d: &DynamicsConfig) -> (f64, f64, f64) {
+    match d.scheme {
+        SchemeName::Newmark => (d.beta.unwrap_or(0.25), d.gamma.unwrap_or(0.5), 0.0),
+        SchemeName::Hht => {
+            let a = d.alpha.unwrap_or(-0.05);
+            (d.beta.unwrap_or((1.0 - a) * (1.0 - a) / 4.0), d.gamma.unwrap_or(0.5 - a), a)
+        }
+    }
+}
+
+/// Checks `[dynamics]` and reads its records (paths relative to `folder`). Errors name the key.
+pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Result<(), ConfigError> {
+    let key = |k: &str| Seg::Key(k.to_string());
+    let at = |k: &str| vec![key("dynamics"), key(k)];
+    if !(d.dt.is_finite() && d.dt > 0.0) {
+        return Err(src.error_at(&at("dt"), format!("expected a time step > 0 [s], got {}", d.dt)));
+    }
+    if !(d.duration.is_finite() && d.duration > 0.0) {
+        return Err(src.error_at(&at("duration"), format!("expected a duration > 0 [s], got {}", d.duration)));
+    }
+    if d.duration / d.dt > 1e8 {
+        return Err(src.error_at(&at("dt"), format!("{} steps of {} s: expected at most 1e8", d.duration / d.dt, d.dt)));
+    }
+    let (beta, gamma, alpha) = scheme_parameters(d);
+    if d.scheme == SchemeName::Newmark && d.alpha.is_some() {
+        return Err(src.error_at(&at("alpha"), "alpha is the HHT parameter: set scheme = \"hht\" to use it"));
+    }
+    if !(alpha.is_finite() && (-1.0 / 3.0 - 1e-12..=0.0).contains(&alpha)) {
+        return Err(src.error_at(&at("alpha"), format!("expected HHT alpha in [-1/3, 0], got {alpha}")));
+    }
+    // Unconditional stability of Newmark (linear): γ ≥ 1/2 and β ≥ (γ + 1/2)²/4 (Hughes, *The
+    // Finite Element Method*, §9.1); β > 0 so that a_{n+1} follows from u_{n+1}.
+    if !(gamma.is_finite() && gamma >= 0.5) {
+        return Err(src.error_at(&at("gamma"), format!("expected gamma >= 1/2 (unconditional stability), got {gamma}")));
+    }
+    let beta_min = (gamma + 0.5) * (gamma + 0.5) / 4.0;
+    if !(beta.is_finite() && beta >= beta_min - 1e-12 && beta <= 0.5) {
+        return Err(src.error_at(
+            &at("beta"),
+            format!("expected beta in [(gamma + 1/2)^2/4, 1/2] = [{beta_min}, 0.5] (unconditional stability), got {beta}"),
+        ));
+    }
+    if d.max_iterations == 0 {
+        return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
+    }
+    if !(d.force_tolerance.is_finite() && d.force_tolerance > 0.0 && d.force_tolerance < 1.0) {
+        return Err(src.error_at(&at("force_tolerance"), format!("expected a tolerance in (0, 1), got {}", d.force_tolerance)));
+    }
+    if d.max_substeps > 20 {
+        return Err(src.error_at(&at("max_substeps"), format!("expected at most 20 halvings, got {}", d.max_substeps)));
+    }
+    if d.output_every == 0 {
+        return Err(src.error_at(&at("output_every"), "expected at least 1"));
+    }
+    if d.gravity_steps == 0 {
+        return Err(src.error_at(&at("gravity_steps"), "expected at least 1"));
+    }
+    let dam = &d.damping;
+    let dat = |k: &str| vec![key("dynamics"), key("damping"), key(k)];
+    match (dam.frequencies, dam.ratio, dam.alpha, dam.beta) {
+        (None, None, _, _) => {
+            for (k, v) in [("alpha", dam.alpha), ("beta", dam.beta)] {
+                if let Some(v) = v {
+                    if !(v.is_finite() && v >= 0.0) {
+                        return Err(src.error_at(&dat(k), format!("expected a coefficient >= 0, got {v}")));
+                    }
+                }
+            }
+        }
+        (Some(f), Some(z), None, None) => {
+            if !(f[0].is_finite() && f[0] > 0.0 && f[1].is_finite() && f[1] > f[0]) {
+                return Err(src.error_at(&dat("frequencies"), format!("expected two frequencies 0 < f1 < f2 [Hz], got {f:?}")));
+            }
+            if !(z.is_finite() && (0.0..1.0).contains(&z)) {
+                return Err(src.error_at(&dat("ratio"), format!("expected a damping ratio in [0, 1), got {z}")));
+            }
+        }
+        _ => {
+            return Err(src.error_at(
+                &[key("dynamics"), key("damping")],
+                "give either frequencies = [f1, f2] with ratio, or alpha and/or beta",
+            ))
+        }
+    }
+    if d.ground_motion.is_empty() {
+        return Err(src.error_at(&[key("dynamics")], "a time history needs at least one [[dynamics.ground_motion]]"));
+    }
+    if d.ground_motion.len() > 3 {
+        return Err(src.error_at(&[key("dynamics"), key("ground_motion"), Seg::Index(3)], "at most three components (x, y, z)"));
+    }
+    let duration = d.duration;
+    for i in 0..d.ground_motion.len() {
+        let at = |k: &str| vec![key("dynamics"), key("ground_motion"), Seg::Index(i), key(k)];
+        let dir = d.ground_motion[i].direction;
+        if d.ground_motion[..i].iter().any(|g| g.direction == dir) {
+            return Err(src.error_at(&at("direction"), format!("direction {dir:?} is given twice")));
+        }
+        let record = read_component(src, folder, &d.ground_motion[i], &at)?;
+        record.require_duration(duration).map_err(|e| src.error_at(&at("file"), format!("{e} (dynamics.duration = {duration} s)")))?;
+        d.ground_motion[i].record = Some(record);
+    }
+    for (i, m) in d.monitor.iter().enumerate() {
+        let at = |k: &str| vec![key("dynamics"), key("monitor"), Seg::Index(i), key(k)];
+        if m.name.is_empty() || m.name.contains([',', '/', '\\', '"']) {
+            return Err(src.error_at(&at("name"), "expected a non-empty name without , / \\ or quotes"));
+        }
+        if d.monitor[..i].iter().any(|o| o.name == m.name) {
+            return Err(src.error_at(&at("name"), format!("monitor '{}' is given twice", m.name)));
+        }
+        match (m.node, &m.group, m.near) {
+            (Some(_), None, None) | (None, Some(_), Some(_)) => {}
+            _ => return Err(src.error_at(&[key("dynamics"), key("monitor"), Seg::Index(i)], "give node = <Gmsh tag>, or group with near = [x, y, z]")),
+        }
+    }
+    let c = &d.checkpoint;
+    if !(c.every_minutes.is_finite() && c.every_minutes >= 0.0) {
+        return Err(src.error_at(&[key("dynamics"), key("checkpoint"), key("every_minutes")], "expected minutes >= 0"));
+    }
+    Ok(())
+}
+
+/// Reads one component's record (file or synthetic), scaled.
+fn read_component(src: &Source, folder: &Path, g: &GroundMotionConfig, at: &dyn Fn(&str) -> Vec<Seg>) -> Result<Record, ConfigError> {
+    use crate::seismic as sm;
+    let r = RecordConfig { file: g.file.clone(), format: g.format, units: g.units.clone(), dt: g.dt, synthetic: g.synthetic.clone(), scale: g.scale };
+    let record = match (&r.file, &r.synthetic) {
+        (Some(_), Some(_)) | (None, None) => {
+            let mut p = at("file");
+            p.pop();
+            return Err(src.error_at(&p, "give either file (with format) or synthetic = \"vallorcine_like\""));
+        }
+        (None, Some(name)) => match name.as_str() {
+            "vallorcine_like" => sm::vallorcine_like_synthetic(),
+            other => return Err(src.error_at(&at("synthetic"), format!("unknown synthetic record '{other}', expected vallorcine_like"))),
+        },
+        (Some(f), None) => {
+            let file = if f.is_absolute() { f.clone() } else { super::normalize(&folder.join(f)) };
+            if !file.is_file() {
+                return Err(src.error_at(&at("file"), format!("record file {} does not exist", file.display())));
+            }
+            let units = || -> Result<sm::AccelUnit, ConfigError> {
+                let u = r.units.as_deref().ok_or_else(|| src.error_at(&at("units"), "a column file needs units = \"g\", \"m/s2\" or \"cm/s2\""))?;
+                sm::AccelUnit::parse(u).ok_or_else(|| src.error_at(&at("units"), format!("unknown units '{u}', expected g, m/s2 or cm/s2")))
+            };
+            let read = match r.format {
+                None => return Err(src.error_at(&at("file"), "give the format: at2, esm, two_column or one_column")),
+                Some(RecordFormat::At2) => sm::read_at2(&file),
+                Some(RecordFormat::Esm) => sm::read_esm(&file),
+                Some(RecordFormat::TwoColumn) => sm::read_two_column(&file, units()?, sm::DEFAULT_DT_TOLERANCE),
+                Some(RecordFormat::OneColumn) => {
+                    let dt = r.dt.ok_or_else(|| src.error_at(&at("dt"), "a one-column file needs dt [s]"))?;
+                    sm::read_one_column(&file, dt, units()?)
+                }
+            };
+            read.map_err(|e| src.error_at(&at("file"), e.to_string()))?
+        }
+    };
+    record.scaled(r.scale).map_err(|e| src.error_at(&at("scale"), e.to_string()))
+}
