@@ -2,6 +2,7 @@
 //! and takes what it needs (context, job, mesh, model) as arguments.
 pub mod assembly;
 pub mod dem;
+pub mod identify;
 mod discretization;
 pub mod linear_static;
 pub mod material_point;

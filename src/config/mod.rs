@@ -4,6 +4,7 @@
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
 mod dem;
 mod error;
+mod identify;
 mod job;
 mod kind;
 mod material_point;
@@ -14,6 +15,7 @@ mod validate;
 
 pub use error::{ConfigError, Location};
 pub use dem::*;
+pub use identify::*;
 pub use job::*;
 pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
@@ -44,6 +46,7 @@ impl Job {
             AnyJob::MaterialPoint(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
             AnyJob::Spectrum(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
             AnyJob::Dem(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
+            AnyJob::Identify(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
         }
     }
 
@@ -107,6 +110,8 @@ pub enum AnyJob {
     Dem(DemJob),
     /// Response spectra of a ground motion.
     Spectrum(SpectrumJob),
+    /// An identification (DEM calibration, damage-law identification, or the chain).
+    Identify(IdentifyJob),
 }
 
 /// A loaded, validated spectrum job: the record is read (and checked) at load.
@@ -222,6 +227,7 @@ pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
         JobKind::MaterialPoint => AnyJob::MaterialPoint(MaterialPointJob::from_source(source, path)?),
         JobKind::Dem => AnyJob::Dem(DemJob::from_source(source, path)?),
         JobKind::Spectrum => AnyJob::Spectrum(SpectrumJob::from_source(source, path)?),
+        JobKind::Identify => AnyJob::Identify(IdentifyJob::from_source(source, path)?),
     })
 }
 
