@@ -120,12 +120,12 @@ fn bad_bounds_are_located() {
     let p = known_law();
     write_law_curve(&dir.join("t.csv"), &p, 6e-4, true);
     write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
-    // ε₀ ≤ 0 (line 10 holds the bounds).
+    // ε₀ ≤ 0 (line 13 holds the bounds).
     let f = law_job(&dir, "", &LAW_BOUNDS.replace("eps0_t = [5e-5", "eps0_t = [0.0"));
-    expect_error(&dir, &f, &["law.toml:10:", "key 'law.bounds.eps0_t'", "must be > 0"], &[0, 2]);
+    expect_error(&dir, &f, &["law.toml:13:", "key 'law.bounds.eps0_t'", "must be > 0"], &[0, 2]);
     // A_c outside [0, 1].
     let f = law_job(&dir, "", &LAW_BOUNDS.replace("a_c = [0.5, 1.0]", "a_c = [0.5, 1.2]"));
-    expect_error(&dir, &f, &["law.toml:10:", "key 'law.bounds.a_c'", "[0, 1]"], &[0]);
+    expect_error(&dir, &f, &["law.toml:13:", "key 'law.bounds.a_c'", "[0, 1]"], &[0]);
     // Inverted bounds.
     let f = law_job(&dir, "", &LAW_BOUNDS.replace("gf_t = [10.0, 90.0]", "gf_t = [90.0, 10.0]"));
     expect_error(&dir, &f, &["key 'law.bounds.gf_t'", "lower < upper", "[90, 10]"], &[0]);

@@ -164,6 +164,7 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
             space,
             levels: l.levels,
             ego: EgoSettings { iterations: l.iterations, batch: l.batch, seed: seed.wrapping_add(1000), log_transform: true, target: None },
+            polish_iterations: l.polish_iterations,
         };
         // The no-elastic regularization's size limit, when E was not known at load.
         if let crate::material::Regularization::HillerborgNoElastic = l.regularization {

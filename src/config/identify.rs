@@ -39,6 +39,7 @@
 //! levels = [0.25, 0.75]        # the 2⁵ factorial's levels, fractions of each interval
 //! iterations = 12
 //! batch = 2
+//! polish_iterations = 400    # Nelder-Mead from the EGO optimum (law evaluations are cheap); 0: off
 //! bounds = { eps0_t = [2e-5, 4e-4], eps0_c = [5e-5, 2e-3], gf_t = [5.0, 500.0], a_c = [0.0, 1.0], b_c = [100.0, 5000.0] }
 //! # material_file = "../materials/wall.toml"   # a copy beside the results' material.toml
 //! ```
@@ -79,6 +80,9 @@ fn twelve() -> usize {
 }
 fn sixty() -> usize {
     60
+}
+fn four_hundred() -> u64 {
+    400
 }
 fn unit_weights() -> [f64; 4] {
     [1.0; 4]
@@ -192,6 +196,9 @@ pub struct LawIdentConfig {
     /// Points per infill iteration.
     #[serde(default = "two")]
     pub batch: usize,
+    /// Nelder–Mead iterations polishing the EGO optimum (0: none).
+    #[serde(default = "four_hundred")]
+    pub polish_iterations: u64,
     /// Search intervals.
     pub bounds: LawBounds,
     /// A copy of the material file (relative to the job file's folder).

@@ -13,7 +13,9 @@
 //! sample's height (the DEM's strain is the platen displacement over the height, so its softening
 //! branch is that of one element of length h crossed by the crack), so G_f comes out per unit
 //! crack area and the material file serves any mesh. Initial design: the 2⁵ two-level
-//! factorial (the paper's 32 combinations); then EGO infill on ln(F + δ).
+//! factorial (the paper's 32 combinations); then EGO infill on ln(F + δ); then, since one
+//! evaluation costs milliseconds, a Nelder–Mead polish from the EGO optimum ([`super::polish`];
+//! its evaluations appear in the history as the iteration after the last infill).
 use super::collective::run_ego;
 use super::curves::{uniform_grid, Curve};
 use super::doe::two_level_factorial;
@@ -51,6 +53,8 @@ pub struct LawFit {
     pub levels: [f64; 2],
     /// The EGO loop.
     pub ego: EgoSettings,
+    /// Nelder–Mead iterations polishing the EGO optimum ([`super::polish`]); 0: none.
+    pub polish_iterations: u64,
 }
 
 /// The law's fit at one point.
@@ -160,17 +164,7 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
     let Some(records) = run_ego(ctx, fit.space.dim(), design, fit.ego.clone(), 1, work, reduce, "law identification")? else {
         return Ok(None);
     };
-    let history: Vec<_> = records.iter().map(|r| (r.iteration, fit.space.from_unit(&r.unit), r.value.clone())).collect();
-    let mut best_so_far = Vec::with_capacity(records.len());
-    let mut b = f64::NAN;
-    for r in &records {
-        if let Ok(v) = r.value {
-            if !(b <= v) {
-                b = v;
-            }
-        }
-        best_so_far.push(b);
-    }
+    let mut history: Vec<_> = records.iter().map(|r| (r.iteration, fit.space.from_unit(&r.unit), r.value.clone())).collect();
     let best = records
         .iter()
         .filter(|r| r.value.is_ok())
@@ -180,7 +174,32 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
             got: 0,
             first_failure: records.iter().find_map(|r| r.value.clone().err()).unwrap_or_default(),
         })?;
-    let x = fit.space.from_unit(&best.unit);
+    let mut x = fit.space.from_unit(&best.unit);
+    if fit.polish_iterations > 0 {
+        let f = |u: &[f64]| fit.evaluate(&fit.space.from_unit(u)).map(|e| e.total);
+        let last = records.iter().map(|r| r.iteration).max().unwrap_or(0) + 1;
+        let p = super::polish::polish(&f, &best.unit, 0.05, fit.polish_iterations).map_err(IdentifyError::Optimizer)?;
+        ctx.log.info(format!(
+            "law identification: Nelder-Mead polish, {} evaluations: objective {:.6e} -> {:.6e}",
+            p.evaluations.len(),
+            best.value.clone().unwrap_or(f64::NAN),
+            p.value
+        ));
+        history.extend(p.evaluations.iter().map(|(u, v)| (last, fit.space.from_unit(u), v.clone())));
+        if best.value.as_ref().is_ok_and(|&b| p.value < b) {
+            x = fit.space.from_unit(&p.unit);
+        }
+    }
+    let mut best_so_far = Vec::with_capacity(history.len());
+    let mut b = f64::NAN;
+    for (_, _, v) in &history {
+        if let Ok(v) = v {
+            if !(b <= *v) {
+                b = *v;
+            }
+        }
+        best_so_far.push(b);
+    }
     let params = fit.params_at(&x);
     let fit_eval = fit.evaluate(&x).map_err(IdentifyError::Optimizer)?;
     let law_curves = fit.law_curves(&params).map_err(IdentifyError::Optimizer)?;

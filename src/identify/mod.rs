@@ -14,6 +14,7 @@
 //! | `calibration.rs`   | (a) DEM calibration against E, ν, first-crack and peak stresses         |
 //! | `virtual_tests.rs` | the calibrated DEM's tension and compression tests, mean curves         |
 //! | `law_fit.rs`       | (b) damage-law identification from the virtual tests                    |
+//! | `polish.rs`        | Nelder–Mead polish of the EGO optimum (cheap objectives)                |
 //! | `material_file.rs` | the material file (`[law]` table) structural jobs read by path          |
 //! | `error.rs`         | [`IdentifyError`]                                                       |
 //!
@@ -30,6 +31,7 @@ pub mod error;
 pub mod error_measure;
 pub mod law_fit;
 pub mod material_file;
+pub mod polish;
 pub mod space;
 pub mod virtual_tests;
 
