@@ -134,8 +134,17 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
         let t1 = Instant::now();
         let prepared = reference
             .map(|(t, c, e_dem, nu_dem)| -> Result<(Curve, Curve, f64, f64), Error> {
-                let e = l.young_modulus.or(experiment.young_modulus).unwrap_or(e_dem);
-                let nu = l.poisson.or(experiment.poisson).unwrap_or(nu_dem);
+                let (e_x, nu_x) = match l.elastic {
+                    crate::config::ElasticSource::Experiment => (experiment.young_modulus, experiment.poisson),
+                    crate::config::ElasticSource::Dem => (None, None),
+                };
+                let e = l.young_modulus.or(e_x).unwrap_or(e_dem);
+                let nu = l.poisson.or(nu_x).unwrap_or(nu_dem);
+                if e_dem.is_finite() && (e - e_dem).abs() > 0.05 * e_dem {
+                    ctx.log.warn(format!(
+                        "the law's E = {e:.4e} Pa differs from the virtual tests' mean E = {e_dem:.4e} Pa by more than 5%: the law cannot follow the DEM's elastic branch (set [law] elastic = \"dem\" to use the DEM's)"
+                    ));
+                }
                 if !(e.is_finite() && e > 0.0 && nu.is_finite() && nu > -1.0 && nu < 0.5) {
                     return Err(Error::Analysis(format!(
                         "{}: [law] needs young_modulus and poisson (or [experiment] ones) when the DEM curves come from files",

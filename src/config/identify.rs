@@ -33,7 +33,8 @@
 //! # dem_curves = { tension = "t.csv", compression = "c.csv" }   # instead of running the DEM
 //! regularization = "hillerborg"    # or "hillerborg_no_elastic"
 //! # element_size = 1.2         # h of the comparison [m], default the sample height
-//! # young_modulus, poisson     # default: [experiment], else the DEM's means
+//! elastic = "experiment"       # E, ν of the law: "experiment" (else the DEM's means) or "dem"
+//! # young_modulus, poisson     # explicit values win over `elastic`
 //! error = "eq15"               # or "relative_rms"
 //! points = 60                  # resampled points per curve
 //! levels = [0.25, 0.75]        # the 2⁵ factorial's levels, fractions of each interval
@@ -133,6 +134,18 @@ pub struct CalibrationConfig {
     pub bounds: CalibrationBounds,
 }
 
+/// Where the law's E and ν come from.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElasticSource {
+    /// `[experiment]` young_modulus and poisson (SPEC §3b; else the DEM's means).
+    #[default]
+    Experiment,
+    /// The virtual tests' mean initial modulus and Poisson ratio, so the law's elastic branch
+    /// is the DEM's even when the calibration could not reach the measured E.
+    Dem,
+}
+
 /// `[law.bounds]`: intervals of the five unknowns.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -177,7 +190,10 @@ pub struct LawIdentConfig {
     pub regularization: Regularization,
     /// Element size of the comparison [m]; default the sample height.
     pub element_size: Option<f64>,
-    /// E [Pa]; default the experiment's, else the DEM's mean.
+    /// Where E and ν come from when not given here (default: the experiment, SPEC §3b).
+    #[serde(default)]
+    pub elastic: ElasticSource,
+    /// E [Pa]; default per `elastic`.
     pub young_modulus: Option<f64>,
     /// ν; default the experiment's, else the DEM's mean.
     pub poisson: Option<f64>,
@@ -386,6 +402,9 @@ impl IdentifyJob {
                         format!("at the corner gf_t = {}, eps0_t = {} of the bounds (E = {e} Pa): {err}", b.gf_t[0], b.eps0_t[1]),
                     ));
                 }
+            }
+            if l.dem_curves.is_some() && l.elastic == ElasticSource::Dem && (l.young_modulus.is_none() || l.poisson.is_none()) {
+                return Err(source.error_at(&at(&["law", "elastic"]), "elastic = \"dem\" needs the DEM to run; with dem_curves give young_modulus and poisson"));
             }
             match &l.dem_curves {
                 Some(files) => {

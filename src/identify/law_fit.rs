@@ -16,7 +16,7 @@
 //! factorial (the paper's 32 combinations); then EGO infill on ln(F + δ); then, since one
 //! evaluation costs milliseconds, a Nelder–Mead polish from the EGO optimum ([`super::polish`];
 //! its evaluations appear in the history as the iteration after the last infill).
-use super::collective::run_ego;
+use super::collective::{run_ego, PointRecord};
 use super::curves::{uniform_grid, Curve};
 use super::doe::two_level_factorial;
 use super::ego::EgoSettings;
@@ -26,6 +26,12 @@ use super::space::Space;
 use crate::material::{run_path, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization};
 use crate::parallel::{Context, TaskResult};
 use serde::Serialize;
+
+/// Starting points of the polish: the best EGO points.
+pub const POLISH_STARTS: usize = 3;
+/// Restarts of each polish from its own result with a fresh simplex (Nelder–Mead stalls on
+/// non-smooth objectives such as eq. 15; a restart is the standard remedy).
+pub const POLISH_RESTARTS: usize = 3;
 
 /// The unknowns' names, in order (as in the job file and the material file).
 pub const UNKNOWNS: [&str; 5] = ["eps0_t", "eps0_c", "gf_t", "a_c", "b_c"];
@@ -178,9 +184,13 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
     if fit.polish_iterations > 0 {
         let f = |u: &[f64]| fit.evaluate(&fit.space.from_unit(u)).map(|e| e.total);
         let last = records.iter().map(|r| r.iteration).max().unwrap_or(0) + 1;
-        let p = super::polish::polish(&f, &best.unit, 0.05, fit.polish_iterations).map_err(IdentifyError::Optimizer)?;
+        let mut ranked: Vec<&PointRecord<LawEvaluation>> = records.iter().filter(|r| r.value.is_ok()).collect();
+        ranked.sort_by(|a, b| a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY)));
+        let starts: Vec<Vec<f64>> = ranked.iter().take(POLISH_STARTS).map(|r| r.unit.clone()).collect();
+        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS).map_err(IdentifyError::Optimizer)?;
         ctx.log.info(format!(
-            "law identification: Nelder-Mead polish, {} evaluations: objective {:.6e} -> {:.6e}",
+            "law identification: Nelder-Mead polish from the {} best points, {} evaluations: objective {:.6e} -> {:.6e}",
+            starts.len(),
             p.evaluations.len(),
             best.value.clone().unwrap_or(f64::NAN),
             p.value

@@ -67,6 +67,39 @@ pub fn polish<F: Fn(&[f64]) -> Result<f64, String>>(f: &F, start: &[f64], step: 
     Ok(Polished { unit, value, evaluations: log.into_inner() })
 }
 
+/// [`polish`] from each of `starts`, each restarted from its result `restarts` times (a fresh
+/// simplex around the last best point) while that improves; the best of all.
+pub fn polish_multistart<F: Fn(&[f64]) -> Result<f64, String>>(
+    f: &F,
+    starts: &[Vec<f64>],
+    step: f64,
+    max_iters: u64,
+    restarts: usize,
+) -> Result<Polished, String> {
+    let mut all = Vec::new();
+    let mut best: Option<(Vec<f64>, f64)> = None;
+    for s in starts {
+        let mut at = s.clone();
+        let mut value = f64::INFINITY;
+        for _ in 0..=restarts {
+            let p = polish(f, &at, step, max_iters)?;
+            all.extend(p.evaluations);
+            if !(p.value < value * (1.0 - 1e-9)) {
+                if p.value < value {
+                    (at, value) = (p.unit, p.value);
+                }
+                break;
+            }
+            (at, value) = (p.unit, p.value);
+        }
+        if best.as_ref().is_none_or(|b| value < b.1) {
+            best = Some((at, value));
+        }
+    }
+    let (unit, value) = best.ok_or_else(|| "no starting point".to_string())?;
+    Ok(Polished { unit, value, evaluations: all })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
