@@ -114,8 +114,12 @@ impl Ego {
         let mut limits = ndarray16::Array2::<f64>::zeros((self.dim, 2));
         limits.column_mut(1).fill(1.0);
         let (batch, seed) = (self.settings.batch, self.settings.seed.wrapping_add(self.iteration as u64));
-        // egobox reports some failures by panicking: keep them inside this call.
-        let suggested = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        // egobox reports some failures by panicking: keep them inside this call. It runs in a
+        // one-thread pool: parallel sums in another order change the last bits of the kriging
+        // fit, and the infill optimization amplifies them into another point; with one thread
+        // the loop is reproducible bit for bit (and leaves the other core to the DEM).
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
+        let suggested = pool.install(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             let service = EgorServiceBuilder::optimize()
                 .configure(|c| {
                     c.configure_gp(|g| {
@@ -128,7 +132,7 @@ impl Ego {
                 .min_within(&limits)
                 .map_err(|e| e.to_string())?;
             Ok::<_, String>(service.suggest(&x, &y))
-        }));
+        })));
         let suggested = match suggested {
             Ok(Ok(s)) => s,
             Ok(Err(e)) => return Err(IdentifyError::Optimizer(e)),
