@@ -20,6 +20,7 @@ pub mod analysis;
 pub mod config;
 pub mod dem;
 pub mod element;
+pub mod identify;
 pub mod io;
 pub mod material;
 pub mod mesh;

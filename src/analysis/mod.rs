@@ -3,6 +3,7 @@
 pub mod assembly;
 pub mod curve_plot;
 pub mod dem;
+pub mod identify;
 mod discretization;
 pub mod line_search;
 pub mod linear_static;

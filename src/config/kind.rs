@@ -15,11 +15,23 @@ pub enum JobKind {
     Dem,
     /// Response spectra of a ground motion: see [`super::SpectrumJobFile`].
     Spectrum,
+    /// DEM calibration and damage-law identification: see [`super::IdentifyJobFile`].
+    Identify,
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
 pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
-    &[("linear_static", JobKind::Structural), ("modal", JobKind::Structural), ("modal_updating", JobKind::Structural), ("static_nonlinear", JobKind::Structural), ("time_history", JobKind::Structural), ("material_point", JobKind::MaterialPoint), ("dem", JobKind::Dem), ("spectrum", JobKind::Spectrum)];
+    &[
+        ("linear_static", JobKind::Structural),
+        ("modal", JobKind::Structural),
+        ("modal_updating", JobKind::Structural),
+        ("static_nonlinear", JobKind::Structural),
+        ("time_history", JobKind::Structural),
+        ("material_point", JobKind::MaterialPoint),
+        ("dem", JobKind::Dem),
+        ("spectrum", JobKind::Spectrum),
+        ("identification", JobKind::Identify),
+    ];
 
 /// The kind of the job in `src`.
 pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {

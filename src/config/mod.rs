@@ -5,6 +5,7 @@
 mod dem;
 mod dynamics;
 mod error;
+mod identify;
 mod job;
 mod kind;
 mod material_point;
@@ -16,6 +17,7 @@ mod validate;
 pub use error::{ConfigError, Location};
 pub use dem::*;
 pub use dynamics::*;
+pub use identify::*;
 pub use job::*;
 pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
@@ -46,6 +48,7 @@ impl Job {
             AnyJob::MaterialPoint(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
             AnyJob::Spectrum(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
             AnyJob::Dem(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
+            AnyJob::Identify(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
         }
     }
 
@@ -129,6 +132,8 @@ pub enum AnyJob {
     Dem(DemJob),
     /// Response spectra of a ground motion.
     Spectrum(SpectrumJob),
+    /// An identification (DEM calibration, damage-law identification, or the chain).
+    Identify(IdentifyJob),
 }
 
 /// A loaded, validated spectrum job: the record is read (and checked) at load.
@@ -244,6 +249,7 @@ pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
         JobKind::MaterialPoint => AnyJob::MaterialPoint(MaterialPointJob::from_source(source, path)?),
         JobKind::Dem => AnyJob::Dem(DemJob::from_source(source, path)?),
         JobKind::Spectrum => AnyJob::Spectrum(SpectrumJob::from_source(source, path)?),
+        JobKind::Identify => AnyJob::Identify(IdentifyJob::from_source(source, path)?),
     })
 }
 

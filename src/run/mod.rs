@@ -54,6 +54,12 @@ pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
             job.spec.test,
             job.output_dir.display()
         )),
+        AnyJob::Identify(job) => Ok(format!(
+            "identification:{}{}; results would go to {}",
+            if job.spec.calibration.is_some() { " DEM calibration" } else { "" },
+            if job.spec.law.is_some() { " damage-law identification" } else { "" },
+            job.output_dir.display()
+        )),
         AnyJob::MaterialPoint(job) => Ok(format!(
             "material point, h = {} m (B_t = {:.6e}); results would go to {}",
             job.spec.analysis.element_size,
@@ -104,6 +110,13 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
         AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args, restart),
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
         AnyJob::Dem(job) => run_dem(ctx, path, &job),
+        AnyJob::Identify(job) => {
+            ctx.log.info(format!("job {}{}", path.display(), job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()));
+            prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+            let summary = crate::analysis::identify::run(ctx, path, &job)?;
+            ctx.log.info(format!("results: {}", job.output_dir.display()));
+            write_summary(ctx, &job.output_dir, &summary)
+        }
         AnyJob::Spectrum(job) => {
             ctx.log.info(format!("job {}", path.display()));
             prepare(ctx, &job.output_dir, job.spec.output.existing)?;

@@ -1,0 +1,348 @@
+//! The identification job (SPEC §3): (a) DEM calibration against the experiment, (b) damage-law
+//! identification from the (calibrated) DEM's virtual tests, (c) both as one chain ending in a
+//! material file. Phases, each collective and followed by an agreement on errors:
+//!
+//! ```text
+//!  calibrate      LHS × samples → EGO (q-EI)      → calibration.json/.csv, calibration.png
+//!  virtual tests  tension + compression × samples → dem_tension.csv, dem_compression.csv
+//!  identify law   2⁵ factorial → EGO (q-EI)       → law.csv, law_error.png, law_tension.png,
+//!                                                   law_compression.png, material.toml
+//! ```
+//! Rank 0 writes every file; `summary.json` gathers the numbers and the phase timings.
+use crate::config::IdentifyJob;
+use crate::identify::calibration::{CalibrationResult, QUANTITIES};
+use crate::identify::collective::broadcast_json;
+use crate::identify::curves::Curve;
+use crate::identify::material_file::{write_material_file, Provenance};
+use crate::identify::virtual_tests::run_virtual_tests;
+use crate::identify::{calibrate, identify, Calibration, EgoSettings, IdentifyError, LawFit, LawResult, Space};
+use crate::parallel::{agree, Context};
+use crate::plot::{LineChart, SeriesStyle};
+use crate::run::Error;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+/// What an identification reports (`summary.json`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct IdentifySummary {
+    /// Ranks.
+    pub ranks: usize,
+    /// Stage (a), if it ran.
+    pub calibration: Option<CalibrationResult>,
+    /// Whether each sample mean is within 5% of its target (E, ν, first crack, peak).
+    pub calibration_within_5_percent: Option<[bool; 4]>,
+    /// Stage (b), if it ran.
+    pub law: Option<LawResult>,
+    /// The material file written.
+    pub material_file: Option<String>,
+    /// Failed DEM samples of the virtual tests.
+    pub virtual_test_failures: Vec<String>,
+    /// Wall time per phase [s]: calibration, virtual tests, law identification.
+    pub seconds: PhaseSeconds,
+}
+
+/// Wall time per phase [s].
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PhaseSeconds {
+    /// DEM calibration.
+    pub calibration: f64,
+    /// Virtual tests of the calibrated DEM.
+    pub virtual_tests: f64,
+    /// Damage-law identification.
+    pub law: f64,
+    /// The whole job.
+    pub total: f64,
+}
+
+fn analysis_err(e: IdentifyError) -> Error {
+    Error::Analysis(e.to_string())
+}
+
+fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::OutputDir { path: path.to_path_buf(), source }
+}
+
+/// Collective. Runs the job's stages and writes the outputs.
+pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySummary, Error> {
+    let t_all = Instant::now();
+    let spec = &job.spec;
+    let seed = spec.analysis.seed;
+    let mut summary = IdentifySummary { ranks: ctx.size, ..Default::default() };
+    let mut dem = job.dem;
+
+    // (a) DEM calibration.
+    if let (Some(c), Some(targets)) = (&spec.calibration, job.targets) {
+        let t0 = Instant::now();
+        let b = &c.bounds;
+        let space = Space::new(&[("alpha", b.alpha), ("e_bar", b.e_bar), ("eps_cr", b.eps_cr), ("theta_cr", b.theta_cr)]).map_err(analysis_err)?;
+        let cal = Calibration {
+            sample: spec.sample.clone(),
+            fixed: dem,
+            test: c.test.clone(),
+            samples: c.samples,
+            space,
+            targets,
+            weights: c.weights,
+            design_points: c.design_points,
+            seed,
+            ego: EgoSettings { iterations: c.iterations, batch: c.batch, seed, log_transform: true, target: None },
+        };
+        let result = agree(&ctx.comm, calibrate(ctx, &cal).map_err(analysis_err), Error::exit_code)?;
+        let written = match &result {
+            Some(r) => write_calibration(ctx, job, r).map(|_| r.parameters),
+            None => Ok(dem),
+        };
+        let calibrated = agree(&ctx.comm, written, Error::exit_code)?;
+        dem = broadcast_json(ctx, Some(&calibrated)).map_err(analysis_err)?;
+        summary.calibration_within_5_percent = result.as_ref().map(|r| r.relative_errors.map(|e| e.abs() < 0.05));
+        summary.calibration = result;
+        summary.seconds.calibration = t0.elapsed().as_secs_f64();
+    }
+
+    // (b) damage-law identification.
+    if let Some(l) = &spec.law {
+        let t0 = Instant::now();
+        let experiment = spec.experiment.clone().unwrap_or_default();
+        // Reference curves and the DEM's elastic constants, on rank 0.
+        let reference: Result<Option<(Curve, Curve, f64, f64)>, Error> = match &job.dem_curves {
+            Some((t, c)) => Ok(Some((t.clone(), c.clone(), f64::NAN, f64::NAN))),
+            None => {
+                let (Some(tt), Some(ct)) = (&l.tension, &l.compression) else {
+                    return Err(Error::Analysis("[law] needs tension and compression tests".into()));
+                };
+                let v = run_virtual_tests(ctx, &spec.sample, &dem, tt, ct, l.samples, l.points).map_err(analysis_err);
+                let v = agree(&ctx.comm, v, Error::exit_code)?;
+                let out = match v {
+                    Some(v) => {
+                        for f in &v.failures {
+                            ctx.log.warn(f);
+                        }
+                        summary.virtual_test_failures = v.failures.clone();
+                        write_dem_curves(job, &v.tension_samples, &v.tension, "dem_tension.csv")
+                            .and_then(|_| write_dem_curves(job, &v.compression_samples, &v.compression, "dem_compression.csv"))
+                            .map(|_| Some((v.tension, v.compression, v.young_modulus, v.poisson)))
+                    }
+                    None => Ok(None),
+                };
+                out
+            }
+        };
+        let reference = agree(&ctx.comm, reference, Error::exit_code)?;
+        summary.seconds.virtual_tests = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let prepared = reference
+            .map(|(t, c, e_dem, nu_dem)| -> Result<(Curve, Curve, f64, f64), Error> {
+                let (e_x, nu_x) = match l.elastic {
+                    crate::config::ElasticSource::Experiment => (experiment.young_modulus, experiment.poisson),
+                    crate::config::ElasticSource::Dem => (None, None),
+                };
+                let e = l.young_modulus.or(e_x).unwrap_or(e_dem);
+                let nu = l.poisson.or(nu_x).unwrap_or(nu_dem);
+                if e_dem.is_finite() && (e - e_dem).abs() > 0.05 * e_dem {
+                    ctx.log.warn(format!(
+                        "the law's E = {e:.4e} Pa differs from the virtual tests' mean E = {e_dem:.4e} Pa by more than 5%: the law cannot follow the DEM's elastic branch (set [law] elastic = \"dem\" to use the DEM's)"
+                    ));
+                }
+                if !(e.is_finite() && e > 0.0 && nu.is_finite() && nu > -1.0 && nu < 0.5) {
+                    return Err(Error::Analysis(format!(
+                        "{}: [law] needs young_modulus and poisson (or [experiment] ones) when the DEM curves come from files",
+                        path.display()
+                    )));
+                }
+                let t = LawFit::on_grid(&t, l.points, "DEM tension curve").map_err(analysis_err)?;
+                let c = LawFit::on_grid(&c, l.points, "DEM compression curve").map_err(analysis_err)?;
+                Ok((t, c, e, nu))
+            })
+            .transpose();
+        let prepared = agree(&ctx.comm, prepared, Error::exit_code)?;
+        let (tension, compression, e, nu) = broadcast_json(ctx, prepared.as_ref()).map_err(analysis_err)?;
+        let b = &l.bounds;
+        let space = Space::new(&[("eps0_t", b.eps0_t), ("eps0_c", b.eps0_c), ("gf_t", b.gf_t), ("a_c", b.a_c), ("b_c", b.b_c)])
+            .map_err(analysis_err)?;
+        let h = l.element_size.unwrap_or(spec.sample.layout.domain().1);
+        let fit = LawFit {
+            young_modulus: e,
+            poisson: nu,
+            regularization: l.regularization,
+            element_size: h,
+            tension,
+            compression,
+            measure: l.error,
+            space,
+            levels: l.levels,
+            ego: EgoSettings { iterations: l.iterations, batch: l.batch, seed: seed.wrapping_add(1000), log_transform: true, target: None },
+            polish_iterations: l.polish_iterations,
+        };
+        // The no-elastic regularization's size limit, when E was not known at load.
+        if let crate::material::Regularization::HillerborgNoElastic = l.regularization {
+            let corner = fit.params_at(&[b.eps0_t[1], b.eps0_c[1], b.gf_t[0], b.a_c[1], b.b_c[1]]);
+            corner.for_element(h).map_err(|err| {
+                Error::Analysis(format!("{}: law.bounds.gf_t: at the corner gf_t = {}, eps0_t = {}: {err}", path.display(), b.gf_t[0], b.eps0_t[1]))
+            })?;
+        }
+        let result = agree(&ctx.comm, identify(ctx, &fit).map_err(analysis_err), Error::exit_code)?;
+        let written = match &result {
+            Some(r) => write_law(ctx, path, job, &fit, r, &summary).map(Some),
+            None => Ok(None),
+        };
+        summary.material_file = agree(&ctx.comm, written, Error::exit_code)?;
+        summary.law = result;
+        summary.seconds.law = t1.elapsed().as_secs_f64();
+    }
+    summary.seconds.total = t_all.elapsed().as_secs_f64();
+    ctx.log.info(format!(
+        "identification wall time {:.2} s (calibration {:.2} s, virtual tests {:.2} s, law {:.2} s) on {} rank(s)",
+        summary.seconds.total, summary.seconds.calibration, summary.seconds.virtual_tests, summary.seconds.law, ctx.size
+    ));
+    Ok(summary)
+}
+
+/// Rank 0: the calibration's files and log lines.
+fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) -> Result<(), Error> {
+    let dir = &job.output_dir;
+    let p = &r.parameters;
+    ctx.log.info(format!(
+        "calibrated DEM: alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e} (mu = {} fixed); J = {:.4e} after {} evaluations",
+        p.alpha, p.e_bar, p.eps_cr, p.theta_cr, p.mu, r.objective, r.evaluations
+    ));
+    let t = r.targets.as_array();
+    let scale = [1e9, 1.0, 1e6, 1e6];
+    let unit = ["GPa", "", "MPa", "MPa"];
+    for k in 0..4 {
+        ctx.log.info(format!(
+            "  {:20} {:10.4} ± {:.4} {} (n = {})   target {:.4}   error {:+.1}%",
+            QUANTITIES[k],
+            r.stats[k].mean / scale[k],
+            r.stats[k].std / scale[k],
+            unit[k],
+            r.stats[k].n,
+            t[k] / scale[k],
+            100.0 * r.relative_errors[k]
+        ));
+    }
+    let mut csv = String::from("evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,objective,error\n");
+    for (i, (it, x, v)) in r.history.iter().enumerate() {
+        let (val, err) = match v {
+            Ok(v) => (format!("{v:e}"), String::new()),
+            Err(e) => (String::new(), e.replace([',', '\n'], ";")),
+        };
+        let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{val},{err}", x[0], x[1], x[2], x[3]);
+    }
+    let f = dir.join("calibration.csv");
+    std::fs::write(&f, csv).map_err(io_err(&f))?;
+    let f = dir.join("calibration.json");
+    std::fs::write(&f, serde_json::to_string_pretty(r).unwrap_or_default() + "\n").map_err(io_err(&f))?;
+    // The calibrated DEM's curves against the experimental points.
+    let mut chart = LineChart::new("Calibrated DEM against the experiment", "strain ε [-] (test direction)", "stress σ [MPa]");
+    for (i, run) in r.best_runs.iter().enumerate() {
+        let pts = run.curve.x.iter().zip(&run.curve.y).map(|(&x, &y)| (x, y / 1e6)).collect();
+        chart = chart.series(if i == 0 { "DEM samples at the optimum" } else { "" }, pts, SeriesStyle::Line);
+    }
+    let tg = &r.targets;
+    let top = tg.peak_stress.max(r.stats[3].mean);
+    chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / tg.young_modulus, top / 1e6)], SeriesStyle::Dashed);
+    chart = chart.series(
+        "experiment: first crack, peak",
+        vec![
+            (tg.first_crack_stress / tg.young_modulus, tg.first_crack_stress / 1e6),
+            (tg.peak_stress / tg.young_modulus, tg.peak_stress / 1e6),
+        ],
+        SeriesStyle::Markers,
+    );
+    let f = dir.join("calibration.png");
+    chart.save_png(&f).map_err(|e| Error::Analysis(e.to_string()))
+}
+
+/// Rank 0: the virtual tests' curves (mean, then each sample) as CSV.
+fn write_dem_curves(job: &IdentifyJob, samples: &[Curve], mean: &Curve, name: &str) -> Result<(), Error> {
+    let mut s = String::from("strain,stress");
+    for k in 0..samples.len() {
+        let _ = write!(s, ",stress_sample_{k}");
+    }
+    s.push('\n');
+    for (i, (&x, &y)) in mean.x.iter().zip(&mean.y).enumerate() {
+        let _ = write!(s, "{x:e},{y:e}");
+        for c in samples {
+            let _ = write!(s, ",{:e}", c.at(mean.x[i]));
+        }
+        s.push('\n');
+    }
+    let f = job.output_dir.join(name);
+    std::fs::write(&f, s).map_err(io_err(&f))
+}
+
+/// Rank 0: the law's files (history, charts, material file); returns the material file's path.
+fn write_law(ctx: &Context, path: &Path, job: &IdentifyJob, fit: &LawFit, r: &LawResult, summary: &IdentifySummary) -> Result<String, Error> {
+    let dir = &job.output_dir;
+    let p = &r.params;
+    ctx.log.info(format!(
+        "identified law: eps0_t = {:.4e}, eps0_c = {:.4e}, gf_t = {:.4} J/m², a_c = {:.4}, b_c = {:.4} (E = {:.4e} Pa, nu = {:.3}, h = {} m)",
+        p.eps0_t, p.eps0_c, p.gf_t, p.a_c, p.b_c, p.e, p.nu, fit.element_size
+    ));
+    ctx.log.info(format!(
+        "  error ({:?}): tension {:.4} over {} points, compression {:.4} over {} points; peak error tension {:+.2}%, compression {:+.2}%",
+        fit.measure,
+        r.fit.tension.value,
+        r.fit.tension.points,
+        r.fit.compression.value,
+        r.fit.compression.points,
+        100.0 * r.tension_peak_error,
+        100.0 * r.compression_peak_error
+    ));
+    let mut csv = String::from("evaluation,iteration,eps0_t,eps0_c,gf_t,a_c,b_c,objective,best_so_far,error\n");
+    for (i, ((it, x, v), best)) in r.history.iter().zip(&r.best_so_far).enumerate() {
+        let (val, err) = match v {
+            Ok(v) => (format!("{v:e}"), String::new()),
+            Err(e) => (String::new(), e.replace([',', '\n'], ";")),
+        };
+        let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{:e},{val},{best:e},{err}", x[0], x[1], x[2], x[3], x[4]);
+    }
+    let f = dir.join("law.csv");
+    std::fs::write(&f, csv).map_err(io_err(&f))?;
+    let plot = |c: LineChart, name: &str| -> Result<(), Error> { c.save_png(&dir.join(name)).map_err(|e| Error::Analysis(e.to_string())) };
+    let evals: Vec<(f64, f64)> =
+        r.history.iter().enumerate().filter_map(|(i, (_, _, v))| v.as_ref().ok().map(|v| (i as f64, *v))).collect();
+    let best: Vec<(f64, f64)> = r.best_so_far.iter().enumerate().filter(|(_, v)| v.is_finite()).map(|(i, v)| (i as f64, *v)).collect();
+    plot(
+        LineChart::new("Damage-law identification: error history", "evaluation", &format!("error F ({:?})", fit.measure))
+            .series("each evaluation", evals, SeriesStyle::Markers)
+            .series("best so far", best, SeriesStyle::Line),
+        "law_error.png",
+    )?;
+    for (name, dem, law, file) in [("tension", &fit.tension, &r.law_curves.0, "law_tension.png"), ("compression", &fit.compression, &r.law_curves.1, "law_compression.png")] {
+        let pts = |c: &Curve| c.x.iter().zip(&c.y).map(|(&x, &y)| (x, y / 1e6)).collect::<Vec<_>>();
+        plot(
+            LineChart::new(&format!("Uniaxial {name}: DEM against the identified law"), "strain ε [-] (test direction)", "stress σ [MPa]")
+                .series("DEM (mean of samples)", pts(dem), SeriesStyle::Markers)
+                .series("damage law", pts(law), SeriesStyle::Line),
+            file,
+        )?;
+    }
+    let provenance = Provenance {
+        job: path.display().to_string(),
+        method: format!(
+            "2^5 factorial + EGO (kriging, q-EI) on the {:?} error between the law (plane-stress material point, uniaxial stress) and the DEM's mean tension and compression curves",
+            fit.measure
+        ),
+        element_size: fit.element_size,
+        error_tension: r.fit.tension.value,
+        error_compression: r.fit.compression.value,
+        error_measure: format!("{:?}", fit.measure),
+        dem: if job.dem_curves.is_some() { None } else { Some(summary.calibration.as_ref().map_or(job.dem, |c| c.parameters)) },
+    };
+    let f = dir.join("material.toml");
+    write_material_file(&f, p, &provenance).map_err(Error::Analysis)?;
+    if let Some(copy) = &job.material_copy {
+        if let Some(parent) = copy.parent() {
+            std::fs::create_dir_all(parent).map_err(io_err(parent))?;
+        }
+        write_material_file(copy, p, &provenance).map_err(Error::Analysis)?;
+        ctx.log.info(format!("material file: {} (and {})", f.display(), copy.display()));
+        return Ok(copy.display().to_string());
+    }
+    ctx.log.info(format!("material file: {}", f.display()));
+    Ok(f.display().to_string())
+}
+

@@ -1,0 +1,130 @@
+//! The EGO loop over MPI ranks. Rank 0 owns the optimizer ([`super::ego::Ego`]); each round it
+//! broadcasts a command — evaluate these points, stop, or fail with a message — and every rank
+//! takes part in the dynamic batch (`parallel::run_batch`) that evaluates the points, each
+//! point as `tasks_per_point` independent tasks (e.g. random DEM samples):
+//!
+//! ```text
+//!  rank 0: design ─┐          ┌─ tell ─ ask ─┐          ┌─ tell ─ ask ─ … ─ Stop
+//!                  └ bcast ── batch ─────────┴ bcast ── batch ─┘
+//!  rank r:           bcast ── batch ───────────bcast ── batch ─ …       ─ Stop
+//! ```
+//! A failure on rank 0 (the surrogate) is broadcast as `Fail`, so no rank waits forever.
+use super::ego::{Ego, EgoSettings};
+use super::error::IdentifyError;
+use crate::parallel::{run_batch, Context, TaskResult};
+use mpi::traits::{Communicator, Root};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+/// What rank 0 tells the others each round.
+#[derive(Serialize, Deserialize)]
+enum Command {
+    Evaluate(Vec<Vec<f64>>),
+    Stop,
+    Fail(String),
+}
+
+/// Collective. `value` (given on rank 0) on every rank, through JSON bytes.
+pub fn broadcast_json<T: Serialize + DeserializeOwned>(ctx: &Context, value: Option<&T>) -> Result<T, IdentifyError> {
+    let root = ctx.comm.process_at_rank(0);
+    let mut bytes = match value {
+        Some(v) if ctx.rank == 0 => serde_json::to_vec(v).map_err(|e| IdentifyError::Batch(e.to_string()))?,
+        _ => Vec::new(),
+    };
+    let mut len = bytes.len() as u64;
+    root.broadcast_into(&mut len);
+    bytes.resize(len as usize, 0);
+    root.broadcast_into(&mut bytes[..]);
+    serde_json::from_slice(&bytes).map_err(|e| IdentifyError::Batch(format!("broadcast: {e}")))
+}
+
+/// One evaluated point with its tasks' raw results.
+#[derive(Clone, Debug, Serialize)]
+pub struct PointRecord<R> {
+    /// The infill iteration (0 = design).
+    pub iteration: usize,
+    /// Unit-cube coordinates.
+    pub unit: Vec<f64>,
+    /// Objective, or why it failed.
+    pub value: Result<f64, String>,
+    /// The tasks' results.
+    pub tasks: Vec<TaskResult<R>>,
+}
+
+/// Collective. Evaluates `points` (significant on rank 0) as `points × tasks_per_point` tasks
+/// of a dynamic batch; rank 0 gets them grouped per point.
+pub fn evaluate_points<R, W>(
+    ctx: &Context,
+    points: &[Vec<f64>],
+    tasks_per_point: usize,
+    work: &W,
+) -> Result<Option<Vec<Vec<TaskResult<R>>>>, IdentifyError>
+where
+    R: Serialize + DeserializeOwned + Send,
+    W: Fn(&[f64], usize) -> TaskResult<R> + Sync,
+{
+    let m = tasks_per_point.max(1);
+    let n = points.len() * m;
+    let batch = run_batch(&ctx.comm, n, |t| work(&points[t / m], t % m), |_, _| {}).map_err(|e| IdentifyError::Batch(e.to_string()))?;
+    Ok(batch.map(|all| {
+        let mut grouped: Vec<Vec<TaskResult<R>>> = (0..points.len()).map(|_| Vec::with_capacity(m)).collect();
+        for (t, r) in all.into_iter().enumerate() {
+            grouped[t / m].push(r);
+        }
+        grouped
+    }))
+}
+
+/// Collective. Runs EGO: the `design` (unit cube, rank 0's is used), then infill batches, each
+/// point evaluated by `tasks_per_point` tasks of `work` and reduced to one objective value by
+/// `reduce`. Rank 0 returns every point with its tasks; the others `None`.
+pub fn run_ego<R, W, F>(
+    ctx: &Context,
+    dim: usize,
+    design: Vec<Vec<f64>>,
+    settings: EgoSettings,
+    tasks_per_point: usize,
+    work: W,
+    reduce: F,
+    label: &str,
+) -> Result<Option<Vec<PointRecord<R>>>, IdentifyError>
+where
+    R: Serialize + DeserializeOwned + Send + Clone,
+    W: Fn(&[f64], usize) -> TaskResult<R> + Sync,
+    F: Fn(&[f64], &[TaskResult<R>]) -> Result<f64, String>,
+{
+    let mut ego = if ctx.rank == 0 { Some(Ego::new(dim, settings)?) } else { None };
+    let mut records: Vec<PointRecord<R>> = Vec::new();
+    let mut cmd = Command::Evaluate(design);
+    loop {
+        let c = broadcast_json(ctx, Some(&cmd))?;
+        let points = match c {
+            Command::Evaluate(p) => p,
+            Command::Stop => break,
+            Command::Fail(msg) => return Err(IdentifyError::Optimizer(msg)),
+        };
+        let results = evaluate_points(ctx, &points, tasks_per_point, &work)?;
+        cmd = Command::Stop;
+        if let (Some(ego), Some(results)) = (ego.as_mut(), results) {
+            let iteration = ego.iteration();
+            let values: Vec<Result<f64, String>> = points.iter().zip(&results).map(|(p, r)| reduce(p, r)).collect();
+            for ((p, r), v) in points.iter().zip(results).zip(&values) {
+                records.push(PointRecord { iteration, unit: p.clone(), value: v.clone(), tasks: r });
+            }
+            ego.tell(&points, values);
+            let best = ego.best().and_then(|b| b.value.clone().ok());
+            ctx.log.info(format!(
+                "{label}: iteration {iteration}: {} point(s) evaluated ({} in all), best objective {}",
+                points.len(),
+                records.len(),
+                best.map_or("none yet".into(), |b| format!("{b:.6e}"))
+            ));
+            cmd = match ego.ask() {
+                Ok(Some(p)) => Command::Evaluate(p),
+                Ok(None) => Command::Stop,
+                Err(e) => Command::Fail(e.to_string()),
+            };
+        }
+    }
+    Ok(if ctx.rank == 0 { Some(records) } else { None })
+}

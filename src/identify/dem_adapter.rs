@@ -1,0 +1,104 @@
+//! The one place the identification calls the DEM virtual lab (`crate::dem`): build a sample,
+//! run a virtual test, return the curve and the derived numbers in the identification's terms.
+//! Everything else in `identify/` sees only [`DemRun`], so a change of the DEM's interface is
+//! absorbed here.
+use super::curves::Curve;
+use crate::dem::mechanics::MechParams;
+use crate::dem::sample::{Sample, SampleConfig};
+use crate::dem::solver::{run_test, VirtualTest};
+use serde::{Deserialize, Serialize};
+
+/// The lattice parameters the identification varies or fixes (SPEC §1): α enters the sample
+/// (beam inertias), the others the mechanics.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DemParameters {
+    /// Beam inertia coefficient α.
+    pub alpha: f64,
+    /// Lattice Young modulus Ē [Pa].
+    pub e_bar: f64,
+    /// Critical beam strain ε_cr.
+    pub eps_cr: f64,
+    /// Critical relative rotation θ_cr [rad].
+    pub theta_cr: f64,
+    /// Friction coefficient μ (fixed in the calibration).
+    pub mu: f64,
+    /// Tangential over normal contact stiffness.
+    pub kt_over_kn: f64,
+}
+
+/// What one virtual test gives the identification.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DemRun {
+    /// The loading curve in the test direction (compression: shortening and compressive
+    /// stress positive), at most [`MAX_CURVE_POINTS`] points.
+    pub curve: Curve,
+    /// Initial Young modulus [Pa].
+    pub young_modulus: f64,
+    /// Poisson ratio.
+    pub poisson: f64,
+    /// Stress at the first beam break [Pa], if any broke.
+    pub first_crack_stress: Option<f64>,
+    /// Peak stress [Pa].
+    pub peak_stress: f64,
+    /// Strain at the peak (magnitude).
+    pub strain_at_peak: f64,
+    /// Beam-break events.
+    pub events: usize,
+    /// Wall time [s].
+    pub seconds: f64,
+}
+
+/// Curves sent back from a batch task are thinned to about this many points (the peak kept).
+pub const MAX_CURVE_POINTS: usize = 400;
+
+/// The sample configuration of sample `k` (seed `base.seed + k`) with inertia coefficient α.
+pub fn sample_config(base: &SampleConfig, alpha: f64, k: usize) -> SampleConfig {
+    let mut c = base.clone();
+    c.seed = base.seed.wrapping_add(k as u64);
+    c.alpha = alpha;
+    c
+}
+
+/// Height of the sample [m] (the virtual test's gauge length).
+pub fn sample_height(base: &SampleConfig) -> f64 {
+    base.layout.domain().1
+}
+
+/// Runs `test` on sample `k` of `base` with `p`. The error is a message naming the sample.
+pub fn run_virtual_test(base: &SampleConfig, p: &DemParameters, test: &VirtualTest, k: usize) -> Result<DemRun, String> {
+    let cfg = sample_config(base, p.alpha, k);
+    let sample = Sample::build(&cfg).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;
+    let params = MechParams {
+        e_bar: p.e_bar,
+        t_z: cfg.thickness,
+        eps_cr: p.eps_cr,
+        theta_cr: p.theta_cr,
+        mu: p.mu,
+        kt_over_kn: p.kt_over_kn,
+    };
+    params.validate().map_err(|e| format!("sample {k}: {e}"))?;
+    let r = run_test(&sample, &params, test).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;
+    let sign = if matches!(test, VirtualTest::Compression { .. }) { -1.0 } else { 1.0 };
+    let stride = r.curve.len().div_ceil(MAX_CURVE_POINTS).max(1);
+    let peak = r.curve.iter().enumerate().max_by(|a, b| (sign * a.1.stress).total_cmp(&(sign * b.1.stress))).map_or(0, |p| p.0);
+    let mut x = Vec::new();
+    let mut y = Vec::new();
+    for (i, c) in r.curve.iter().enumerate() {
+        if i % stride == 0 || i + 1 == r.curve.len() || i == peak {
+            x.push(sign * c.strain);
+            y.push(sign * c.stress);
+        }
+    }
+    let curve = Curve { x, y, loss_of_load: r.stats.loss_of_load }.monotonic();
+    let d = &r.derived;
+    Ok(DemRun {
+        curve,
+        young_modulus: d.young_modulus,
+        poisson: d.poisson,
+        first_crack_stress: d.first_crack_stress,
+        peak_stress: d.peak_stress,
+        strain_at_peak: d.strain_at_peak.abs(),
+        events: r.stats.events,
+        seconds: r.stats.seconds,
+    })
+}

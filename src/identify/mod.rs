@@ -1,0 +1,45 @@
+//! Identification (SPEC §3): calibrate the DEM's lattice parameters against experimental
+//! numbers, then identify the continuum damage law from the calibrated DEM's virtual tests, both
+//! by kriging-based efficient global optimization over MPI batches.
+//!
+//! | file               | concept                                                                 |
+//! |--------------------|-------------------------------------------------------------------------|
+//! | `space.rs`         | [`Space`]: named unknowns in intervals, the map to the unit cube        |
+//! | `doe.rs`           | designs of experiments: Latin hypercube, two-level factorial           |
+//! | `ego.rs`           | [`Ego`]: kriging + expected improvement (egobox), ask-and-tell, q-EI    |
+//! | `collective.rs`    | the EGO loop over MPI ranks (rank 0 asks, every rank evaluates)         |
+//! | `curves.rs`        | [`Curve`]: resampling, mean curves over samples                         |
+//! | `error_measure.rs` | paper eq. 15 and the relative RMS                                       |
+//! | `dem_adapter.rs`   | the one adapter to the DEM virtual lab                                  |
+//! | `calibration.rs`   | (a) DEM calibration against E, ν, first-crack and peak stresses         |
+//! | `virtual_tests.rs` | the calibrated DEM's tension and compression tests, mean curves         |
+//! | `law_fit.rs`       | (b) damage-law identification from the virtual tests                    |
+//! | `polish.rs`        | Nelder–Mead polish of the EGO optimum (cheap objectives)                |
+//! | `material_file.rs` | the material file (`[law]` table) structural jobs read by path          |
+//! | `error.rs`         | [`IdentifyError`]                                                       |
+//!
+//! Reproducibility: the designs are seeded, the surrogate's optimizers are seeded per
+//! iteration, the DEM samples have fixed seeds, and the batch returns results in task order
+//! whatever rank computed them: the same job gives the same result on any number of ranks.
+pub mod calibration;
+pub mod collective;
+pub mod curves;
+pub mod dem_adapter;
+pub mod doe;
+pub mod ego;
+pub mod error;
+pub mod error_measure;
+pub mod law_fit;
+pub mod material_file;
+pub mod polish;
+pub mod space;
+pub mod virtual_tests;
+
+pub use calibration::{calibrate, Calibration, CalibrationResult, Stat, Targets};
+pub use curves::Curve;
+pub use dem_adapter::{DemParameters, DemRun};
+pub use ego::{Ego, EgoSettings, Evaluation};
+pub use error::IdentifyError;
+pub use error_measure::{curve_error, CurveError, ErrorMeasure};
+pub use law_fit::{identify, LawFit, LawResult};
+pub use space::Space;

@@ -1,0 +1,87 @@
+//! The calibrated DEM's virtual tests for the law identification: tension and compression of
+//! `samples` random samples each, as one dynamic batch (2 × samples tasks), reduced to the
+//! mean curves on uniform strain grids ([`super::curves::mean_curve`]).
+use super::collective::evaluate_points;
+use super::curves::{mean_curve, uniform_grid, Curve};
+use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
+use super::error::IdentifyError;
+use crate::dem::sample::SampleConfig;
+use crate::dem::solver::VirtualTest;
+use crate::parallel::Context;
+
+/// The virtual tests' outcome (rank 0).
+#[derive(Clone, Debug)]
+pub struct VirtualCurves {
+    /// Mean tension curve.
+    pub tension: Curve,
+    /// Mean compression curve.
+    pub compression: Curve,
+    /// Every sample's tension curve.
+    pub tension_samples: Vec<Curve>,
+    /// Every sample's compression curve.
+    pub compression_samples: Vec<Curve>,
+    /// Failed samples' messages.
+    pub failures: Vec<String>,
+    /// Mean E and ν of the compression samples.
+    pub young_modulus: f64,
+    /// Mean Poisson ratio of the compression samples.
+    pub poisson: f64,
+}
+
+fn max_strain(t: &VirtualTest) -> f64 {
+    match *t {
+        VirtualTest::Compression { max_strain, .. } | VirtualTest::Tension { max_strain, .. } => max_strain,
+        VirtualTest::Shear { .. } => 0.0,
+    }
+}
+
+/// Collective. Runs both tests on `samples` samples with `p`; `points` grid points per curve.
+pub fn run_virtual_tests(
+    ctx: &Context,
+    sample: &SampleConfig,
+    p: &DemParameters,
+    tension: &VirtualTest,
+    compression: &VirtualTest,
+    samples: usize,
+    points: usize,
+) -> Result<Option<VirtualCurves>, IdentifyError> {
+    ctx.log.info(format!("virtual tests: tension and compression of {samples} sample(s) each"));
+    let tests = [vec![0.0], vec![1.0]];
+    let work = |which: &[f64], k: usize| -> Result<DemRun, String> {
+        let t = if which[0] == 0.0 { tension } else { compression };
+        run_virtual_test(sample, p, t, k)
+    };
+    let Some(results) = evaluate_points(ctx, &tests, samples, &work)? else {
+        return Ok(None);
+    };
+    let mut failures = Vec::new();
+    let mut split = |rs: &[Result<DemRun, String>], name: &str| -> Vec<DemRun> {
+        rs.iter()
+            .filter_map(|r| match r {
+                Ok(d) => Some(d.clone()),
+                Err(e) => {
+                    failures.push(format!("{name}: {e}"));
+                    None
+                }
+            })
+            .collect()
+    };
+    let t_runs = split(&results[0], "tension");
+    let c_runs = split(&results[1], "compression");
+    let tension_samples: Vec<Curve> = t_runs.iter().map(|r| r.curve.clone()).collect();
+    let compression_samples: Vec<Curve> = c_runs.iter().map(|r| r.curve.clone()).collect();
+    let t_mean = mean_curve(&tension_samples, &uniform_grid(max_strain(tension), points), "DEM tension curve")?;
+    let c_mean = mean_curve(&compression_samples, &uniform_grid(max_strain(compression), points), "DEM compression curve")?;
+    t_mean.check("DEM tension curve")?;
+    c_mean.check("DEM compression curve")?;
+    let n = c_runs.len() as f64;
+    Ok(Some(VirtualCurves {
+        young_modulus: c_runs.iter().map(|r| r.young_modulus).sum::<f64>() / n,
+        poisson: c_runs.iter().map(|r| r.poisson).sum::<f64>() / n,
+        tension: t_mean,
+        compression: c_mean,
+        tension_samples,
+        compression_samples,
+        failures,
+    }))
+}

@@ -1,0 +1,259 @@
+//! The identification job through the whole program (SPEC §3): the damage law recovered from
+//! curves the law itself produced; the DEM calibrated against numbers the DEM itself produced;
+//! the chain on a tiny wall under `mpirun -n 2`; bad input.
+mod common;
+use common::*;
+use masonry_hpc::material::{run_path, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization};
+use std::path::{Path, PathBuf};
+
+/// The law that generates the synthetic "DEM" curves (rubble-masonry orders of magnitude).
+fn known_law() -> DamageParams {
+    DamageParams {
+        e: 2.885e9,
+        nu: 0.19,
+        eps0_t: 1.0e-4,
+        eps0_c: 4.0e-4,
+        gf_t: 30.0,
+        a_c: 0.8,
+        b_c: 800.0,
+        regularization: Regularization::Hillerborg,
+    }
+}
+
+const H: f64 = 1.2;
+
+/// Writes the law's uniaxial curve (ε_xx, σ_xx), tension positive, as `strain,stress` CSV.
+fn write_law_curve(file: &Path, p: &DamageParams, max: f64, tension: bool) {
+    let law = p.for_element(H).unwrap();
+    let path = if tension { LoadPath::<3>::uniaxial_tension(max, 300) } else { LoadPath::<3>::uniaxial_compression(max, 300) }.unwrap();
+    let rec = run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap();
+    let mut s = String::from("strain,stress\n");
+    for r in rec {
+        s.push_str(&format!("{:e},{:e}\n", r.strain[0], r.stress[0]));
+    }
+    std::fs::write(file, s).unwrap();
+}
+
+const LAW_BOUNDS: &str =
+    "bounds = { eps0_t = [5e-5, 2e-4], eps0_c = [2e-4, 8e-4], gf_t = [10.0, 90.0], a_c = [0.5, 1.0], b_c = [300.0, 2000.0] }";
+
+fn law_job(dir: &Path, extra: &str, bounds: &str) -> PathBuf {
+    let text = format!(
+        "[analysis]\ntype = \"identification\"\nseed = 3\n\
+         [sample]\nseed = 1\nlayout = {{ type = \"coursed\", width = 1.0, height = {H}, n_courses = 3, n_per_course = 3 }}\n\
+         [law]\ndem_curves = {{ tension = \"t.csv\", compression = \"c.csv\" }}\nyoung_modulus = 2.885e9\npoisson = 0.19\n\
+         iterations = 3\nbatch = 2\npolish_iterations = 150\n{extra}{bounds}\n\
+         [output]\ndir = \"out\"\nexisting = \"overwrite\"\n"
+    );
+    let f = dir.join("law.toml");
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn law_identification_recovers_the_law_that_made_the_curves() {
+    let dir = scratch("identify-law");
+    let p = known_law();
+    write_law_curve(&dir.join("t.csv"), &p, 6e-4, true);
+    write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
+    let f = law_job(&dir, "", LAW_BOUNDS);
+    let out = run(0, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
+    let s = summary(&dir);
+    let law = &s["law"];
+    // Acceptance (issue): the law's peaks within 5% of the reference curves' peaks.
+    let (tp, cp) = (law["tension_peak_error"].as_f64().unwrap(), law["compression_peak_error"].as_f64().unwrap());
+    assert!(tp.abs() < 0.05 && cp.abs() < 0.05, "peak errors {tp}, {cp}");
+    // The reference curves are the law's own: eq. 15 per point (mean sqrt of the relative
+    // deviation) under 0.1 means a typical relative deviation under 1%.
+    for side in ["tension", "compression"] {
+        let v = law["fit"][side]["value"].as_f64().unwrap();
+        let n = law["fit"][side]["points"].as_f64().unwrap();
+        assert!(v / n < 0.1, "{side}: F = {v} over {n} points");
+    }
+    // The tensile threshold is what sets the tensile peak E ε₀ᵗ: recovered within 5%.
+    let eps0_t = law["params"]["eps0_t"].as_f64().unwrap();
+    assert!((eps0_t - p.eps0_t).abs() / p.eps0_t < 0.05, "eps0_t {eps0_t}");
+    // Outputs a person looks at.
+    for f in ["law.csv", "law_error.png", "law_tension.png", "law_compression.png", "material.toml"] {
+        assert!(dir.join("out").join(f).is_file(), "{f} missing");
+    }
+    // The history has the 32 factorial points first, then the infill.
+    let hist = std::fs::read_to_string(dir.join("out/law.csv")).unwrap();
+    assert!(hist.lines().count() > 1 + 32, "{hist}");
+    // A structural job reads the material file by path.
+    let job = format!(
+        "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"none.msh\"\n\
+         [materials.masonry]\ntype = \"damage\"\nlaw_file = \"out/material.toml\"\n\
+         [sections.s]\ntype = \"shell\"\nthickness = 0.5\n\
+         [[parts]]\ngroup = \"wall\"\nsection = \"s\"\nmaterial = \"masonry\"\n"
+    );
+    std::fs::write(dir.join("structure.toml"), job).unwrap();
+    let j = masonry_hpc::config::Job::load(&dir.join("structure.toml")).unwrap();
+    let m = &j.spec.materials["masonry"];
+    let masonry_hpc::config::MaterialConfig::Damage(d) = m else { panic!("not a damage material") };
+    let read = d.law.unwrap();
+    assert!((read.eps0_t - eps0_t).abs() <= 1e-12 * eps0_t);
+    assert_eq!(read.e, 2.885e9);
+}
+
+fn expect_error(dir: &Path, job: &Path, needles: &[&str], nps: &[usize]) {
+    let _ = dir;
+    for &np in nps {
+        let out = run(np, &["check", job.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "np={np}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "np={np}: message lacks '{n}':\n{err}");
+        }
+        assert_eq!(err.matches("error:").count(), 1, "np={np}: one message:\n{err}");
+    }
+}
+
+#[test]
+fn bad_bounds_are_located() {
+    let dir = scratch("identify-bad-bounds");
+    let p = known_law();
+    write_law_curve(&dir.join("t.csv"), &p, 6e-4, true);
+    write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
+    // ε₀ ≤ 0 (line 14 holds the bounds).
+    let f = law_job(&dir, "", &LAW_BOUNDS.replace("eps0_t = [5e-5", "eps0_t = [0.0"));
+    expect_error(&dir, &f, &["law.toml:14:", "key 'law.bounds.eps0_t'", "must be > 0"], &[0, 2]);
+    // A_c outside [0, 1].
+    let f = law_job(&dir, "", &LAW_BOUNDS.replace("a_c = [0.5, 1.0]", "a_c = [0.5, 1.2]"));
+    expect_error(&dir, &f, &["law.toml:14:", "key 'law.bounds.a_c'", "[0, 1]"], &[0]);
+    // Inverted bounds.
+    let f = law_job(&dir, "", &LAW_BOUNDS.replace("gf_t = [10.0, 90.0]", "gf_t = [90.0, 10.0]"));
+    expect_error(&dir, &f, &["key 'law.bounds.gf_t'", "lower < upper", "[90, 10]"], &[0]);
+}
+
+#[test]
+fn element_above_the_regularization_limit_gives_the_limit() {
+    // hillerborg_no_elastic needs h < 2 E G_f / f_t² everywhere in the box; the smallest limit
+    // is at gf_t = 10, eps0_t = 2e-4: 2 · 2.885e9 · 10 / (2.885e9 · 2e-4)² = 0.17331 m < h = 1.2 m.
+    let dir = scratch("identify-limit");
+    let p = known_law();
+    write_law_curve(&dir.join("t.csv"), &p, 6e-4, true);
+    write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
+    let f = law_job(&dir, "regularization = \"hillerborg_no_elastic\"\nelement_size = 1.2\n", LAW_BOUNDS);
+    let limit = 2.0 * 2.885e9 * 10.0 / (2.885e9f64 * 2e-4).powi(2);
+    assert!((limit - 0.17331).abs() < 1e-4);
+    expect_error(&dir, &f, &["key 'law.element_size'", "exceeds the limit 2 E G_f / f_t² = 0.1733"], &[0, 2]);
+}
+
+#[test]
+fn empty_and_flat_dem_curves_are_rejected() {
+    let dir = scratch("identify-flat");
+    write_law_curve(&dir.join("t.csv"), &known_law(), 6e-4, true);
+    std::fs::write(dir.join("c.csv"), "strain,stress\n0.0,0.0\n-1e-3,0.0\n-2e-3,0.0\n").unwrap();
+    let f = law_job(&dir, "", LAW_BOUNDS);
+    expect_error(&dir, &f, &["key 'law.dem_curves.compression'", "c.csv", "flat"], &[0]);
+    std::fs::write(dir.join("c.csv"), "strain,stress\n").unwrap();
+    expect_error(&dir, &f, &["key 'law.dem_curves.compression'", "at least two"], &[0]);
+    std::fs::write(dir.join("c.csv"), "").unwrap();
+    expect_error(&dir, &f, &["key 'law.dem_curves.compression'", "empty file"], &[0]);
+}
+
+const TINY_WALL: &str =
+    "layout = { type = \"coursed\", width = 0.4, height = 0.48, n_courses = 4, n_per_course = 3, jitter = 0.2, size_variability = 0.2 }";
+
+/// A DEM job on the tiny wall: compression of 2 samples with the given lattice parameters.
+fn dem_job(dir: &Path, name: &str, alpha: f64, mech: &str) -> PathBuf {
+    let text = format!(
+        "[analysis]\ntype = \"dem\"\nsamples = 2\n[sample]\nseed = 1\nalpha = {alpha:e}\n{TINY_WALL}\n[mechanics]\n{mech}\n\
+         [test]\ntype = \"compression\"\nmax_strain = 3.0e-3\nsteps = 30\n[output]\ndir = \"{name}-out\"\nexisting = \"overwrite\"\n"
+    );
+    let f = dir.join(format!("{name}.toml"));
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+fn dem_means(dir: &Path, name: &str) -> [f64; 4] {
+    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{name}-out/summary.json"))).unwrap()).unwrap();
+    ["young_modulus", "poisson", "first_crack_stress", "peak_stress"].map(|k| s[k]["mean"].as_f64().unwrap())
+}
+
+#[test]
+fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design() {
+    let dir = scratch("identify-chain");
+    // Targets: the DEM's own numbers at the paper's parameters (α 0.8, Ē 2.5 GPa, ε_cr 1e-4,
+    // θ_cr 7e-4), same samples (seeds 1, 2) as the calibration uses.
+    let f = dem_job(&dir, "truth", 0.8, "e_bar = 2.5e9\neps_cr = 1.0e-4\ntheta_cr = 7.0e-4");
+    let out = run(0, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let t = dem_means(&dir, "truth");
+    let job = format!(
+        "[analysis]\ntype = \"identification\"\nseed = 2\n[sample]\nseed = 1\n{TINY_WALL}\n\
+         [experiment]\nyoung_modulus = {:e}\npoisson = {:e}\nfirst_crack_stress = {:e}\npeak_stress = {:e}\n\
+         [calibration]\nsamples = 2\ndesign_points = 6\niterations = 2\nbatch = 2\n\
+         test = {{ type = \"compression\", max_strain = 3.0e-3, steps = 30 }}\n\
+         bounds = {{ alpha = [0.5, 1.2], e_bar = [1.5e9, 3.5e9], eps_cr = [5e-5, 2e-4], theta_cr = [3e-4, 1.5e-3] }}\n\
+         [law]\nsamples = 2\npoints = 20\niterations = 1\nbatch = 2\npolish_iterations = 30\n\
+         tension = {{ type = \"tension\", max_strain = 1.0e-3, steps = 20 }}\n\
+         compression = {{ type = \"compression\", max_strain = 3.0e-3, steps = 30 }}\n\
+         bounds = {{ eps0_t = [2e-5, 4e-4], eps0_c = [5e-5, 2e-3], gf_t = [2.0, 400.0], a_c = [0.0, 1.0], b_c = [50.0, 5000.0] }}\n\
+         [output]\ndir = \"OUT\"\nexisting = \"overwrite\"\n",
+        t[0], t[1], t[2], t[3]
+    );
+    let mut summaries = Vec::new();
+    for np in [2, 0] {
+        let f = dir.join(format!("chain-{np}.toml"));
+        std::fs::write(&f, job.replace("OUT", &format!("out-{np}"))).unwrap();
+        let out = run(np, &[f.to_str().unwrap()]);
+        assert!(out.status.success(), "np={np}: {}\n{}", stdout(&out), stderr(&out));
+        for file in ["calibration.png", "calibration.csv", "calibration.json", "dem_tension.csv", "dem_compression.csv", "law_tension.png", "material.toml"] {
+            assert!(dir.join(format!("out-{np}")).join(file).is_file(), "np={np}: {file} missing");
+        }
+        let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(format!("out-{np}/summary.json"))).unwrap()).unwrap();
+        summaries.push(s);
+    }
+    // The seeded design and its evaluation do not depend on the rank count: the batch returns
+    // results in task order. Same points bit for bit, objectives to 1e-9 relative (DEM results
+    // of a sample can differ in the last bit between runs). The infill that follows is not
+    // compared: the kriging's hyperparameter search turns last-bit differences into another
+    // (equally good) path.
+    let rows = |np: usize| -> Vec<Vec<String>> {
+        std::fs::read_to_string(dir.join(format!("out-{np}/calibration.csv")))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(String::from).collect::<Vec<_>>())
+            .filter(|r| r[1] == "0")
+            .collect()
+    };
+    let (a, b) = (rows(2), rows(0));
+    assert_eq!(a.len(), 6);
+    for (ra, rb) in a.iter().zip(&b) {
+        assert_eq!(ra[2..6], rb[2..6], "design points differ");
+        let (x, y): (f64, f64) = (ra[6].parse().unwrap(), rb[6].parse().unwrap());
+        assert!((x - y).abs() <= 1e-9 * x.abs(), "objective {x} (2 ranks) vs {y} (1 rank)");
+    }
+    let cal = &summaries[0]["calibration"];
+    // The result file records the sample statistics at the optimum: an independent DEM job at
+    // the identified parameters gives the same means (same samples; 1e-9 relative, JSON round-off).
+    let p = &cal["parameters"];
+    let mech = format!(
+        "e_bar = {:e}\neps_cr = {:e}\ntheta_cr = {:e}",
+        p["e_bar"].as_f64().unwrap(),
+        p["eps_cr"].as_f64().unwrap(),
+        p["theta_cr"].as_f64().unwrap()
+    );
+    let f = dem_job(&dir, "check", p["alpha"].as_f64().unwrap(), &mech);
+    let out = run(0, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let m = dem_means(&dir, "check");
+    for k in 0..4 {
+        let recorded = cal["stats"][k]["mean"].as_f64().unwrap();
+        assert!((recorded - m[k]).abs() <= 1e-9 * m[k].abs(), "quantity {k}: recorded {recorded}, DEM job {}", m[k]);
+        let rel = cal["relative_errors"][k].as_f64().unwrap();
+        assert!((rel - (m[k] - t[k]) / t[k]).abs() < 1e-9);
+        assert_eq!(summaries[0]["calibration_within_5_percent"][k].as_bool().unwrap(), rel.abs() < 0.05);
+    }
+    // The objective J = Σ (relative error)² of the recorded statistics.
+    let j: f64 = (0..4).map(|k| cal["relative_errors"][k].as_f64().unwrap().powi(2)).sum();
+    assert!((cal["objective"].as_f64().unwrap() - j).abs() <= 1e-9 * j);
+}
