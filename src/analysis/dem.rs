@@ -15,7 +15,7 @@
 //! compression tests as shortening and compressive stress, both positive.
 use crate::config::DemJob;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
-use crate::dem::solver::{run_test, FailureModeTag, TestResult, VirtualTest};
+use crate::dem::solver::{run_test, FailureModeTag, TestEnd, TestResult, VirtualTest};
 use crate::parallel::{agree, run_batch, Context};
 use crate::plot::{LineChart, SeriesStyle};
 use crate::run::Error;
@@ -47,8 +47,13 @@ pub struct SampleReport {
     pub sample: usize,
     /// Its seed.
     pub seed: u64,
-    /// Derived numbers (Pa, -), or the error that stopped it.
+    /// Derived numbers (Pa, -), or the error that stopped it before anything was recorded.
     pub result: Result<crate::dem::solver::Derived, String>,
+    /// How the test ended (target, loss of load, post-peak collapse, failure); `None` when it
+    /// could not start.
+    pub end: Option<TestEnd>,
+    /// Whether its numbers count in the statistics.
+    pub counted: bool,
     /// Beam-break events.
     pub events: usize,
     /// Wall time of the test [s].
@@ -134,6 +139,7 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, String>], seconds: f64) -> Result<DemSummary, Error> {
     let dir = &job.output_dir;
     let compression = matches!(job.spec.test, VirtualTest::Compression { .. });
+    let shear = matches!(job.spec.test, VirtualTest::Shear { .. });
     let sign = if compression { -1.0 } else { 1.0 };
     let mut chart = LineChart::new(
         job.spec.title.as_deref().unwrap_or("DEM virtual test"),
@@ -148,7 +154,15 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
         match r {
             Err(msg) => {
                 ctx.log.warn(msg);
-                reports.push(SampleReport { sample: k, seed, result: Err(msg.clone()), events: 0, seconds: 0.0 });
+                reports.push(SampleReport {
+                    sample: k,
+                    seed,
+                    result: Err(msg.clone()),
+                    end: None,
+                    counted: false,
+                    events: 0,
+                    seconds: 0.0,
+                });
             }
             Ok(t) => {
                 let sdir = dir.join(format!("sample-{k:03}"));
@@ -158,21 +172,50 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
                 let pts: Vec<(f64, f64)> = t.curve.iter().map(|c| (sign * c.strain, sign * c.stress / 1e6)).collect();
                 chart = chart.series(if k == 0 { "DEM samples" } else { "" }, pts, SeriesStyle::Line);
                 let d = &t.derived;
+                let counted = t.end.is_valid();
+                events += t.stats.events;
+                test_seconds += t.stats.seconds;
+                match &t.end {
+                    TestEnd::Failed { message } => ctx.log.warn(format!(
+                        "sample {k}: stopped before the peak after {} events ({message}); its curve is kept in {}, its numbers are not counted",
+                        t.stats.events,
+                        sdir.display()
+                    )),
+                    TestEnd::Collapse { message } => ctx.log.info(format!(
+                        "sample {k}: no equilibrium after the peak (collapse) after {} events: {message}",
+                        t.stats.events
+                    )),
+                    _ => {}
+                }
+                reports.push(SampleReport {
+                    sample: k,
+                    seed,
+                    result: Ok(d.clone()),
+                    end: Some(t.end.clone()),
+                    counted,
+                    events: t.stats.events,
+                    seconds: t.stats.seconds,
+                });
+                if !counted {
+                    continue;
+                }
                 e.push(d.young_modulus);
-                nu.push(d.poisson);
+                if !shear {
+                    nu.push(d.poisson);
+                }
                 if let Some(f) = d.first_crack_stress {
                     fc.push(f);
                 }
                 pk.push(d.peak_stress);
                 sp.push(d.strain_at_peak.abs());
-                events += t.stats.events;
-                test_seconds += t.stats.seconds;
-                reports.push(SampleReport { sample: k, seed, result: Ok(d.clone()), events: t.stats.events, seconds: t.stats.seconds });
+
             }
         }
     }
     if e.is_empty() {
-        return Err(Error::Analysis("DEM: every sample failed (see the warnings above)".into()));
+        return Err(Error::Analysis(
+            "DEM: every sample failed (see the warnings above; the curves recorded so far are in the sample folders)".into(),
+        ));
     }
     if let Some(x) = &job.spec.experiment {
         if let Some(ex) = x.young_modulus {
@@ -209,8 +252,26 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
         ctx.log.info(format!("{name:20} {:10.4} ± {:.4} {unit} (n = {}){x}", st.mean / scale, st.std / scale, st.n));
     };
     let ex = job.spec.experiment.clone().unwrap_or_default();
-    line("Young modulus", &s.young_modulus, 1e9, "GPa", ex.young_modulus);
-    line("Poisson ratio", &s.poisson, 1.0, "", ex.poisson);
+    if shear {
+        line("initial τ/γ", &s.young_modulus, 1e9, "GPa", None);
+        let (w, h) = job.spec.sample.layout.domain();
+        ctx.log.info(format!(
+            "peak shear stress {:.3} ± {:.3} MPa: force on the 0.5 m thick wall {:.1} ± {:.1} kN (τ × W × 0.5 m)",
+            s.peak_stress.mean / 1e6,
+            s.peak_stress.std / 1e6,
+            s.peak_stress.mean * w * 0.5 / 1e3,
+            s.peak_stress.std * w * 0.5 / 1e3
+        ));
+        ctx.log.info(format!(
+            "displacement at peak {:.2} ± {:.2} mm (n = {})",
+            s.strain_at_peak.mean * h * 1e3,
+            s.strain_at_peak.std * h * 1e3,
+            s.strain_at_peak.n
+        ));
+    } else {
+        line("Young modulus", &s.young_modulus, 1e9, "GPa", ex.young_modulus);
+        line("Poisson ratio", &s.poisson, 1.0, "", ex.poisson);
+    }
     line("first-crack stress", &s.first_crack_stress, 1e6, "MPa", ex.first_crack_stress);
     line("peak stress", &s.peak_stress, 1e6, "MPa", ex.peak_stress);
     line("strain at peak", &s.strain_at_peak, 1.0, "", None);

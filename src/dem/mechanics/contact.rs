@@ -167,7 +167,12 @@ pub fn contact(
     }
     let overlap = Polygon { vertices: v };
     let area = overlap.area();
-    if overlap.is_empty() || area.is_nan() || area <= tol * size {
+    // Zero area to round-off. The threshold must stay far below any area the solver resolves:
+    // F_n = κ S_r is continuous at S_r = 0 only if contacts appear at (numerically) zero overlap;
+    // a larger cut-off makes F_n jump by κ × cut-off when a contact appears, and Newton's method
+    // cannot converge on such a jump (with Ē = 2.5 GPa, ℓ_c = 0.2 m and coordinates of order 1 m
+    // the jump here is about 10⁻⁵ N).
+    if overlap.is_empty() || area.is_nan() || area <= 1e-15 * (coord + size).powi(2) {
         return Ok(None);
     }
     let v = &overlap.vertices;

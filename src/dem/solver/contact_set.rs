@@ -21,6 +21,7 @@ use super::dofs::DofMap;
 use super::error::DemError;
 use crate::dem::mechanics::{self, Contact, FrictionUpdate, MechParams, SlipState};
 use crate::dem::polygon::Polygon;
+use nalgebra::{SMatrix, SVector};
 use crate::dem::sample::Sample;
 
 /// An active contact in a trial state.
@@ -131,32 +132,95 @@ pub fn evaluate(
 ) -> Result<Vec<ActiveContact>, DemError> {
     let mut out = Vec::new();
     for &(i, j) in pairs {
-        let (qi, qj) = (map.particle_dofs(i, z), map.particle_dofs(j, z));
-        let (pi, pj) = (&sample.particles[i], &sample.particles[j]);
-        let err = |source| DemError::Contact { i, j, source };
-        let ri = [pi.centroid[0] + qi[0], pi.centroid[1] + qi[1]];
-        let rj = [pj.centroid[0] + qj[0], pj.centroid[1] + qj[1]];
-        let c = mechanics::contact(
-            &current_polygon(sample, i, qi),
-            &current_polygon(sample, j, qj),
-            ri,
-            rj,
-            pi.diameter,
-            pj.diameter,
-            params,
-        )
-        .map_err(err)?;
-        let Some(c) = c else { continue };
-        let (ci, cj) = (map.particle_dofs(i, z_commit), map.particle_dofs(j, z_commit));
-        let dqi = [qi[0] - ci[0], qi[1] - ci[1], qi[2] - ci[2]];
-        let dqj = [qj[0] - cj[0], qj[1] - cj[1], qj[2] - cj[2]];
-        let dg = c.tangential_increment(dqi, dqj);
-        let k_t = (params.kt_over_kn * c.k_n).max(f64::MIN_POSITIVE);
+        let q = [map.particle_dofs(i, z), map.particle_dofs(j, z)];
+        let c = [map.particle_dofs(i, z_commit), map.particle_dofs(j, z_commit)];
         let old = committed.get(&(i, j)).copied().unwrap_or(0.0);
-        let friction = mechanics::friction_update(old, dg, k_t, params.mu, c.f_n).map_err(err)?;
-        out.push(ActiveContact { i, j, contact: c, friction, k_t });
+        if let Some(a) = evaluate_pair(sample, params, i, j, q, c, old)? {
+            out.push(a);
+        }
     }
     Ok(out)
+}
+
+/// The contact of stones `i`, `j` at DOFs `q = [q_i, q_j]`, with the friction trial from the
+/// committed DOFs `c` and the committed tangential force `old`; `None` without overlap.
+pub fn evaluate_pair(
+    sample: &Sample,
+    params: &MechParams,
+    i: usize,
+    j: usize,
+    q: [[f64; 3]; 2],
+    c: [[f64; 3]; 2],
+    old: f64,
+) -> Result<Option<ActiveContact>, DemError> {
+    let [qi, qj] = q;
+    let (pi, pj) = (&sample.particles[i], &sample.particles[j]);
+    let err = |source| DemError::Contact { i, j, source };
+    let ri = [pi.centroid[0] + qi[0], pi.centroid[1] + qi[1]];
+    let rj = [pj.centroid[0] + qj[0], pj.centroid[1] + qj[1]];
+    let contact = mechanics::contact(
+        &current_polygon(sample, i, qi),
+        &current_polygon(sample, j, qj),
+        ri,
+        rj,
+        pi.diameter,
+        pj.diameter,
+        params,
+    )
+    .map_err(err)?;
+    let Some(contact) = contact else { return Ok(None) };
+    let [ci, cj] = c;
+    let dqi = [qi[0] - ci[0], qi[1] - ci[1], qi[2] - ci[2]];
+    let dqj = [qj[0] - cj[0], qj[1] - cj[1], qj[2] - cj[2]];
+    let dg = contact.tangential_increment(dqi, dqj);
+    let k_t = (params.kt_over_kn * contact.k_n).max(f64::MIN_POSITIVE);
+    let friction = mechanics::friction_update(old, dg, k_t, params.mu, contact.f_n).map_err(err)?;
+    Ok(Some(ActiveContact { i, j, contact, friction, k_t }))
+}
+
+impl ActiveContact {
+    /// The internal generalized forces `F_n b + F_t c` on `(q_i, q_j)`.
+    pub fn pair_forces(&self) -> SVector<f64, 6> {
+        self.contact.normal_direction() * self.contact.f_n + self.contact.tangential_direction() * self.friction.f_t
+    }
+}
+
+/// The 6×6 Jacobian `∂(F_n b + F_t c)/∂(q_i, q_j)` of contact `a` at DOFs `q` by central
+/// differences, with the same committed state `c`, `old` (so the friction return map, the turning
+/// normal and the moving point of application are all included):
+///
+/// ```text
+///   J e_k = [f(q + h_k e_k) − f(q − h_k e_k)] / (2 h_k),   h = 10⁻⁸ D̄ (translations),
+///                                                            h = 2·10⁻⁸ D̄/D_p (rotations)
+/// ```
+///
+/// (`D̄` the mean diameter of the pair, `D_p` the stone's diameter: its outline moves by about
+/// 10⁻⁸ D̄ either way). A perturbed state without overlap has zero force: across the activation
+/// kink the column is the mean of the one-sided derivatives.
+pub fn pair_jacobian(
+    sample: &Sample,
+    params: &MechParams,
+    a: &ActiveContact,
+    q: [[f64; 3]; 2],
+    c: [[f64; 3]; 2],
+    old: f64,
+) -> Result<SMatrix<f64, 6, 6>, DemError> {
+    let (d_i, d_j) = (sample.particles[a.i].diameter, sample.particles[a.j].diameter);
+    let d = 0.5 * (d_i + d_j);
+    let mut jac = SMatrix::<f64, 6, 6>::zeros();
+    for k in 0..6 {
+        let h = if k % 3 == 2 { 2e-8 * d / [d_i, d_j][k / 3] } else { 1e-8 * d };
+        let mut f = [SVector::<f64, 6>::zeros(); 2];
+        for (s, sign) in [1.0, -1.0].into_iter().enumerate() {
+            let mut qq = q;
+            qq[k / 3][k % 3] += sign * h;
+            if let Some(p) = evaluate_pair(sample, params, a.i, a.j, qq, c, old)? {
+                f[s] = p.pair_forces();
+            }
+        }
+        jac.set_column(k, &((f[0] - f[1]) / (2.0 * h)));
+    }
+    Ok(jac)
 }
 
 /// Adds the internal contact and friction forces to `out` (length `n_z`).

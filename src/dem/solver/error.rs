@@ -41,7 +41,8 @@ pub enum DemError {
     },
     /// The contact/friction iterations did not converge.
     #[error(
-        "equilibrium not found after {iterations} iterations at load fraction {load} of stage {stage} (event {event}): relative residual {residual:e}"
+        "equilibrium not found after {iterations} iterations at load fraction {load} of stage {stage} (event {event}): relative residual {residual:e}{}",
+        unbonded_note(unbonded)
     )]
     NoConvergence {
         /// Load stage index.
@@ -54,6 +55,9 @@ pub enum DemError {
         iterations: usize,
         /// Relative residual reached.
         residual: f64,
+        /// Stones (not on a platen) without any intact beam at that point: held only by
+        /// contacts, or free-floating; the usual reason no equilibrium exists.
+        unbonded: Vec<usize>,
     },
     /// The number of events exceeded the configured cap.
     #[error("more than {max_events} beam-break events: raise `max_events` or coarsen the test")]
@@ -98,4 +102,14 @@ pub(crate) fn positive(field: &'static str, v: f64) -> Result<f64, DemError> {
     } else {
         Err(DemError::InvalidParameter { field, value: v.to_string(), expected: "a finite number > 0" })
     }
+}
+
+/// The tail of the no-convergence message naming the unbonded stones (at most 12).
+fn unbonded_note(unbonded: &[usize]) -> String {
+    if unbonded.is_empty() {
+        return String::new();
+    }
+    let shown: Vec<String> = unbonded.iter().take(12).map(|p| p.to_string()).collect();
+    let more = if unbonded.len() > 12 { format!(" and {} more", unbonded.len() - 12) } else { String::new() };
+    format!("; stones without any intact beam (held only by contacts, or free-floating): {}{more}", shown.join(", "))
 }

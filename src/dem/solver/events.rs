@@ -75,18 +75,21 @@ pub struct SolverOptions {
     pub contacts: bool,
     /// Free-floating stones.
     pub floating: FloatingPolicy,
+    /// Halvings of a load step (or of a beam's release) tried before giving up.
+    pub max_cutbacks: usize,
 }
 
 impl Default for SolverOptions {
     fn default() -> Self {
         SolverOptions {
-            tol: 1e-9,
-            max_iterations: 60,
+            tol: 1e-8,
+            max_iterations: 40,
             max_rank: 90,
             loss_fraction: 0.05,
             max_events: 1_000_000,
             contacts: true,
             floating: FloatingPolicy::Regularize,
+            max_cutbacks: 10,
         }
     }
 }
@@ -172,20 +175,20 @@ pub enum FailureModeTag {
 
 /// The solver state of one test.
 pub struct Solver<'a> {
-    model: Model<'a>,
-    opts: SolverOptions,
+    pub(super) model: Model<'a>,
+    pub(super) opts: SolverOptions,
     /// Generalized coordinates (trial during an iteration, committed after `commit`).
     pub z: Vec<f64>,
-    z_commit: Vec<f64>,
+    pub(super) z_commit: Vec<f64>,
     /// Beam intact flags.
     pub intact: Vec<bool>,
-    reg: Vec<f64>,
-    factor: LowRankCholesky,
-    needs_factor: bool,
+    pub(super) reg: Vec<f64>,
+    pub(super) factor: LowRankCholesky,
+    pub(super) needs_factor: bool,
     // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential).
-    op_terms: HashMap<(usize, usize, u8), ZTerm>,
-    contacts: Vec<ActiveContact>,
-    committed_ft: HashMap<(usize, usize), f64>,
+    pub(super) op_terms: HashMap<(usize, usize, u8), ZTerm>,
+    pub(super) contacts: Vec<ActiveContact>,
+    pub(super) committed_ft: HashMap<(usize, usize), f64>,
     load: LoadPoint,
     /// Recorded states.
     pub states: Vec<StateRecord>,
@@ -194,10 +197,16 @@ pub struct Solver<'a> {
     /// Stones found free-floating, with the event count.
     pub floating: Vec<(usize, usize)>,
     energy: Energy,
-    stage: usize,
-    /// Total equilibrium solves (linear solves).
+    pub(super) stage: usize,
+    /// Total equilibrium solves (linear solves, GMRES preconditioner applications included).
     pub n_solves: usize,
+    /// Load-increment cut-backs done (halvings of a load step or of a beam's release).
+    pub n_cutbacks: usize,
     lateral: [Vec<usize>; 2],
+    /// Mean stone diameter D̄ (m): weighs moments in the merit function.
+    pub(super) mean_diameter: f64,
+    /// Largest move of a stone in one Newton iteration (m): 5 % of D̄.
+    pub(super) max_move: f64,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -236,6 +245,7 @@ impl<'a> Solver<'a> {
         let n_eq = map.n_eq();
         let lateral = [model.sample.boundary.left.clone(), model.sample.boundary.right.clone()];
         let intact = vec![true; model.sample.beams.len()];
+        let mean_diameter = model.sample.mean_diameter();
         Ok(Solver {
             opts,
             z: vec![0.0; n_z],
@@ -254,7 +264,10 @@ impl<'a> Solver<'a> {
             energy: Energy::default(),
             stage: 0,
             n_solves: 0,
+            n_cutbacks: 0,
             lateral,
+            mean_diameter,
+            max_move: 0.05 * mean_diameter,
             model,
         })
     }
@@ -274,139 +287,12 @@ impl<'a> Solver<'a> {
         (self.factor.n_factorizations, self.factor.n_symbolic)
     }
 
-    fn refactorize(&mut self) -> Result<(), DemError> {
-        let extra: Vec<ZTerm> = self.op_terms.values().cloned().collect();
-        let t = self.model.assemble(&self.intact, &self.reg, &extra);
-        self.factor
-            .factorize(&t)
-            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
-        self.needs_factor = false;
-        Ok(())
-    }
-
-    fn add_low_rank(&mut self, term: &ZTerm, sign: f64) -> Result<(), DemError> {
-        if self.needs_factor {
-            return Ok(()); // the next factorization will include the current terms
-        }
-        let cols = self.model.factors(term);
-        if self.factor.rank() + cols.len() > self.opts.max_rank {
-            self.needs_factor = true;
-            return Ok(());
-        }
-        self.factor
-            .add_terms(cols, sign)
-            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })
-    }
-
-    /// Internal forces in `z` (beams, contacts, regularization on the unknowns).
-    fn internal(&self, z: &[f64], contacts: &[ActiveContact]) -> Vec<f64> {
+    /// Internal forces in `z` (beams, contacts).
+    pub(super) fn internal(&self, z: &[f64], contacts: &[ActiveContact]) -> Vec<f64> {
         let mut f = vec![0.0; self.model.map.n_z];
         self.model.add_beam_forces(&self.intact, z, &mut f);
         contact_set::add_contact_forces(&self.model.map, contacts, &mut f);
         f
-    }
-
-    /// Brings the operator's contact terms in line with `contacts` (Woodbury updates).
-    fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
-        let mut want: HashMap<(usize, usize, u8), ()> = HashMap::new();
-        for a in contacts {
-            want.insert((a.i, a.j, 0), ());
-            if a.sticks() {
-                want.insert((a.i, a.j, 1), ());
-            }
-        }
-        let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
-        for k in gone {
-            if let Some(t) = self.op_terms.remove(&k) {
-                self.add_low_rank(&t, -1.0)?;
-            }
-        }
-        for a in contacts {
-            for (kind, dir, k) in [
-                (0u8, a.contact.normal_direction(), a.contact.k_n),
-                (1u8, a.contact.tangential_direction(), a.k_t),
-            ] {
-                let key = (a.i, a.j, kind);
-                if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
-                    let t = self.model.rank_one(a.i, a.j, &dir, k);
-                    self.add_low_rank(&t, 1.0)?;
-                    self.op_terms.insert(key, t);
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Finds equilibrium at `load` starting from the current `z`; leaves the trial contacts in
-    /// `self.contacts`.
-    pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
-        let map = &self.model.map;
-        for (k, &zi) in map.prescribed.iter().enumerate() {
-            self.z[zi] = load.prescribed[k];
-        }
-        let mut f_ext = vec![0.0; map.n_z];
-        for (k, &zi) in map.forced.iter().enumerate() {
-            f_ext[zi] = load.forces[k];
-        }
-        let has_broken = self.intact.iter().any(|ok| !ok);
-        let mut prev_sig: Option<Vec<(usize, usize, bool)>> = None;
-        let mut last_res = f64::NAN;
-        for it in 0..self.opts.max_iterations {
-            let contacts = if self.opts.contacts && has_broken {
-                let pairs = contact_set::candidates(self.model.sample, &self.model.map, &self.z, &self.intact);
-                contact_set::evaluate(
-                    self.model.sample,
-                    &self.model.map,
-                    &self.model.params,
-                    &pairs,
-                    &self.z,
-                    &self.z_commit,
-                    &self.committed_ft,
-                )?
-            } else {
-                Vec::new()
-            };
-            let sig: Vec<(usize, usize, bool)> = contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect();
-            let f = self.internal(&self.z, &contacts);
-            let map = &self.model.map;
-            let mut r = vec![0.0; map.n_eq()];
-            let mut scale = 1e-9 * self.model.params.e_bar * self.model.params.t_z * self.model.sample.width;
-            for (e, &zi) in map.unknowns.iter().enumerate() {
-                r[e] = f_ext[zi] - f[zi] - self.reg[e] * (self.z[zi] - self.z_commit[zi]);
-            }
-            for v in f.iter().chain(f_ext.iter()) {
-                scale = scale.max(v.abs());
-            }
-            let res = r.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale;
-            last_res = res;
-            let stable = prev_sig.as_ref() == Some(&sig);
-            if res <= self.opts.tol && (stable || sig.is_empty()) {
-                self.contacts = contacts;
-                return Ok(());
-            }
-            prev_sig = Some(sig);
-            self.sync_operator(&contacts)?;
-            if it >= 3 && self.factor.rank() > 0 {
-                self.needs_factor = true;
-            }
-            if self.needs_factor {
-                self.refactorize()?;
-            }
-            self.factor
-                .solve(&mut r)
-                .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
-            self.n_solves += 1;
-            for (e, &zi) in self.model.map.unknowns.iter().enumerate() {
-                self.z[zi] += r[e];
-            }
-        }
-        Err(DemError::NoConvergence {
-            stage: self.stage,
-            load: t,
-            event: self.broken.len(),
-            iterations: self.opts.max_iterations,
-            residual: last_res,
-        })
     }
 
     fn stored_energy(&self) -> f64 {
@@ -418,6 +304,19 @@ impl<'a> Solver<'a> {
     fn platen_forces(&self, f: &[f64]) -> [[f64; 3]; 2] {
         let b = self.model.map.platen_base;
         [[f[b[0]], f[b[0] + 1], f[b[0] + 2]], [f[b[1]], f[b[1] + 1], f[b[1] + 2]]]
+    }
+
+    /// Makes the trial state the committed one (friction history, regularization anchor)
+    /// without recording it: an intermediate state of a cut-back release.
+    fn accept(&mut self) {
+        self.energy.friction += self.contacts.iter().map(|a| a.friction.dissipation).sum::<f64>();
+        self.committed_ft = self.contacts.iter().map(|a| ((a.i, a.j), a.friction.f_t)).collect();
+        self.z_commit.clone_from(&self.z);
+    }
+
+    /// Back to the committed state (a failed trial).
+    fn restore(&mut self) {
+        self.z.clone_from(&self.z_commit);
     }
 
     /// Commits the trial state and records it.
@@ -438,9 +337,7 @@ impl<'a> Solver<'a> {
                 }
             }
         }
-        self.energy.friction += self.contacts.iter().map(|a| a.friction.dissipation).sum::<f64>();
-        self.committed_ft = self.contacts.iter().map(|a| ((a.i, a.j), a.friction.f_t)).collect();
-        self.z_commit.clone_from(&self.z);
+        self.accept();
         let mut lateral_ux = [0.0; 2];
         for (s, set) in self.lateral.iter().enumerate() {
             let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.z)[0]).sum();
@@ -545,6 +442,12 @@ impl<'a> Solver<'a> {
         best.map(|(_, b)| b)
     }
 
+    /// Finds equilibrium at `load` starting from the current `z` (see [`super::equilibrium`]);
+    /// leaves the contacts of the equilibrium state in [`Self::contacts`].
+    pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
+        self.equilibrate_with(load, None, t)
+    }
+
     /// Breaks beam `b` now (e.g. a pre-cracked sample), re-equilibrates at the current load and
     /// records the state.
     pub fn break_and_relax(&mut self, b: usize) -> Result<(), DemError> {
@@ -555,10 +458,53 @@ impl<'a> Solver<'a> {
                 expected: "the index of an intact beam",
             });
         }
-        self.break_beam(b)?;
         let l = self.load.clone();
-        self.equilibrate(&l, 1.0)?;
-        self.commit(1.0, StateKind::Relaxed);
+        self.release(b, &l, 1.0)
+    }
+
+    /// Breaks beam `b` at the committed state and re-equilibrates at the fixed `load`, then
+    /// records the relaxed state.
+    ///
+    /// **Release path.** The beam's force at the committed state, `f_b`, is released along
+    /// `f_extra(s) = (1 − s) f_b`, `s: 0 → 1`: at `s = 0` the committed state is in equilibrium,
+    /// at `s = 1` the beam is gone. One step `s = 1` first; if Newton fails, the release is cut
+    /// back (halved, at most `max_cutbacks` times), each intermediate equilibrium committed
+    /// (friction history) but not recorded. This is the quasi-static path a dynamic release
+    /// would follow with heavy damping, and it lets the contact and stick/slip sets change
+    /// gradually when a break redistributes much load.
+    fn release(&mut self, b: usize, load: &LoadPoint, t: f64) -> Result<(), DemError> {
+        let term = &self.model.terms[b];
+        let fb = term.k * Model::gather(&term.idx, &self.z);
+        let mut f_b = vec![0.0; self.model.map.n_z];
+        for a in 0..6 {
+            f_b[term.idx[a]] += fb[a];
+        }
+        self.break_beam(b)?;
+        let (mut s, mut h) = (0.0f64, 1.0f64);
+        let h_min = 0.5f64.powi(self.opts.max_cutbacks as i32);
+        while s < 1.0 {
+            let s_try = (s + h).min(1.0);
+            let extra: Vec<f64> = f_b.iter().map(|f| (1.0 - s_try) * f).collect();
+            match self.equilibrate_with(load, Some(&extra), t) {
+                Ok(()) => {
+                    s = s_try;
+                    if s < 1.0 {
+                        self.accept();
+                    }
+                    h = (2.0 * h).min(1.0);
+                }
+                Err(e @ DemError::NoConvergence { .. }) => {
+                    self.restore();
+                    h *= 0.5;
+                    self.n_cutbacks += 1;
+                    if h < h_min {
+                        return Err(e);
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        self.commit(t, StateKind::Relaxed);
         Ok(())
     }
 
@@ -572,6 +518,11 @@ impl<'a> Solver<'a> {
 
     /// Runs one load stage from the current load to `target` in `steps` equal steps; `monitor`
     /// is the platen force `(platen, dof)` watched for loss of load.
+    ///
+    /// **Cut-back.** A step whose equilibrium is not found is retried from the committed state
+    /// with half the increment (at most `max_cutbacks` halvings of one step); after a success the
+    /// increment doubles again up to the step. If the smallest increment fails too, the error is
+    /// returned: the recorded states so far stay in [`Self::states`].
     pub fn run_stage(
         &mut self,
         target: &LoadPoint,
@@ -579,27 +530,42 @@ impl<'a> Solver<'a> {
         monitor: Option<(usize, usize)>,
     ) -> Result<StageEnd, DemError> {
         let from = self.load.clone();
-        let mut t = 0.0;
+        let n = steps.max(1) as f64;
+        let step = 1.0 / n;
+        let h_min = step * 0.5f64.powi(self.opts.max_cutbacks as i32);
+        let (mut t, mut h) = (0.0f64, step);
         let mut peak = 0.0f64;
         let mut seen = self.states.len();
-        for step in 1..=steps.max(1) {
-            let t_target = step as f64 / steps.max(1) as f64;
-            loop {
-                let z_old = self.z.clone();
-                let load = LoadPoint::lerp(&from, target, t_target);
-                self.equilibrate(&load, t_target)?;
+        while t < 1.0 - 1e-12 {
+            // Never step over a step boundary: the recorded curve keeps its regular points.
+            let boundary = (((t * n) + 1e-9).floor() + 1.0) / n;
+            let mut t_try = (t + h).min(boundary).min(1.0);
+            if boundary - t_try < 1e-9 * step {
+                t_try = boundary; // no sliver steps from round-off
+            }
+            let z_old = self.z.clone();
+            let load = LoadPoint::lerp(&from, target, t_try);
+            let mut ok = match self.equilibrate(&load, t_try) {
+                Ok(()) => true,
+                Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
+                Err(e) => {
+                    self.restore();
+                    self.load = LoadPoint::lerp(&from, target, t);
+                    return Err(e);
+                }
+            };
+            if ok {
                 match self.first_failure(&z_old) {
                     None => {
-                        self.commit(t_target, StateKind::Loading);
-                        t = t_target;
+                        self.commit(t_try, StateKind::Loading);
+                        t = t_try;
                     }
-                    Some((lam, b)) if lam >= 1.0 => {
-                        let _ = b;
-                        self.commit(t_target, StateKind::Loading);
-                        t = t_target;
+                    Some((lam, _)) if lam >= 1.0 => {
+                        self.commit(t_try, StateKind::Loading);
+                        t = t_try;
                     }
                     Some((lam, b)) => {
-                        let t_l = t + lam * (t_target - t);
+                        let t_l = t + lam * (t_try - t);
                         let load_l = LoadPoint::lerp(&from, target, t_l);
                         if self.contacts.is_empty() {
                             for (zo, zn) in z_old.iter().zip(self.z.iter_mut()) {
@@ -607,32 +573,45 @@ impl<'a> Solver<'a> {
                             }
                         } else {
                             self.z.clone_from(&z_old);
-                            self.equilibrate(&load_l, t_l)?;
+                            match self.equilibrate(&load_l, t_l) {
+                                Ok(()) => {}
+                                Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => ok = false,
+                                Err(e) => {
+                                    self.restore();
+                                    self.load = LoadPoint::lerp(&from, target, t);
+                                    return Err(e);
+                                }
+                            }
                         }
-                        self.commit(t_l, StateKind::PreBreak);
-                        t = t_l;
-                        let mut next = Some(b);
-                        while let Some(bb) = next {
-                            self.break_beam(bb)?;
-                            self.equilibrate(&load_l, t_l)?;
-                            self.commit(t_l, StateKind::Relaxed);
-                            next = self.most_critical();
+                        if ok {
+                            self.commit(t_l, StateKind::PreBreak);
+                            t = t_l;
+                            self.load = load_l.clone();
+                            let mut next = Some(b);
+                            while let Some(bb) = next {
+                                self.release(bb, &load_l, t_l)?;
+                                next = self.most_critical();
+                            }
                         }
                     }
                 }
-                if let Some((k, a)) = monitor {
-                    for st in &self.states[seen..] {
-                        peak = peak.max(st.platen_force[k][a].abs());
-                    }
-                    seen = self.states.len();
-                    let r = self.states.last().map_or(0.0, |s| s.platen_force[k][a].abs());
-                    if !self.broken.is_empty() && peak > 0.0 && r < self.opts.loss_fraction * peak {
-                        self.load = LoadPoint::lerp(&from, target, t);
-                        return Ok(StageEnd::LossOfLoad);
-                    }
+            }
+            if !ok {
+                self.restore();
+                self.n_cutbacks += 1;
+                h = 0.5 * (t_try - t);
+                continue;
+            }
+            self.load = LoadPoint::lerp(&from, target, t);
+            h = (2.0 * h).min(step);
+            if let Some((k, a)) = monitor {
+                for st in &self.states[seen..] {
+                    peak = peak.max(st.platen_force[k][a].abs());
                 }
-                if t >= t_target {
-                    break;
+                seen = self.states.len();
+                let r = self.states.last().map_or(0.0, |s| s.platen_force[k][a].abs());
+                if !self.broken.is_empty() && peak > 0.0 && r < self.opts.loss_fraction * peak {
+                    return Ok(StageEnd::LossOfLoad);
                 }
             }
         }

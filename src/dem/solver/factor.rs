@@ -140,6 +140,17 @@ impl LowRankCholesky {
         Ok(())
     }
 
+    /// Whether the Woodbury correction can be used: its capacitance matrix `M` is invertible and
+    /// not close to singular (reciprocal condition estimate from the LU pivots above 10⁻¹²).
+    /// When it is not, the caller refactorizes `A + UΣUᵀ` directly.
+    pub fn is_accurate(&self) -> bool {
+        let Some(lu) = &self.m_lu else { return true };
+        let u = lu.u();
+        let d: Vec<f64> = (0..u.nrows()).map(|k| u[(k, k)].abs()).collect();
+        let (lo, hi) = d.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        lo.is_finite() && lo > 1e-12 * hi
+    }
+
     /// Solves `(A + UΣUᵀ) x = b` in place.
     pub fn solve(&self, x: &mut [f64]) -> Result<(), FactorError> {
         self.base_solve(x)?;

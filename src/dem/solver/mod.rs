@@ -8,6 +8,9 @@ pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
 pub mod contact_set;
+mod equilibrium;
+pub mod gmres;
+pub mod tangent;
 pub mod events;
 pub mod system;
 
@@ -19,4 +22,6 @@ pub mod virtual_test;
 #[cfg(test)]
 mod tests;
 
-pub use virtual_test::{run_test, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats, TestResult, VirtualTest};
+pub use virtual_test::{
+    run_test, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats, TestEnd, TestResult, VirtualTest,
+};

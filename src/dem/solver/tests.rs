@@ -213,3 +213,64 @@ fn paper_wall_compression_to_failure_report() {
     assert!(r.stats.events > 0, "cracks form");
     assert!(balance(last).abs() <= 0.01 * last.external_work, "energy balance {} of {}", balance(last), last.external_work);
 }
+
+fn small_wall(seed: u64) -> Sample {
+    let mut cfg = SampleConfig::paper_wall(seed);
+    if let SampleLayout::Coursed(c) = &mut cfg.layout {
+        c.width = 0.5;
+        c.height = 0.6;
+        c.n_courses = 5;
+        c.n_per_course = 3;
+    }
+    Sample::build(&cfg).unwrap()
+}
+
+/// Shear under 1 MPa on a small wall (5 courses × 3 stones, the paper's parameters): after the
+/// preload cracks it, the stones slide on broken joints. The contact–friction Newton must reach
+/// the target displacement, friction must dissipate energy, and the energy balance
+/// (W_ext = stored + dissipated) must hold within 1 % over the whole test.
+#[test]
+fn shear_with_sliding_reaches_the_target() {
+    let s = small_wall(3);
+    let t = VirtualTest::Shear {
+        vertical_stress: 1e6,
+        max_displacement: 4e-3,
+        steps: 20,
+        preload_steps: 3,
+        rotation: PlatenRotation::Fixed,
+    };
+    let r = run_test(&s, &MechParams::default(), &t).unwrap();
+    let last = r.curve.last().unwrap();
+    println!(
+        "small wall shear: end {:?}, events {}, cutbacks {}, τ_end {:.3} MPa, peak {:.3} MPa, friction {:.3e} J, imbalance {:.2e} of {:.3e}",
+        r.end,
+        r.stats.events,
+        r.stats.cutbacks,
+        last.stress / 1e6,
+        r.derived.peak_stress / 1e6,
+        last.dissipated[1],
+        balance(last),
+        last.external_work
+    );
+    assert_eq!(r.end, TestEnd::Target);
+    assert!((last.displacement - 4e-3).abs() < 1e-12);
+    assert!(r.stats.events > 0 && last.dissipated[1] > 0.0, "stones slid with friction");
+    assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {}", balance(last));
+}
+
+/// A test stopped by the solver keeps the states recorded so far: with at most 3 breaks allowed
+/// the compression test ends as `Failed` (before the peak) with its curve up to the stop.
+#[test]
+fn a_stopped_test_keeps_its_curve() {
+    let s = small_wall(1);
+    let t = VirtualTest::Compression { max_strain: 2e-3, steps: 20 };
+    let opts = SolverOptions { max_events: 3, ..Default::default() };
+    let r = run_test_with(&s, &MechParams::default(), &t, opts).unwrap();
+    match &r.end {
+        TestEnd::Failed { message } => assert!(message.contains("more than 3"), "{message}"),
+        e => panic!("expected a failure, got {e:?}"),
+    }
+    assert_eq!(r.stats.events, 4);
+    assert!(r.curve.len() > 4 && r.curve.iter().any(|c| c.kind == StateKind::PreBreak));
+    assert!(!r.end.is_valid());
+}

@@ -165,6 +165,39 @@ pub struct RunStats {
     pub seconds: f64,
     /// Whether the run stopped on loss of load.
     pub loss_of_load: bool,
+    /// Load-increment cut-backs (halved steps or beam releases).
+    pub cutbacks: usize,
+}
+
+/// How a test ended.
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TestEnd {
+    /// The target displacement was reached.
+    Target,
+    /// The driven force fell below the loss fraction of its peak.
+    LossOfLoad,
+    /// No equilibrium state was found (after all cut-backs) once the driven force had fallen at
+    /// least 10 % below its peak: the sample failed (a brittle collapse the quasi-static model
+    /// cannot follow); the curve up to there is kept and its numbers count.
+    Collapse {
+        /// The solver's message.
+        message: String,
+    },
+    /// The solver stopped before the peak (no equilibrium, factorization failure, ...): the
+    /// curve up to there is kept, the sample does not count in the statistics.
+    Failed {
+        /// The solver's message.
+        message: String,
+    },
+}
+
+impl TestEnd {
+    /// Whether the sample's numbers are valid (the test reached a target, a loss of load or a
+    /// post-peak collapse).
+    pub fn is_valid(&self) -> bool {
+        !matches!(self, TestEnd::Failed { .. })
+    }
 }
 
 /// The result of a virtual test.
@@ -180,6 +213,8 @@ pub struct TestResult {
     pub derived: Derived,
     /// Statistics.
     pub stats: RunStats,
+    /// How it ended.
+    pub end: TestEnd,
 }
 
 /// Runs `test` on `sample` with the default solver options.
@@ -228,15 +263,35 @@ pub fn run_test_with(
     let n_p = model.map.prescribed.len();
     let initial = LoadPoint { prescribed: vec![0.0; n_p], forces: vec![0.0; n_f] };
     let mut solver = Solver::new(model, opts, initial)?;
-    solver.start()?;
-    let mut loss = false;
+    let mut end = TestEnd::Target;
     let n_stages = stages.len();
-    for (k, (target, steps)) in stages.iter().enumerate() {
-        let monitor = if k + 1 == n_stages { Some((1, driven)) } else { None };
-        if solver.run_stage(target, *steps, monitor)? == StageEnd::LossOfLoad {
-            loss = true;
-            break;
+    let outcome = solver.start().and_then(|()| {
+        for (k, (target, steps)) in stages.iter().enumerate() {
+            let monitor = if k + 1 == n_stages { Some((1, driven)) } else { None };
+            if solver.run_stage(target, *steps, monitor)? == StageEnd::LossOfLoad {
+                end = TestEnd::LossOfLoad;
+                break;
+            }
         }
+        Ok(())
+    });
+    if let Err(e) = outcome {
+        // Keep what was recorded; classify by the driven force's history in the last stage.
+        let last_stage = solver.states.last().map_or(0, |s| s.stage);
+        let forces: Vec<f64> = solver
+            .states
+            .iter()
+            .filter(|s| s.stage == last_stage && last_stage + 1 == n_stages)
+            .map(|s| s.platen_force[1][driven].abs())
+            .collect();
+        let peak = forces.iter().cloned().fold(0.0, f64::max);
+        let now = forces.last().copied().unwrap_or(0.0);
+        let message = e.to_string();
+        end = if peak > 0.0 && now <= 0.9 * peak && !solver.broken.is_empty() {
+            TestEnd::Collapse { message }
+        } else {
+            TestEnd::Failed { message }
+        };
     }
     let curve: Vec<CurvePoint> = solver
         .states
@@ -261,6 +316,7 @@ pub fn run_test_with(
         })
         .collect();
     let derived = derive(&curve, &solver.broken, n_stages - 1, &solver.states);
+    let loss = end == TestEnd::LossOfLoad;
     let (factorizations, _) = solver.factor_stats();
     Ok(TestResult {
         stats: RunStats {
@@ -269,7 +325,9 @@ pub fn run_test_with(
             factorizations,
             seconds: clock.elapsed().as_secs_f64(),
             loss_of_load: loss,
+            cutbacks: solver.n_cutbacks,
         },
+        end,
         curve,
         broken: solver.broken.clone(),
         floating: solver.floating.clone(),
@@ -293,9 +351,14 @@ fn derive(
         Some(c) => (c.stress / c.strain, -c.lateral_strain / c.strain),
         None => (f64::NAN, f64::NAN),
     };
-    let first_crack_stress = broken.first().and_then(|b| curve.get(b.state)).map(|c| c.stress.abs());
+    // First break during the driven stage (a shear test's preload may crack a few beams).
+    let first_crack_stress = broken
+        .iter()
+        .find(|b| states.get(b.state).is_some_and(|s| s.stage == last_stage && s.t > 0.0))
+        .and_then(|b| curve.get(b.state))
+        .map(|c| c.stress.abs());
     let (mut peak_stress, mut strain_at_peak) = (0.0, 0.0);
-    for c in curve {
+    for (c, _) in curve.iter().zip(states).filter(|(_, s)| s.stage == last_stage) {
         if c.stress.abs() > peak_stress {
             peak_stress = c.stress.abs();
             strain_at_peak = c.strain;

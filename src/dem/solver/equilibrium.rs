@@ -1,0 +1,273 @@
+//! Equilibrium at a fixed load: Newton's method on the contact–friction problem (SPEC §1,
+//! "Solution algorithm", step 2).
+//!
+//! ```text
+//!   r(z) = f_ext + f_extra − f_int(z) − ε (z − z_commit)      (unknown rows)
+//!   repeat:
+//!     contacts and friction at z: overlap, F_n, return map from the committed F_t
+//!     ‖r‖∞ ≤ tol · scale  → converged
+//!     K_T Δz = r           (consistent tangent, GMRES preconditioned by the factorized
+//!                           symmetric part; one direct solve when no contact is active)
+//!     Δz capped: no stone moves more than `max_move` (translation, or rotation × D̄) per iteration
+//!     line search: z + α Δz, α = 1, ½, ¼ … (6 tries) until the merit ½‖r‖² decreases by
+//!                  the Armijo factor (1 − 10⁻⁴ α); otherwise the trial with the smallest merit
+//! ```
+//!
+//! `f_int` holds the intact beams (linear) and the contacts (overlap area, Coulomb return map
+//! from the last committed state: path dependence enters only through `F_t,commit`, `z_commit`).
+//! The residual is measured with the same contact evaluation the next iteration uses, so
+//! "converged" means the state *is* in equilibrium with its own contact and stick/slip set.
+//!
+//! The merit function weighs the moment rows by `1/D̄` (D̄ = mean stone diameter), so forces and
+//! moments count in the same unit. The scale of the convergence test is the largest internal or
+//! external generalized force (at least `10⁻⁹ Ē t_z W`).
+//!
+//! If the iterations do not converge in `max_iterations`, [`DemError::NoConvergence`] is returned
+//! with the stones that have no intact beam left (the usual cause: a stone held only by contacts
+//! that slide, or by nothing): the caller cuts the load increment back.
+use std::collections::HashMap;
+
+use super::contact_set::{self, ActiveContact};
+use super::error::DemError;
+use super::events::Solver;
+use super::gmres::gmres;
+use super::system::ZTerm;
+use super::tangent::Tangent;
+
+/// A residual evaluation.
+pub(super) struct Evaluation {
+    /// Contacts at the state.
+    pub contacts: Vec<ActiveContact>,
+    /// Residual on the equations.
+    pub r: Vec<f64>,
+    /// `‖r‖∞ / scale`.
+    pub relative: f64,
+    /// `½ Σ (w_e r_e)²`, `w = 1` on force rows, `1/D̄` on moment rows.
+    pub merit: f64,
+}
+
+impl<'a> Solver<'a> {
+    pub(super) fn refactorize(&mut self) -> Result<(), DemError> {
+        let extra: Vec<ZTerm> = self.op_terms.values().cloned().collect();
+        let t = self.model.assemble(&self.intact, &self.reg, &extra);
+        self.factor
+            .factorize(&t)
+            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+        self.needs_factor = false;
+        Ok(())
+    }
+
+    pub(super) fn add_low_rank(&mut self, term: &ZTerm, sign: f64) -> Result<(), DemError> {
+        if self.needs_factor {
+            return Ok(()); // the next factorization will include the current terms
+        }
+        let cols = self.model.factors(term);
+        if self.factor.rank() + cols.len() > self.opts.max_rank {
+            self.needs_factor = true;
+            return Ok(());
+        }
+        self.factor
+            .add_terms(cols, sign)
+            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })
+    }
+
+    /// Brings the operator's contact terms (normal penalty, sticking tangential) in line with
+    /// `contacts` (Woodbury updates, or a refactorization when the correction grows too large).
+    fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
+        let mut want: HashMap<(usize, usize, u8), ()> = HashMap::new();
+        for a in contacts {
+            want.insert((a.i, a.j, 0), ());
+            if a.sticks() {
+                want.insert((a.i, a.j, 1), ());
+            }
+        }
+        let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
+        for k in gone {
+            if let Some(t) = self.op_terms.remove(&k) {
+                self.add_low_rank(&t, -1.0)?;
+            }
+        }
+        for a in contacts {
+            for (kind, dir, k) in [
+                (0u8, a.contact.normal_direction(), a.contact.k_n),
+                (1u8, a.contact.tangential_direction(), a.k_t),
+            ] {
+                let key = (a.i, a.j, kind);
+                if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
+                    let t = self.model.rank_one(a.i, a.j, &dir, k);
+                    self.add_low_rank(&t, 1.0)?;
+                    self.op_terms.insert(key, t);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The residual at `z` for the external forces `f_ext` (over `z`).
+    pub(super) fn evaluate(&self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
+        let has_broken = self.broken.len() > 0;
+        let contacts = if self.opts.contacts && has_broken {
+            let pairs = contact_set::candidates(self.model.sample, &self.model.map, z, &self.intact);
+            contact_set::evaluate(
+                self.model.sample,
+                &self.model.map,
+                &self.model.params,
+                &pairs,
+                z,
+                &self.z_commit,
+                &self.committed_ft,
+            )?
+        } else {
+            Vec::new()
+        };
+        let f = self.internal(z, &contacts);
+        let map = &self.model.map;
+        let mut r = vec![0.0; map.n_eq()];
+        let mut scale = 1e-9 * self.model.params.e_bar * self.model.params.t_z * self.model.sample.width;
+        for v in f.iter().chain(f_ext.iter()) {
+            scale = scale.max(v.abs());
+        }
+        let (mut inf, mut merit) = (0.0f64, 0.0);
+        for (e, &zi) in map.unknowns.iter().enumerate() {
+            r[e] = f_ext[zi] - f[zi] - self.reg[e] * (z[zi] - self.z_commit[zi]);
+            inf = inf.max(r[e].abs());
+            let w = if zi % 3 == 2 { 1.0 / self.mean_diameter } else { 1.0 };
+            merit += 0.5 * (w * r[e]).powi(2);
+        }
+        Ok(Evaluation { contacts, r, relative: inf / scale, merit })
+    }
+
+    /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
+    /// broken beam's force being released), starting from the current `z`; leaves the
+    /// contacts of the equilibrium state in `self.contacts`.
+    pub(super) fn equilibrate_with(
+        &mut self,
+        load: &super::events::LoadPoint,
+        extra: Option<&[f64]>,
+        t: f64,
+    ) -> Result<(), DemError> {
+        let map = &self.model.map;
+        for (k, &zi) in map.prescribed.iter().enumerate() {
+            self.z[zi] = load.prescribed[k];
+        }
+        let mut f_ext = extra.map_or_else(|| vec![0.0; map.n_z], |x| x.to_vec());
+        for (k, &zi) in map.forced.iter().enumerate() {
+            f_ext[zi] += load.forces[k];
+        }
+        let n_eq = map.n_eq();
+        let mut ev = self.evaluate(&self.z, &f_ext)?;
+        for _ in 0..self.opts.max_iterations {
+            if ev.relative <= self.opts.tol {
+                self.contacts = ev.contacts;
+                return Ok(());
+            }
+            self.sync_operator(&ev.contacts)?;
+            if self.needs_factor {
+                self.refactorize()?;
+            }
+            let fail = |e: super::factor::FactorError, ev: usize| DemError::Factorization { event: ev, reason: e.0 };
+            let events = self.broken.len();
+            let mut dz = vec![0.0; n_eq];
+            if self.factor.rank() > 0 && !self.factor.is_accurate() {
+                // A near-singular Woodbury capacitance matrix: drop the correction.
+                self.refactorize()?;
+            }
+            if ev.contacts.is_empty() {
+                dz.clone_from(&ev.r);
+                self.factor.solve(&mut dz).map_err(|e| fail(e, events))?;
+                self.n_solves += 1;
+            } else {
+                let tangent = Tangent::new(
+                    &self.model,
+                    &self.intact,
+                    &self.reg,
+                    &ev.contacts,
+                    &self.z,
+                    &self.z_commit,
+                    &self.committed_ft,
+                )?;
+                // Inexact Newton: the linear solve to 1e-8 of ‖r‖ (tighter costs solves and
+                // gains nothing; looser, 1e-6, lost two of the paper wall's 16 shear samples).
+                let factor = &self.factor;
+                let info = gmres(&mut dz, &ev.r, |v, o| tangent.apply(v, o), |v| factor.solve(v), 1e-8, 60, 240)
+                    .map_err(|e| fail(e, events))?;
+                self.n_solves += info.iterations;
+                if !info.converged && self.factor.rank() > 0 {
+                    // An inaccurate Woodbury correction: start the next iteration afresh.
+                    self.needs_factor = true;
+                }
+            }
+            self.cap_step(&mut dz);
+            ev = self.line_search(&dz, &f_ext, ev)?;
+        }
+        if ev.relative <= self.opts.tol {
+            self.contacts = ev.contacts;
+            return Ok(());
+        }
+        Err(DemError::NoConvergence {
+            stage: self.stage,
+            load: t,
+            event: self.broken.len(),
+            iterations: self.opts.max_iterations,
+            residual: ev.relative,
+            unbonded: self.unbonded_stones(),
+        })
+    }
+
+    /// Scales `dz` so that no stone moves by more than `max_move` in one iteration.
+    fn cap_step(&self, dz: &mut [f64]) {
+        let map = &self.model.map;
+        let big = map
+            .unknowns
+            .iter()
+            .zip(dz.iter())
+            .map(|(&zi, d)| if zi % 3 == 2 { d.abs() * self.mean_diameter } else { d.abs() })
+            .fold(0.0f64, f64::max);
+        if big > self.max_move {
+            let s = self.max_move / big;
+            dz.iter_mut().for_each(|d| *d *= s);
+        }
+    }
+
+    /// Backtracking on the merit function along `dz`; moves `self.z` and returns the evaluation
+    /// at the accepted point.
+    fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<Evaluation, DemError> {
+        let base = self.z.clone();
+        let unknowns = &self.model.map.unknowns;
+        let mut best: Option<(f64, Evaluation)> = None;
+        let mut alpha = 1.0;
+        for _ in 0..6 {
+            let mut z = base.clone();
+            for (e, &zi) in unknowns.iter().enumerate() {
+                z[zi] += alpha * dz[e];
+            }
+            let ev = self.evaluate(&z, f_ext)?;
+            let accept = ev.merit <= (1.0 - 1e-4 * alpha) * ev0.merit;
+            if best.as_ref().is_none_or(|(_, b)| ev.merit < b.merit) {
+                best = Some((alpha, ev));
+            }
+            if accept {
+                break;
+            }
+            alpha *= 0.5;
+        }
+        match best {
+            Some((a, ev)) => {
+                for (e, &zi) in unknowns.iter().enumerate() {
+                    self.z[zi] = base[zi] + a * dz[e];
+                }
+                Ok(ev)
+            }
+            None => Ok(ev0),
+        }
+    }
+
+    /// Stones (not bonded to a platen) without any intact beam.
+    pub(super) fn unbonded_stones(&self) -> Vec<usize> {
+        let s = self.model.sample;
+        (0..s.particles.len())
+            .filter(|&p| !self.model.map.is_slave(p) && !s.neighbours[p].iter().any(|&(_, b)| self.intact[b]))
+            .collect()
+    }
+}
+
