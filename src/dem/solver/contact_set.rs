@@ -15,7 +15,7 @@
 //! **Stored energy.** For a flat contact the overlap is a strip, `S_r = L δ`, so `F_n = k_n δ`
 //! and the normal energy is `F_n²/(2 k_n)`; the elastic tangential energy is `F_t²/(2 k_t)`.
 //! These state functions are what the energy bookkeeping counts (exact for flat contacts).
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::dofs::DofMap;
 use super::error::DemError;
@@ -61,7 +61,7 @@ fn current_polygon(sample: &Sample, p: usize, q: [f64; 3]) -> Polygon {
 
 /// Candidate pairs `(i < j)` without an intact beam (see the module docs).
 pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> Vec<(usize, usize)> {
-    let mut set: HashSet<(usize, usize)> = HashSet::new();
+    let mut set: BTreeSet<(usize, usize)> = BTreeSet::new();
     for (b, beam) in sample.beams.iter().enumerate() {
         if !intact[b] {
             set.insert((beam.i, beam.j));
@@ -79,7 +79,7 @@ pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> 
         .collect();
     let cell = boxes.iter().fold(0.0f64, |m, b| m.max(b[2] - b[0]).max(b[3] - b[1])).max(1e-12);
     let (x0, y0) = boxes.iter().fold((f64::MAX, f64::MAX), |m, b| (m.0.min(b[0]), m.1.min(b[1])));
-    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    let mut grid: BTreeMap<(i64, i64), Vec<usize>> = BTreeMap::new();
     for (p, b) in boxes.iter().enumerate() {
         let (ia, ib) = (((b[0] - x0) / cell) as i64, ((b[2] - x0) / cell) as i64);
         let (ja, jb) = (((b[1] - y0) / cell) as i64, ((b[3] - y0) / cell) as i64);
@@ -128,7 +128,7 @@ pub fn evaluate(
     pairs: &[(usize, usize)],
     z: &[f64],
     z_commit: &[f64],
-    committed: &HashMap<(usize, usize), f64>,
+    committed: &BTreeMap<(usize, usize), f64>,
 ) -> Result<Vec<ActiveContact>, DemError> {
     let mut out = Vec::new();
     for &(i, j) in pairs {

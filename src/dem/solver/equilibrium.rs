@@ -25,7 +25,7 @@
 //! If the iterations do not converge in `max_iterations`, [`DemError::NoConvergence`] is returned
 //! with the stones that have no intact beam left (the usual cause: a stone held only by contacts
 //! that slide, or by nothing): the caller cuts the load increment back.
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
@@ -74,7 +74,7 @@ impl<'a> Solver<'a> {
     /// Brings the operator's contact terms (normal penalty, sticking tangential) in line with
     /// `contacts` (Woodbury updates, or a refactorization when the correction grows too large).
     fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
-        let mut want: HashMap<(usize, usize, u8), ()> = HashMap::new();
+        let mut want: BTreeMap<(usize, usize, u8), ()> = BTreeMap::new();
         for a in contacts {
             want.insert((a.i, a.j, 0), ());
             if a.sticks() {

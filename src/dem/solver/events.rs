@@ -39,7 +39,7 @@
 //! energy a dynamic model would damp). The relaxation term closes the balance over re-
 //! equilibration steps by definition; the balance check is meaningful over the loading steps,
 //! where `W_ext` and `E_stored` are computed independently (reactions vs. beam energies).
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
@@ -186,9 +186,9 @@ pub struct Solver<'a> {
     pub(super) factor: LowRankCholesky,
     pub(super) needs_factor: bool,
     // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential).
-    pub(super) op_terms: HashMap<(usize, usize, u8), ZTerm>,
+    pub(super) op_terms: BTreeMap<(usize, usize, u8), ZTerm>,
     pub(super) contacts: Vec<ActiveContact>,
-    pub(super) committed_ft: HashMap<(usize, usize), f64>,
+    pub(super) committed_ft: BTreeMap<(usize, usize), f64>,
     load: LoadPoint,
     /// Recorded states.
     pub states: Vec<StateRecord>,
@@ -254,9 +254,9 @@ impl<'a> Solver<'a> {
             reg,
             factor: LowRankCholesky::new(n_eq),
             needs_factor: true,
-            op_terms: HashMap::new(),
+            op_terms: BTreeMap::new(),
             contacts: Vec::new(),
-            committed_ft: HashMap::new(),
+            committed_ft: BTreeMap::new(),
             load: initial,
             states: Vec::new(),
             broken: Vec::new(),

@@ -42,7 +42,7 @@ impl<'m, 'a> Tangent<'m, 'a> {
         contacts: &[ActiveContact],
         z: &[f64],
         z_commit: &[f64],
-        committed: &std::collections::HashMap<(usize, usize), f64>,
+        committed: &std::collections::BTreeMap<(usize, usize), f64>,
     ) -> Result<Self, DemError> {
         let map = &model.map;
         let mut terms = Vec::with_capacity(contacts.len());
