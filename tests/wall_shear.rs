@@ -1,5 +1,5 @@
 //! The paper's wall as a layered shell in its plane, under a constant 1 MPa compression and an
-//! in-plane shear pushover, on three meshes.
+//! in-plane shear pushover.
 //!
 //! ```text
 //!        ux imposed →  ========== stiff platen (elastic frame), kept horizontal (ry = 0)
