@@ -105,6 +105,26 @@ fn wall_shear_passes_its_peak_and_softens() {
     assert!((last.0 - 2.8e-3).abs() < 1e-9, "the run reached the target");
     assert!(k + 1 < c.len(), "the force still rises at the end");
     assert!(last.1 < 0.995 * peak, "no softening after the peak: {} vs {peak}", last.1);
+    // Diagonal localization of the compression damage: in each interior row of cells (rows 1–4 of
+    // 0–5, away from the crushed base and top rows) the d_c-weighted centroid x̄ moves towards the
+    // pushed side going down, along the compressed diagonal from the top-left to the bottom-right
+    // corner (measured x̄ ≈ 0.67, 0.54, 0.47, 0.33 m from row 1 to 4). Asserted: x̄ decreases with
+    // the height row by row and by more than 0.25 m over the four rows (a vertical band would not
+    // move; the diagonal's own run over the four rows is 4 × 0.2 × W/H = 0.67 m).
+    let f = hdf5::File::open(dir.join("out/results.h5")).unwrap();
+    let steps: Vec<usize> = f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
+    let dc: Vec<f64> = f.dataset(&format!("steps/{}/d_c_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
+    let dc: Vec<f64> = dc.into_iter().filter(|x| x.is_finite()).collect(); // the quads (the platen has none)
+    assert_eq!(dc.len(), 30);
+    let centroid = |k: usize| {
+        let row = &dc[5 * k..5 * k + 5];
+        let w: f64 = row.iter().sum();
+        assert!(w > 0.0, "no compression damage in row {k}");
+        row.iter().enumerate().map(|(i, d)| d * (i as f64 + 0.5) * W / 5.0).sum::<f64>() / w
+    };
+    let xs: Vec<f64> = (1..=4).map(centroid).collect();
+    println!("d_c-weighted centroid x per row 1..4: {xs:?}");
+    assert!(xs.windows(2).all(|p| p[1] < p[0]) && xs[0] - xs[3] > 0.25, "no diagonal band: {xs:?}");
 }
 
 /// What works today, on the coarse mesh with few increments: the preload by load control, then
