@@ -18,6 +18,31 @@
 //!   as in Mazars' model; it would not damage at all if ε_zz were left out.
 //!
 //! The gradient adds ⟨ε_zz⟩₊/ε_eq · ∂ε_zz/∂(ε_xx, ε_yy, γ_xy) = ⟨ε_zz⟩₊/ε_eq · (−ν/(1−ν)) (1, 1, 0).
+//!
+//! # The switch: a smoothed Heaviside on the compressive side of tr σ̃ = 0
+//! SPEC §2's split σ = [(1 − d_t) H(tr σ̃) + (1 − d_c) H(−tr σ̃)] σ̃ makes the *stress* jump, not
+//! only the stiffness, where tr σ̃ changes sign with d_t ≠ d_c: σ̃ is deviatoric there and
+//! nonzero, and is multiplied by (1 − d_t) on one side and (1 − d_c) on the other (a factor 50
+//! with d_t = 0.98, d_c = 0). In a shell wall under compression and shear the points near the
+//! loaded corner sit at that switch; the equilibrium equations then have no solution near the
+//! last iterates (the residual jumps across zero) and Newton's method, secant iterations and the
+//! line search cycle until the increment is abandoned. In plane stress the Heaviside is therefore
+//! replaced by a weight w of the stress *direction* x = tr σ̃ / ‖σ̃‖ ∈ [−√2, √2]:
+//!
+//! ```text
+//!   w = 1 for x ≥ 0;  w = 1 − 3s² + 2s³, s = −x/β, for −β < x < 0;  w = 0 for x ≤ −β
+//!   ε^t = w ε, ε^c = (1 − w) ε  (so ε_eq^t = w ε_eq, ε_eq^c = (1 − w) ε_eq)
+//!   σ = [w (1 − d_t) + (1 − w)(1 − d_c)] σ̃
+//! ```
+//! with β = [`SWITCH_BAND`] = 0.1. Why this is the same law where it matters: (a) w = H(tr σ̃)
+//! outside the thin band −β‖σ̃‖ < tr σ̃ < 0, so the tension side including tr σ̃ = 0 (pure shear,
+//! state.rs's convention) and every uniaxial and biaxial state (|x| ≥ 1) are unchanged, hence the
+//! identification (uniaxial tests, fibers) and the closed forms; (b) x depends on the direction
+//! only, so σ stays homogeneous of degree 1 in ε for a fixed history; (c) σ is continuous in ε,
+//! and C¹ outside the loading surfaces, so the consistent tangent below exists everywhere;
+//! (d) Y_k = w_k y ≥ 0 and ḋ_k ≥ 0, so the dissipation Y_t ḋ_t + Y_c ḋ_c stays non-negative
+//! (Clausius–Duhem holds as for the sharp split). β = 0.1 means the switch spreads over stress
+//! directions within about 4° of the deviatoric plane on the compressive side.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -68,8 +93,52 @@ pub fn equivalent_strain(law: &PointLaw, strain: &Vector3<f64>) -> (f64, Vector3
     }
 }
 
+/// Width β of the band of stress directions over which the unilateral switch is smoothed:
+/// the tensile weight w goes from 1 at tr σ̃ = 0 to 0 at tr σ̃ = −β ‖σ̃‖ (module docs, "The
+/// switch"). The ONE place this choice is made.
+pub const SWITCH_BAND: f64 = 0.1;
+
+/// The tensile weight w(x) of the direction x = tr σ̃ / ‖σ̃‖ and its derivative dw/dx:
+/// w = 1 for x ≥ 0, w = 0 for x ≤ −β, and the C¹ cubic w = 1 − 3s² + 2s³ with s = −x/β between.
+#[inline]
+pub fn tensile_weight(x: f64) -> (f64, f64) {
+    if x >= 0.0 {
+        (1.0, 0.0)
+    } else if x <= -SWITCH_BAND {
+        (0.0, 0.0)
+    } else {
+        let s = -x / SWITCH_BAND;
+        (1.0 - 3.0 * s * s + 2.0 * s * s * s, (6.0 * s - 6.0 * s * s) / SWITCH_BAND)
+    }
+}
+
+/// The direction x = tr σ̃ / ‖σ̃‖ (‖σ̃‖² = σ̃_xx² + σ̃_yy² + 2 τ̃_xy², the tensor norm) and its
+/// gradient with respect to `[ε_xx, ε_yy, γ_xy]`: dx/dε = C₀ᵀ(1 − x M σ̃/‖σ̃‖)/‖σ̃‖ with
+/// 1 = (1, 1, 0) and M = diag(1, 1, 2). x = 0 with a zero gradient at σ̃ = 0.
+#[inline]
+fn direction(c0: &Matrix3<f64>, sigma_tilde: &Vector3<f64>) -> (f64, Vector3<f64>) {
+    let m = Vector3::new(sigma_tilde[0], sigma_tilde[1], 2.0 * sigma_tilde[2]);
+    let n = (sigma_tilde[0].powi(2) + sigma_tilde[1].powi(2) + 2.0 * sigma_tilde[2].powi(2)).sqrt();
+    if n == 0.0 {
+        return (0.0, Vector3::zeros());
+    }
+    let x = (sigma_tilde[0] + sigma_tilde[1]) / n;
+    let g = (Vector3::new(1.0, 1.0, 0.0) - m * (x / n)) / n;
+    (x, c0.transpose() * g)
+}
+
 /// Update a plane-stress material point at total strain `[ε_xx, ε_yy, γ_xy]` from the committed
-/// history. Pure, no allocation.
+/// history (module docs, "The switch"). Pure, no allocation.
+///
+/// ```text
+///   w = w(x), x = tr σ̃/‖σ̃‖;  ε_eq^t = w ε_eq,  ε_eq^c = (1 − w) ε_eq   (κ_k, d_k as usual)
+///   σ = g σ̃,  g = w (1 − d_t) + (1 − w)(1 − d_c);  secant g C₀
+///   tangent = g C₀ + σ̃ ⊗ ∂g/∂ε,
+///   ∂g/∂ε = w' (d_c − d_t) ∂x/∂ε − w d_t' ∂ε_eq^t/∂ε − (1 − w) d_c' ∂ε_eq^c/∂ε  (d_k' when loading)
+///   ∂ε_eq^t/∂ε = w ∇ε_eq + ε_eq w' ∂x/∂ε,  ∂ε_eq^c/∂ε = (1 − w) ∇ε_eq − ε_eq w' ∂x/∂ε
+/// ```
+/// Dissipation: Y_t = w y and Y_c = (1 − w) y (y = ½ ε·C₀ε) drive d_t and d_c; each side's
+/// increment is integrated as in [`evolve`] (c = Y_k / (ε_eq^k)²).
 #[inline]
 pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) -> Response<3> {
     let c0 = elastic_matrix(law);
@@ -77,8 +146,34 @@ pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) ->
     let side = Side::of_trace(sigma_tilde[0] + sigma_tilde[1]);
     let (eq, grad) = equivalent_strain(law, strain);
     let y = 0.5 * strain.dot(&sigma_tilde);
-    let evo = evolve(law, side, eq, y, committed);
-    assemble(&c0, &sigma_tilde, side, evo, &grad)
+    let (x, dx) = direction(&c0, &sigma_tilde);
+    let (w, dw) = tensile_weight(x);
+    if w == 1.0 || w == 0.0 {
+        // Outside the band: the sharp split (SPEC §2), exactly.
+        let evo = evolve(law, side, eq, y, committed);
+        return assemble(&c0, &sigma_tilde, side, evo, &grad);
+    }
+    let t = evolve(law, Side::Tension, w * eq, w * y, committed);
+    let c = evolve(law, Side::Compression, (1.0 - w) * eq, (1.0 - w) * y, &t.state);
+    let state = c.state;
+    let g = w * t.integrity + (1.0 - w) * c.integrity;
+    let secant = c0 * g;
+    let mut dg = dx * (dw * (state.d_c - state.d_t));
+    if t.loading {
+        dg -= (grad * w + dx * (eq * dw)) * (w * t.dd_deq);
+    }
+    if c.loading {
+        dg -= (grad * (1.0 - w) - dx * (eq * dw)) * ((1.0 - w) * c.dd_deq);
+    }
+    Response {
+        stress: sigma_tilde * g,
+        secant,
+        tangent: secant + sigma_tilde * dg.transpose(),
+        state,
+        dissipation: t.dissipation + c.dissipation,
+        side,
+        loading: t.loading || c.loading,
+    }
 }
 
 /// Marker of the plane-stress kinematics for generic drivers.
@@ -179,20 +274,65 @@ mod tests {
         assert_eq!(c.side, Side::Compression);
         assert_eq!(c.state.d_c, 0.0);
         assert_eq!(c.secant, elastic_matrix(&law));
-        // The stress jump at tr σ̃ = 0 with d_t ≠ d_c (response.rs docs): a deviatoric strain just
-        // above and below tr = 0 gives stresses in the ratio (1 − d_t) : 1.
+        // No stress jump at tr σ̃ = 0 (module docs, "The switch"): a deviatoric strain just above
+        // and below tr = 0 gives the same stress to 1e-6 (the sharp split gave the ratio
+        // (1 − d_t) : 1); beyond the band (x = −β) the compressive response (1 − d_c) σ̃ holds.
         let dev = Vector3::new(1e-4, -1e-4, 0.0);
         let up = update(&law, &(dev + Vector3::new(1e-12, 0.0, 0.0)), &t.state);
         let down = update(&law, &(dev - Vector3::new(1e-12, 0.0, 0.0)), &t.state);
         assert_eq!((up.side, down.side), (Side::Tension, Side::Compression));
-        assert!((up.stress[0] / down.stress[0] - (1.0 - t.state.d_t)).abs() < 1e-6);
+        assert!((up.stress[0] / down.stress[0] - 1.0).abs() < 1e-6, "{} vs {}", up.stress[0], down.stress[0]);
+        assert!((up.stress[0] / (law.e() / (1.0 + law.nu()) * 1e-4) - (1.0 - t.state.d_t)).abs() < 1e-6);
+        let c0 = elastic_matrix(&law);
+        let beyond = dev + Vector3::new(-2.0e-5, -2.0e-5, 0.0);
+        let st = c0 * beyond;
+        let x = (st[0] + st[1]) / (st[0] * st[0] + st[1] * st[1] + 2.0 * st[2] * st[2]).sqrt();
+        assert!(x < -SWITCH_BAND);
+        let r = update(&law, &beyond, &t.state);
+        assert!((r.stress - st * (1.0 - r.state.d_c)).norm() <= 1e-12 * st.norm());
+    }
+
+    #[test]
+    fn tangent_in_the_switch_band_matches_finite_differences() {
+        // States with tr σ̃ / ‖σ̃‖ inside (−β, 0), after tensile damage (d_t > 0.5) and with some
+        // compressive history, loading one side, both, or neither: central differences, step
+        // 1e-7 ‖ε‖∞, tolerance 1e-6 norm-wise relative (as the sharp law's check).
+        use crate::material::test_support::{fd_tangent, rel_diff};
+        let law = law();
+        let c0 = elastic_matrix(&law);
+        let damaged = update(&law, &Vector3::new(6.0 * law.eps0_t(), 0.0, 0.0), &DamageState::default()).state;
+        let mut loading = 0;
+        for k in 0..40 {
+            let a = 1e-4 * (1.0 + 0.3 * k as f64);
+            let dev = Vector3::new(a, -a, 0.4 * a * ((k % 5) as f64 - 2.0));
+            // A volumetric part that puts x at a fraction of the band.
+            let fr = (k as f64 + 0.5) / 40.0;
+            let st = c0 * dev;
+            let n = (st[0] * st[0] + st[1] * st[1] + 2.0 * st[2] * st[2]).sqrt();
+            let vol = -fr * SWITCH_BAND * n / (2.0 * law.e() / (1.0 - law.nu()));
+            let eps = dev + Vector3::new(vol, vol, 0.0);
+            let committed = if k % 2 == 0 { damaged } else { DamageState::default() };
+            let r = update(&law, &eps, &committed);
+            let fd = fd_tangent::<3, PlaneStress>(&law, &eps, &committed, 1e-7 * eps.amax());
+            let err = rel_diff(r.tangent.as_slice(), fd.as_slice());
+            assert!(err <= 1e-6, "state {k}: {err:e}\n{}\n{}", r.tangent, fd);
+            loading += r.loading as usize;
+        }
+        assert!(loading > 10, "loading states {loading}");
     }
 
     #[test]
     fn consistent_tangent_matches_finite_differences() {
-        // Central differences, step 1e-7 ‖ε‖∞; tolerance 1e-6 norm-wise relative.
+        // Central differences, step 1e-7 ‖ε‖∞; tolerance 1e-6 norm-wise relative. Directions in
+        // the switch band (both sides may load there, which the generic check does not set up)
+        // are skipped here (ε_eq reported 0) and checked by the test below.
         let law = law();
-        let loading = check_tangent::<3, PlaneStress>(&law, 21, 400, 1e-6, |e| equivalent_strain(&law, e).0);
+        let c0 = elastic_matrix(&law);
+        let in_band = |e: &Vector3<f64>| {
+            let (x, _) = direction(&c0, &(c0 * e));
+            x < 0.0 && x > -SWITCH_BAND
+        };
+        let loading = check_tangent::<3, PlaneStress>(&law, 21, 400, 1e-6, |e| if in_band(e) { 0.0 } else { equivalent_strain(&law, e).0 });
         assert_eq!(loading, 200);
     }
 
