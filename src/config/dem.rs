@@ -60,6 +60,26 @@ impl Default for MechanicsConfig {
     }
 }
 
+impl MechanicsConfig {
+    /// The solver's parameters for a sample of out-of-plane thickness `t_z`, checked; an invalid
+    /// value is reported at its `[mechanics]` key in `source`.
+    pub fn validated_params(&self, t_z: f64, source: &super::Source) -> Result<crate::dem::mechanics::MechParams, super::ConfigError> {
+        let params = crate::dem::mechanics::MechParams {
+            e_bar: self.e_bar,
+            t_z,
+            eps_cr: self.eps_cr,
+            theta_cr: self.theta_cr,
+            mu: self.mu,
+            kt_over_kn: self.kt_over_kn,
+        };
+        params.validate().map_err(|e| {
+            let field = e.to_string().split('`').nth(1).unwrap_or("").to_string();
+            source.error_at(&[super::Seg::Key("mechanics".into()), super::Seg::Key(field)], e.to_string())
+        })?;
+        Ok(params)
+    }
+}
+
 /// `[experiment]`: measured values to compare with (all optional).
 #[derive(Clone, Debug, Default, Deserialize, PartialEq, serde::Serialize)]
 #[serde(deny_unknown_fields)]

@@ -280,18 +280,7 @@ impl IdentifyJob {
             mu: m.mu,
             kt_over_kn: m.kt_over_kn,
         };
-        let params = crate::dem::mechanics::MechParams {
-            e_bar: m.e_bar,
-            t_z: spec.sample.thickness,
-            eps_cr: m.eps_cr,
-            theta_cr: m.theta_cr,
-            mu: m.mu,
-            kt_over_kn: m.kt_over_kn,
-        };
-        params.validate().map_err(|e| {
-            let field = e.to_string().split('`').nth(1).unwrap_or("").to_string();
-            source.error_at(&[key("mechanics"), key(&field)], e.to_string())
-        })?;
+        m.validated_params(spec.sample.thickness, &source)?;
         // An interval: finite, lower < upper, and (if `positive`) lower > 0.
         let interval = |keys: &[&str], b: [f64; 2], positive: bool, what: &str| -> Result<(), super::ConfigError> {
             let [lo, hi] = b;

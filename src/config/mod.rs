@@ -223,19 +223,7 @@ impl DemJob {
         }
         spec.sample.validate().map_err(|e| source.error_at(&[key("sample")], e.to_string()))?;
         spec.test.validate().map_err(|e| source.error_at(&[key("test")], e.to_string()))?;
-        let m = &spec.mechanics;
-        let params = crate::dem::mechanics::MechParams {
-            e_bar: m.e_bar,
-            t_z: spec.sample.thickness,
-            eps_cr: m.eps_cr,
-            theta_cr: m.theta_cr,
-            mu: m.mu,
-            kt_over_kn: m.kt_over_kn,
-        };
-        params.validate().map_err(|e| {
-            let field = e.to_string().split('`').nth(1).unwrap_or("").to_string();
-            source.error_at(&[key("mechanics"), key(&field)], e.to_string())
-        })?;
+        let params = spec.mechanics.validated_params(spec.sample.thickness, &source)?;
         let output_dir = output_dir(path, &spec.output);
         Ok(DemJob { source, spec, params, output_dir })
     }

@@ -12,7 +12,7 @@
 //! `seed, seed + 1, …`, the same for every point: common random numbers, so differences between
 //! points are the parameters', not the samples'). EGO ([`super::collective::run_ego`]) on
 //! ln(J + δ), Latin-hypercube initial design.
-use super::collective::{run_ego, PointRecord};
+use super::collective::{best_record, run_ego, PointRecord};
 use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
 use super::doe::latin_hypercube;
 use super::ego::EgoSettings;
@@ -169,15 +169,7 @@ pub fn calibrate(ctx: &Context, c: &Calibration) -> Result<Option<CalibrationRes
 
 fn summarize(c: &Calibration, records: Vec<PointRecord<DemRun>>) -> Result<CalibrationResult, IdentifyError> {
     let history: Vec<_> = records.iter().map(|r| (r.iteration, c.space.from_unit(&r.unit), r.value.clone())).collect();
-    let best = records
-        .iter()
-        .filter(|r| r.value.is_ok())
-        .min_by(|a, b| a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY)))
-        .ok_or_else(|| IdentifyError::TooFewPoints {
-            needed: 1,
-            got: 0,
-            first_failure: records.iter().find_map(|r| r.value.clone().err()).unwrap_or_default(),
-        })?;
+    let best = best_record(&records)?;
     let runs: Vec<DemRun> = best.tasks.iter().filter_map(|r| r.as_ref().ok().cloned()).collect();
     let refs: Vec<&DemRun> = runs.iter().collect();
     let stats = sample_stats(&refs);

@@ -51,6 +51,21 @@ pub struct PointRecord<R> {
     pub tasks: Vec<TaskResult<R>>,
 }
 
+/// The record with the lowest objective among those that succeeded; an error naming the first
+/// failure when none did.
+pub fn best_record<R>(records: &[PointRecord<R>]) -> Result<&PointRecord<R>, IdentifyError> {
+    records
+        .iter()
+        .filter_map(|r| r.value.as_ref().ok().map(|v| (r, *v)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(r, _)| r)
+        .ok_or_else(|| IdentifyError::TooFewPoints {
+            needed: 1,
+            got: 0,
+            first_failure: records.iter().find_map(|r| r.value.clone().err()).unwrap_or_default(),
+        })
+}
+
 /// Collective. Evaluates `points` (significant on rank 0) as `points × tasks_per_point` tasks
 /// of a dynamic batch; rank 0 gets them grouped per point.
 pub fn evaluate_points<R, W>(

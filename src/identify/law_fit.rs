@@ -16,7 +16,7 @@
 //! factorial (the paper's 32 combinations); then EGO infill on ln(F + δ); then, since one
 //! evaluation costs milliseconds, a Nelder–Mead polish from the EGO optimum ([`super::polish`];
 //! its evaluations appear in the history as the iteration after the last infill).
-use super::collective::{run_ego, PointRecord};
+use super::collective::{best_record, run_ego, PointRecord};
 use super::curves::{uniform_grid, Curve};
 use super::doe::two_level_factorial;
 use super::ego::EgoSettings;
@@ -171,15 +171,7 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
         return Ok(None);
     };
     let mut history: Vec<_> = records.iter().map(|r| (r.iteration, fit.space.from_unit(&r.unit), r.value.clone())).collect();
-    let best = records
-        .iter()
-        .filter(|r| r.value.is_ok())
-        .min_by(|a, b| a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY)))
-        .ok_or_else(|| IdentifyError::TooFewPoints {
-            needed: 1,
-            got: 0,
-            first_failure: records.iter().find_map(|r| r.value.clone().err()).unwrap_or_default(),
-        })?;
+    let best = best_record(&records)?;
     let mut x = fit.space.from_unit(&best.unit);
     if fit.polish_iterations > 0 {
         let f = |u: &[f64]| fit.evaluate(&fit.space.from_unit(u)).map(|e| e.total);
