@@ -345,39 +345,6 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
 
 /// Reads one component's record (file or synthetic), scaled.
 fn read_component(src: &Source, folder: &Path, g: &GroundMotionConfig, at: &dyn Fn(&str) -> Vec<Seg>) -> Result<Record, ConfigError> {
-    use crate::seismic as sm;
     let r = RecordConfig { file: g.file.clone(), format: g.format, units: g.units.clone(), dt: g.dt, synthetic: g.synthetic.clone(), scale: g.scale };
-    let record = match (&r.file, &r.synthetic) {
-        (Some(_), Some(_)) | (None, None) => {
-            let mut p = at("file");
-            p.pop();
-            return Err(src.error_at(&p, "give either file (with format) or synthetic = \"vallorcine_like\""));
-        }
-        (None, Some(name)) => match name.as_str() {
-            "vallorcine_like" => sm::vallorcine_like_synthetic(),
-            other => return Err(src.error_at(&at("synthetic"), format!("unknown synthetic record '{other}', expected vallorcine_like"))),
-        },
-        (Some(f), None) => {
-            let file = if f.is_absolute() { f.clone() } else { super::normalize(&folder.join(f)) };
-            if !file.is_file() {
-                return Err(src.error_at(&at("file"), format!("record file {} does not exist", file.display())));
-            }
-            let units = || -> Result<sm::AccelUnit, ConfigError> {
-                let u = r.units.as_deref().ok_or_else(|| src.error_at(&at("units"), "a column file needs units = \"g\", \"m/s2\" or \"cm/s2\""))?;
-                sm::AccelUnit::parse(u).ok_or_else(|| src.error_at(&at("units"), format!("unknown units '{u}', expected g, m/s2 or cm/s2")))
-            };
-            let read = match r.format {
-                None => return Err(src.error_at(&at("file"), "give the format: at2, esm, two_column or one_column")),
-                Some(RecordFormat::At2) => sm::read_at2(&file),
-                Some(RecordFormat::Esm) => sm::read_esm(&file),
-                Some(RecordFormat::TwoColumn) => sm::read_two_column(&file, units()?, sm::DEFAULT_DT_TOLERANCE),
-                Some(RecordFormat::OneColumn) => {
-                    let dt = r.dt.ok_or_else(|| src.error_at(&at("dt"), "a one-column file needs dt [s]"))?;
-                    sm::read_one_column(&file, dt, units()?)
-                }
-            };
-            read.map_err(|e| src.error_at(&at("file"), e.to_string()))?
-        }
-    };
-    record.scaled(r.scale).map_err(|e| src.error_at(&at("scale"), e.to_string()))
+    super::record::read_record(src, folder, &r, at)
 }

@@ -9,6 +9,7 @@ mod identify;
 mod job;
 mod kind;
 mod material_point;
+mod record;
 mod source;
 mod spectrum;
 mod tagged;
@@ -150,7 +151,6 @@ pub struct SpectrumJob {
 
 impl SpectrumJob {
     fn from_source(source: Source, path: &Path) -> Result<SpectrumJob, ConfigError> {
-        use crate::seismic as sm;
         let spec: SpectrumJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
         let key = |k: &str| Seg::Key(k.to_string());
         let a = &spec.analysis;
@@ -164,34 +164,7 @@ impl SpectrumJob {
         let r = &spec.record;
         let at = |k: &str| vec![key("record"), key(k)];
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let record = match (&r.file, &r.synthetic) {
-            (Some(_), Some(_)) | (None, None) => {
-                return Err(source.error_at(&[key("record")], "give either file (with format) or synthetic = \"vallorcine_like\""))
-            }
-            (None, Some(name)) => match name.as_str() {
-                "vallorcine_like" => sm::vallorcine_like_synthetic(),
-                other => return Err(source.error_at(&at("synthetic"), format!("unknown synthetic record '{other}', expected vallorcine_like"))),
-            },
-            (Some(f), None) => {
-                let file = resolve(&folder, f);
-                let units = || -> Result<sm::AccelUnit, ConfigError> {
-                    let u = r.units.as_deref().ok_or_else(|| source.error_at(&at("units"), "a column file needs units = \"g\", \"m/s2\" or \"cm/s2\""))?;
-                    sm::AccelUnit::parse(u).ok_or_else(|| source.error_at(&at("units"), format!("unknown units '{u}', expected g, m/s2 or cm/s2")))
-                };
-                let read = match r.format {
-                    None => return Err(source.error_at(&at("file"), "give the format: at2, esm, two_column or one_column")),
-                    Some(RecordFormat::At2) => sm::read_at2(&file),
-                    Some(RecordFormat::Esm) => sm::read_esm(&file),
-                    Some(RecordFormat::TwoColumn) => sm::read_two_column(&file, units()?, sm::DEFAULT_DT_TOLERANCE),
-                    Some(RecordFormat::OneColumn) => {
-                        let dt = r.dt.ok_or_else(|| source.error_at(&at("dt"), "a one-column file needs dt [s]"))?;
-                        sm::read_one_column(&file, dt, units()?)
-                    }
-                };
-                read.map_err(|e| source.error_at(&at("file"), e.to_string()))?
-            }
-        };
-        let record = record.scaled(r.scale).map_err(|e| source.error_at(&at("scale"), e.to_string()))?;
+        let record = record::read_record(&source, &folder, r, &at)?;
         if let Some(e) = &spec.ec8 {
             if !(e.ag.is_finite() && e.ag > 0.0) {
                 return Err(source.error_at(&[key("ec8"), key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag)));
