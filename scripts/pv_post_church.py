@@ -4,10 +4,13 @@
     xvfb-run -a pvpython scripts/pv_post_church.py results/church --mesh meshes/church.msh
 
 Writes into `<results>/pictures/` (or --out):
-  mesh.png                 the model coloured by substructure (cell field "group" of modes.xdmf),
+  mesh.png                 the model coloured by substructure (cell field "group" of the modes),
                            the physical names of --mesh in the legend
   mode-1.png ... mode-K.png  mode K warped (largest translation 6 % of the church's size),
-                           coloured by the magnitude of mode_translation, its frequency (summary.json) in the title
+                           coloured by the magnitude of mode_translation, its frequency
+                           (summary.json) in the title; the modes of modes-updated.xdmf (the
+                           updated model of a pipeline run, the one the earthquake ran on) when
+                           the folder has it, else of modes.xdmf
   damage-tension.png       d_t_max (largest over the layers / fibers) at the last step of
                            results.xdmf, colour map fixed to 0..1: from the south-west, the
                            north-east, a section on the nave axis looking north, and from below
@@ -22,7 +25,8 @@ Needs modes.xdmf and results.xdmf (with their .h5) in the folder; a missing one 
 `OpenDataFile` picks for them (ParaView 5.11's XDMF 2 "XDMFReader" reads the same points, cells
 and fields from them; Xdmf3ReaderS is the one kept up to date). Frequencies: the
 list of objects with a "frequency" key in summary.json (at "modes", or under another key, e.g.
-that of the modal stage of a pipeline run); without one the titles give no frequency.
+`stages.modal_updated.modes` of a pipeline run for modes-updated.xdmf); without one the
+titles give no frequency.
 """
 import argparse
 import csv
@@ -37,29 +41,33 @@ from paraview import simple as pv  # noqa: E402
 DAMAGE_VIEWS = ("southwest", "northeast", "section", "below")
 
 
-def find_frequencies(summary):
-    """Mode frequencies [Hz] from a summary.json: the list at "modes" if it holds objects with a
-    "frequency", else the last such list found under any key (a pipeline's modal stage)."""
+def find_frequencies(summary, updated):
+    """Mode frequencies [Hz] from a summary.json, and where they were found: the lists of objects
+    with a "frequency" key. For an updated model's modes (`updated`), the list under a key
+    containing "updated" (a pipeline's `stages.modal_updated.modes`); otherwise the list at "modes"
+    (a modal run), else the first list under no such key (a pipeline's `stages.modal.modes`)."""
     found = []
 
     def walk(node, path):
         if isinstance(node, dict):
             for k, v in node.items():
-                walk(v, path + [k])
+                walk(v, path + [str(k)])
         elif isinstance(node, list):
             if node and all(isinstance(m, dict) and isinstance(m.get("frequency"), (int, float)) for m in node):
                 found.append((path, [float(m["frequency"]) for m in node]))
             else:
                 for i, v in enumerate(node):
-                    walk(v, path + [i])
+                    walk(v, path + [str(i)])
 
     walk(summary, [])
-    for path, f in found:
-        if path == ["modes"]:
-            return f, "modes"
-    if found:
-        path, f = found[-1]
-        return f, ".".join(str(p) for p in path)
+    is_updated = [any("updated" in k for k in path) for path, _ in found]
+    if updated:
+        picks = [f for f, u in zip(found, is_updated) if u]
+    else:
+        picks = [f for f in found if f[0] == ["modes"]] or [f for f, u in zip(found, is_updated) if not u]
+    if picks:
+        path, f = picks[0]
+        return f, ".".join(path)
     return [], None
 
 
@@ -125,21 +133,24 @@ def main():
     written = []
     try:
         names = pv_church.read_msh_names(a.mesh) if a.mesh else {}
+        # The modes of the model the earthquake ran on: the updated model's when there are some.
+        updated = os.path.isfile(os.path.join(res, "modes-updated.xdmf"))
+        path = os.path.join(res, "modes-updated.xdmf" if updated else "modes.xdmf")
         freqs, where = [], None
         summary = os.path.join(res, "summary.json")
         if os.path.isfile(summary):
             try:
                 with open(summary) as f:
-                    freqs, where = find_frequencies(json.load(f))
+                    freqs, where = find_frequencies(json.load(f), updated)
             except (OSError, ValueError) as e:
                 print(f"warning: {summary}: {e}; mode titles without frequencies")
         if where:
-            print(f"frequencies from {summary} ({where}): {', '.join(f'{x:.3f}' for x in freqs[:a.modes])} Hz")
+            print(f"modes of {path}, frequencies from {summary} ({where}): "
+                  f"{', '.join(f'{x:.3f}' for x in freqs[:a.modes])} Hz")
         else:
-            print(f"warning: no mode frequencies in {summary}; mode titles without frequencies")
+            print(f"warning: no mode frequencies for {path} in {summary}; mode titles without frequencies")
 
         # The model by substructure, and the modes.
-        path = os.path.join(res, "modes.xdmf")
         modes, _, _ = pv_church.open_input(path)
         times = pv_church.times_of(modes)
         if not times:
@@ -156,9 +167,10 @@ def main():
             scale = pv_church.auto_warp_scale(modes, "mode_translation", 0.06)
             freq = f": {freqs[k - 1]:.3f} Hz" if k <= len(freqs) else ""
             f = os.path.join(out, f"mode-{k}.png")
+            model = "updated model, " if updated else ""
             pv_church.render(modes, f, field="mode_translation", assoc="POINTS", t=t,
                              views=("southwest", "northeast", "south", "top"),
-                             title=f"mode {k}{freq}: shape warped x{scale:.3g}, colour: translation (mass-normalized mode)",
+                             title=f"mode {k}{freq} ({model}shape warped x{scale:.3g}; colour: translation of the mass-normalized mode)",
                              warp_field="mode_translation", scale=scale, size=size,
                              bar_title="translation")
             written.append(f)
