@@ -8,8 +8,9 @@
 //!   ParaView present    mesh.png, mode-1..3.png, damage-tension.png, damage-compression.png,
 //!                       envelope-drift.png exist with the asked size and are not blank (share
 //!                       of drawn pixels, luminance spread, number of colours); damage-tension.png
-//!                       shows damage colours (d_t > ~0.55 is yellow to red in Turbo) where the
-//!                       fixture has d_t up to its maximum; damage-by-substructure.csv's largest
+//!                       has pixels coloured by damage (and yellow to red: d_t > ~0.5) where
+//!                       damage-compression.png (same views; the fixture has no d_c) has none;
+//!                       damage-by-substructure.csv's largest
 //!                       d_t equals the one read from results.h5 with the hdf5 crate
 //!   matplotlib present  monitors.png exists and is not blank
 //! ```
@@ -74,10 +75,25 @@ fn not_blank(png: &Path, size: Option<(u32, u32)>) -> image::RgbImage {
     img
 }
 
-/// Pixels in the damaged part of the Turbo map (d ≳ 0.55: yellow, orange, red): strong red, little
-/// blue. Undamaged cells are dark blue (d = 0: RGB 48, 18, 59), beams grey, the background white.
-fn damage_pixels(img: &image::RgbImage) -> usize {
-    img.pixels().filter(|p| p.0[0] > 150 && p.0[2] < 90 && p.0[0] as i32 - p.0[2] as i32 > 110).count()
+/// Pixels of `img` coloured by damage where `reference` (the same views without damage) is not:
+/// (coloured, of which yellow to red). The colour map (pv_church.py's LIGHT_RAINBOW) is light
+/// grey-blue at 0 (RGB 209, 219, 235; shaded darker, never saturated), then blue, green, yellow,
+/// orange, dark red: "coloured" = max − min of the channels above 60 (beams are grey, the
+/// background white, the text black); "yellow to red" (d ≳ 0.5) = red above 150 and red − blue
+/// above 110. The colour bar and the axes triads are the same in both pictures.
+fn damage_pixels(img: &image::RgbImage, reference: &image::RgbImage) -> (usize, usize) {
+    let sat = |p: &image::Rgb<u8>| p.0.iter().max().unwrap() - p.0.iter().min().unwrap();
+    let warm = |p: &image::Rgb<u8>| p.0[0] > 150 && p.0[0] as i32 - p.0[2] as i32 > 110;
+    let (mut coloured, mut strong) = (0, 0);
+    for (p, r) in img.pixels().zip(reference.pixels()) {
+        if sat(p) > 60 && sat(r) < 40 {
+            coloured += 1;
+            if warm(p) {
+                strong += 1;
+            }
+        }
+    }
+    (coloured, strong)
 }
 
 #[test]
@@ -120,15 +136,21 @@ fn the_church_pictures() {
     let d: Vec<f64> = h5.dataset(&format!("steps/{}/d_t_max", times.len() - 1)).unwrap().read_raw().unwrap();
     let d_max = d.iter().copied().filter(|x| x.is_finite()).fold(0.0, f64::max);
     assert!(d_max > 0.6, "the fixture should hold damage above 0.6 (max d_t {d_max})");
-    let img = not_blank(&pics.join("damage-tension.png"), Some((800, 600)));
-    let warm = damage_pixels(&img);
-    println!("damage-tension.png: {warm} pixels in damage colours; max d_t {d_max:.3}");
-    // Some tens of damaged cells in four views of an 800 x 600 picture: at least 0.1 %.
-    assert!(warm as f64 > 1e-3 * 800.0 * 600.0, "no damage colours in damage-tension.png ({warm} pixels)");
-    // The modes are coloured with Viridis, whose colours never pass the damage test: the test
-    // tells the two apart (it could fail).
-    let mode = image::open(pics.join("mode-1.png")).unwrap().to_rgb8();
-    assert!(damage_pixels(&mode) < warm / 10, "mode-1.png has {} 'damage' pixels", damage_pixels(&mode));
+    let tension = not_blank(&pics.join("damage-tension.png"), Some((800, 600)));
+    // The fixture has no compressive damage: damage-compression.png, drawn with the same views,
+    // colour map and bar, is the picture of the church without damage. Damage shows as pixels
+    // that are coloured in damage-tension.png and not in it.
+    let dc: Vec<f64> = h5.dataset(&format!("steps/{}/d_c_max", times.len() - 1)).unwrap().read_raw().unwrap();
+    let dc_max = dc.iter().copied().filter(|x| x.is_finite()).fold(0.0, f64::max);
+    assert!(dc_max < 0.05, "the fixture was expected without compressive damage (max d_c {dc_max})");
+    let reference = not_blank(&pics.join("damage-compression.png"), Some((800, 600)));
+    let (coloured, strong) = damage_pixels(&tension, &reference);
+    println!("damage-tension.png: {coloured} pixels coloured by damage, {strong} of them yellow to red; max d_t {d_max:.3}");
+    // 12 damaged cells of about 3 m x 3 m, a few of them seen in each of four 400 x 278 views.
+    assert!(coloured > 400, "too few damage colours in damage-tension.png ({coloured} pixels)");
+    assert!(strong > 50, "no damage above 0.5 drawn in damage-tension.png ({strong} pixels)");
+    let (_, wrong) = damage_pixels(&reference, &tension);
+    assert_eq!(wrong, 0, "damage-compression.png has damage colours where damage-tension.png has none");
 
     // The table's largest d_t (4 decimals in the CSV) is the file's.
     let table = std::fs::read_to_string(pics.join("damage-by-substructure.csv")).unwrap();
