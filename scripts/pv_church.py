@@ -40,12 +40,23 @@ VIEWS = {
     "top": ((0.0, 0.0, 1.0), (0, 1, 0), "plan, from above"),
     "west": ((-1.0, 0.0, 0.05), (0, 0, 1), "entrance facade"),
     "north": ((0.0, 1.0, 0.05), (0, 0, 1), "north elevation"),
+    "below": ((0.0, 0.0, -1.0), (0, -1, 0), "from below (soffits; north at the bottom)"),
+    # the north half beyond the plane y = --cut-y, from the south and a little from below
+    "section": ((0.1, -1.0, -0.45), (0, 0, 1), "section on the nave axis, looking north"),
 }
 
 PALETTE = [  # colour-blind friendly categorical colours (Okabe-Ito + Tol), one per substructure
     (0.90, 0.62, 0.00), (0.34, 0.71, 0.91), (0.00, 0.62, 0.45), (0.94, 0.89, 0.26), (0.00, 0.45, 0.70),
     (0.84, 0.37, 0.00), (0.80, 0.47, 0.65), (0.47, 0.47, 0.47), (0.20, 0.13, 0.53), (0.53, 0.80, 0.93),
     (0.27, 0.67, 0.60), (0.60, 0.60, 0.20), (0.53, 0.13, 0.33), (0.87, 0.80, 0.47),
+]
+
+
+# A rainbow that starts light: undamaged (or still) parts stay light grey-blue, so the shading
+# shows the shape, and the colour runs through blue, green, yellow and orange to dark red.
+LIGHT_RAINBOW = [  # (fraction of the range, r, g, b)
+    (0.0, 0.82, 0.86, 0.92), (0.2, 0.35, 0.62, 0.95), (0.4, 0.25, 0.78, 0.45),
+    (0.6, 1.00, 0.84, 0.10), (0.8, 0.95, 0.45, 0.05), (1.0, 0.65, 0.00, 0.00),
 ]
 
 
@@ -155,87 +166,112 @@ def read_msh_names(path):
             break
     return names
 
-
 def array_names(proxy, where):
     data = proxy.PointData if where == "POINTS" else proxy.CellData
     return [data.GetArray(i).GetName() for i in range(data.GetNumberOfArrays())]
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("input", help="results XDMF (modes.xdmf, results.xdmf) or a Gmsh .msh")
-    ap.add_argument("--field", help="node or cell field (default: group for a .msh, mode_translation with --mode, "
-                                     "else displacement)")
-    ap.add_argument("--mode", type=int, help="mode number of a modal result (its time value)")
-    ap.add_argument("--time", type=float, help="time to show (default: the last)")
-    ap.add_argument("--warp", type=float, help="warp scale factor (default: 0, or automatic with --mode)")
-    ap.add_argument("--warp-field", help="node vector field to warp by (default mode_translation / displacement)")
-    ap.add_argument("--warp-fraction", type=float, default=0.06,
-                    help="automatic warp: largest translation as a fraction of the model's size (default 0.06)")
-    ap.add_argument("--names", help="Gmsh file whose physical names label the field 'group'")
-    ap.add_argument("--views", default="southwest,northeast,south,top",
-                    help=f"up to four of {','.join(VIEWS)} (default: southwest,northeast,south,top)")
-    ap.add_argument("--range", help="colour range 'min,max' (default: the data's)")
-    ap.add_argument("--title", help="text above the panels")
-    ap.add_argument("--edges", choices=["auto", "on", "off"], default="auto",
-                    help="draw the element edges (auto: on for a .msh, off for results)")
-    ap.add_argument("--out", default="church.png")
-    ap.add_argument("--size", default="1600x1200", help="image size in pixels")
-    a = ap.parse_args()
+class InputError(Exception):
+    """A missing file, time or field: the message says which."""
 
-    views = [v.strip() for v in a.views.split(",") if v.strip()]
-    bad = [v for v in views if v not in VIEWS]
-    if bad or not 1 <= len(views) <= 4:
-        sys.exit(f"--views: one to four of {', '.join(VIEWS)}; got {a.views}")
-    width, height = (int(x) for x in a.size.lower().split("x"))
 
-    for path in [a.input] + ([a.names] if a.names else []):
-        if not os.path.isfile(path):
-            sys.exit(f"no such file: {path}")
-    is_msh = a.input.lower().endswith(".msh")
-    if is_msh:
-        src, names = msh_source(a.input, skip={"supports"})
-        t = 0.0
+def open_input(path, names_path=None, skip=("supports",)):
+    """(source, {physical tag: name}, is_msh) of a results XDMF or a Gmsh .msh."""
+    for p in [path] + ([names_path] if names_path else []):
+        if not os.path.isfile(p):
+            raise InputError(f"no such file: {p}")
+    if path.lower().endswith(".msh"):
+        src, names = msh_source(path, skip=set(skip))
+        return src, names, True
+    src = pv.Xdmf3ReaderS(FileName=[path]) if path.lower().endswith(".xdmf") else pv.OpenDataFile(path)
+    if src is None:
+        raise InputError(f"ParaView cannot open {path}")
+    return src, (read_msh_names(names_path) if names_path else {}), False
+
+
+def times_of(src):
+    """The source's time values (ParaView gives a bare number when there is one)."""
+    v = getattr(src, "TimestepValues", None)
+    if v is None:
+        return []
+    if isinstance(v, (int, float)):
+        return [float(v)]
+    return [float(x) for x in v]
+
+
+def pick_time(src, path, mode=None, time=None):
+    """The time to show: the mode number of a modal result, the nearest to `time`, or the last."""
+    times = times_of(src)
+    if mode is not None:
+        if float(mode) not in times:
+            raise InputError(f"{path} has no mode {mode} (its times: {times[:20]})")
+        t = float(mode)
+    elif time is not None and times:
+        t = min(times, key=lambda x: abs(x - time))
     else:
-        src = pv.OpenDataFile(a.input)
-        if src is None:
-            sys.exit(f"ParaView cannot open {a.input}")
-        names = read_msh_names(a.names) if a.names else {}
-        times = list(getattr(src, "TimestepValues", []) or [])
-        if a.mode is not None:
-            if float(a.mode) not in times:
-                sys.exit(f"{a.input} has no mode {a.mode} (its times: {times[:20]})")
-            t = float(a.mode)
-        elif a.time is not None and times:
-            t = min(times, key=lambda x: abs(x - a.time))
-        else:
-            t = times[-1] if times else 0.0
-        pv.UpdatePipeline(time=t, proxy=src)
+        t = times[-1] if times else 0.0
+    pv.UpdatePipeline(time=t, proxy=src)
+    return t
 
-    field = a.field or ("group" if is_msh else ("mode_translation" if a.mode is not None else "displacement"))
-    points, cells_ = array_names(src, "POINTS"), array_names(src, "CELLS")
+
+def association(src, field, path):
+    """'POINTS' or 'CELLS' for a field of `src`; an InputError listing the fields otherwise."""
+    points, cells = array_names(src, "POINTS"), array_names(src, "CELLS")
     if field in points:
-        assoc = "POINTS"
-    elif field in cells_:
-        assoc = "CELLS"
-    else:
-        sys.exit(f"no field '{field}' in {a.input}; node fields: {points}; cell fields: {cells_}")
+        return "POINTS"
+    if field in cells:
+        return "CELLS"
+    raise InputError(f"no field '{field}' in {path}; node fields: {points}; cell fields: {cells}")
 
-    bounds = src.GetDataInformation().GetBounds()
-    size = math.dist(bounds[0::2], bounds[1::2])
-    centre = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+
+def field_range(src, field, assoc, component=-1):
+    data = src.PointData if assoc == "POINTS" else src.CellData
+    return data[field].GetRange(component)
+
+
+def bounds_of(src):
+    b = src.GetDataInformation().GetBounds()
+    size = math.dist(b[0::2], b[1::2])
+    centre = [(b[2 * i] + b[2 * i + 1]) / 2 for i in range(3)]
+    return b, size, centre
+
+
+def auto_warp_scale(src, warp_field, fraction):
+    """The scale that makes the largest translation `fraction` of the model's diagonal."""
+    amax = src.PointData[warp_field].GetRange(-1)[1]
+    return fraction * bounds_of(src)[1] / amax if amax > 0 else 0.0
+
+
+def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northeast", "south", "top"),
+           title="", warp_field=None, scale=0.0, value_range=None, edges=False, size=(1600, 1200),
+           colormap="light-rainbow", bar_title=None, cut_y=0.0, quiet=False):
+    """Renders `field` of `src` at time `t` in up to four views to the PNG `out`.
+
+    Views are keys of VIEWS; "section" clips the model along the plane y = `cut_y` and looks at
+    the far half from the south, slightly from below (the inside of the north wall and the vault
+    soffits); "below" looks up at the soffits of the whole plan. `value_range` fixes the colour
+    map's range (default: the data's). `field` "group" is drawn with one colour per substructure
+    and a legend of `names`. Node vectors are coloured by magnitude. Cells without the field (NaN)
+    are grey. Views and filters are deleted afterwards, so one process can render many pictures."""
+    names = names or {}
+    width, height = size
+    _, model_size, centre = bounds_of(src)
+    made = []  # proxies to delete at the end
     shown = src
-    warp_field = a.warp_field or ("mode_translation" if a.mode is not None else "displacement")
-    scale = a.warp if a.warp is not None else 0.0
-    if a.warp is None and a.mode is not None:
-        amax = src.PointData[warp_field].GetRange(-1)[1]
-        scale = a.warp_fraction * size / amax if amax > 0 else 0.0
     if scale:
-        if warp_field not in points:
-            sys.exit(f"no node vector field '{warp_field}' to warp by; node fields: {points}")
         shown = pv.WarpByVector(Input=src)
         shown.Vectors = ["POINTS", warp_field]
         shown.ScaleFactor = scale
+        made.append(shown)
+    clipped = None
+    if "section" in views:
+        clipped = pv.Clip(Input=shown)
+        clipped.ClipType = "Plane"
+        clipped.ClipType.Origin = [centre[0], cut_y, centre[2]]
+        clipped.ClipType.Normal = [0.0, 1.0, 0.0]
+        clipped.Invert = 0      # keep y > cut_y: the north half, seen from the south
+        clipped.Crinkleclip = 1  # whole cells: no cut cells interpolating a cell field
+        made.append(clipped)
 
     lut = pv.GetColorTransferFunction(field)
     groups_present = []
@@ -250,25 +286,39 @@ def main():
         lut.Annotations = ann
         lut.IndexedColors = colours
     else:
-        lut.ApplyPreset("Turbo" if a.mode is None else "Viridis (matplotlib)", True)
-        lut.NanColor = [0.62, 0.62, 0.62]  # cells without the field (beams for shell damage): grey
+        lut.InterpretValuesAsCategories = 0
+        lo, hi = value_range if value_range else field_range(src, field, assoc)
+        if hi <= lo:
+            hi = lo + 1.0
+        if colormap == "light-rainbow":
+            lut.ColorSpace = "RGB"
+            lut.RGBPoints = [v for f, r, g, b in LIGHT_RAINBOW for v in (lo + f * (hi - lo), r, g, b)]
+        else:
+            lut.ApplyPreset(colormap, True)
+        lut.NanColor = [0.55, 0.55, 0.55]  # cells without the field (beams for shell damage): grey
+        lut.AutomaticRescaleRangeMode = "Never"
+        lut.RescaleTransferFunction(lo, hi)
 
-    layout = pv.CreateLayout("church")
+    layout = pv.CreateLayout(os.path.basename(out))
+    # A title row on top (its own render view, text only), the panels below in up to 2 x 2 cells;
+    # cell indices follow ParaView's binary tree (children of cell i: 2i + 1, 2i + 2).
+    title_px = 44
+    layout.SplitVertical(0, title_px / height)
     n = len(views)
-    # split the layout into up to 2 x 2 cells; cell indices follow ParaView's binary tree
-    cells = [0]
+    cells = [2]
     if n >= 2:
-        layout.SplitHorizontal(0, 0.5)
-        cells = [1, 2]
+        layout.SplitHorizontal(2, 0.5)
+        cells = [5, 6]
     if n >= 3:
-        layout.SplitVertical(1, 0.5)
-        cells = [3, 4, 2]
+        layout.SplitVertical(5, 0.5)
+        cells = [11, 12, 6]
     if n == 4:
-        layout.SplitVertical(2, 0.5)
-        cells = [3, 5, 4, 6]
-    pv.GetAnimationScene().UpdateAnimationUsingDataTimeSteps()
+        layout.SplitVertical(6, 0.5)
+        cells = [11, 13, 12, 14]
+    view_proxies = []
     for k, name in enumerate(views):
         view = pv.CreateView("RenderView")
+        view_proxies.append(view)
         pv.AssignViewToLayout(view=view, layout=layout, hint=cells[k])
         view.ViewTime = t
         view.Background = [1, 1, 1]
@@ -277,16 +327,13 @@ def main():
         except AttributeError:
             pass
         view.OrientationAxesVisibility = 1
-        disp = pv.Show(shown, view)
+        this = clipped if name == "section" else shown
+        disp = pv.Show(this, view)
         pv.ColorBy(disp, (assoc, field, "Magnitude") if assoc == "POINTS" else (assoc, field))
         if field != "group":
-            if a.range:
-                lo, hi = (float(x) for x in a.range.split(","))
-                lut.RescaleTransferFunction(lo, hi)
-            else:
-                disp.RescaleTransferFunctionToDataRange(False, True)
+            lut.RescaleTransferFunction(lo, hi)  # ColorBy may have rescaled it to the data
         disp.LineWidth = 3.0
-        if a.edges == "on" or (a.edges == "auto" and is_msh):
+        if edges:
             disp.SetRepresentationType("Surface With Edges")
             disp.EdgeColor = [0.25, 0.25, 0.25]
             disp.LineWidth = 1.5  # the element edges too: thinner, or they hide the colours
@@ -295,42 +342,121 @@ def main():
         if k == 0:
             disp.SetScalarBarVisibility(view, True)
             bar = pv.GetScalarBar(lut, view)
-            bar.Title = field if field != "group" else "substructure"
+            bar.Title = bar_title or (field if field != "group" else "substructure")
             bar.ComponentTitle = ""
             bar.TitleColor = bar.LabelColor = [0, 0, 0]
             bar.TitleFontSize = 14
             bar.LabelFontSize = 13
+            bar.WindowLocation = "Upper Left Corner"
+            if field != "group":
+                bar.RangeLabelFormat = "%-#.3g"
         label = pv.Text(Text=VIEWS[name][2])
+        made.append(label)
         ld = pv.Show(label, view)
         ld.Color = [0.1, 0.1, 0.1]
         ld.FontSize = 16
         ld.WindowLocation = "Upper Center"
         cam = view.GetActiveCamera()
         d, up, _ = VIEWS[name]
-        cam.SetFocalPoint(*centre)
-        cam.SetPosition(*[centre[i] + d[i] * size for i in range(3)])
+        focus = list(centre)
+        if name == "section":
+            b = this.GetDataInformation().GetBounds()
+            focus = [(b[2 * i] + b[2 * i + 1]) / 2 for i in range(3)]
+        cam.SetFocalPoint(*focus)
+        cam.SetPosition(*[focus[i] + d[i] * model_size for i in range(3)])
         cam.SetViewUp(*up)
         view.ResetCamera(False)
         cam.Zoom(1.15)
+    if not quiet:
+        print(f"{out}: {title}; {src.GetDataInformation().GetNumberOfPoints()} points, "
+              f"{src.GetDataInformation().GetNumberOfCells()} cells; views {', '.join(views)}"
+              + (f"; groups {', '.join(names.get(g, str(g)) for g in groups_present)}" if groups_present else ""))
+    head = pv.CreateView("RenderView")
+    view_proxies.append(head)
+    pv.AssignViewToLayout(view=head, layout=layout, hint=1)
+    head.Background = [1, 1, 1]
+    try:
+        head.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    head.OrientationAxesVisibility = 0
+    banner = pv.Text(Text=title)
+    made.append(banner)
+    bd = pv.Show(banner, head)
+    bd.Color = [0, 0, 0]
+    bd.FontSize = 20
+    bd.WindowLocation = "Upper Center"
+    layout.SetSize(width, height)
+    pv.SaveScreenshot(out, layout, ImageResolution=[width, height], TransparentBackground=0)
+    for v in view_proxies:
+        pv.Delete(v)
+    pv.RemoveLayout(layout)
+    for p in reversed(made):
+        pv.Delete(p)
+    return groups_present
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("input", help="results XDMF (modes.xdmf, results.xdmf) or a Gmsh .msh")
+    ap.add_argument("--field", help="node or cell field (default: group for a .msh, mode_translation with --mode, "
+                                     "else displacement)")
+    ap.add_argument("--mode", type=int, help="mode number of a modal result (its time value)")
+    ap.add_argument("--frequency", type=float, help="the mode's frequency [Hz], shown in the title")
+    ap.add_argument("--time", type=float, help="time to show (default: the last)")
+    ap.add_argument("--warp", type=float, help="warp scale factor (default: 0, or automatic with --mode)")
+    ap.add_argument("--warp-field", help="node vector field to warp by (default mode_translation / displacement)")
+    ap.add_argument("--warp-fraction", type=float, default=0.06,
+                    help="automatic warp: largest translation as a fraction of the model's size (default 0.06)")
+    ap.add_argument("--names", help="Gmsh file whose physical names label the field 'group'")
+    ap.add_argument("--views", default="southwest,northeast,south,top",
+                    help=f"up to four of {','.join(VIEWS)} (default: southwest,northeast,south,top)")
+    ap.add_argument("--cut-y", type=float, default=0.0, help="the 'section' view's cutting plane y = CUT_Y (default 0: the nave axis)")
+    ap.add_argument("--range", help="colour range 'min,max' (default: the data's)")
+    ap.add_argument("--colormap", default="light-rainbow",
+                    help="ParaView colour preset, or light-rainbow (default: light grey-blue to dark red)")
+    ap.add_argument("--title", help="text below the first panel")
+    ap.add_argument("--edges", choices=["auto", "on", "off"], default="auto",
+                    help="draw the element edges (auto: on for a .msh, off for results)")
+    ap.add_argument("--out", default="church.png")
+    ap.add_argument("--size", default="1600x1200", help="image size in pixels")
+    a = ap.parse_args()
+
+    views = [v.strip() for v in a.views.split(",") if v.strip()]
+    bad = [v for v in views if v not in VIEWS]
+    if bad or not 1 <= len(views) <= 4:
+        sys.exit(f"--views: one to four of {', '.join(VIEWS)}; got {a.views}")
+    try:
+        width, height = (int(x) for x in a.size.lower().split("x"))
+        value_range = tuple(float(x) for x in a.range.split(",")) if a.range else None
+    except ValueError:
+        sys.exit(f"--size WxH and --range min,max: got {a.size!r}, {a.range!r}")
+    try:
+        src, names, is_msh = open_input(a.input, a.names)
+        t = 0.0 if is_msh else pick_time(src, a.input, a.mode, a.time)
+        field = a.field or ("group" if is_msh else ("mode_translation" if a.mode is not None else "displacement"))
+        assoc = association(src, field, a.input)
+        warp_field = a.warp_field or ("mode_translation" if a.mode is not None else "displacement")
+        scale = a.warp if a.warp is not None else 0.0
+        if scale or (a.warp is None and a.mode is not None):
+            association(src, warp_field, a.input)
+        if a.warp is None and a.mode is not None:
+            scale = auto_warp_scale(src, warp_field, a.warp_fraction)
+    except InputError as e:
+        sys.exit(str(e))
     title = a.title
     if title is None:
         if a.mode is not None:
-            title = f"mode {a.mode} (warp x{scale:.3g}), coloured by |{field}|"
+            freq = f", {a.frequency:.3g} Hz" if a.frequency is not None else ""
+            title = f"mode {a.mode}{freq} (warp x{scale:.3g}), coloured by the magnitude of {field}"
         elif field == "group":
             title = "the church by substructure"
         else:
             title = f"{field}" + (f" at t = {t:g}" if not is_msh else "")
-    print(f"{a.out}: {title}; {src.GetDataInformation().GetNumberOfPoints()} points, "
-          f"{src.GetDataInformation().GetNumberOfCells()} cells; views {', '.join(views)}"
-          + (f"; groups {', '.join(names.get(g, str(g)) for g in groups_present)}" if groups_present else ""))
-    first = layout.GetViews()[0] if hasattr(layout, "GetViews") else None
-    banner = pv.Text(Text=title)
-    bd = pv.Show(banner, pv.GetActiveView() if first is None else first)
-    bd.Color = [0, 0, 0]
-    bd.FontSize = 18
-    bd.WindowLocation = "Lower Center"
-    layout.SetSize(width, height)
-    pv.SaveScreenshot(a.out, layout, ImageResolution=[width, height], TransparentBackground=0)
+    render(src, a.out, field=field, assoc=assoc, t=t, names=names, views=views, title=title,
+           warp_field=warp_field, scale=scale, value_range=value_range,
+           edges=a.edges == "on" or (a.edges == "auto" and is_msh), size=(width, height),
+           colormap=a.colormap, cut_y=a.cut_y)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,7 @@
 use crate::config::SpectrumJob;
 use crate::parallel::{agree, Context};
 use crate::run::Error;
-use crate::seismic::{intensity, log_periods, record_png, response_spectrum, spectrum_png, Ec8Spectrum};
+use crate::seismic::{intensity, log_periods, record_png, response_spectrum, spectrum_png, Ec8Spectrum, Ec8Type};
 use std::fmt::Write as _;
 
 /// What a spectrum run reports.
@@ -58,7 +58,11 @@ fn compute(ctx: &Context, job: &SpectrumJob) -> Result<SpectrumSummary, Error> {
         let fine: Vec<f64> = (0..=400).map(|i| i as f64 * a.periods.max / 400.0).collect();
         for &t in &e.types {
             let s = Ec8Spectrum::new(t, e.ground, e.ag, 100.0 * a.damping).map_err(|e| Error::Analysis(e.to_string()))?;
-            code.push((format!("EC8 {t:?}, ground {:?}, a_g = {} m/s²", e.ground, e.ag), s.curve(&fine)));
+            let kind = match t {
+                Ec8Type::Type1 => "type 1 (Ms > 5.5)",
+                Ec8Type::Type2 => "type 2 (Ms ≤ 5.5)",
+            };
+            code.push((format!("EC8 {kind}, ground {:?}, a_g = {} m/s²", e.ground, e.ag), s.curve(&fine)));
         }
     }
     let title = job.spec.title.clone().unwrap_or_else(|| format!("{}: elastic response spectrum", r.name));

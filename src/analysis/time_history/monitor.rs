@@ -25,6 +25,8 @@ pub struct Monitor {
     pub node: usize,
     /// Gmsh tag.
     pub tag: u64,
+    /// Its coordinates [m].
+    pub at: [f64; 3],
     /// Index among this rank's owned nodes, if it owns it.
     pub owned_index: Option<usize>,
 }
@@ -48,7 +50,7 @@ pub fn resolve(cfg: &[MonitorConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<
             return Err(Error::Analysis(format!("{what}: node {} belongs to no element of the model", mesh.node_tags[node])));
         }
         let owned_index = dofs.owned.iter().position(|&n| n == node);
-        out.push(Monitor { name: m.name.clone(), node, tag: mesh.node_tags[node], owned_index });
+        out.push(Monitor { name: m.name.clone(), node, tag: mesh.node_tags[node], at: mesh.coords[node], owned_index });
     }
     Ok(out)
 }
@@ -130,21 +132,25 @@ impl CsvLog {
     }
 }
 
-/// Rank 0 draws one PNG per monitor (relative displacement against time) from the CSV file.
+/// Rank 0 draws one PNG per monitor from the CSV file: the relative displacement against time,
+/// in millimetres, one line per component with its peak |u| in the legend.
 pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>, String> {
     use crate::plot::{LineChart, SeriesStyle};
     let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
     let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()).collect();
     let mut files = Vec::new();
     for (k, m) in monitors.iter().enumerate() {
-        let mut chart = LineChart::new(&format!("monitor '{}' (node {}): displacement relative to the base", m.name, m.tag), "time [s]", "displacement [m]");
+        let [x, y, z] = m.at;
+        let title = format!("monitor '{}' (node {} at x {x:.2}, y {y:.2}, z {z:.2} m): displacement relative to the base", m.name, m.tag);
+        let mut chart = LineChart::new(&title, "time t [s]", "displacement u [mm]").size(1200, 700);
         let mut drawn = 0;
         for (c, q) in ["u_x", "u_y", "u_z"].iter().enumerate() {
             let col = 2 + VALUES * k + c;
-            let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.len() > col).map(|r| (r[1], r[col])).collect();
+            let pts: Vec<(f64, f64)> = rows.iter().filter(|r| r.len() > col).map(|r| (r[1], 1e3 * r[col])).collect();
             // Components that stay exactly zero are left out, unless all do.
             if pts.iter().any(|p| p.1 != 0.0) || (c == 2 && drawn == 0) {
-                chart = chart.series(q, pts, SeriesStyle::Line);
+                let peak = pts.iter().fold(0.0_f64, |a, p| a.max(p.1.abs()));
+                chart = chart.series(&format!("{q} (peak {} mm)", three_digits(peak)), pts, SeriesStyle::Line);
                 drawn += 1;
             }
         }
@@ -153,4 +159,26 @@ pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>
         files.push(file);
     }
     Ok(files)
+}
+
+/// `v` with three significant digits in fixed notation (0.00405, 1.76, 1230).
+fn three_digits(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let decimals = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::three_digits;
+
+    #[test]
+    fn peaks_keep_three_significant_digits() {
+        assert_eq!(three_digits(0.0040512), "0.00405");
+        assert_eq!(three_digits(1.7561), "1.76");
+        assert_eq!(three_digits(1234.4), "1234");
+        assert_eq!(three_digits(0.0), "0");
+    }
 }

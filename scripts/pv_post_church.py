@@ -1,0 +1,223 @@
+#!/usr/bin/env pvpython
+"""The church job's pictures, rendered with ParaView from its results folder (one process).
+
+    xvfb-run -a pvpython scripts/pv_post_church.py results/church --mesh meshes/church.msh
+
+Writes into `<results>/pictures/` (or --out):
+  mesh.png                 the model coloured by substructure (cell field "group" of the modes),
+                           the physical names of --mesh in the legend
+  mode-1.png ... mode-K.png  mode K warped (largest translation 6 % of the church's size),
+                           coloured by the magnitude of mode_translation, its frequency
+                           (summary.json) in the title; the modes of modes-updated.xdmf (the
+                           updated model of a pipeline run, the one the earthquake ran on) when
+                           the folder has it, else of modes.xdmf
+  damage-tension.png       d_t_max (largest over the layers / fibers) at the last step of
+                           results.xdmf, colour map fixed to 0..1: from the south-west, the
+                           north-east, a section on the nave axis looking north, and from below
+                           (the vault soffits), like the paper's Fig. 8
+  damage-compression.png   the same for d_c_max
+  envelope-drift.png       the peak drift ratio of envelopes.xdmf (when the folder has it)
+  damage-by-substructure.csv  per substructure (shells): area, area share with d_t > 0.05 and
+                           > 0.5, largest d_t, area-weighted mean d_t (printed as well)
+
+Needs modes.xdmf and results.xdmf (with their .h5) in the folder; a missing one is an error
+(exit 1) that names it. The XDMF files are read with ParaView's Xdmf3ReaderS, the reader
+`OpenDataFile` picks for them (ParaView 5.11's XDMF 2 "XDMFReader" reads the same points, cells
+and fields from them; Xdmf3ReaderS is the one kept up to date). Frequencies: the
+list of objects with a "frequency" key in summary.json (at "modes", or under another key, e.g.
+`stages.modal_updated.modes` of a pipeline run for modes-updated.xdmf); without one the
+titles give no frequency.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import pv_church  # noqa: E402  (the rendering: views, colour maps, legends)
+from paraview import simple as pv  # noqa: E402
+
+DAMAGE_VIEWS = ("southwest", "northeast", "section", "below")
+
+
+def find_frequencies(summary, updated):
+    """Mode frequencies [Hz] from a summary.json, and where they were found: the lists of objects
+    with a "frequency" key. For an updated model's modes (`updated`), the list under a key
+    containing "updated" (a pipeline's `stages.modal_updated.modes`); otherwise the list at "modes"
+    (a modal run), else the first list under no such key (a pipeline's `stages.modal.modes`)."""
+    found = []
+
+    def walk(node, path):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                walk(v, path + [str(k)])
+        elif isinstance(node, list):
+            if node and all(isinstance(m, dict) and isinstance(m.get("frequency"), (int, float)) for m in node):
+                found.append((path, [float(m["frequency"]) for m in node]))
+            else:
+                for i, v in enumerate(node):
+                    walk(v, path + [str(i)])
+
+    walk(summary, [])
+    is_updated = [any("updated" in k for k in path) for path, _ in found]
+    if updated:
+        picks = [f for f, u in zip(found, is_updated) if u]
+    else:
+        picks = [f for f in found if f[0] == ["modes"]] or [f for f, u in zip(found, is_updated) if not u]
+    if picks:
+        path, f = picks[0]
+        return f, ".".join(path)
+    return [], None
+
+
+def damage_table(src, field, names, path):
+    """Rows (substructure, area, share > 0.05, share > 0.5, max, mean) of a shell cell field."""
+    from paraview import servermanager
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    import numpy as np
+
+    sizes = pv.CellSize(Input=src)
+    sizes.ComputeArea = 1
+    sizes.ComputeLength = sizes.ComputeVolume = sizes.ComputeVertexCount = 0
+    grid = servermanager.Fetch(sizes)
+    pv.Delete(sizes)
+    if grid.IsA("vtkMultiBlockDataSet"):
+        grid = grid.GetBlock(0)
+    cd = grid.GetCellData()
+    for want in (field, "group", "Area"):
+        if cd.GetArray(want) is None:
+            raise pv_church.InputError(f"{path}: no cell field '{want}' to tabulate")
+    d = vtk_to_numpy(cd.GetArray(field)).astype(float)
+    g = vtk_to_numpy(cd.GetArray("group")).astype(int)
+    area = vtk_to_numpy(cd.GetArray("Area")).astype(float)
+    rows = []
+    shell = np.isfinite(d) & (area > 0)
+    for tag in sorted(set(g[shell].tolist())):
+        m = shell & (g == tag)
+        a = area[m].sum()
+        rows.append((names.get(tag, str(tag)), a, area[m & (d > 0.05)].sum() / a, area[m & (d > 0.5)].sum() / a,
+                     float(d[m].max()), float((d[m] * area[m]).sum() / a)))
+    a = area[shell].sum()
+    if a > 0:
+        rows.append(("all shells", a, area[shell & (d > 0.05)].sum() / a, area[shell & (d > 0.5)].sum() / a,
+                     float(d[shell].max()), float((d[shell] * area[shell]).sum() / a)))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("results", help="the church job's results folder")
+    ap.add_argument("--mesh", help="the job's Gmsh file: substructure names for the legend (default: tags only)")
+    ap.add_argument("--out", help="pictures folder (default <results>/pictures)")
+    ap.add_argument("--modes", type=int, default=3, help="mode pictures to draw (default 3)")
+    ap.add_argument("--size", default="1600x1200", help="image size in pixels (default 1600x1200)")
+    ap.add_argument("--cut-y", type=float, default=0.0, help="the section's plane y = CUT_Y (default 0: the nave axis)")
+    a = ap.parse_args()
+
+    res = a.results
+    out = a.out or os.path.join(res, "pictures")
+    try:
+        width, height = (int(x) for x in a.size.lower().split("x"))
+    except ValueError:
+        sys.exit(f"--size: expected WIDTHxHEIGHT, got {a.size!r}")
+    need = ["modes.xdmf", "modes.h5", "results.xdmf", "results.h5"]
+    missing = [f for f in need if not os.path.isfile(os.path.join(res, f))]
+    if missing:
+        sys.exit(f"{res}: missing {', '.join(missing)} (a church job writes modes.* in its modal stage and "
+                 "results.* in its earthquake stage; did the run finish?)")
+    if a.mesh and not os.path.isfile(a.mesh):
+        sys.exit(f"--mesh: no such file: {a.mesh}")
+    os.makedirs(out, exist_ok=True)
+    size = (width, height)
+    written = []
+    try:
+        names = pv_church.read_msh_names(a.mesh) if a.mesh else {}
+        # The modes of the model the earthquake ran on: the updated model's when there are some.
+        updated = os.path.isfile(os.path.join(res, "modes-updated.xdmf"))
+        path = os.path.join(res, "modes-updated.xdmf" if updated else "modes.xdmf")
+        freqs, where = [], None
+        summary = os.path.join(res, "summary.json")
+        if os.path.isfile(summary):
+            try:
+                with open(summary) as f:
+                    freqs, where = find_frequencies(json.load(f), updated)
+            except (OSError, ValueError) as e:
+                print(f"warning: {summary}: {e}; mode titles without frequencies")
+        if where:
+            print(f"modes of {path}, frequencies from {summary} ({where}): "
+                  f"{', '.join(f'{x:.3f}' for x in freqs[:a.modes])} Hz")
+        else:
+            print(f"warning: no mode frequencies for {path} in {summary}; mode titles without frequencies")
+
+        # The model by substructure, and the modes.
+        modes, _, _ = pv_church.open_input(path)
+        times = pv_church.times_of(modes)
+        if not times:
+            raise pv_church.InputError(f"{path}: no mode (no time step)")
+        t = pv_church.pick_time(modes, path, mode=int(times[0]))
+        pv_church.association(modes, "group", path)
+        f = os.path.join(out, "mesh.png")
+        pv_church.render(modes, f, field="group", assoc="CELLS", t=t, names=names, views=DAMAGE_VIEWS,
+                         title="the church by substructure", edges=True, size=size, cut_y=a.cut_y)
+        written.append(f)
+        for k in range(1, a.modes + 1):
+            t = pv_church.pick_time(modes, path, mode=k)
+            pv_church.association(modes, "mode_translation", path)
+            scale = pv_church.auto_warp_scale(modes, "mode_translation", 0.06)
+            freq = f": {freqs[k - 1]:.3f} Hz" if k <= len(freqs) else ""
+            f = os.path.join(out, f"mode-{k}.png")
+            model = "updated model, " if updated else ""
+            pv_church.render(modes, f, field="mode_translation", assoc="POINTS", t=t,
+                             views=("southwest", "northeast", "south", "top"),
+                             title=f"mode {k}{freq} ({model}shape warped x{scale:.3g}; colour: translation of the mass-normalized mode)",
+                             warp_field="mode_translation", scale=scale, size=size,
+                             bar_title="translation")
+            written.append(f)
+
+        # Damage at the end of the earthquake.
+        path = os.path.join(res, "results.xdmf")
+        results, _, _ = pv_church.open_input(path)
+        t = pv_church.pick_time(results, path)
+        for field, what, name in (("d_t_max", "tensile", "damage-tension.png"),
+                                  ("d_c_max", "compressive", "damage-compression.png")):
+            assoc = pv_church.association(results, field, path)
+            lo, hi = pv_church.field_range(results, field, assoc, 0)
+            f = os.path.join(out, name)
+            pv_church.render(results, f, field=field, assoc=assoc, t=t, views=DAMAGE_VIEWS,
+                             title=f"{what} damage {field} (largest over the layers) at t = {t:g} s: max {hi:.3g}",
+                             value_range=(0.0, 1.0), size=size, bar_title=field, cut_y=a.cut_y)
+            written.append(f)
+        rows = damage_table(results, "d_t_max", names, path)
+        f = os.path.join(out, "damage-by-substructure.csv")
+        with open(f, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["substructure", "area_m2", "share_dt_above_0.05", "share_dt_above_0.5", "max_dt", "mean_dt"])
+            for r in rows:
+                w.writerow([r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}", f"{r[4]:.4f}", f"{r[5]:.4f}"])
+        written.append(f)
+        print(f"tensile damage at t = {t:g} s by substructure (area share with d_t > 0.05 / > 0.5, max, area mean):")
+        for r in rows:
+            print(f"  {r[0]:<14} {r[1]:9.1f} m²  {100 * r[2]:5.1f} %  {100 * r[3]:5.1f} %  max {r[4]:.3f}  mean {r[5]:.3f}")
+
+        path = os.path.join(res, "envelopes.xdmf")
+        if os.path.isfile(path) and os.path.isfile(os.path.join(res, "envelopes.h5")):
+            env, _, _ = pv_church.open_input(path)
+            t = pv_church.pick_time(env, path)
+            assoc = pv_church.association(env, "peak_drift_ratio", path)
+            lo, hi = pv_church.field_range(env, "peak_drift_ratio", assoc, 0)
+            f = os.path.join(out, "envelope-drift.png")
+            pv_church.render(env, f, field="peak_drift_ratio", assoc=assoc, t=t,
+                             views=("southwest", "northeast", "south", "top"),
+                             title=f"peak drift ratio (horizontal displacement / height above the base): max {hi:.3g}",
+                             size=size, bar_title="peak drift ratio")
+            written.append(f)
+        else:
+            print(f"no {path}: no envelope picture")
+    except pv_church.InputError as e:
+        sys.exit(str(e))
+    print(f"{len(written)} files in {out}")
+
+
+if __name__ == "__main__":
+    main()
