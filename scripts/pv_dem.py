@@ -64,7 +64,7 @@ def main():
         "point_arrays": [pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())],
         "cell_arrays": [cd.GetArrayName(i) for i in range(cd.GetNumberOfArrays())],
         "polygon_cells": sum(1 for c in range(n) if data.GetCellType(c) == 7),  # VTK_POLYGON
-        "line_cells": sum(1 for c in range(n) if data.GetCellType(c) == 3),  # VTK_LINE
+        "line_cells": sum(1 for c in range(n) if data.GetCellType(c) in (3, 4)),  # VTK_LINE, VTK_POLY_LINE
     }
     print(json.dumps(info))
     if not a.out:

@@ -31,7 +31,7 @@ fn cyclic_job(dir: &Path) -> PathBuf {
     let text = format!(
         "[analysis]\ntype = \"dem\"\nsamples = 2\nparticle_states = \"steps\"\n\
          [sample]\nseed = 3\n{SMALL_WALL}\n\
-         [test]\ntype = \"cyclic_shear\"\nvertical_stress = 1.0e6\namplitudes = [1.0e-3, 2.0e-3]\nsteps_per_half_cycle = 8\npreload_steps = 3\n\
+         [test]\ntype = \"cyclic_shear\"\nvertical_stress = 1.0e6\namplitudes = [0.5e-3, 1.0e-3]\nsteps_per_half_cycle = 8\npreload_steps = 3\n\
          [output]\ndir = \"out\"\nexisting = \"overwrite\"\n"
     );
     let f = dir.join("cyclic.toml");
@@ -164,7 +164,7 @@ fn bad_cyclic_protocol_is_located() {
         ("amplitudes = [2.0e-3, 1.0e-3]", ["cyclic.toml:11:", "key 'test.amplitudes'", "do not decrease"]),
         ("amplitudes = []", ["cyclic.toml:11:", "key 'test.amplitudes'", "at least one amplitude"]),
     ] {
-        std::fs::write(&job, text.replace("amplitudes = [1.0e-3, 2.0e-3]", bad)).unwrap();
+        std::fs::write(&job, text.replace("amplitudes = [0.5e-3, 1.0e-3]", bad)).unwrap();
         for np in [0, 2] {
             let out = run(np, &["check", job.to_str().unwrap()]);
             let err = stderr(&out);
