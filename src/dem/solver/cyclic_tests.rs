@@ -163,7 +163,7 @@ fn cyclic_shear_loops_dissipate() {
 /// The energy balance over shear cycles (W_ext = stored + dissipated within 1 %) does NOT hold
 /// yet: after cycles of ±0.5 mm and ±1 mm on this wall the imbalance is 3.3 % of W_ext (6.8 J of
 /// 207 J; during the preload and the first loading it is below 0.1 %), growing on
-/// every unloading–reloading of sliding contacts. Two known causes, both in the contact law's
+/// every unloading–reloading of sliding contacts. Two likely causes, both in the contact law's
 /// bookkeeping: the stored contact energy ½F_n²/k_n is exact only for a flat (strip) overlap
 /// (for a corner overlap, S ∝ δ², it is ¾ of ∫F_n dδ), and the normal force along the chord
 /// normal is not the gradient of the overlap area, so it does work around a closed path.
