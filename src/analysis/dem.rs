@@ -6,16 +6,21 @@
 //!   broken beams by mode, external work, stored and dissipated energy);
 //! * `sample-KKK/cracks-first.svg`, `cracks-peak.svg`, `cracks-end.svg`: the stones with the
 //!   broken beams drawn along their facets, tension in red, shear/rotation in blue;
+//! * `sample-KKK/particles.xdmf` + `particles.h5`: the particle states (`[analysis]
+//!   particle_states`), written by the rank that ran the sample ([`crate::dem::output`]);
+//! * `sample-KKK/curve.png` (cyclic tests): that sample's hysteresis loops;
 //! * `stress_strain.png`: all samples' curves, with the experiment's modulus line and its
 //!   first-crack and peak stresses overlaid when `[experiment]` gives them;
 //! * `summary.json`: per sample E, ν, first-crack stress, peak stress, strain at peak, events and
-//!   timing; their mean and sample standard deviation; the experiment's values beside them.
+//!   timing; their mean and sample standard deviation (`null` when no sample has the quantity:
+//!   ν in shear, first crack in a sample that never cracked); the experiment's values beside them.
 //!
 //! Signs: the curve files keep the solver's convention (tension positive); the chart plots
 //! compression tests as shortening and compressive stress, both positive.
 use crate::config::DemJob;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
-use crate::dem::solver::{run_test, FailureModeTag, TestEnd, TestResult, VirtualTest};
+use crate::dem::output::write_particle_states;
+use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
 use crate::parallel::{agree, run_batch, Context};
 use crate::plot::{LineChart, SeriesStyle};
 use crate::run::Error;
@@ -33,11 +38,15 @@ pub struct Stat {
     pub n: usize,
 }
 
-fn stat(v: &[f64]) -> Stat {
+/// Mean and sample standard deviation of `v`; `None` when `v` is empty (serialized as `null`).
+fn stat(v: &[f64]) -> Option<Stat> {
     let n = v.len();
-    let mean = v.iter().sum::<f64>() / n.max(1) as f64;
+    if n == 0 {
+        return None;
+    }
+    let mean = v.iter().sum::<f64>() / n as f64;
     let var = if n > 1 { v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64 } else { 0.0 };
-    Stat { mean, std: var.sqrt(), n }
+    Some(Stat { mean, std: var.sqrt(), n })
 }
 
 /// One sample's numbers.
@@ -70,15 +79,15 @@ pub struct DemSummary {
     /// Samples.
     pub samples: Vec<SampleReport>,
     /// Young modulus (or τ/γ for shear) [Pa].
-    pub young_modulus: Stat,
-    /// Poisson ratio.
-    pub poisson: Stat,
+    pub young_modulus: Option<Stat>,
+    /// Poisson ratio (none for shear tests).
+    pub poisson: Option<Stat>,
     /// First-crack stress [Pa] (samples that cracked).
-    pub first_crack_stress: Stat,
+    pub first_crack_stress: Option<Stat>,
     /// Peak stress [Pa].
-    pub peak_stress: Stat,
+    pub peak_stress: Option<Stat>,
     /// Strain at peak.
-    pub strain_at_peak: Stat,
+    pub strain_at_peak: Option<Stat>,
     /// The experiment, if given.
     pub experiment: Option<crate::config::ExperimentConfig>,
     /// Wall time of the whole batch [s].
@@ -98,16 +107,26 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
     let n = job.spec.analysis.samples;
     let t0 = std::time::Instant::now();
     ctx.log.info(format!("DEM: {n} sample(s) of {:?}, over {} rank(s)", job.spec.test, ctx.size));
-    let work = |k: usize| -> Result<(Sample, TestResult), String> {
+    let states = job.spec.analysis.particle_states;
+    // Runs on the rank that got sample k; that rank writes the sample's particle states.
+    let work = |k: usize| -> Result<TestResult, String> {
         let sample = Sample::build(&sample_config(job, k)).map_err(|e| format!("sample {k}: {e}"))?;
-        let result = run_test(&sample, &job.params, &job.spec.test).map_err(|e| format!("sample {k}: {e}"))?;
-        Ok((sample, result))
+        let mut result = run_test_recording(&sample, &job.params, &job.spec.test, SolverOptions::default(), states)
+            .map_err(|e| format!("sample {k}: {e}"))?;
+        if !result.particle_states.is_empty() {
+            let sdir = job.output_dir.join(format!("sample-{k:03}"));
+            std::fs::create_dir_all(&sdir).map_err(|e| format!("sample {k}: cannot create {}: {e}", sdir.display()))?;
+            write_particle_states(&sdir, "particles", &sample, &result)
+                .map_err(|e| format!("sample {k}: particle states: {e}"))?;
+            result.particle_states = Vec::new();
+        }
+        Ok(result)
     };
     let log = &ctx.log;
     let batch = run_batch(
         &ctx.comm,
         n,
-        |k| work(k).map(|(_, r)| r),
+        work,
         |done, total| log.info(format!("  {done}/{total} samples done")),
     );
     let results = agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)?;
@@ -121,11 +140,11 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
         test: job.spec.test.clone(),
         ranks: ctx.size,
         samples: Vec::new(),
-        young_modulus: stat(&[]),
-        poisson: stat(&[]),
-        first_crack_stress: stat(&[]),
-        peak_stress: stat(&[]),
-        strain_at_peak: stat(&[]),
+        young_modulus: None,
+        poisson: None,
+        first_crack_stress: None,
+        peak_stress: None,
+        strain_at_peak: None,
         experiment: None,
         seconds,
         events_per_second: 0.0,
@@ -139,13 +158,16 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, String>], seconds: f64) -> Result<DemSummary, Error> {
     let dir = &job.output_dir;
     let compression = matches!(job.spec.test, VirtualTest::Compression { .. });
-    let shear = matches!(job.spec.test, VirtualTest::Shear { .. });
+    let shear = job.spec.test.is_shear();
+    let cyclic = job.spec.test.is_cyclic();
     let sign = if compression { -1.0 } else { 1.0 };
-    let mut chart = LineChart::new(
-        job.spec.title.as_deref().unwrap_or("DEM virtual test"),
-        if compression { "shortening ε [-]" } else { "strain ε [-]" },
-        if compression { "compressive stress σ [MPa]" } else { "stress σ [MPa]" },
-    );
+    let (x_label, y_label) = match (compression, shear) {
+        (true, _) => ("shortening ε [-]", "compressive stress σ [MPa]"),
+        (_, true) => ("shear strain γ = U_x/H [-]", "shear stress τ [MPa]"),
+        _ => ("strain ε [-]", "stress σ [MPa] (tension positive)"),
+    };
+    let title = job.spec.title.as_deref().unwrap_or("DEM virtual test");
+    let mut chart = LineChart::new(title, x_label, y_label);
     let mut reports = Vec::with_capacity(results.len());
     let (mut e, mut nu, mut fc, mut pk, mut sp) = (vec![], vec![], vec![], vec![], vec![]);
     let (mut events, mut test_seconds) = (0usize, 0.0f64);
@@ -170,6 +192,13 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
                 write_curve(&sdir.join("curve.csv"), t)?;
                 write_cracks(job, k, &sdir, t)?;
                 let pts: Vec<(f64, f64)> = t.curve.iter().map(|c| (sign * c.strain, sign * c.stress / 1e6)).collect();
+                if cyclic {
+                    let f = sdir.join("curve.png");
+                    LineChart::new(&format!("{title}: sample {k}"), x_label, y_label)
+                        .series("DEM (hysteresis loops)", pts.clone(), SeriesStyle::Line)
+                        .save_png(&f)
+                        .map_err(|e| Error::Analysis(format!("{}: {e}", f.display())))?;
+                }
                 chart = chart.series(if k == 0 { "DEM samples" } else { "" }, pts, SeriesStyle::Line);
                 let d = &t.derived;
                 let counted = t.end.is_valid();
@@ -217,7 +246,7 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
             "DEM: every sample failed (see the warnings above; the curves recorded so far are in the sample folders)".into(),
         ));
     }
-    if let Some(x) = &job.spec.experiment {
+    if let Some(x) = job.spec.experiment.as_ref().filter(|_| !shear) {
         if let Some(ex) = x.young_modulus {
             let top = x.peak_stress.or(x.first_crack_stress).unwrap_or(pk.iter().cloned().fold(0.0, f64::max));
             chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / ex, top / 1e6)], SeriesStyle::Dashed);
@@ -247,27 +276,27 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
         seconds,
         events_per_second: if test_seconds > 0.0 { events as f64 / test_seconds } else { 0.0 },
     };
-    let line = |name: &str, st: &Stat, scale: f64, unit: &str, exp: Option<f64>| {
+    let line = |name: &str, st: &Option<Stat>, scale: f64, unit: &str, exp: Option<f64>| {
         let x = exp.map(|v| format!("   experiment {:.4} {unit}", v / scale)).unwrap_or_default();
-        ctx.log.info(format!("{name:20} {:10.4} ± {:.4} {unit} (n = {}){x}", st.mean / scale, st.std / scale, st.n));
+        match st {
+            Some(st) => ctx.log.info(format!("{name:20} {:10.4} ± {:.4} {unit} (n = {}){x}", st.mean / scale, st.std / scale, st.n)),
+            None => ctx.log.info(format!("{name:20} {:>10} (no sample has it){x}", "-")),
+        }
     };
     let ex = job.spec.experiment.clone().unwrap_or_default();
     if shear {
         line("initial τ/γ", &s.young_modulus, 1e9, "GPa", None);
         let (w, h) = job.spec.sample.layout.domain();
-        ctx.log.info(format!(
-            "peak shear stress {:.3} ± {:.3} MPa: force on the 0.5 m thick wall {:.1} ± {:.1} kN (τ × W × 0.5 m)",
-            s.peak_stress.mean / 1e6,
-            s.peak_stress.std / 1e6,
-            s.peak_stress.mean * w * 0.5 / 1e3,
-            s.peak_stress.std * w * 0.5 / 1e3
-        ));
-        ctx.log.info(format!(
-            "displacement at peak {:.2} ± {:.2} mm (n = {})",
-            s.strain_at_peak.mean * h * 1e3,
-            s.strain_at_peak.std * h * 1e3,
-            s.strain_at_peak.n
-        ));
+        if let (Some(pk), Some(sp)) = (&s.peak_stress, &s.strain_at_peak) {
+            ctx.log.info(format!(
+                "peak shear stress {:.3} ± {:.3} MPa: force on the 0.5 m thick wall {:.1} ± {:.1} kN (τ × W × 0.5 m)",
+                pk.mean / 1e6,
+                pk.std / 1e6,
+                pk.mean * w * 0.5 / 1e3,
+                pk.std * w * 0.5 / 1e3
+            ));
+            ctx.log.info(format!("displacement at peak {:.2} ± {:.2} mm (n = {})", sp.mean * h * 1e3, sp.std * h * 1e3, sp.n));
+        }
     } else {
         line("Young modulus", &s.young_modulus, 1e9, "GPa", ex.young_modulus);
         line("Poisson ratio", &s.poisson, 1.0, "", ex.poisson);

@@ -4,6 +4,7 @@
 //! [analysis]
 //! type = "dem"
 //! samples = 16                 # samples with seeds seed, seed+1, ...: mean ± std in the summary
+//! particle_states = "steps"    # HDF5/XDMF particle states per sample: "none" | "steps" | "all"
 //! [sample]                     # dem::sample::SampleConfig
 //! seed = 1
 //! layout = { type = "coursed", width = 1.0, height = 1.2, n_courses = 10, n_per_course = 6, jitter = 0.2, size_variability = 0.2 }
@@ -30,6 +31,10 @@ pub struct DemAnalysis {
     /// Number of random samples (seeds `sample.seed + k`), default 1.
     #[serde(default = "one")]
     pub samples: usize,
+    /// Which recorded states go to `sample-KKK/particles.xdmf` (default: the ends of the load
+    /// steps, the first crack, the peak and the last state; see `dem::solver::snapshots`).
+    #[serde(default)]
+    pub particle_states: crate::dem::solver::ParticleStates,
 }
 
 fn one() -> usize {

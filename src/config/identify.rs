@@ -307,7 +307,7 @@ impl IdentifyJob {
             count(&["calibration", "design_points"], c.design_points, 2)?;
             count(&["calibration", "batch"], c.batch, 1)?;
             c.test.validate().map_err(|e| source.error_at(&at(&["calibration", "test"]), e.to_string()))?;
-            if matches!(c.test, VirtualTest::Shear { .. }) {
+            if !matches!(c.test, VirtualTest::Compression { .. } | VirtualTest::Tension { .. }) {
                 return Err(source.error_at(&at(&["calibration", "test"]), "the calibration fits a compression (or tension) test, not shear"));
             }
             let b = &c.bounds;

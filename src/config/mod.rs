@@ -195,7 +195,18 @@ impl DemJob {
             return Err(source.error_at(&[key("analysis"), key("samples")], "expected at least 1 sample"));
         }
         spec.sample.validate().map_err(|e| source.error_at(&[key("sample")], e.to_string()))?;
-        spec.test.validate().map_err(|e| source.error_at(&[key("test")], e.to_string()))?;
+        spec.test.validate().map_err(|e| {
+            // At the offending key when the file has it, else at [test].
+            let mut at = vec![key("test")];
+            if let crate::dem::solver::DemError::InvalidParameter { field, .. } = &e {
+                let mut k = at.clone();
+                k.push(key(field));
+                if source.span_of(&k).is_some() {
+                    at = k;
+                }
+            }
+            source.error_at(&at, e.to_string())
+        })?;
         let params = spec.mechanics.validated_params(spec.sample.thickness, &source)?;
         let output_dir = output_dir(path, &spec.output);
         Ok(DemJob { source, spec, params, output_dir })

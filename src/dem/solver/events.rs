@@ -207,6 +207,10 @@ pub struct Solver<'a> {
     pub(super) mean_diameter: f64,
     /// Largest move of a stone in one Newton iteration (m): 5 % of D̄.
     pub(super) max_move: f64,
+    /// Called with every recorded state (its index, the record, the coordinates `z`), e.g. to
+    /// keep particle states ([`super::snapshots::Recorder`]).
+    #[allow(clippy::type_complexity)]
+    pub observer: Option<Box<dyn FnMut(usize, &StateRecord, &[f64]) + 'a>>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -268,6 +272,7 @@ impl<'a> Solver<'a> {
             lateral,
             mean_diameter,
             max_move: 0.05 * mean_diameter,
+            observer: None,
             model,
         })
     }
@@ -366,6 +371,9 @@ impl<'a> Solver<'a> {
             stored,
             dissipated: [self.energy.fracture, self.energy.friction, self.energy.relaxation],
         });
+        if let (Some(observe), Some(record)) = (self.observer.as_mut(), self.states.last()) {
+            observe(self.states.len() - 1, record, &self.z);
+        }
     }
 
     /// Breaks beam `b` at the committed state.

@@ -18,10 +18,15 @@ pub use events::{
     BrokenBeam, FailureModeTag, FloatingPolicy, LoadPoint, Solver, SolverOptions, StageEnd, StateKind, StateRecord,
 };
 pub use system::Model;
+pub mod snapshots;
 pub mod virtual_test;
+#[cfg(test)]
+mod cyclic_tests;
 #[cfg(test)]
 mod tests;
 
+pub use snapshots::{ParticleState, ParticleStates};
 pub use virtual_test::{
-    run_test, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats, TestEnd, TestResult, VirtualTest,
+    cyclic_protocol, run_test, run_test_recording, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats, TestEnd,
+    TestResult, VirtualTest,
 };

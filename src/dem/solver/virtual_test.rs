@@ -1,5 +1,5 @@
 //! The virtual tests (SPEC §1, "Virtual tests"): uniaxial compression and tension, shear under
-//! constant vertical compression, and the derived numbers.
+//! constant vertical compression, their cyclic versions, and the derived numbers.
 //!
 //! ```toml
 //! [test]
@@ -7,7 +7,25 @@
 //! max_strain = 2e-3         # |ε_yy| at the end (platen displacement / height)
 //! steps = 50
 //! # type = "shear", vertical_stress = 1e6, max_displacement = 6e-3, steps = 60, rotation = "fixed"
+//! # type = "cyclic_tension_compression", amplitudes = [5e-5, 1e-4, 2e-4], compression_ratio = 1.0,
+//! #        steps_per_half_cycle = 20
+//! # type = "cyclic_shear", vertical_stress = 1e6, amplitudes = [1e-3, 2e-3, 4e-3],
+//! #        steps_per_half_cycle = 20, rotation = "fixed"
 //! ```
+//!
+//! **Cyclic protocol** ([`cyclic_protocol`]). Cycle `k` drives the platen from where it is to
+//! `+a_k` and then to `−c a_k` (`c` = `compression_ratio` for tension–compression, 1 for shear);
+//! after the last cycle it returns to 0. Each branch is one load stage, with
+//! `⌈n |Δ| / ((1 + c) a_k)⌉` steps, `n` = `steps_per_half_cycle` (a full half cycle `+a_k → −c a_k`
+//! gets `n` steps). Loading and unloading go through the same event-driven solver: broken beams
+//! stay broken, cracks close through contacts, closed cracks slide with Coulomb friction, so the
+//! loops show stiffness degradation, crack closure and frictional hysteresis. Amplitudes are
+//! strains `U_y/H` (tension–compression) or top-platen displacements in m (shear).
+//!
+//! **Stopping.** Monotonic tests: the target, or loss of load (the driven force below
+//! `loss_fraction` × its peak after a break). Cyclic tests: the end of the protocol, or loss of
+//! load in every direction visited: the largest |force| of the latest branch towards `+` (and
+//! towards `−`) below `loss_fraction` × that direction's peak.
 //!
 //! Platens are bonded to the bottom and top rows ([`super::dofs`]). Sign convention: tension
 //! positive; `strain = U_y/H` (compression, tension) or `U_x/H` (shear), `stress = F/(W t_z)` with
@@ -23,6 +41,7 @@ use serde::{Deserialize, Serialize};
 use super::dofs::{DofControl, DofMap};
 use super::error::{positive, DemError};
 use super::events::{BrokenBeam, LoadPoint, Solver, SolverOptions, StageEnd, StateKind};
+use super::snapshots::{ParticleState, ParticleStates, Recorder};
 use super::system::Model;
 use crate::dem::mechanics::MechParams;
 use crate::dem::sample::Sample;
@@ -79,6 +98,77 @@ pub enum VirtualTest {
         #[serde(default)]
         rotation: PlatenRotation,
     },
+    /// Cycles of tension and compression along y, amplitudes increasing per cycle.
+    CyclicTensionCompression {
+        /// Tensile strain amplitude `ε_yy` of each cycle (> 0, non-decreasing).
+        amplitudes: Vec<f64>,
+        /// Compressive amplitude over tensile amplitude (≥ 0; 0 = unload to zero strain only).
+        #[serde(default = "one")]
+        compression_ratio: f64,
+        /// Load steps per half cycle (`+a → −c a`).
+        steps_per_half_cycle: usize,
+    },
+    /// Cycles of horizontal top-platen displacement `±a_k` under a constant vertical compression.
+    CyclicShear {
+        /// Vertical compressive stress held on the top platen (Pa).
+        #[serde(default = "default_vertical_stress")]
+        vertical_stress: f64,
+        /// Displacement amplitude of each cycle (m, > 0, non-decreasing).
+        amplitudes: Vec<f64>,
+        /// Load steps per half cycle (`+a → −a`).
+        steps_per_half_cycle: usize,
+        /// Steps of the vertical preload.
+        #[serde(default = "default_preload_steps")]
+        preload_steps: usize,
+        /// Platen rotation.
+        #[serde(default)]
+        rotation: PlatenRotation,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// The branches of a cyclic protocol: `(target, steps)` with targets `+a_1, −c a_1, +a_2, …,
+/// −c a_N, 0` (see the module documentation); zero-length branches are left out.
+pub fn cyclic_protocol(amplitudes: &[f64], ratio: f64, steps_per_half_cycle: usize) -> Vec<(f64, usize)> {
+    let n = steps_per_half_cycle.max(1) as f64;
+    let mut out = Vec::with_capacity(2 * amplitudes.len() + 1);
+    let mut at = 0.0f64;
+    let mut push = |target: f64, span: f64, at: &mut f64| {
+        let d = (target - *at).abs();
+        if d > 0.0 {
+            out.push((target, ((n * d / span) - 1e-9).ceil().max(1.0) as usize));
+            *at = target;
+        }
+    };
+    for &a in amplitudes {
+        let span = (1.0 + ratio) * a;
+        push(a, span, &mut at);
+        push(-ratio * a, span, &mut at);
+    }
+    if let Some(&a) = amplitudes.last() {
+        push(0.0, (1.0 + ratio) * a, &mut at);
+    }
+    out
+}
+
+fn check_amplitudes(amplitudes: &[f64]) -> Result<(), DemError> {
+    if amplitudes.is_empty() {
+        return Err(DemError::InvalidParameter { field: "amplitudes", value: "[]".into(), expected: "at least one amplitude" });
+    }
+    for (k, &a) in amplitudes.iter().enumerate() {
+        positive("amplitudes", a)?;
+        if k > 0 && a < amplitudes[k - 1] {
+            return Err(DemError::InvalidParameter {
+                field: "amplitudes",
+                value: format!("{a} after {}", amplitudes[k - 1]),
+                expected: "amplitudes that do not decrease from one cycle to the next",
+            });
+        }
+    }
+    Ok(())
 }
 
 impl VirtualTest {
@@ -87,6 +177,13 @@ impl VirtualTest {
         let steps = |s: usize| {
             if s == 0 {
                 Err(DemError::InvalidParameter { field: "steps", value: "0".into(), expected: "at least 1" })
+            } else {
+                Ok(())
+            }
+        };
+        let half_cycle_steps = |s: usize| {
+            if s == 0 {
+                Err(DemError::InvalidParameter { field: "steps_per_half_cycle", value: "0".into(), expected: "at least 1" })
             } else {
                 Ok(())
             }
@@ -108,7 +205,40 @@ impl VirtualTest {
                 steps(s)?;
                 steps(preload_steps)
             }
+            VirtualTest::CyclicTensionCompression { ref amplitudes, compression_ratio, steps_per_half_cycle } => {
+                check_amplitudes(amplitudes)?;
+                if !(compression_ratio.is_finite() && compression_ratio >= 0.0) {
+                    return Err(DemError::InvalidParameter {
+                        field: "compression_ratio",
+                        value: compression_ratio.to_string(),
+                        expected: "a finite number >= 0",
+                    });
+                }
+                half_cycle_steps(steps_per_half_cycle)
+            }
+            VirtualTest::CyclicShear { vertical_stress, ref amplitudes, steps_per_half_cycle, preload_steps, .. } => {
+                if !(vertical_stress.is_finite() && vertical_stress >= 0.0) {
+                    return Err(DemError::InvalidParameter {
+                        field: "vertical_stress",
+                        value: vertical_stress.to_string(),
+                        expected: "a finite number >= 0 (compression)",
+                    });
+                }
+                check_amplitudes(amplitudes)?;
+                half_cycle_steps(steps_per_half_cycle)?;
+                steps(preload_steps)
+            }
         }
+    }
+
+    /// Whether the test cycles (several loading and unloading branches).
+    pub fn is_cyclic(&self) -> bool {
+        matches!(self, VirtualTest::CyclicTensionCompression { .. } | VirtualTest::CyclicShear { .. })
+    }
+
+    /// Whether the driven DOF is the top platen's horizontal displacement (shear tests).
+    pub fn is_shear(&self) -> bool {
+        matches!(self, VirtualTest::Shear { .. } | VirtualTest::CyclicShear { .. })
     }
 }
 
@@ -215,6 +345,9 @@ pub struct TestResult {
     pub stats: RunStats,
     /// How it ended.
     pub end: TestEnd,
+    /// Particle states kept for the HDF5/XDMF output (not transferred between ranks).
+    #[serde(skip)]
+    pub particle_states: Vec<ParticleState>,
 }
 
 /// Runs `test` on `sample` with the default solver options.
@@ -229,69 +362,148 @@ pub fn run_test_with(
     test: &VirtualTest,
     opts: SolverOptions,
 ) -> Result<TestResult, DemError> {
-    test.validate()?;
-    let clock = Instant::now();
+    run_test_recording(sample, params, test, opts, ParticleStates::None)
+}
+
+/// One load stage of a test's protocol.
+struct Stage {
+    target: LoadPoint,
+    steps: usize,
+    /// Monotonic tests: `run_stage` watches the driven force for loss of load.
+    monitor: bool,
+    /// Cyclic branches: the direction (±1) of the amplitude the branch ends at; `None` for a
+    /// preload, a monotonic stage or the final return to zero.
+    towards: Option<f64>,
+}
+
+/// The platen controls, the driven top DOF (0 = U_x, 1 = U_y), the stages and the first stage
+/// whose force is the test's driven force.
+fn protocol(test: &VirtualTest, w: f64, h: f64, tz: f64) -> ([DofControl; 3], usize, Vec<Stage>, usize) {
     use DofControl::{Force, Prescribed};
-    let (w, h, tz) = (sample.width, sample.height, params.t_z);
     let fixed = [Prescribed; 3];
-    // (top control, driven top dof, stages: (target load, steps))
-    let (top, driven, stages): ([DofControl; 3], usize, Vec<(LoadPoint, usize)>) = match *test {
+    let axial = |value: f64| LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, value * h, 0.0], forces: vec![] };
+    // Shear: the top platen holds the vertical force; U_x (and Θ when fixed) prescribed.
+    let shear_setup = |vertical_stress: f64, rotation: PlatenRotation| {
+        let fy = -vertical_stress * w * tz;
+        let (ctl, forces) = match rotation {
+            PlatenRotation::Fixed => ([Prescribed, Force, Prescribed], vec![fy]),
+            PlatenRotation::Free => ([Prescribed, Force, Force], vec![fy, 0.0]),
+        };
+        let n_p = if rotation == PlatenRotation::Fixed { 5 } else { 4 };
+        let at = move |ux: f64| {
+            let mut p = vec![0.0; n_p];
+            p[3] = ux;
+            LoadPoint { prescribed: p, forces: forces.clone() }
+        };
+        (ctl, at)
+    };
+    let cyclic = |amplitudes: &[f64], ratio: f64, n: usize, point: &dyn Fn(f64) -> LoadPoint| -> Vec<Stage> {
+        cyclic_protocol(amplitudes, ratio, n)
+            .into_iter()
+            .map(|(target, steps)| Stage {
+                target: point(target),
+                steps,
+                monitor: false,
+                towards: (target != 0.0).then(|| target.signum()),
+            })
+            .collect()
+    };
+    match *test {
         VirtualTest::Compression { max_strain, steps } | VirtualTest::Tension { max_strain, steps } => {
             let sign = if matches!(test, VirtualTest::Compression { .. }) { -1.0 } else { 1.0 };
-            let target = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, sign * max_strain * h, 0.0], forces: vec![] };
-            (fixed, 1, vec![(target, steps)])
+            (fixed, 1, vec![Stage { target: axial(sign * max_strain), steps, monitor: true, towards: None }], 0)
         }
         VirtualTest::Shear { vertical_stress, max_displacement, steps, preload_steps, rotation } => {
-            let fy = -vertical_stress * w * tz;
-            let (ctl, forces) = match rotation {
-                PlatenRotation::Fixed => ([Prescribed, Force, Prescribed], vec![fy]),
-                PlatenRotation::Free => ([Prescribed, Force, Force], vec![fy, 0.0]),
-            };
-            let n_p = if rotation == PlatenRotation::Fixed { 5 } else { 4 };
-            let mut pre = vec![0.0; n_p];
-            let zero_f = vec![0.0; forces.len()];
-            let _ = &zero_f;
-            let preload = LoadPoint { prescribed: pre.clone(), forces: forces.clone() };
-            pre[3] = max_displacement;
-            let shear = LoadPoint { prescribed: pre, forces };
-            (ctl, 0, vec![(preload, preload_steps), (shear, steps)])
+            let (ctl, at) = shear_setup(vertical_stress, rotation);
+            let stages = vec![
+                Stage { target: at(0.0), steps: preload_steps, monitor: false, towards: None },
+                Stage { target: at(max_displacement), steps, monitor: true, towards: None },
+            ];
+            (ctl, 0, stages, 1)
         }
-    };
-    let map = DofMap::new(sample, [fixed, top])?;
+        VirtualTest::CyclicTensionCompression { ref amplitudes, compression_ratio, steps_per_half_cycle } => {
+            (fixed, 1, cyclic(amplitudes, compression_ratio, steps_per_half_cycle, &axial), 0)
+        }
+        VirtualTest::CyclicShear { vertical_stress, ref amplitudes, steps_per_half_cycle, preload_steps, rotation } => {
+            let (ctl, at) = shear_setup(vertical_stress, rotation);
+            let mut stages = vec![Stage { target: at(0.0), steps: preload_steps, monitor: false, towards: None }];
+            stages.extend(cyclic(amplitudes, 1.0, steps_per_half_cycle, &at));
+            (ctl, 0, stages, 1)
+        }
+    }
+}
+
+/// Loss of load of a cyclic test: per direction, the peak |force| so far and the largest |force|
+/// of the latest branch towards it.
+#[derive(Default)]
+struct CyclicEnvelope {
+    peak: [f64; 2],
+    latest: [Option<f64>; 2],
+}
+
+impl CyclicEnvelope {
+    fn branch(&mut self, towards: f64, largest: f64) {
+        let k = usize::from(towards < 0.0);
+        self.peak[k] = self.peak[k].max(largest);
+        self.latest[k] = Some(largest);
+    }
+
+    /// Every direction visited carries less than `fraction` of its peak.
+    fn lost(&self, fraction: f64) -> bool {
+        let visited: Vec<usize> = (0..2).filter(|&k| self.latest[k].is_some()).collect();
+        !visited.is_empty()
+            && visited.iter().all(|&k| self.peak[k] > 0.0 && self.latest[k].is_some_and(|l| l < fraction * self.peak[k]))
+    }
+}
+
+/// Runs `test` on `sample` with explicit solver options, keeping the particle states `states`
+/// asks for in [`TestResult::particle_states`].
+pub fn run_test_recording(
+    sample: &Sample,
+    params: &MechParams,
+    test: &VirtualTest,
+    opts: SolverOptions,
+    states: ParticleStates,
+) -> Result<TestResult, DemError> {
+    test.validate()?;
+    let clock = Instant::now();
+    let (w, h, tz) = (sample.width, sample.height, params.t_z);
+    let (top, driven, stages, first_driven) = protocol(test, w, h, tz);
+    let map = DofMap::new(sample, [[DofControl::Prescribed; 3], top])?;
     let model = Model::new(sample, params, map)?;
     let n_f = model.map.forced.len();
     let n_p = model.map.prescribed.len();
     let initial = LoadPoint { prescribed: vec![0.0; n_p], forces: vec![0.0; n_f] };
     let mut solver = Solver::new(model, opts, initial)?;
+    let recorder = Recorder::new(states, first_driven, (1, driven));
+    solver.observer = recorder.observer();
     let mut end = TestEnd::Target;
-    let n_stages = stages.len();
+    let mut envelope = CyclicEnvelope::default();
     let outcome = solver.start().and_then(|()| {
-        for (k, (target, steps)) in stages.iter().enumerate() {
-            let monitor = if k + 1 == n_stages { Some((1, driven)) } else { None };
-            if solver.run_stage(target, *steps, monitor)? == StageEnd::LossOfLoad {
+        for (k, stage) in stages.iter().enumerate() {
+            let monitor = stage.monitor.then_some((1, driven));
+            if solver.run_stage(&stage.target, stage.steps, monitor)? == StageEnd::LossOfLoad {
                 end = TestEnd::LossOfLoad;
                 break;
+            }
+            if let Some(towards) = stage.towards {
+                let largest = solver
+                    .states
+                    .iter()
+                    .filter(|s| s.stage == k)
+                    .map(|s| s.platen_force[1][driven].abs())
+                    .fold(0.0, f64::max);
+                envelope.branch(towards, largest);
+                if !solver.broken.is_empty() && envelope.lost(opts.loss_fraction) {
+                    end = TestEnd::LossOfLoad;
+                    break;
+                }
             }
         }
         Ok(())
     });
     if let Err(e) = outcome {
-        // Keep what was recorded; classify by the driven force's history in the last stage.
-        let last_stage = solver.states.last().map_or(0, |s| s.stage);
-        let forces: Vec<f64> = solver
-            .states
-            .iter()
-            .filter(|s| s.stage == last_stage && last_stage + 1 == n_stages)
-            .map(|s| s.platen_force[1][driven].abs())
-            .collect();
-        let peak = forces.iter().cloned().fold(0.0, f64::max);
-        let now = forces.last().copied().unwrap_or(0.0);
-        let message = e.to_string();
-        end = if peak > 0.0 && now <= 0.9 * peak && !solver.broken.is_empty() {
-            TestEnd::Collapse { message }
-        } else {
-            TestEnd::Failed { message }
-        };
+        end = classify_stop(e.to_string(), &solver, &stages, first_driven, driven);
     }
     let curve: Vec<CurvePoint> = solver
         .states
@@ -315,9 +527,12 @@ pub fn run_test_with(
             }
         })
         .collect();
-    let derived = derive(&curve, &solver.broken, n_stages - 1, &solver.states);
+    let derived = derive(&curve, &solver.broken, first_driven, &solver.states);
     let loss = end == TestEnd::LossOfLoad;
     let (factorizations, _) = solver.factor_stats();
+    solver.observer = None;
+    let last = solver.states.len().checked_sub(1).map(|i| (i, solver.z_commit.as_slice()));
+    let particle_states = recorder.finish(&solver.model.map, sample.particles.len(), last);
     Ok(TestResult {
         stats: RunStats {
             events: solver.broken.len(),
@@ -332,33 +547,61 @@ pub fn run_test_with(
         broken: solver.broken.clone(),
         floating: solver.floating.clone(),
         derived,
+        particle_states,
     })
 }
 
+/// How a test the solver stopped ended: a post-peak `Collapse` when, after a break, the driven
+/// force had fallen at least 10 % below its peak (monotonic: |F| over the driven stage; cyclic:
+/// the force along the current branch's direction, which must still be on its loading side),
+/// else `Failed`.
+fn classify_stop(message: String, solver: &Solver, stages: &[Stage], first_driven: usize, driven: usize) -> TestEnd {
+    let current = solver.states.last().map_or(0, |s| s.stage);
+    let force = |s: &super::events::StateRecord| s.platen_force[1][driven];
+    let along: Vec<f64> = match stages.get(current) {
+        Some(Stage { towards: Some(dir), .. }) => {
+            solver.states.iter().filter(|s| s.stage >= first_driven).map(|s| dir * force(s)).collect()
+        }
+        Some(Stage { monitor: true, .. }) => {
+            solver.states.iter().filter(|s| s.stage == current).map(|s| force(s).abs()).collect()
+        }
+        _ => Vec::new(),
+    };
+    let peak = along.iter().cloned().fold(0.0, f64::max);
+    let now = along.last().copied().unwrap_or(0.0);
+    let loading_side = now >= 0.0;
+    if peak > 0.0 && loading_side && now <= 0.9 * peak && !solver.broken.is_empty() {
+        TestEnd::Collapse { message }
+    } else {
+        TestEnd::Failed { message }
+    }
+}
+
+/// The derived numbers: the driven stages are those from `first_driven` on.
 fn derive(
     curve: &[CurvePoint],
     broken: &[BrokenBeam],
-    last_stage: usize,
+    first_driven: usize,
     states: &[super::events::StateRecord],
 ) -> Derived {
-    // First loading state of the driven stage with a non-zero strain and nothing broken.
+    // First loading state of the first driven stage with a non-zero strain and nothing broken.
     let first = curve
         .iter()
         .zip(states)
-        .find(|(c, s)| s.stage == last_stage && c.strain != 0.0 && c.kind != StateKind::Relaxed)
+        .find(|(c, s)| s.stage == first_driven && c.strain != 0.0 && c.kind != StateKind::Relaxed)
         .map(|(c, _)| c);
     let (young_modulus, poisson) = match first {
         Some(c) => (c.stress / c.strain, -c.lateral_strain / c.strain),
         None => (f64::NAN, f64::NAN),
     };
-    // First break during the driven stage (a shear test's preload may crack a few beams).
+    // First break during the driven stages (a shear test's preload may crack a few beams).
     let first_crack_stress = broken
         .iter()
-        .find(|b| states.get(b.state).is_some_and(|s| s.stage == last_stage && s.t > 0.0))
+        .find(|b| states.get(b.state).is_some_and(|s| s.stage >= first_driven && s.t > 0.0))
         .and_then(|b| curve.get(b.state))
         .map(|c| c.stress.abs());
     let (mut peak_stress, mut strain_at_peak) = (0.0, 0.0);
-    for (c, _) in curve.iter().zip(states).filter(|(_, s)| s.stage == last_stage) {
+    for (c, _) in curve.iter().zip(states).filter(|(_, s)| s.stage >= first_driven) {
         if c.stress.abs() > peak_stress {
             peak_stress = c.stress.abs();
             strain_at_peak = c.strain;

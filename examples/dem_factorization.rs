@@ -1,0 +1,54 @@
+//! The reference cost of the DEM benchmark: one sparse Cholesky factorization (faer, symbolic
+//! analysis + numeric) of the DEM operator of a random sample of N stones, all beams intact.
+//!
+//!     target/debug/examples/dem_factorization 10000
+//!
+//! Prints one JSON line: stones, equations, non-zeros of the upper triangle, seconds to build the
+//! sample, to assemble, for the first factorization (symbolic + numeric), for a second numeric
+//! factorization of the same pattern, and for one solve. `scripts/bench/dem.sh` divides the cost
+//! of a beam-break event by these.
+use std::time::Instant;
+
+use masonry_hpc::dem::mechanics::MechParams;
+use masonry_hpc::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
+use masonry_hpc::dem::solver::{DofControl, DofMap, LowRankCholesky, Model};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(1000);
+    let t0 = Instant::now();
+    let sample = Sample::build(&SampleConfig {
+        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
+        thickness: 1.0,
+        seed: 7,
+        alpha: 0.8,
+        facet_tolerance: 0.02,
+        tiny_facets: TinyFacetPolicy::Merge,
+    })?;
+    let build = t0.elapsed().as_secs_f64();
+    let params = MechParams::default();
+    let map = DofMap::new(&sample, [[DofControl::Prescribed; 3]; 2])?;
+    let model = Model::new(&sample, &params, map)?;
+    let t1 = Instant::now();
+    let intact = vec![true; sample.beams.len()];
+    let reg: Vec<f64> = model.diagonal().iter().map(|d| 1e-10 * d.max(1.0)).collect();
+    let upper = model.assemble(&intact, &reg, &[]);
+    let assemble = t1.elapsed().as_secs_f64();
+    let n_eq = model.map.n_eq();
+    let mut factor = LowRankCholesky::new(n_eq);
+    let t2 = Instant::now();
+    factor.factorize(&upper).map_err(|e| e.0)?;
+    let first = t2.elapsed().as_secs_f64();
+    let t3 = Instant::now();
+    factor.factorize(&upper).map_err(|e| e.0)?;
+    let numeric = t3.elapsed().as_secs_f64();
+    let mut x = vec![1.0; n_eq];
+    let t4 = Instant::now();
+    factor.solve(&mut x).map_err(|e| e.0)?;
+    let solve = t4.elapsed().as_secs_f64();
+    println!(
+        "{{\"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"solve_seconds\": {solve:.5}}}",
+        sample.particles.len(),
+        upper.len()
+    );
+    Ok(())
+}
