@@ -237,13 +237,16 @@ fn cook_mixed_mesh(path: &std::path::Path, n: usize) {
 /// sketch) through the program on a mixed mesh: 16 × 16 cells, the left half MITC4 quadrangles,
 /// the right half Allman triangles, conforming along x = 24 (u, v, θz shared). E = 1, ν = 1/3,
 /// t = 1, F = 1 spread on x = 48 (1/16 per interior node, 1/32 at the two corners), out-of-plane
-/// DOF fixed. Reference for v at (48, 60): 23.91 (Felippa 2003, converged). The bilinear quads are
-/// the stiffer half (Q4 16 × 16 alone: ≈ 23.4 in the literature), so the mixed mesh lies a little
-/// below the reference: asserted within 3 %, and below it. Also on 2 ranks: equal to 1e-10.
+/// DOF fixed. Checked: the compliance F·u = ū, the mean vertical displacement of the loaded edge
+/// (trapezoid rule), against the published 23.96 (Felippa 2003; see the unit test for why the
+/// mean and not the corner): conforming elements approach it from below, and the mixed mesh sits
+/// between its two halves' own 16 × 16 values (Q4 23.45, Allman 23.79): asserted below 23.96 and
+/// above 0.975 × 23.96. Also on 2 ranks: equal to 1e-10.
 #[test]
 fn cook_membrane_on_a_mixed_quad_triangle_mesh() {
+    let n = 16;
     let dir = scratch("cook-mixed");
-    cook_mixed_mesh(&dir.join("cook.msh"), 16);
+    cook_mixed_mesh(&dir.join("cook.msh"), n);
     let job = "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"cook.msh\"\n\
         [materials.m]\ntype = \"elastic\"\nE = 1.0\nnu = 0.3333333333333333\n\
         [sections.s]\ntype = \"shell\"\nthickness = 1.0\n\
@@ -255,16 +258,18 @@ fn cook_membrane_on_a_mixed_quad_triangle_mesh() {
         [[loads]]\ntype = \"nodal\"\ngroup = \"ends\"\nforce = [0.0, 0.03125, 0.0]\n\
         [output]\ndir = \"out\"\nexisting = \"overwrite\"\n";
     std::fs::write(dir.join("cook.toml"), job).unwrap();
-    let corner = (16 * 17 + 16 + 1) as u64; // Gmsh tag of node (n, n)
+    // Gmsh tags of the loaded edge's nodes (n, j) and their trapezoid weights.
+    let edge: Vec<(u64, f64)> =
+        (0..=n).map(|j| ((j * (n + 1) + n + 1) as u64, if j == 0 || j == n { 0.5 } else { 1.0 } / n as f64)).collect();
     let mut results = Vec::new();
     for np in [1, 2] {
         let out = run(np, &[dir.join("cook.toml").to_str().unwrap()]);
         assert!(out.status.success(), "np={np}: {}\n{}", stdout(&out), stderr(&out));
         let u = node_field(&dir.join("out"), "displacement");
-        let v = u[&corner][1];
-        println!("np = {np}: v at (48, 60) = {v:.4} (reference 23.91)");
-        assert!(v < 23.91 && v > 0.97 * 23.91, "np={np}: v = {v}");
-        results.push(v);
+        let mean: f64 = edge.iter().map(|(tag, w)| w * u[tag][1]).sum();
+        println!("np = {np}: mean v of the loaded edge = {mean:.4}, corner {:.4} (reference 23.96)", u[&edge[n].0][1]);
+        assert!(mean < 23.96 && mean > 0.975 * 23.96, "np={np}: mean v = {mean}");
+        results.push(mean);
     }
     assert!((results[0] - results[1]).abs() <= 1e-10 * results[0].abs(), "{results:?}");
 }
