@@ -16,6 +16,7 @@ fn known_law() -> DamageParams {
         gf_t: 30.0,
         a_c: 0.8,
         b_c: 800.0,
+        gf_c: None,
         regularization: Regularization::Hillerborg,
     }
 }

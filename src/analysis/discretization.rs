@@ -121,10 +121,12 @@ fn build_elements(
                     nonstructural_mass: s.nonstructural_mass,
                 };
                 let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
-                Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::Element {
+                // Bad geometry or orientation is an input error (exit code 2), as for the other
+                // element kinds.
+                Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::ElementInput {
                     tag: cell.tag,
                     group: part.group.clone(),
-                    source,
+                    message: source.to_string(),
                 })?)
             }
             (SectionConfig::Frame(_), MaterialConfig::Damage(_)) => {

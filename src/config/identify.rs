@@ -382,6 +382,7 @@ impl IdentifyJob {
                     gf_t: b.gf_t[0],
                     a_c: b.a_c[1],
                     b_c: b.b_c[1],
+                    gf_c: None,
                     regularization: l.regularization,
                 };
                 if let Err(err) = corner.for_element(h) {

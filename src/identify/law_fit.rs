@@ -118,6 +118,7 @@ impl LawFit {
             gf_t: x[2],
             a_c: x[3],
             b_c: x[4],
+            gf_c: None,
             regularization: self.regularization,
         }
     }

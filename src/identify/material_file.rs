@@ -61,6 +61,7 @@ mod tests {
             gf_t: 40.0,
             a_c: 0.7,
             b_c: 900.0,
+            gf_c: None,
             regularization: Regularization::HillerborgNoElastic,
         };
         let p = Provenance {

@@ -24,7 +24,7 @@ const GF: f64 = 100.0;
 const L: f64 = 1.0;
 
 fn bar_params(regularization: Regularization) -> DamageParams {
-    DamageParams { e: E, nu: 0.2, eps0_t: EPS0, eps0_c: 2e-4, gf_t: GF, a_c: 0.8, b_c: 800.0, regularization }
+    DamageParams { e: E, nu: 0.2, eps0_t: EPS0, eps0_c: 2e-4, gf_t: GF, a_c: 0.8, b_c: 800.0, gf_c: None, regularization }
 }
 
 /// The stiffness of the interior nodes 1..n−1 from the element stiffnesses k_e = D_e A / h.

@@ -1,10 +1,10 @@
 //! [`PointLaw`]: the damage law of one element, ready to evaluate at its material points.
 
-use super::damage::{self, DamageValue};
+use super::damage::{self, CompressionSoftening, DamageValue};
 use super::params::{DamageParams, Regularization};
 use super::state::Side;
 
-/// The damage law with B_t fixed for one element size and the isotropic elastic constants
+/// The damage law with B_t (and B_c) fixed for one element size and the isotropic elastic constants
 /// precomputed. Built only by [`DamageParams::for_element`], so its values are always valid.
 /// `Copy` and small: an element keeps one per integration point group, or one per element.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -18,13 +18,14 @@ pub struct PointLaw {
     b_t: f64,
     a_c: f64,
     b_c: f64,
+    softening_c: Option<CompressionSoftening>,
     h: f64,
     regularization: Regularization,
 }
 
 impl PointLaw {
     /// Assemble from validated parameters (crate-internal: use [`DamageParams::for_element`]).
-    pub(super) fn new(p: &DamageParams, h: f64, b_t: f64) -> Self {
+    pub(super) fn new(p: &DamageParams, h: f64, b_t: f64, b_s: Option<f64>) -> Self {
         let lambda = p.e * p.nu / ((1.0 + p.nu) * (1.0 - 2.0 * p.nu));
         let mu = p.e / (2.0 * (1.0 + p.nu));
         PointLaw {
@@ -37,6 +38,7 @@ impl PointLaw {
             b_t,
             a_c: p.a_c,
             b_c: p.b_c,
+            softening_c: b_s.map(|b_s| CompressionSoftening::new(p.eps0_c, p.b_c, b_s)),
             h,
             regularization: p.regularization,
         }
@@ -78,6 +80,10 @@ impl PointLaw {
     pub fn b_c(&self) -> f64 {
         self.b_c
     }
+    /// The regularized compressive softening of this element (`gf_c` given), else `None`.
+    pub fn compression_softening(&self) -> Option<CompressionSoftening> {
+        self.softening_c
+    }
     /// The element characteristic length h this law was built for (m).
     pub fn element_size(&self) -> f64 {
         self.h
@@ -105,7 +111,10 @@ impl PointLaw {
     pub fn damage(&self, side: Side, kappa: f64) -> DamageValue {
         match side {
             Side::Tension => damage::tension(self.eps0_t, self.b_t, kappa),
-            Side::Compression => damage::compression(self.eps0_c, self.a_c, self.b_c, kappa),
+            Side::Compression => match &self.softening_c {
+                None => damage::compression(self.eps0_c, self.a_c, self.b_c, kappa),
+                Some(s) => damage::compression_softened(self.eps0_c, self.a_c, self.b_c, s, kappa),
+            },
         }
     }
 
@@ -119,10 +128,16 @@ impl PointLaw {
                 damage::tension_primitive(self.eps0_t, self.b_t, kappa_new)
                     - damage::tension_primitive(self.eps0_t, self.b_t, kappa_old)
             }
-            Side::Compression => {
-                damage::compression_primitive(self.eps0_c, self.a_c, self.b_c, kappa_new)
-                    - damage::compression_primitive(self.eps0_c, self.a_c, self.b_c, kappa_old)
-            }
+            Side::Compression => match &self.softening_c {
+                None => {
+                    damage::compression_primitive(self.eps0_c, self.a_c, self.b_c, kappa_new)
+                        - damage::compression_primitive(self.eps0_c, self.a_c, self.b_c, kappa_old)
+                }
+                Some(s) => {
+                    damage::compression_softened_primitive(self.eps0_c, self.a_c, self.b_c, s, kappa_new)
+                        - damage::compression_softened_primitive(self.eps0_c, self.a_c, self.b_c, s, kappa_old)
+                }
+            },
         };
         (c * df).max(0.0)
     }

@@ -42,7 +42,7 @@
 //! use masonry_hpc::material::{plane_stress, DamageParams, DamageState, Regularization};
 //! use nalgebra::Vector3;
 //! let params = DamageParams { e: 3.0e9, nu: 0.2, eps0_t: 1e-4, eps0_c: 2e-4, gf_t: 50.0,
-//!     a_c: 0.8, b_c: 1000.0, regularization: Regularization::Hillerborg };
+//!     a_c: 0.8, b_c: 1000.0, gf_c: None, regularization: Regularization::Hillerborg };
 //! let law = params.for_element(0.1).unwrap();          // once per element
 //! let committed = DamageState::default();                // per integration point
 //! let r = plane_stress::update(&law, &Vector3::new(2e-4, 0.0, 0.0), &committed);

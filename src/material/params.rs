@@ -9,7 +9,8 @@
 //! eps0_c = 2.0e-4        # compressive damage threshold on ε_eq^c (lateral extension) [-]
 //! gf_t = 60.0            # tensile fracture energy G_f [J/m²]
 //! a_c = 0.8              # compressive shape parameter A_c ∈ [0, 1] [-]
-//! b_c = 1500.0           # compressive shape parameter B_c [1/strain], NOT regularized
+//! b_c = 1500.0           # compressive shape parameter B_c [1/strain]
+//! # gf_c = 2000.0        # optional compressive fracture energy G_c [J/m²]: post-peak softening from h
 //! regularization = "hillerborg"            # or "hillerborg_no_elastic"
 //! # regularization = { none = { b_t = 4000.0 } }   # explicit B_t [1/strain], G_f then unused
 //! ```
@@ -31,10 +32,36 @@
 //! subtracts that elastic part so that the total is exactly G_f per crack area, which is possible
 //! only while G_f > f_t² h / (2E).
 //!
-//! # B_c (compression) is not regularized
-//! As in the paper (eq. 14) and SPEC §2, `B_c` is given directly in 1/strain and does not depend on
-//! the element size: compressive softening is therefore mesh-dependent when it localizes. This
-//! keeps the identified (ε₀^c, A_c, B_c) usable as they are in every element.
+//! # Compressive softening: as given, or regularized by a compressive fracture energy G_c
+//! Without `gf_c` (the paper's eq. 14, SPEC §2) `B_c` is given directly in 1/strain and the law is
+//! the same in every element: compressive softening then depends on the mesh wherever crushing
+//! localizes, because the energy it dissipates is a density times the volume of the band.
+//!
+//! With `gf_c = G_c` (J/m², a documented extension of SPEC §2 in Hillerborg's spirit) only the
+//! softening *after the peak* is regularized. Under uniaxial compression the equivalent strain is
+//! κ = r |ε| with r = √2 ν (the two lateral extensions −ν ε; plane stress counts ε_zz,
+//! [`EZZ_ENTERS_EQUIVALENT_STRAIN`](super::plane_stress::EZZ_ENTERS_EQUIVALENT_STRAIN)),
+//! f_c = E ε₀^c / r is the stress at the threshold, and eq. 14 gives
+//!
+//! ```text
+//!   |σ| = (1 − A_c) f_c  +  A_c f_c (κ/ε₀^c) exp[−B_c (κ − ε₀^c)]
+//!         residual plateau   decaying part: rises while κ < 1/B_c, peaks at κ_s = max(ε₀^c, 1/B_c)
+//! ```
+//! The rise before κ_s is damage spread over the loaded region (it does not localize, and a
+//! regularization by h would make it mesh-dependent); it is kept as identified. Beyond κ_s the
+//! decaying part becomes A_c f_c (κ_s/ε₀^c) g_s exp[−B_s (κ − κ_s)] (the damage function in
+//! [`damage::CompressionSoftening`](super::damage::CompressionSoftening)), whose area per unit
+//! volume, ∫ d|ε| = A_c f_c (κ_s/ε₀^c) g_s / (r B_s), is set to G_c / h:
+//!
+//! ```text
+//!   B_s = A_c f_c κ_s g_s h / (r ε₀^c G_c) = A_c E κ_s g_s h / (r² G_c),   g_s = exp[−B_c (κ_s − ε₀^c)]
+//! ```
+//! (the same construction as `hillerborg` for tension, where the area under f_t exp[−B_t(ε − ε₀)]
+//! is f_t/B_t = G_f/h). The residual plateau (1 − A_c) f_c is not regularized: in a band of width h
+//! it dissipates (1 − A_c) f_c × the band's shortening per unit area, a displacement jump, not a
+//! function of h. `gf_c` needs A_c > 0 and ν > 0. B_c keeps its meaning (the shape before the
+//! peak); a B_c fitted on a test of size h_id corresponds to G_c = A_c E κ_s g_s h_id /(r² B_c)
+//! when the fitted curve is continued with B_s = B_c.
 
 use serde::{Deserialize, Serialize};
 
@@ -88,8 +115,12 @@ pub struct DamageParams {
     pub gf_t: f64,
     /// Compressive shape parameter A_c in [0, 1] (A_c = 1: no residual plateau).
     pub a_c: f64,
-    /// Compressive shape parameter B_c (1/strain), > 0; not regularized (module docs).
+    /// Compressive shape parameter B_c (1/strain), > 0 (module docs).
     pub b_c: f64,
+    /// Compressive fracture energy G_c (J/m²) of the softening after the compressive peak: when
+    /// given, that softening is regularized by the element size (module docs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gf_c: Option<f64>,
     /// How B_t is computed from the element size.
     pub regularization: Regularization,
 }
@@ -131,7 +162,57 @@ impl DamageParams {
         if let Regularization::Unregularized { b_t } = self.regularization {
             positive("b_t", b_t)?;
         }
+        if let Some(gf_c) = self.gf_c {
+            positive("gf_c", gf_c)?;
+            if self.a_c <= 0.0 {
+                return Err(MaterialError::OutOfRange {
+                    quantity: "a_c",
+                    value: self.a_c,
+                    range: "(0, 1] (gf_c regularizes the decaying part A_c of the compressive softening)",
+                });
+            }
+        }
         Ok(())
+    }
+
+    /// The ratio r = κ / |ε| of the compressive equivalent strain to the axial strain under
+    /// uniaxial compression: √2 ⟨ν⟩₊ with ε_zz in ε_eq (plane stress, 3D, fibers), ⟨ν⟩₊ without
+    /// (the same ratio as [`uniaxial::equivalent_strain_ratio`](super::uniaxial::equivalent_strain_ratio)).
+    pub fn uniaxial_compression_ratio(&self) -> f64 {
+        if super::plane_stress::EZZ_ENTERS_EQUIVALENT_STRAIN {
+            std::f64::consts::SQRT_2 * self.nu.max(0.0)
+        } else {
+            self.nu.max(0.0)
+        }
+    }
+
+    /// Uniaxial compressive strength f_c = E ε₀^c / r (Pa), r = [`Self::uniaxial_compression_ratio`]
+    /// (infinite for ν = 0: no lateral extension, no compression damage under uniaxial load).
+    pub fn compressive_strength(&self) -> f64 {
+        self.e * self.eps0_c / self.uniaxial_compression_ratio()
+    }
+
+    /// The slope B_s (1/strain) of the regularized compressive softening for an element of
+    /// characteristic length `h` (m), `None` without `gf_c` (module docs). Validates the
+    /// parameters and `h`.
+    pub fn compression_softening(&self, h: f64) -> Result<Option<f64>, MaterialError> {
+        self.validate()?;
+        if !(h.is_finite() && h > 0.0) {
+            return Err(MaterialError::InvalidElementSize { h });
+        }
+        let Some(gf_c) = self.gf_c else { return Ok(None) };
+        let r = self.uniaxial_compression_ratio();
+        if r <= 0.0 {
+            return Err(MaterialError::OutOfRange {
+                quantity: "nu",
+                value: self.nu,
+                range: "(0, 0.5) with gf_c (no lateral extension: no compressive softening to regularize)",
+            });
+        }
+        let soft = super::damage::CompressionSoftening::new(self.eps0_c, self.b_c, 1.0);
+        let b_s = self.a_c * self.e * soft.kappa_s * soft.g_s * h / (r * r * gf_c);
+        positive("B_s (from gf_c)", b_s)?;
+        Ok(Some(b_s))
     }
 
     /// Tensile strength f_t = E ε₀^t (Pa).
@@ -181,7 +262,8 @@ impl DamageParams {
     /// gives the limit).
     pub fn for_element(&self, h: f64) -> Result<PointLaw, MaterialError> {
         let b_t = self.b_t(h)?;
-        Ok(PointLaw::new(self, h, b_t))
+        let b_s = self.compression_softening(h)?;
+        Ok(PointLaw::new(self, h, b_t, b_s))
     }
 }
 
@@ -199,6 +281,7 @@ mod tests {
             gf_t: 60.0,
             a_c: 0.8,
             b_c: 1500.0,
+            gf_c: None,
             regularization: Regularization::Hillerborg,
         }
     }
@@ -314,5 +397,65 @@ mod tests {
         assert!(e.is_err());
         let e = toml::from_str::<DamageParams>(&format!("{base}regularization = \"mazars\"\n"));
         assert!(e.is_err());
+    }
+
+    #[test]
+    fn gf_c_regularizes_the_compressive_softening_after_the_peak_only() {
+        // The decaying part of the uniaxial compressive curve, |σ| − (1 − A_c) f_c, integrated from
+        // the peak strain ε_s = κ_s / r (Simpson, 20 000 intervals over 40/(r B_s): tail e^{-40}),
+        // times h must give G_c: 1e-6 relative (Simpson's error on this smooth integrand is far
+        // below). The stress comes from the fiber law, so this checks the element's law. Before the
+        // peak the curve must not depend on h (bitwise).
+        for (h, gf_c, a_c, b_c) in [(0.05, 3000.0, 0.8, 1500.0), (0.2, 3000.0, 0.8, 1500.0), (0.6, 500.0, 0.3, 9000.0)] {
+            let p = DamageParams { gf_c: Some(gf_c), a_c, b_c, ..good() };
+            let law = p.for_element(h).unwrap();
+            let soft = law.compression_softening().unwrap();
+            let r = p.uniaxial_compression_ratio();
+            let fc = p.compressive_strength();
+            assert!((fc - p.e * p.eps0_c / r).abs() <= 1e-12 * fc);
+            let stress = |eps: f64| -super::super::uniaxial::update(&law, -eps, &crate::material::DamageState::default()).stress;
+            let eps_s = soft.kappa_s / r;
+            let span = 40.0 / (r * soft.b_s);
+            let n = 20_000;
+            let f = |eps: f64| stress(eps) - (1.0 - a_c) * fc;
+            let dx = span / n as f64;
+            let mut sum = f(eps_s) + f(eps_s + span);
+            for k in 1..n {
+                sum += if k % 2 == 1 { 4.0 } else { 2.0 } * f(eps_s + k as f64 * dx);
+            }
+            let area = sum * dx / 3.0;
+            assert!((area * h - gf_c).abs() <= 1e-6 * gf_c, "h = {h}: {} J/m² vs G_c = {gf_c}", area * h);
+            // Before the peak: the unregularized law, whatever h.
+            let plain = DamageParams { gf_c: None, ..p }.for_element(h).unwrap();
+            for eps in [0.5 * eps_s, 0.9 * eps_s, eps_s] {
+                let s0 = -super::super::uniaxial::update(&plain, -eps, &crate::material::DamageState::default()).stress;
+                assert_eq!(stress(eps), s0, "h = {h}, ε = {eps}");
+            }
+        }
+        // Without gf_c there is no regularized branch.
+        assert_eq!(good().for_element(0.1).unwrap().compression_softening(), None);
+        // B_s grows ∝ h (a larger element softens faster after the peak).
+        let q = DamageParams { gf_c: Some(3000.0), ..good() };
+        let b1 = q.for_element(0.1).unwrap().compression_softening().unwrap().b_s;
+        let b2 = q.for_element(0.2).unwrap().compression_softening().unwrap().b_s;
+        assert!((b2 - 2.0 * b1).abs() <= 1e-12 * b2);
+    }
+
+    #[test]
+    fn bad_gf_c_is_rejected() {
+        for (p, q) in [
+            (DamageParams { gf_c: Some(0.0), ..good() }, "gf_c"),
+            (DamageParams { gf_c: Some(f64::NAN), ..good() }, "gf_c"),
+            (DamageParams { gf_c: Some(100.0), a_c: 0.0, ..good() }, "a_c"),
+            (DamageParams { gf_c: Some(100.0), nu: 0.0, ..good() }, "nu"),
+        ] {
+            let err = p.for_element(0.1).unwrap_err();
+            assert!(err.to_string().contains(&format!("`{q}`")), "{q}: {err}");
+        }
+        let base = "E = 2.885e9\nnu = 0.19\neps0_t = 1.4e-4\neps0_c = 2e-4\ngf_t = 60.0\na_c = 0.8\nb_c = 1500.0\n";
+        let p: DamageParams = toml::from_str(&format!("{base}gf_c = 2500.0\nregularization = \"hillerborg\"\n")).unwrap();
+        assert_eq!(p.gf_c, Some(2500.0));
+        // Written back only when given (material files of identified laws keep their form).
+        assert!(!toml::to_string(&good()).unwrap().contains("gf_c"));
     }
 }

@@ -36,6 +36,7 @@ pub fn params() -> DamageParams {
         gf_t: 50.0,
         a_c: 0.8,
         b_c: 800.0,
+        gf_c: None,
         regularization: Regularization::Hillerborg,
     }
 }

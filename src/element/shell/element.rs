@@ -119,7 +119,7 @@ enum SectionLaw {
 }
 
 /// A flat shell element with `N` nodes and `D` = 6 N DOF. Built by `ShellQuad4::new` (MITC4) and
-/// `ShellTri3::new` (DKT + CST); see the module docs for the formulation.
+/// `ShellTri3::new` (DKT + Allman); see the module docs for the formulation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShellElement<const N: usize, const D: usize> {
     kind: &'static str,

@@ -8,7 +8,7 @@
 //! | `geometry.rs` | local frame of a flat element, projection of a warped quad, rigid links    |
 //! | `element.rs`  | [`ShellElement`]: force, tangent, state, mass, gravity, outputs, checkpoint|
 //! | `mitc4.rs`    | [`ShellQuad4`]: bilinear membrane + MITC4 bending/shear + drilling          |
-//! | `tri3.rs`     | [`ShellTri3`]: CST membrane + DKT bending + drilling                       |
+//! | `tri3.rs`     | [`ShellTri3`]: Allman membrane (vertex rotations) + DKT bending + drilling |
 //! | `error.rs`    | [`ShellError`]: construction errors                                         |
 //! | `tests.rs`    | patch tests, Scordelis–Lo roof, plate frequency, layered/damage checks     |
 //!

@@ -1,5 +1,27 @@
-//! [`ShellTri3`]: 3-node flat shell — CST membrane, DKT bending (Batoz, Bathe & Ho 1980, "A study
-//! of three-node triangular plate bending elements", IJNME 15), Hughes–Brezzi drilling penalty.
+//! [`ShellTri3`]: 3-node flat shell — Allman membrane with vertex drilling rotations (Allman 1984,
+//! "A compatible triangular element including vertex rotations for plane elasticity analysis",
+//! Comput. Struct. 19), DKT bending (Batoz, Bathe & Ho 1980, "A study of three-node triangular
+//! plate bending elements", IJNME 15), Hughes–Brezzi drilling penalty.
+//!
+//! # Allman membrane
+//! The in-plane displacements are those of the 6-node (LST) triangle whose mid-side values are
+//! not free but follow from the corner displacements and the corner rotations θz: on the edge from
+//! node i to node j (mid-side k),
+//!
+//! ```text
+//!   u_k = ½ (u_i + u_j) + (y_j − y_i)(θ_j − θ_i)/8
+//!   v_k = ½ (v_i + v_j) + (x_i − x_j)(θ_j − θ_i)/8
+//! ```
+//! i.e. the normal displacement of the edge is the quadratic u_n = c s (L − s) whose end slopes
+//! ±cL best fit the corner rotations (cL = (θ_i − θ_j)/2), normal n = e_z × (x_j − x_i)/L. So
+//! u = Σ_a N_a^u (u_a, v_a, θ_a) with the quadratic N₁…N₆ ([`quadratic`]); the strains
+//! ε₀ = [u,x, v,y, u,y + v,x] are linear and the 3-point rule integrates the stiffness exactly.
+//! Properties (tested): a linear field with θ_a = its rotation ω (the corrections vanish with
+//! equal θ) is reproduced exactly, so the membrane patch test passes; a rigid rotation gives no
+//! strain; the one extra zero-energy mode of Allman's element (equal θ at the three corners, no
+//! displacement) is removed by the Hughes–Brezzi term ½ ∫ k_δ (θz − ω)² dA with θz interpolated
+//! linearly and ω = ½ (v,x − u,y) from the Allman field, which vanishes on the linear fields above.
+//! Mass and gravity use the linear functions for the translations (the element's lumping).
 //!
 //! # DKT (discrete Kirchhoff triangle)
 //! The rotations βx = θy, βy = −θx are quadratic, βx = H_x(ξ, η)·U, βy = H_y(ξ, η)·U with
@@ -101,6 +123,17 @@ impl ShellElement<3, 18> {
     /// Errors: non-finite coordinates, invalid section, (nearly) zero area, damage law not valid
     /// for the element size sqrt(area).
     pub fn new(coords: [[f64; 3]; 3], section: &ShellSection) -> Result<Self, ShellError> {
+        Self::with_membrane(coords, section, Membrane::Allman)
+    }
+
+    /// The same element with the membrane chosen: [`Membrane::Allman`] (what [`Self::new`]
+    /// builds) or the constant-strain [`Membrane::Cst`] (kept for comparison in the tests of the
+    /// Allman membrane; not reachable from job files).
+    pub fn with_membrane(
+        coords: [[f64; 3]; 3],
+        section: &ShellSection,
+        membrane: Membrane,
+    ) -> Result<Self, ShellError> {
         section.validate()?;
         let geo = geometry::triangle(&coords)?;
         let xy = geo.xy;
@@ -126,6 +159,7 @@ impl ShellElement<3, 18> {
             jinv * Vector2::new(0.0, 1.0),
         ];
         let mut points = Vec::with_capacity(3);
+        let allman = allman_edges(&xy);
         for (xi, eta) in [
             (1.0 / 6.0, 1.0 / 6.0),
             (2.0 / 3.0, 1.0 / 6.0),
@@ -133,20 +167,48 @@ impl ShellElement<3, 18> {
         ] {
             let lin = [1.0 - xi - eta, xi, eta];
             let (_, nxi, neta) = quadratic(xi, eta);
+            // Cartesian derivatives of the quadratic functions.
+            let dq: Vec<Vector2<f64>> = (0..6).map(|k| jinv * Vector2::new(nxi[k], neta[k])).collect();
             let (hx_xi, hy_xi) = dkt_h(&coef, &nxi);
             let (hx_eta, hy_eta) = dkt_h(&coef, &neta);
             let mut b = SMatrix::<f64, 6, 18>::zeros();
             let mut b_d = SMatrix::<f64, 1, 18>::zeros();
             for a in 0..3 {
                 let o = 6 * a;
-                let (nx, ny) = (dlin[a].x, dlin[a].y);
-                b[(0, o)] = nx;
-                b[(1, o + 1)] = ny;
-                b[(2, o)] = ny;
-                b[(2, o + 1)] = nx;
-                b_d[(0, o + 5)] = lin[a];
-                b_d[(0, o)] = 0.5 * ny;
-                b_d[(0, o + 1)] = -0.5 * nx;
+                // Membrane: (u, v) = Σ_a [N_uu u_a + N_uθ θ_a, N_vv v_a + N_vθ θ_a] (module docs);
+                // CST: N_uu = N_vv = L_a, no θ terms.
+                let (gu, gtu, gtv) = match membrane {
+                    Membrane::Cst => (dlin[a], Vector2::zeros(), Vector2::zeros()),
+                    Membrane::Allman => {
+                        let mut gu = dq[a];
+                        let mut gtu = Vector2::zeros();
+                        let mut gtv = Vector2::zeros();
+                        for (k, e) in allman.iter().enumerate() {
+                            let sign = if a == e.j {
+                                1.0
+                            } else if a == e.i {
+                                -1.0
+                            } else {
+                                continue;
+                            };
+                            gu += 0.5 * dq[3 + k];
+                            gtu += sign * e.du * dq[3 + k];
+                            gtv += sign * e.dv * dq[3 + k];
+                        }
+                        (gu, gtu, gtv)
+                    }
+                };
+                b[(0, o)] = gu.x;
+                b[(0, o + 5)] = gtu.x;
+                b[(1, o + 1)] = gu.y;
+                b[(1, o + 5)] = gtv.y;
+                b[(2, o)] = gu.y;
+                b[(2, o + 1)] = gu.x;
+                b[(2, o + 5)] = gtu.y + gtv.x;
+                // δ = θz − ω, ω = ½ (v,x − u,y).
+                b_d[(0, o + 5)] = lin[a] - 0.5 * (gtv.x - gtu.y);
+                b_d[(0, o)] = 0.5 * gu.y;
+                b_d[(0, o + 1)] = -0.5 * gu.x;
                 // DKT: local DOF (w, θx, θy) = (o+2, o+3, o+4).
                 for c in 0..3 {
                     let hxd = jinv * Vector2::new(hx_xi[3 * a + c], hx_eta[3 * a + c]);
@@ -166,4 +228,33 @@ impl ShellElement<3, 18> {
         }
         ShellElement::from_parts("shell_dkt3", coords, geo, points, section)
     }
+}
+
+/// The membrane of the 3-node shell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Membrane {
+    /// Allman's triangle with vertex rotations (module docs): the default.
+    Allman,
+    /// The constant-strain triangle; θz enters only through the drilling penalty.
+    Cst,
+}
+
+/// One edge of the Allman interpolation: from corner `i` to corner `j` (mid-side k = the corner
+/// opposite), with the mid-side coefficients of (θ_j − θ_i): u_k gets du (θ_j − θ_i), v_k gets
+/// dv (θ_j − θ_i).
+#[derive(Clone, Copy, Debug)]
+struct AllmanEdge {
+    i: usize,
+    j: usize,
+    du: f64,
+    dv: f64,
+}
+
+/// The three edges, mid-side k on the edge from (k+1)%3 to (k+2)%3 (the order of [`quadratic`]):
+/// du = (y_j − y_i)/8, dv = (x_i − x_j)/8 (module docs).
+fn allman_edges(xy: &[[f64; 2]; 3]) -> [AllmanEdge; 3] {
+    std::array::from_fn(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        AllmanEdge { i, j, du: (xy[j][1] - xy[i][1]) / 8.0, dv: (xy[i][0] - xy[j][0]) / 8.0 }
+    })
 }

@@ -1,0 +1,153 @@
+//! Bad input for shells and beams: each broken variant of a small valid shell-and-beam model
+//! fails with one clear message (element tag and group, what is wrong, the limit) and a non-zero
+//! exit code, alone and under `mpirun -n 2` (no hang, no panic, printed once).
+//!
+//! ```text
+//!   4 (0,0,1) ---- 5 (1,0,1) ---- 6 (2,0,1)      shells in the x–z plane: quad 1-2-5-4,
+//!     |    quad     |  tri /  |                   triangles 2-3-6 and 2-6-5; a beam 4-7 along y
+//!   1 (0,0,0) ---- 2 (1,0,0) ---- 3 (2,0,0)      base 1-2-3 clamped; 7 = (0,1,1)
+//! ```
+mod common;
+use common::*;
+use std::path::{Path, PathBuf};
+
+/// Writes the valid model in `dir`; returns the job path.
+fn valid_case(dir: &Path) -> PathBuf {
+    let nodes: [[f64; 3]; 7] =
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+    write_mesh(dir, &nodes);
+    let job = "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"m.msh\"\n\
+        [materials.m]\ntype = \"elastic\"\nE = 3.0e9\nnu = 0.2\n\
+        [sections.wall]\ntype = \"shell\"\nthickness = 0.3\nlayers = 3\n\
+        [sections.beam]\ntype = \"frame\"\narea = 0.04\niy = 1.3e-4\niz = 1.3e-4\nj = 2.2e-4\n\
+        [[parts]]\ngroup = \"quad\"\nsection = \"wall\"\nmaterial = \"m\"\n\
+        [[parts]]\ngroup = \"tris\"\nsection = \"wall\"\nmaterial = \"m\"\n\
+        [[parts]]\ngroup = \"beam\"\nsection = \"beam\"\nmaterial = \"m\"\norientation = [0.0, 0.0, 1.0]\n\
+        [[supports]]\ngroup = \"base\"\ndofs = [\"all\"]\n\
+        [[supports]]\ngroup = \"end\"\ndofs = [\"all\"]\n\
+        [[loads]]\ntype = \"nodal\"\ngroup = \"top\"\nforce = [1.0e3, 0.0, 0.0]\n\
+        [output]\ndir = \"out\"\nexisting = \"overwrite\"\n";
+    std::fs::write(dir.join("job.toml"), job).unwrap();
+    dir.join("job.toml")
+}
+
+/// MSH 4.1: surface groups "quad" (tag 1) and "tris" (2), curve group "beam" (3), point groups
+/// "base" (1 2 3), "top" (5), "end" (7). Element tags: points 1–5, beam 6, quad 7, triangles 8, 9.
+fn write_mesh(dir: &Path, nodes: &[[f64; 3]; 7]) {
+    let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n6\n");
+    s += "2 1 \"quad\"\n2 2 \"tris\"\n1 3 \"beam\"\n0 4 \"base\"\n0 5 \"top\"\n0 6 \"end\"\n$EndPhysicalNames\n";
+    let pts = [(1usize, 4usize), (2, 4), (3, 4), (5, 5), (7, 6)];
+    s += "$Entities\n5 1 2 0\n";
+    for (k, (n, g)) in pts.iter().enumerate() {
+        let x = nodes[n - 1];
+        s += &format!("{} {} {} {} 1 {g}\n", k + 1, x[0], x[1], x[2]);
+    }
+    s += "1 -1e9 -1e9 -1e9 1e9 1e9 1e9 1 3 0\n";
+    s += "1 -1e9 -1e9 -1e9 1e9 1e9 1e9 1 1 0\n2 -1e9 -1e9 -1e9 1e9 1e9 1e9 1 2 0\n$EndEntities\n";
+    s += "$Nodes\n1 7 1 7\n2 1 0 7\n";
+    for i in 1..=7 {
+        s += &format!("{i}\n");
+    }
+    for x in nodes {
+        s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
+    }
+    s += "$EndNodes\n$Elements\n8 9 1 9\n";
+    for (k, (n, _)) in pts.iter().enumerate() {
+        s += &format!("0 {} 15 1\n{} {n}\n", k + 1, k + 1);
+    }
+    s += "1 1 1 1\n6 4 7\n2 1 3 1\n7 1 2 5 4\n2 2 2 2\n8 2 3 6\n9 2 6 5\n$EndElements\n";
+    std::fs::write(dir.join("m.msh"), s).unwrap();
+}
+
+/// Runs a broken variant on 1 rank (no mpirun) and on 2 ranks: both fail with `code`, print one
+/// message containing every one of `needles`, and do not panic.
+fn expect_error(name: &str, break_it: impl Fn(&Path), code: i32, needles: &[&str]) {
+    let dir = scratch(name);
+    let job = valid_case(&dir);
+    break_it(&dir);
+    for np in [0, 2] {
+        let out = run(np, &[job.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(code), "np={np}: exit code; stderr:\n{err}");
+        for n in needles {
+            assert!(err.contains(n), "np={np}: message lacks '{n}':\n{err}");
+        }
+        assert_eq!(err.matches("error:").count(), 1, "np={np}: one message, not one per rank:\n{err}");
+        assert!(!err.contains("panicked") && !err.contains("RUST_BACKTRACE"), "np={np}: a panic:\n{err}");
+    }
+}
+
+fn edit(dir: &Path, file: &str, from: &str, to: &str) {
+    let p = dir.join(file);
+    let s = std::fs::read_to_string(&p).unwrap();
+    assert!(s.contains(from), "test setup: '{from}' not in {file}");
+    std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
+}
+
+/// Moves node `n` (1-based) of the valid mesh to `x`.
+fn move_node(dir: &Path, n: usize, x: [f64; 3]) {
+    let mut nodes: [[f64; 3]; 7] =
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+    nodes[n - 1] = x;
+    write_mesh(dir, &nodes);
+}
+
+#[test]
+fn the_valid_shell_and_beam_case_runs() {
+    let dir = scratch("bad-el-valid");
+    let job = valid_case(&dir);
+    for np in [0, 2] {
+        let out = run(np, &[job.to_str().unwrap()]);
+        assert!(out.status.success(), "np={np}: {}", stderr(&out));
+    }
+}
+
+#[test]
+fn zero_length_beam() {
+    // Node 7 onto node 4: the beam 4–7 has zero length.
+    expect_error("bad-el-zero-length", |d| move_node(d, 7, [0.0, 0.0, 1.0]), 2, &["element 6 (group 'beam')", "zero-length"]);
+}
+
+#[test]
+fn orientation_parallel_to_the_beam() {
+    expect_error(
+        "bad-el-orientation",
+        |d| edit(d, "job.toml", "orientation = [0.0, 0.0, 1.0]", "orientation = [0.0, 2.0, 0.0]"),
+        2,
+        &["element 6", "orientation vector", "parallel to the element axis"],
+    );
+}
+
+#[test]
+fn warped_quadrilateral_beyond_the_limit() {
+    // Node 5 pushed 0.4 m out of the plane: ±0.1 m off the mean plane of a 1 m quad, warping ratio
+    // about 0.1 > WARPING_LIMIT = 0.05 (a 0.2 m push, ratio 0.05, is accepted: checked by hand).
+    expect_error("bad-el-warped", |d| move_node(d, 5, [1.0, 0.4, 1.0]), 2, &["element 7", "warped", "limit 5e-2"]);
+}
+
+#[test]
+fn degenerate_triangle() {
+    // Node 6 onto the line 2–3 extended: the triangle 2-3-6 has zero area.
+    expect_error("bad-el-degenerate-tri", |d| move_node(d, 6, [3.0, 0.0, 0.0]), 2, &["element 8 (group 'tris')", "degenerate"]);
+}
+
+#[test]
+fn non_convex_quadrilateral() {
+    // Node 5 inside the quad's other half: the corner at node 5 turns the wrong way.
+    expect_error("bad-el-nonconvex", |d| move_node(d, 5, [0.3, 0.0, 0.3]), 2, &["element 7", "degenerate", "convex"]);
+}
+
+#[test]
+fn non_positive_thickness() {
+    expect_error(
+        "bad-el-thickness",
+        |d| edit(d, "job.toml", "thickness = 0.3", "thickness = -0.3"),
+        2,
+        &["job.toml:11:1", "sections.wall.thickness", "must be a finite number > 0, got -0.3"],
+    );
+}
+
+#[test]
+fn zero_layers() {
+    expect_error("bad-el-layers", |d| edit(d, "job.toml", "layers = 3", "layers = 0"), 2, &["job.toml:12:1", "sections.wall.layers", "expected 1 to 99 layers, got 0"]);
+}
