@@ -15,9 +15,11 @@
 //!                    pattern control (the constraint u_c = u_c* holds only for η = 1)
 //!   u_{k+1} = u_k + η δu,  μ += δμ
 //! ```
-//! Converged when ‖r‖ ≤ tol_f · max(‖f_ext‖, ‖f_int‖) (f_int on all rows, so the reactions set
-//! the scale of a displacement-driven problem) or, after the first iteration, when the energy
-//! |δu · r| ≤ tol_e · |δu₀ · r₀|.
+//! Converged when ‖r‖ ≤ tol_f · F or, after the first iteration, when the energy
+//! |δu · r| ≤ tol_e · |δu₀ · r₀|. The force scale is F = max(‖f_ext‖, ‖f_int‖) (f_int on all
+//! rows, so the reactions set the scale of a displacement-driven problem), bounded to
+//! [F₀, G·F₀] with F₀ its value at the increment's start ([`bounded_reference`]): a runaway
+//! iterate, with huge internal forces and control multiplier, must not loosen its own test.
 //!
 //! Elements evaluate from their committed state at the total displacement and keep the result
 //! as their trial state; [`NonlinearSystem::commit`] makes sure the trial state is that of the
@@ -253,6 +255,7 @@ impl NonlinearSystem {
         self.start(inc);
         let mut outcome = NewtonOutcome { converged: false, iterations: 0, residual: f64::INFINITY, line_search_evaluations: 0, reason: String::new() };
         let mut energy0 = 0.0f64;
+        let mut reference0 = 0.0f64;
         for it in 0..set.max_iterations {
             outcome.iterations = it + 1;
             if !self.fresh {
@@ -262,7 +265,11 @@ impl NonlinearSystem {
             let r = self.residual(inc.lambda, self.mu);
             let rn = global_sum(ctx, dot(&r, &r)).sqrt();
             let ext: Vec<f64> = (0..self.n_owned).map(|i| inc.lambda * self.f_loads[i] + self.mu * self.f_pattern[i]).collect();
-            let reference = global_sum(ctx, dot(&ext, &ext)).sqrt().max(global_sum(ctx, dot(&self.f_int, &self.f_int)).sqrt());
+            let current = global_sum(ctx, dot(&ext, &ext)).sqrt().max(global_sum(ctx, dot(&self.f_int, &self.f_int)).sqrt());
+            if it == 0 {
+                reference0 = current;
+            }
+            let reference = bounded_reference(current, reference0);
             outcome.residual = if reference > 0.0 { rn / reference } else { rn };
             if !outcome.residual.is_finite() {
                 outcome.reason = "the residual is not finite".into();
@@ -378,5 +385,39 @@ impl NonlinearSystem {
     /// The residual at the current state (owned, free rows).
     pub fn current_residual(&self, lambda: f64) -> Vec<f64> {
         self.residual(lambda, self.mu)
+    }
+}
+
+/// How far the force scale of the convergence test may grow within one increment: G.
+pub const REFERENCE_GROWTH: f64 = 10.0;
+
+/// The force scale of the convergence test: the current `max(‖f_ext‖, ‖f_int‖)` bounded to
+/// `[F₀, G·F₀]`, F₀ its value at the start of the increment (or the step), G =
+/// [`REFERENCE_GROWTH`]. Forces may grow within an increment, but a diverging iterate, whose
+/// internal forces run away, cannot make its own residual look small. With F₀ = 0 (nothing
+/// loaded at the start) the current value is used.
+pub fn bounded_reference(current: f64, start: f64) -> f64 {
+    if start > 0.0 {
+        current.clamp(start, REFERENCE_GROWTH * start)
+    } else {
+        current
+    }
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_force_scale_cannot_run_away_with_the_iterate() {
+        // Within [F₀, G F₀] the current scale is used as it is.
+        assert_eq!(bounded_reference(3.0, 1.0), 3.0);
+        // An iterate whose forces blew up by 1e7 is judged against G F₀, not against itself.
+        assert_eq!(bounded_reference(1.2e7, 1.0), REFERENCE_GROWTH);
+        // Unloading below the start does not tighten the test beyond the start's scale.
+        assert_eq!(bounded_reference(0.1, 1.0), 1.0);
+        // Nothing loaded at the start: the current scale.
+        assert_eq!(bounded_reference(5.0, 0.0), 5.0);
     }
 }

@@ -232,6 +232,7 @@ impl Stepper {
         s.u.copy_from_slice(&state.u);
         sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
         let mut residual = f64::INFINITY;
+        let mut scale0 = 0.0f64;
         for it in 0..=st.max_iterations {
             if let Err(e) = sys.internal_force(&s.u, &mut s.fi) {
                 return Attempt::Failed { residual, reason: e.to_string() };
@@ -244,7 +245,12 @@ impl Stepper {
             }
             let d = sys.dots(&[(&s.r, &s.r), (&s.ma, &s.ma), (&s.cv, &s.cv), (&s.fi, &s.fi)]);
             let rn = d[0].sqrt();
-            let scale = rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt());
+            let current = rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt());
+            if it == 0 {
+                scale0 = current;
+            }
+            // Bounded to [scale₀, G·scale₀]: a diverging iterate cannot loosen its own test.
+            let scale = crate::analysis::newton::bounded_reference(current, scale0);
             residual = if scale > 0.0 { rn / scale } else { rn };
             if !residual.is_finite() {
                 return Attempt::Failed { residual, reason: "the residual is not finite".into() };
