@@ -3,7 +3,8 @@
 //!
 //! ```text
 //!  1 modal          modal::run_to on the model as given          → modes.xdmf, the frequencies
-//!  2 updating       modal_updating::run: factors s_g on E per group (LM, exact sensitivities)
+//!  2 updating       modal_updating::run: factors s_g on E per group (LM, exact sensitivities),
+//!                   targets paired by MAC with stage 1's shapes unless target_shapes are given
 //!                   the updated job: each updated part gets its own copy of its material,
 //!                   E ← s_g E (G with it; a damage law's f_t = E ε₀ᵗ follows, ε₀ᵗ fixed)
 //!                   → stages.json (stages 1–3 and the factors: what --restart reads back)
@@ -121,7 +122,15 @@ fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, mod
     let updating = match &cfg.updating {
         Some(u) => {
             log.info(format!("stage 2/4: modal updating of {} group modulus(es) to {} target frequency(ies)", u.parameters.len(), u.targets.len()));
-            Some(modal_updating::run(ctx, job, u, mesh, model)?)
+            // Without measured shapes, the targets are stage 1's modes: each target keeps the
+            // computed mode most like its stage-1 shape (MAC), so a reordering of close modes as
+            // the moduli move does not pair a target with another mode.
+            let mut u = u.clone();
+            if u.target_shapes.is_none() {
+                u.target_shapes = Some(job.output_dir.join("modes.h5"));
+                log.info("  targets paired by MAC with the mode shapes of stage 1 (modes.h5)");
+            }
+            Some(modal_updating::run(ctx, job, &u, mesh, model)?)
         }
         None => {
             log.info("stage 2/4: no [analysis.updating]: the moduli are used as given");

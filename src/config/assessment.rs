@@ -22,7 +22,8 @@
 //! ```
 //!
 //! The updating keys are those of `type = "modal_updating"` ([`super::ModalUpdatingConfig`]),
-//! one level down. The factor of a group multiplies the Young modulus (and G with it) of the
+//! one level down. Without `target_shapes`, target `mode = k` means stage 1's mode k, and each
+//! target is paired by MAC with the computed mode most like stage 1's shape k. The factor of a group multiplies the Young modulus (and G with it) of the
 //! material of that group's parts only: a material shared by several groups is copied per group
 //! (`<material>@<group>`) before it is scaled. For a damage material the law's `E` is scaled,
 //! so its tensile strength `f_t = E ε₀ᵗ` follows (ε₀ᵗ is the identified threshold strain).
