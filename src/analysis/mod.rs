@@ -1,6 +1,7 @@
 //! Analysis drivers. Each reads as phases — setup, assemble, solve, check, output — each timed,
 //! and takes what it needs (context, job, mesh, model) as arguments.
 pub mod assembly;
+pub mod assessment;
 pub mod curve_plot;
 pub mod dem;
 pub mod identify;

@@ -89,6 +89,12 @@ pub fn lowest_modes(ctx: &Context, k: &Matrix, m: &Matrix, n: usize) -> Result<V
 
 /// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
 pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &StructuralModel) -> Result<ModalSummary, Error> {
+    run_to(ctx, job, cfg, mesh, model, "modes")
+}
+
+/// Collective. As [`run`], with the mode shapes in `<stem>.xdmf` + `<stem>.h5` of the job's
+/// results folder.
+pub fn run_to(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &StructuralModel, stem: &str) -> Result<ModalSummary, Error> {
     let log = &ctx.log;
     let t0 = Instant::now();
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
@@ -174,7 +180,7 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &Str
     let t0 = Instant::now();
     let piece = MeshPiece::new(ctx, job, mesh, model, &disc);
     let written: Result<(), Error> = (|| {
-        let mut w = ResultsWriter::create(&ctx.comm, &job.output_dir, "modes", &piece.view())?;
+        let mut w = ResultsWriter::create(&ctx.comm, &job.output_dir, stem, &piece.view())?;
         let n_nodes = disc.dofs.owned.len();
         for (md, shape) in modes.iter().zip(&shapes) {
             w.begin_step(md.mode as f64)?;
@@ -187,7 +193,7 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &Str
     })();
     agree(&ctx.comm, written, Error::exit_code)?;
     let t_output = t0.elapsed().as_secs_f64();
-    log.info(format!("mode shapes: {}", job.output_dir.join("modes.xdmf").display()));
+    log.info(format!("mode shapes: {}", job.output_dir.join(format!("{stem}.xdmf")).display()));
 
     Ok(ModalSummary {
         ranks: ctx.size,

@@ -66,6 +66,9 @@ pub enum AnalysisConfig {
     StaticNonlinear(StaticNonlinearConfig),
     /// Seismic time history: gravity, then the base acceleration of `[dynamics]`.
     TimeHistory,
+    /// Modal analysis, modal updating, then gravity and the earthquake of `[dynamics]` on the
+    /// updated model: see [`super::AssessmentConfig`].
+    SeismicAssessment(super::AssessmentConfig),
 }
 
 /// `[analysis] type = "static_nonlinear"`: the job's loads (nodal loads and gravity) scaled by a
@@ -234,6 +237,7 @@ impl AnalysisConfig {
             AnalysisConfig::ModalUpdating(_) => "modal_updating",
             AnalysisConfig::StaticNonlinear(_) => "static_nonlinear",
             AnalysisConfig::TimeHistory => "time_history",
+            AnalysisConfig::SeismicAssessment(_) => "seismic_assessment",
         }
     }
 }

@@ -27,6 +27,7 @@ pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
         ("modal_updating", JobKind::Structural),
         ("static_nonlinear", JobKind::Structural),
         ("time_history", JobKind::Structural),
+        ("seismic_assessment", JobKind::Structural),
         ("material_point", JobKind::MaterialPoint),
         ("dem", JobKind::Dem),
         ("spectrum", JobKind::Spectrum),

@@ -2,6 +2,7 @@
 //!
 //! Every error names the file, the line and column, the key and what was expected
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
+mod assessment;
 mod dem;
 mod dynamics;
 mod error;
@@ -16,6 +17,7 @@ mod tagged;
 mod validate;
 
 pub use error::{ConfigError, Location};
+pub use assessment::*;
 pub use dem::*;
 pub use dynamics::*;
 pub use identify::*;
@@ -81,12 +83,17 @@ impl Job {
                 o.file = file;
             }
         }
-        if let AnalysisConfig::ModalUpdating(u) = &mut spec.analysis {
+        let updating = match &mut spec.analysis {
+            AnalysisConfig::ModalUpdating(u) => Some((u, vec![Seg::Key("analysis".into())])),
+            AnalysisConfig::SeismicAssessment(a) => a.updating.as_mut().map(|u| (u, vec![Seg::Key("analysis".into()), Seg::Key("updating".into())])),
+            _ => None,
+        };
+        if let Some((u, base)) = updating {
             if let Some(p) = &u.target_shapes {
                 let file = resolve(&folder, p);
                 if !file.is_file() {
                     return Err(source.error_at(
-                        &[Seg::Key("analysis".into()), Seg::Key("target_shapes".into())],
+                        &[base, vec![Seg::Key("target_shapes".into())]].concat(),
                         format!("target shapes file {} does not exist", file.display()),
                     ));
                 }
@@ -94,11 +101,11 @@ impl Job {
             }
         }
         match (&spec.analysis, &mut spec.dynamics) {
-            (AnalysisConfig::TimeHistory, Some(d)) => dynamics::load_dynamics(&source, &folder, d)?,
+            (AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_), Some(d)) => dynamics::load_dynamics(&source, &folder, d)?,
             (AnalysisConfig::TimeHistory, None) => {
                 return Err(source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "a time history needs a [dynamics] table"))
             }
-            (_, Some(_)) => return Err(source.error_at(&[Seg::Key("dynamics".into())], "[dynamics] is read only by [analysis] type = \"time_history\"")),
+            (_, Some(_)) => return Err(source.error_at(&[Seg::Key("dynamics".into())], "[dynamics] is read only by [analysis] type = \"time_history\" or \"seismic_assessment\"")),
             _ => {}
         }
         let output_dir = output_dir(path, &spec.output);

@@ -177,31 +177,10 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         }
     }
     if let AnalysisConfig::ModalUpdating(u) = &job.analysis {
-        let at = |k: &str, i: usize, f: &str| vec![key("analysis"), key(k), Seg::Index(i), key(f)];
-        if u.targets.is_empty() || u.parameters.is_empty() {
-            return Err(src.error_at(&[key("analysis")], "modal updating needs [[analysis.targets]] and [[analysis.parameters]]"));
-        }
-        for (i, t) in u.targets.iter().enumerate() {
-            if t.mode == 0 || t.mode > u.modes {
-                return Err(src.error_at(&at("targets", i, "mode"), format!("expected a mode number in 1..={} (modes)", u.modes)));
-            }
-            positive(src, &at("targets", i, "frequency"), "target frequency [Hz]", t.frequency)?;
-        }
-        for (i, p) in u.parameters.iter().enumerate() {
-            positive(src, &at("parameters", i, "min"), "lower bound of the modulus factor", p.min)?;
-            if !(p.max.is_finite() && p.max > p.min) {
-                return Err(src.error_at(&at("parameters", i, "max"), format!("expected max > min = {}, got {}", p.min, p.max)));
-            }
-            if !job.parts.iter().any(|q| q.group == p.group) {
-                return Err(src.error_at(
-                    &at("parameters", i, "group"),
-                    format!("group '{}' is not one of the job's parts ({})", p.group, job.parts.iter().map(|q| q.group.as_str()).collect::<Vec<_>>().join(", ")),
-                ));
-            }
-        }
-        if !has_mass(job) {
-            return Err(src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0"));
-        }
+        validate_updating(src, job, u, &[key("analysis")])?;
+    }
+    if let AnalysisConfig::SeismicAssessment(a) = &job.analysis {
+        super::assessment::validate_assessment(src, job, a)?;
     }
     if job.parts.is_empty() {
         return Err(src.error_at(
@@ -276,6 +255,42 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 "a PETSc option value must be a string, a number or a boolean",
             ));
         }
+    }
+    Ok(())
+}
+
+/// Checks of a modal updating's targets and parameters; `base` is where its keys are (`analysis`,
+/// or `analysis.updating` in a seismic assessment).
+pub(super) fn validate_updating(src: &Source, job: &StructuralJobFile, u: &ModalUpdatingConfig, base: &[Seg]) -> Result<(), ConfigError> {
+    let at = |k: &str, i: usize, f: &str| {
+        let mut p = base.to_vec();
+        p.extend([key(k), Seg::Index(i), key(f)]);
+        p
+    };
+    let table = if base.len() > 1 { "analysis.updating" } else { "analysis" };
+    if u.targets.is_empty() || u.parameters.is_empty() {
+        return Err(src.error_at(base, format!("modal updating needs [[{table}.targets]] and [[{table}.parameters]]")));
+    }
+    for (i, t) in u.targets.iter().enumerate() {
+        if t.mode == 0 || t.mode > u.modes {
+            return Err(src.error_at(&at("targets", i, "mode"), format!("expected a mode number in 1..={} (modes)", u.modes)));
+        }
+        positive(src, &at("targets", i, "frequency"), "target frequency [Hz]", t.frequency)?;
+    }
+    for (i, p) in u.parameters.iter().enumerate() {
+        positive(src, &at("parameters", i, "min"), "lower bound of the modulus factor", p.min)?;
+        if !(p.max.is_finite() && p.max > p.min) {
+            return Err(src.error_at(&at("parameters", i, "max"), format!("expected max > min = {}, got {}", p.min, p.max)));
+        }
+        if !job.parts.iter().any(|q| q.group == p.group) {
+            return Err(src.error_at(
+                &at("parameters", i, "group"),
+                format!("group '{}' is not one of the job's parts ({})", p.group, job.parts.iter().map(|q| q.group.as_str()).collect::<Vec<_>>().join(", ")),
+            ));
+        }
+    }
+    if !has_mass(job) {
+        return Err(src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0"));
     }
     Ok(())
 }

@@ -101,9 +101,10 @@ pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), 
 /// Collective. As [`run_job`]; `restart` continues a time history from its last checkpoint.
 pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: bool) -> Result<(), Error> {
     let job = agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)?;
-    if restart && !matches!(&job, AnyJob::Structural(j) if j.spec.analysis == AnalysisConfig::TimeHistory) {
+    let restartable = |a: &AnalysisConfig| matches!(a, AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_));
+    if restart && !matches!(&job, AnyJob::Structural(j) if restartable(&j.spec.analysis)) {
         // Every rank knows it: print it once.
-        let message = format!("{}: --restart applies to [analysis] type = \"time_history\" jobs only", path.display());
+        let message = format!("{}: --restart applies to [analysis] type = \"time_history\" or \"seismic_assessment\" jobs only", path.display());
         return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
     }
     match job {
@@ -200,6 +201,11 @@ fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String], r
         AnalysisConfig::TimeHistory => {
             ctx.log.info(format!("analysis: time history{}", if restart { " (restart)" } else { "" }));
             let summary = crate::analysis::time_history::run(ctx, job, &input.mesh, &input.model, restart)?;
+            write_summary(ctx, &job.output_dir, &summary)?;
+        }
+        AnalysisConfig::SeismicAssessment(cfg) => {
+            ctx.log.info(format!("analysis: seismic assessment (modal, updating, gravity, earthquake){}", if restart { " (restart)" } else { "" }));
+            let summary = crate::analysis::assessment::run(ctx, job, cfg, &input.mesh, &input.model, restart)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::Modal(cfg) => {

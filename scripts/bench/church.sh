@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Church benchmark (jobs/church.toml, the main job). One JSON line per case:
+#   church-coarse-full     the whole job on the coarse mesh (19,386 DOF): modal, updating, gravity,
+#                          22 s of record; on 1 and 2 ranks: wall-clock seconds, seconds per time
+#                          step, the speedup of 2 ranks over 1, peak memory per rank (VmHWM)
+#   church-fine-segment    the fine mesh (meshes/church-fine.msh, 219,822 DOF) without updating,
+#                          gravity then STEPS time steps (default 5), on 2 ranks: seconds per step,
+#                          peak memory per rank
+# Every line carries the load average at the start and end of the case (`uptime`): the machine
+# may be shared, which inflates the timings. Run through scripts/bench.sh (which builds first).
+# CASES="coarse" or CASES="fine" runs one of the two; STEPS sets the fine segment's length.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+source scripts/env.sh
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cp -r jobs/records "$work/records"
+mkdir -p "$work/materials"
+cp materials/rubble-masonry.toml "$work/materials/"
+root=$(pwd)
+cases="${CASES:-coarse fine}"
+steps="${STEPS:-5}"
+loadavg() { cut -d' ' -f1 /proc/loadavg; }
+
+# Runs `mpirun -n $1 masonry-hpc $2`, sampling VmHWM of every rank's process each second.
+# Writes $work/run.wall (seconds) and $work/run.mem (peak MB per rank, space separated).
+measure() {
+  local np=$1 job=$2
+  local start end
+  start=$(date +%s.%N)
+  OMPI_MCA_mpi_yield_when_idle=1 mpirun -n "$np" target/release/masonry-hpc -q "$job" >"$work/run.log" 2>&1 &
+  local launcher=$!
+  declare -A peak=()
+  while kill -0 "$launcher" 2>/dev/null; do
+    for pid in $(pgrep -P "$launcher" -f masonry-hpc 2>/dev/null || true); do
+      local hwm
+      hwm=$(awk '/VmHWM/ {print $2}' "/proc/$pid/status" 2>/dev/null || echo 0)
+      if [ -n "$hwm" ] && [ "${peak[$pid]:-0}" -lt "$hwm" ]; then peak[$pid]=$hwm; fi
+    done
+    sleep 1
+  done
+  wait "$launcher" || { echo "error: the run failed, log:" >&2; tail -20 "$work/run.log" >&2; exit 1; }
+  end=$(date +%s.%N)
+  python3 -c "print($end - $start)" > "$work/run.wall"
+  local mem=""
+  for pid in "${!peak[@]}"; do mem="$mem $(( ${peak[$pid]} / 1024 ))"; done
+  echo "$mem" > "$work/run.mem"
+}
+
+emit() { # case np summary.json load_before
+  python3 - "$@" "$(cat "$work/run.wall")" "$(cat "$work/run.mem")" "$(loadavg)" <<'PY'
+import json, sys
+case, np_, summ, load0, wall, mem, load1 = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], float(sys.argv[5]), sys.argv[6], sys.argv[7]
+s = json.load(open(summ))
+th = s["time_history"]
+mem = sorted(int(x) for x in mem.split())
+out = {
+    "case": case, "size": th["equations"], "elements": th["elements"], "ranks": np_,
+    "steps": th["steps"] - th["first_step"], "seconds": round(wall, 2), "seconds_per_step": round(th["seconds_per_step"], 4),
+    "seconds_stages": [round(x, 2) for x in s["stages"]["seconds"]], "seconds_gravity": round(th["seconds"][1], 2),
+    "iterations": th["iterations"], "factorizations": th["factorizations"], "substepped_steps": th["substepped_steps"],
+    "max_damage": th["max_damage"], "peak_memory_mb_per_rank": mem, "load_average": [float(load0), float(load1)],
+}
+print(json.dumps(out))
+PY
+}
+
+if [[ " $cases " == *" coarse "* ]]; then
+  sed -e "s#\"../meshes/church.msh\"#\"$root/meshes/church.msh\"#" -e "s#\"../results/church\"#\"out\"#" \
+      -e 's/existing = "backup"/existing = "overwrite"/' jobs/church.toml > "$work/coarse.toml"
+  for np in 1 2; do
+    load0=$(loadavg)
+    measure "$np" "$work/coarse.toml"
+    cp "$work/out/summary.json" "$work/coarse-$np.json"
+    cp "$work/run.wall" "$work/coarse-$np.wall"
+    emit church-coarse-full "$np" "$work/coarse-$np.json" "$load0" > "$work/coarse-$np.line"
+  done
+  python3 - "$work/coarse-1.line" "$work/coarse-2.line" <<'PY'
+import json, sys
+a, b = (json.loads(open(f).read()) for f in sys.argv[1:3])
+for line in (a, b):
+    line["speedup_vs_1_rank"] = round(a["seconds"] / line["seconds"], 3)
+    print(json.dumps(line))
+PY
+fi
+
+if [[ " $cases " == *" fine "* ]]; then
+  # The fine mesh, no updating (its stages cost eigensolves of 220k DOF), STEPS steps.
+  python3 - "$root" "$work" "$steps" <<'PY'
+import re, sys
+root, work, steps = sys.argv[1], sys.argv[2], int(sys.argv[3])
+t = open(f"{root}/jobs/church.toml").read()
+t = t.replace('"../meshes/church.msh"', f'"{root}/meshes/church-fine.msh"').replace('"../results/church"', '"out"')
+t = t.replace('existing = "backup"', 'existing = "overwrite"')
+t = re.sub(r"\n\[analysis\.updating\].*?(?=\n\[mesh\])", "\n", t, flags=re.S)
+t = re.sub(r"\nmodes = 12\n", "\nmodes = 1\n", t)
+t = re.sub(r"\nduration = [0-9.]+", f"\nduration = {steps * 0.02:.2f}", t)
+t = re.sub(r"\noutput_every = [0-9]+", "\noutput_every = 1000", t)
+open(f"{work}/fine.toml", "w").write(t)
+PY
+  load0=$(loadavg)
+  measure 2 "$work/fine.toml"
+  emit church-fine-segment 2 "$work/out/summary.json" "$load0"
+fi

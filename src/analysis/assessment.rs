@@ -1,0 +1,272 @@
+//! The `seismic_assessment` job (the church job): the stages of a seismic assessment chained in
+//! one run, each one the existing driver, on the same mesh.
+//!
+//! ```text
+//!  1 modal          modal::run_to on the model as given          → modes.xdmf, the frequencies
+//!  2 updating       modal_updating::run: factors s_g on E per group (LM, exact sensitivities),
+//!                   targets paired by MAC with stage 1's shapes unless target_shapes are given
+//!                   the updated job: each updated part gets its own copy of its material,
+//!                   E ← s_g E (G with it; a damage law's f_t = E ε₀ᵗ follows, ε₀ᵗ fixed)
+//!                   → stages.json (stages 1–3 and the factors: what --restart reads back)
+//!  3 modal (updated) modal::run_to on the updated model         → modes-updated.xdmf
+//!  4 time history   time_history::run on the updated model: gravity, then [dynamics]
+//!                   → results.xdmf, envelopes.xdmf, monitors.csv + PNGs, energy.csv, checkpoint/
+//! ```
+//!
+//! `--restart` skips stages 1–3: it reads the factors from `stages.json`, rebuilds the updated
+//! model and continues the time history from its last checkpoint. `summary.json` holds every
+//! stage.
+use super::modal;
+use super::modal_updating::{self, UpdatingSummary};
+use super::time_history::{self, TimeHistorySummary};
+use crate::config::{AssessmentConfig, Job, MaterialConfig, Source};
+use crate::mesh::Mesh;
+use crate::model::StructuralModel;
+use crate::parallel::{agree, Context};
+use crate::run::Error;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// The file holding the stages before the time history (read back by `--restart`).
+pub const STAGES_FILE: &str = "stages.json";
+
+/// The modulus of one group's parts, before and after updating.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ModulusChange {
+    /// Physical group.
+    pub group: String,
+    /// The material the job gives its parts.
+    pub material: String,
+    /// The material the updated model uses (`<material>@<group>` when scaled).
+    pub material_used: String,
+    /// Factor on E (1 when the group is not updated).
+    pub factor: f64,
+    /// Young's modulus before [Pa].
+    pub e_before: f64,
+    /// After [Pa].
+    pub e_after: f64,
+    /// Tensile strength `f_t = E ε₀ᵗ` before and after [Pa] (damage materials).
+    pub f_t: Option<[f64; 2]>,
+}
+
+/// Stages 1–3, as written to [`STAGES_FILE`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct PreStages {
+    /// Stage 1: modes of the model as given.
+    pub modal: serde_json::Value,
+    /// Stage 2 (null without `[analysis.updating]`).
+    pub updating: serde_json::Value,
+    /// The moduli of every part's group, before and after.
+    pub moduli: Vec<ModulusChange>,
+    /// Stage 3: modes of the updated model.
+    pub modal_updated: serde_json::Value,
+    /// Seconds of stages 1, 2, 3.
+    pub seconds: [f64; 3],
+}
+
+/// What the assessment reports (`summary.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct AssessmentSummary {
+    /// Ranks.
+    pub ranks: usize,
+    /// True when this run continued a time history from its checkpoint.
+    pub restart: bool,
+    /// Stages 1–3 (read back from `stages.json` on a restart).
+    pub stages: PreStages,
+    /// Stage 4.
+    pub time_history: TimeHistorySummary,
+    /// Seconds of this run: stages 1–3 (0 on a restart), time history, total.
+    pub seconds: [f64; 3],
+}
+
+/// Collective. Runs the assessment (see the module docs).
+pub fn run(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, model: &StructuralModel, restart: bool) -> Result<AssessmentSummary, Error> {
+    let log = &ctx.log;
+    let t_start = Instant::now();
+    let stages = if restart {
+        let file = job.output_dir.join(STAGES_FILE);
+        let read = read_stages(&file);
+        let stages = agree(&ctx.comm, read, Error::exit_code)?;
+        log.info(format!("restart: stages 1-3 read back from {} (modal updating skipped)", file.display()));
+        stages
+    } else {
+        pre_stages(ctx, job, cfg, mesh, model)?
+    };
+    let t_pre = t_start.elapsed().as_secs_f64();
+    let updated = updated_job(job, &stages.moduli);
+    let updated_model = agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
+
+    log.info(format!("stage 4/4: gravity, then the ground motion on the updated model{}", if restart { " (restart)" } else { "" }));
+    let t0 = Instant::now();
+    let th = time_history::run(ctx, &updated, mesh, &updated_model, restart)?;
+    let t_th = t0.elapsed().as_secs_f64();
+    Ok(AssessmentSummary {
+        ranks: ctx.size,
+        restart,
+        stages,
+        time_history: th,
+        seconds: [if restart { 0.0 } else { t_pre }, t_th, t_start.elapsed().as_secs_f64()],
+    })
+}
+
+/// Collective. Stages 1–3; rank 0 writes them to `stages.json`.
+fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, model: &StructuralModel) -> Result<PreStages, Error> {
+    let log = &ctx.log;
+    log.info(format!("stage 1/4: modal analysis of the model as given, {} mode(s)", cfg.modes));
+    let t0 = Instant::now();
+    let modal = modal::run_to(ctx, job, &cfg.modal(), mesh, model, "modes")?;
+    let t_modal = t0.elapsed().as_secs_f64();
+
+    let t0 = Instant::now();
+    let updating = match &cfg.updating {
+        Some(u) => {
+            log.info(format!("stage 2/4: modal updating of {} group modulus(es) to {} target frequency(ies)", u.parameters.len(), u.targets.len()));
+            // Without measured shapes, the targets are stage 1's modes: each target keeps the
+            // computed mode most like its stage-1 shape (MAC), so a reordering of close modes as
+            // the moduli move does not pair a target with another mode.
+            let mut u = u.clone();
+            if u.target_shapes.is_none() {
+                u.target_shapes = Some(job.output_dir.join("modes.h5"));
+                log.info("  targets paired by MAC with the mode shapes of stage 1 (modes.h5)");
+            }
+            Some(modal_updating::run(ctx, job, &u, mesh, model)?)
+        }
+        None => {
+            log.info("stage 2/4: no [analysis.updating]: the moduli are used as given");
+            None
+        }
+    };
+    let t_updating = t0.elapsed().as_secs_f64();
+    let moduli = modulus_changes(job, updating.as_ref());
+    log.info("moduli of the time history: group, material, factor, E before -> after [Pa], f_t before -> after [Pa]");
+    for m in &moduli {
+        log.info(format!(
+            "  {:12} {:16} {:8.5}  {:11.4e} -> {:11.4e}{}",
+            m.group,
+            m.material,
+            m.factor,
+            m.e_before,
+            m.e_after,
+            m.f_t.map(|[a, b]| format!("   {a:.4e} -> {b:.4e}")).unwrap_or_default()
+        ));
+    }
+
+    log.info("stage 3/4: modal analysis of the updated model");
+    let t0 = Instant::now();
+    let updated = updated_job(job, &moduli);
+    let updated_model = agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
+    let modal_updated = modal::run_to(ctx, &updated, &cfg.modal(), mesh, &updated_model, "modes-updated")?;
+    let t_modal_updated = t0.elapsed().as_secs_f64();
+
+    let stages = PreStages {
+        modal: to_value(&modal),
+        updating: updating.as_ref().map_or(serde_json::Value::Null, to_value),
+        moduli,
+        modal_updated: to_value(&modal_updated),
+        seconds: [t_modal, t_updating, t_modal_updated],
+    };
+    let written = if ctx.rank == 0 { write_stages(&job.output_dir.join(STAGES_FILE), &stages) } else { Ok(()) };
+    agree(&ctx.comm, written, Error::exit_code)?;
+    Ok(stages)
+}
+
+fn to_value<T: Serialize>(v: &T) -> serde_json::Value {
+    serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
+}
+
+fn write_stages(file: &Path, stages: &PreStages) -> Result<(), Error> {
+    let text = serde_json::to_string_pretty(stages).map_err(|e| Error::Analysis(format!("{}: {e}", file.display())))?;
+    std::fs::write(file, text + "\n").map_err(|source| Error::OutputDir { path: file.to_path_buf(), source })
+}
+
+fn read_stages(file: &Path) -> Result<PreStages, Error> {
+    let text = std::fs::read_to_string(file).map_err(|e| {
+        Error::Analysis(format!("--restart needs {} from the first run of this job (the updated moduli): {e}", file.display()))
+    })?;
+    serde_json::from_str(&text).map_err(|e| Error::Analysis(format!("{}: not a stages file of a seismic assessment: {e}", file.display())))
+}
+
+/// The modulus of every part's group: the updating's factor (1 for groups it does not update).
+pub fn modulus_changes(job: &Job, updating: Option<&UpdatingSummary>) -> Vec<ModulusChange> {
+    let factor_of = |group: &str| updating.and_then(|u| u.parameters.iter().find(|p| p.group == group)).map(|p| p.factor);
+    job.spec
+        .parts
+        .iter()
+        .map(|part| {
+            let material = job.spec.materials.get(&part.material);
+            let e = material.and_then(MaterialConfig::young_modulus).unwrap_or(f64::NAN);
+            let factor = factor_of(&part.group);
+            let s = factor.unwrap_or(1.0);
+            let eps0_t = match material {
+                Some(MaterialConfig::Damage(d)) => d.law.as_ref().map(|l| l.eps0_t),
+                _ => None,
+            };
+            ModulusChange {
+                group: part.group.clone(),
+                material: part.material.clone(),
+                material_used: if factor.is_some() { format!("{}@{}", part.material, part.group) } else { part.material.clone() },
+                factor: s,
+                e_before: e,
+                e_after: s * e,
+                f_t: eps0_t.map(|eps| [e * eps, s * e * eps]),
+            }
+        })
+        .collect()
+}
+
+/// The job with every updated group's parts on their own copy of their material, its Young
+/// modulus (and shear modulus, when given) multiplied by the group's factor.
+pub fn updated_job(job: &Job, moduli: &[ModulusChange]) -> Job {
+    let mut spec = job.spec.clone();
+    for part in spec.parts.iter_mut() {
+        let Some(m) = moduli.iter().find(|m| m.group == part.group && m.material == part.material) else { continue };
+        if m.material_used == part.material {
+            continue;
+        }
+        let Some(mut material) = job.spec.materials.get(&part.material).cloned() else { continue };
+        scale_modulus(&mut material, m.factor);
+        spec.materials.insert(m.material_used.clone(), material);
+        part.material = m.material_used.clone();
+    }
+    Job {
+        source: Source { file: job.source.file.clone(), text: job.source.text.clone() },
+        spec,
+        mesh_file: job.mesh_file.clone(),
+        output_dir: job.output_dir.clone(),
+        petsc_options: job.petsc_options.clone(),
+    }
+}
+
+/// `E ← s E` (and `G ← s G`): the whole elastic stiffness scales by `s`, the Poisson ratio held.
+fn scale_modulus(material: &mut MaterialConfig, s: f64) {
+    match material {
+        MaterialConfig::Elastic(m) => {
+            m.e *= s;
+            if let Some(g) = m.g.as_mut() {
+                *g *= s;
+            }
+        }
+        MaterialConfig::Damage(d) => {
+            if let Some(law) = d.law.as_mut() {
+                law.e *= s;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::ElasticMaterial;
+
+    #[test]
+    fn scaling_keeps_the_poisson_ratio() {
+        let mut m = MaterialConfig::Elastic(ElasticMaterial { e: 2.0e9, nu: None, g: Some(0.8e9), density: 1.0 });
+        scale_modulus(&mut m, 1.5);
+        let MaterialConfig::Elastic(e) = m else { panic!() };
+        // E and G both × 1.5: ν = E/2G − 1 unchanged (0.25).
+        assert_eq!(e.e, 3.0e9);
+        assert_eq!(e.g, Some(1.2e9));
+    }
+}
