@@ -142,9 +142,12 @@ impl LineChart {
                 SeriesStyle::Markers => chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 5, color.filled()))),
             }
             .map_err(|e| render(&e))?;
-            anno.label(s.name.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
-            });
+            // A series without a name (one of many samples) gets no legend entry.
+            if !s.name.is_empty() {
+                anno.label(s.name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
+                });
+            }
         }
         if self.series.iter().filter(|s| !s.name.is_empty()).count() > 1 {
             chart

@@ -1,6 +1,7 @@
 //! The static step before the earthquake: the static loads (self-weight, nodal loads) applied by
 //! a load factor λ from 0 to 1 in `steps` steps, full Newton in each on
-//! `r(u) = λ f_static − f_int(u)`, a failing step halved up to `max_cuts` times. It uses the same
+//! `r(u) = λ f_static − f_int(u)`; a failing step is halved, up to `max_cuts` times in a row, and
+//! after each converged step Δλ doubles again up to its initial `1/steps`. It uses the same
 //! [`DynamicSystem`] as the time history (with `c_m = c_c = 0` the Jacobian is the tangent), so the
 //! gravity state the earthquake starts from lives in the same elements.
 use super::system::DynamicSystem;
@@ -71,13 +72,15 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
             sys.commit();
             u = trial;
             lambda = target;
+            cuts = 0;
+            dl = (2.0 * dl).min(1.0 / s.steps as f64);
             log.info(format!("gravity: λ = {lambda:.4}, {its} iteration(s), relative residual {rel:.2e}"));
         } else {
             sys.revert();
             cuts += 1;
             if cuts > s.max_cuts {
                 return Err(Error::Analysis(format!(
-                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6} after {} halvings (relative residual {rel:.3e})",
+                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6} after {} halvings in a row (relative residual {rel:.3e})",
                     s.max_cuts
                 )));
             }

@@ -249,7 +249,7 @@ impl Stepper {
             if it == 0 {
                 scale0 = current;
             }
-            // Bounded to [scale₀, G·scale₀]: a diverging iterate cannot loosen its own test.
+            // At most G·scale₀: a diverging iterate cannot loosen its own test.
             let scale = crate::analysis::newton::bounded_reference(current, scale0);
             residual = if scale > 0.0 { rn / scale } else { rn };
             if !residual.is_finite() {
