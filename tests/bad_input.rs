@@ -20,23 +20,7 @@ fn expect_error(name: &str, break_it: impl Fn(&Path), code: i32, needles: &[&str
     let dir = scratch(name);
     let job = valid_case(&dir);
     break_it(&dir);
-    for np in [0, 2] {
-        let out = run(np, &[job.to_str().unwrap()]);
-        let err = stderr(&out);
-        assert_eq!(out.status.code(), Some(code), "np={np}: exit code; stderr:\n{err}");
-        for n in needles {
-            assert!(err.contains(n), "np={np}: message lacks '{n}':\n{err}");
-        }
-        assert_eq!(err.matches("error:").count(), 1, "np={np}: one message, not one per rank:\n{err}");
-        assert!(!err.contains("panicked") && !err.contains("RUST_BACKTRACE"), "np={np}: a panic:\n{err}");
-    }
-}
-
-fn edit(dir: &Path, file: &str, from: &str, to: &str) {
-    let p = dir.join(file);
-    let s = std::fs::read_to_string(&p).unwrap();
-    assert!(s.contains(from), "test setup: '{from}' not in {file}");
-    std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
+    expect_job_error(&job, code, needles);
 }
 
 #[test]

@@ -72,6 +72,30 @@ pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Runs `job` on 1 rank (no mpirun) and on 2 ranks, and checks that both fail with `code` and
+/// one message (printed once, not once per rank) containing every one of `needles`, without a
+/// panic.
+pub fn expect_job_error(job: &Path, code: i32, needles: &[&str]) {
+    for np in [0, 2] {
+        let out = run(np, &[job.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(code), "np={np}: exit code; stderr:\n{err}");
+        for n in needles {
+            assert!(err.contains(n), "np={np}: message lacks '{n}':\n{err}");
+        }
+        assert_eq!(err.matches("error:").count(), 1, "np={np}: one message, not one per rank:\n{err}");
+        assert!(!err.contains("panicked") && !err.contains("RUST_BACKTRACE"), "np={np}: a panic:\n{err}");
+    }
+}
+
+/// Replaces the first `from` by `to` in `dir/file` (a test's way of breaking a valid input).
+pub fn edit(dir: &Path, file: &str, from: &str, to: &str) {
+    let p = dir.join(file);
+    let s = std::fs::read_to_string(&p).unwrap();
+    assert!(s.contains(from), "test setup: '{from}' not in {file}");
+    std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
+}
+
 /// stdout as text.
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
