@@ -8,18 +8,18 @@
 #                          peak memory per rank
 # Every line carries the load average at the start and end of the case (`uptime`): the machine
 # may be shared, which inflates the timings. Run through scripts/bench.sh (which builds first).
-# CASES="coarse" or CASES="fine" runs one of the two; STEPS sets the fine segment's length.
+# CASES="coarse" or CASES="fine" runs one of the two; STEPS sets the fine segment's length;
+# RANKS="2" runs the coarse job on 2 ranks only (then no speedup is reported).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cp -r jobs/records "$work/records"
-mkdir -p "$work/materials"
-cp materials/rubble-masonry.toml "$work/materials/"
 root=$(pwd)
 cases="${CASES:-coarse fine}"
 steps="${STEPS:-5}"
+ranks="${RANKS:-1 2}"
 loadavg() { cut -d' ' -f1 /proc/loadavg; }
 
 # Runs `mpirun -n $1 masonry-hpc $2`, sampling VmHWM of every rank's process each second.
@@ -66,22 +66,26 @@ PY
 }
 
 if [[ " $cases " == *" coarse "* ]]; then
-  sed -e "s#\"../meshes/church.msh\"#\"$root/meshes/church.msh\"#" -e "s#\"../results/church\"#\"out\"#" \
+  sed -e "s#\"../meshes/church.msh\"#\"$root/meshes/church.msh\"#" -e "s#\"../materials/#\"$root/materials/#" -e "s#\"../results/church\"#\"out\"#" \
       -e 's/existing = "backup"/existing = "overwrite"/' jobs/church.toml > "$work/coarse.toml"
-  for np in 1 2; do
+  for np in $ranks; do
     load0=$(loadavg)
     measure "$np" "$work/coarse.toml"
     cp "$work/out/summary.json" "$work/coarse-$np.json"
     cp "$work/run.wall" "$work/coarse-$np.wall"
     emit church-coarse-full "$np" "$work/coarse-$np.json" "$load0" > "$work/coarse-$np.line"
   done
-  python3 - "$work/coarse-1.line" "$work/coarse-2.line" <<'PY'
+  if [ -f "$work/coarse-1.line" ] && [ -f "$work/coarse-2.line" ]; then
+    python3 - "$work/coarse-1.line" "$work/coarse-2.line" <<'PY'
 import json, sys
 a, b = (json.loads(open(f).read()) for f in sys.argv[1:3])
 for line in (a, b):
     line["speedup_vs_1_rank"] = round(a["seconds"] / line["seconds"], 3)
     print(json.dumps(line))
 PY
+  else
+    cat "$work"/coarse-*.line
+  fi
 fi
 
 if [[ " $cases " == *" fine "* ]]; then
@@ -91,7 +95,7 @@ import re, sys
 root, work, steps = sys.argv[1], sys.argv[2], int(sys.argv[3])
 t = open(f"{root}/jobs/church.toml").read()
 t = t.replace('"../meshes/church.msh"', f'"{root}/meshes/church-fine.msh"').replace('"../results/church"', '"out"')
-t = t.replace('existing = "backup"', 'existing = "overwrite"')
+t = t.replace('existing = "backup"', 'existing = "overwrite"').replace('"../materials/', f'"{root}/materials/')
 t = re.sub(r"\n\[analysis\.updating\].*?(?=\n\[mesh\])", "\n", t, flags=re.S)
 t = re.sub(r"\nmodes = 12\n", "\nmodes = 1\n", t)
 t = re.sub(r"\nduration = [0-9.]+", f"\nduration = {steps * 0.02:.2f}", t)

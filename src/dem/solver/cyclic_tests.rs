@@ -1,23 +1,8 @@
 //! Cyclic virtual tests: the protocol, elastic retracing, the envelope against the monotonic
 //! curve, energy balance over loops, and the particle states kept for the XDMF output.
+use super::tests::{balance, small_wall};
 use super::*;
 use crate::dem::mechanics::MechParams;
-use crate::dem::sample::{Sample, SampleConfig, SampleLayout};
-
-fn small_wall(seed: u64) -> Sample {
-    let mut cfg = SampleConfig::paper_wall(seed);
-    if let SampleLayout::Coursed(c) = &mut cfg.layout {
-        c.width = 0.5;
-        c.height = 0.6;
-        c.n_courses = 5;
-        c.n_per_course = 3;
-    }
-    Sample::build(&cfg).unwrap()
-}
-
-fn imbalance(c: &CurvePoint) -> f64 {
-    c.external_work - c.stored - c.dissipated.iter().sum::<f64>()
-}
 
 #[test]
 fn protocol_branches_and_steps() {
@@ -103,12 +88,12 @@ fn cyclic_tension_envelope_and_energy_balance() {
         r.stats.events,
         mono.stats.events,
         last.external_work,
-        imbalance(last)
+        balance(last)
     );
     assert!(r.end.is_valid(), "{:?}", r.end);
     assert!(r.stats.events > 0, "the wall cracks");
     assert!(env <= peak * (1.0 + 1e-6), "cyclic envelope {env} above the monotonic peak {peak}");
-    assert!(imbalance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", imbalance(last), last.external_work);
+    assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", balance(last), last.external_work);
 }
 
 fn cyclic_shear(amplitudes: Vec<f64>) -> VirtualTest {
@@ -139,7 +124,7 @@ fn cyclic_shear_loops_dissipate() {
         r.derived.peak_stress / 1e6,
         last.dissipated[1],
         last.external_work,
-        imbalance(last),
+        balance(last),
         r.particle_states.len()
     );
     assert_eq!(r.end, TestEnd::Target);
@@ -173,5 +158,5 @@ fn cyclic_shear_energy_balance() {
     let s = small_wall(3);
     let r = run_test(&s, &MechParams::default(), &cyclic_shear(vec![0.5e-3, 1e-3])).unwrap();
     let last = r.curve.last().unwrap();
-    assert!(imbalance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", imbalance(last), last.external_work);
+    assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", balance(last), last.external_work);
 }

@@ -15,7 +15,8 @@ fn paper_wall() -> Sample {
     Sample::build(&SampleConfig::paper_wall(1)).unwrap()
 }
 
-fn balance(c: &CurvePoint) -> f64 {
+/// External work minus stored and dissipated energy: zero when the energy balance closes.
+pub(super) fn balance(c: &CurvePoint) -> f64 {
     c.external_work - c.stored - c.dissipated.iter().sum::<f64>()
 }
 
@@ -214,7 +215,8 @@ fn paper_wall_compression_to_failure_report() {
     assert!(balance(last).abs() <= 0.01 * last.external_work, "energy balance {} of {}", balance(last), last.external_work);
 }
 
-fn small_wall(seed: u64) -> Sample {
+/// A small coursed wall (5 courses × 3 stones, 0.5 m × 0.6 m) with the paper's parameters.
+pub(super) fn small_wall(seed: u64) -> Sample {
     let mut cfg = SampleConfig::paper_wall(seed);
     if let SampleLayout::Coursed(c) = &mut cfg.layout {
         c.width = 0.5;
