@@ -63,9 +63,9 @@ fn small_wall_with_crushing_peaks_and_counts_crushed_beams() {
 fn crushing_keys_are_checked() {
     let dir = scratch("dem-crushing-bad");
     let f = job(&dir, "crushing_stress = 3.0e6");
-    expect_job_error(&f, 2, &["crush.toml:8:", "crushing_stress", "crushing_energy"]);
+    expect_job_error(&f, 2, &["crush.toml:9:", "crushing_stress", "crushing_energy"]);
     let f = job(&dir, "crushing_energy = 1.0e3");
-    expect_job_error(&f, 2, &["crush.toml:8:", "crushing_energy", "crushing_stress"]);
+    expect_job_error(&f, 2, &["crush.toml:9:", "crushing_energy", "crushing_stress"]);
     let f = job(&dir, "crushing_stress = -3.0e6\ncrushing_energy = 1.0e3");
-    expect_job_error(&f, 2, &["crush.toml:8:", "crushing_stress", "> 0"]);
+    expect_job_error(&f, 2, &["crush.toml:9:", "crushing_stress", "> 0"]);
 }

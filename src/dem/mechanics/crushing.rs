@@ -192,7 +192,7 @@ mod tests {
             let want_dp = ((kn * d - 5e5) / (kn - h)).max(0.0);
             if d <= 4e-4 {
                 assert!((u.f_n - kn * d).abs() <= 1e-9 * kn * d, "δ = {d}: {}", u.f_n);
-                assert_eq!(dp, 0.0);
+                assert!(dp <= 1e-15, "no plastic penetration below the yield (round-off at δ = 4e-4): {dp}");
             } else if want_dp < du {
                 let f = 5e5 * (1.0 - want_dp / du);
                 assert!((u.f_n - f).abs() <= 1e-9 * 5e5, "δ = {d}: {} vs {f}", u.f_n);
