@@ -18,7 +18,10 @@
 //! either index, both linear or piecewise linear in λ. Crushing contacts soften inside the
 //! equilibrium iteration (their return map is part of the residual and of the tangent); under
 //! displacement control the loss-of-load test or, when no equilibrium exists past the peak, the
-//! caller's collapse classification ends the test.
+//! caller's collapse classification ends the test. A crushed beam leaves its stones overlapping
+//! by about its shortening: the contact that takes over holds elastic energy the intact beam's
+//! pair did not, so re-equilibrations after crushing can show a negative relaxation term (energy
+//! is still balanced: `W_ext = stored + dissipated` over the loading steps).
 //!
 //! **Equilibrium iteration.** Residual `r = f_ext − f_int(z) − ε (z − z_commit)` on the
 //! unknowns; `Δz = K̃⁻¹ r` with `K̃` the factorized operator (intact beams, contact normal
