@@ -310,15 +310,15 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
 
 fn write_curve(file: &Path, t: &TestResult) -> Result<(), Error> {
     let mut s = String::from(
-        "state,kind,displacement,strain,stress,lateral_strain,broken,broken_tension,broken_shear,external_work,stored,dissipated_fracture,dissipated_friction,dissipated_relaxation\n",
+        "state,kind,displacement,strain,stress,lateral_strain,broken,broken_tension,broken_shear,broken_crushing,external_work,stored,dissipated_fracture,dissipated_friction,dissipated_relaxation,dissipated_crushing\n",
     );
     for c in &t.curve {
         let kind = serde_json::to_string(&c.kind).unwrap_or_default().replace('"', "");
         let _ = writeln!(
             s,
-            "{},{kind},{:e},{:e},{:e},{:e},{},{},{},{:e},{:e},{:e},{:e},{:e}",
-            c.state, c.displacement, c.strain, c.stress, c.lateral_strain, c.broken[0], c.broken[1], c.broken[2],
-            c.external_work, c.stored, c.dissipated[0], c.dissipated[1], c.dissipated[2]
+            "{},{kind},{:e},{:e},{:e},{:e},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
+            c.state, c.displacement, c.strain, c.stress, c.lateral_strain, c.broken[0], c.broken[1], c.broken[2], c.broken[3],
+            c.external_work, c.stored, c.dissipated[0], c.dissipated[1], c.dissipated[2], c.dissipated[3]
         );
     }
     std::fs::write(file, s).map_err(io_err(file))
@@ -337,6 +337,7 @@ fn write_cracks(job: &DemJob, k: usize, dir: &Path, t: &TestResult) -> Result<()
     let cat = |m: FailureModeTag| match m {
         FailureModeTag::Tension => 0u8,
         FailureModeTag::Shear => 1u8,
+        FailureModeTag::Crushing => 2u8,
     };
     for (name, upto) in [("first", Some(first_state)), ("peak", Some(peak_state)), ("end", None)] {
         let broken: Vec<(usize, u8)> = t

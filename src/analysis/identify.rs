@@ -76,7 +76,11 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
     if let (Some(c), Some(targets)) = (&spec.calibration, job.targets) {
         let t0 = Instant::now();
         let b = &c.bounds;
-        let space = Space::new(&[("alpha", b.alpha), ("e_bar", b.e_bar), ("eps_cr", b.eps_cr), ("theta_cr", b.theta_cr)]).map_err(analysis_err)?;
+        let mut unknowns = vec![("alpha", b.alpha), ("e_bar", b.e_bar), ("eps_cr", b.eps_cr), ("theta_cr", b.theta_cr)];
+        if let Some(sc) = b.crushing_stress {
+            unknowns.push(("crushing_stress", sc));
+        }
+        let space = Space::new(&unknowns).map_err(analysis_err)?;
         let cal = Calibration {
             sample: spec.sample.clone(),
             fixed: dem,
@@ -204,8 +208,15 @@ fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) ->
     let dir = &job.output_dir;
     let p = &r.parameters;
     ctx.log.info(format!(
-        "calibrated DEM: alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e} (mu = {} fixed); J = {:.4e} after {} evaluations",
-        p.alpha, p.e_bar, p.eps_cr, p.theta_cr, p.mu, r.objective, r.evaluations
+        "calibrated DEM: alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e}{} (mu = {} fixed); J = {:.4e} after {} evaluations",
+        p.alpha,
+        p.e_bar,
+        p.eps_cr,
+        p.theta_cr,
+        p.crushing_stress.map_or(String::new(), |s| format!(", crushing_stress = {s:.4e} Pa")),
+        p.mu,
+        r.objective,
+        r.evaluations
     ));
     let t = r.targets.as_array();
     let scale = [1e9, 1.0, 1e6, 1e6];
@@ -222,13 +233,19 @@ fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) ->
             100.0 * r.relative_errors[k]
         ));
     }
-    let mut csv = String::from("evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,objective,error\n");
+    let crushing = r.history.first().is_some_and(|h| h.1.len() > 4);
+    let mut csv = String::from(if crushing {
+        "evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,crushing_stress,objective,error\n"
+    } else {
+        "evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,objective,error\n"
+    });
     for (i, (it, x, v)) in r.history.iter().enumerate() {
         let (val, err) = match v {
             Ok(v) => (format!("{v:e}"), String::new()),
             Err(e) => (String::new(), e.replace([',', '\n'], ";")),
         };
-        let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{val},{err}", x[0], x[1], x[2], x[3]);
+        let extra = x.get(4).map_or(String::new(), |v| format!("{v:e},"));
+        let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{extra}{val},{err}", x[0], x[1], x[2], x[3]);
     }
     let f = dir.join("calibration.csv");
     std::fs::write(&f, csv).map_err(io_err(&f))?;

@@ -56,12 +56,28 @@ pub struct MechanicsConfig {
     pub mu: f64,
     /// Tangential over normal contact stiffness.
     pub kt_over_kn: f64,
+    /// Crushing stress σ_c [Pa] (an extension of SPEC §1, `dem::mechanics::crushing`): beams
+    /// crush when their compressive stress reaches it, contact pressures are bounded by it and
+    /// soften. Absent (default): SPEC §1's model, no compressive failure.
+    pub crushing_stress: Option<f64>,
+    /// Crushing fracture energy G_c [J/m² of contact area], the area under the contact's linear
+    /// softening (plastic penetration at full crushing 2 G_c/σ_c); required with
+    /// `crushing_stress`, and G_c > σ_c² ℓ_c/(2 Ē) at every contact.
+    pub crushing_energy: Option<f64>,
 }
 
 impl Default for MechanicsConfig {
     fn default() -> Self {
         let d = crate::dem::mechanics::MechParams::default();
-        MechanicsConfig { e_bar: d.e_bar, eps_cr: d.eps_cr, theta_cr: d.theta_cr, mu: d.mu, kt_over_kn: d.kt_over_kn }
+        MechanicsConfig {
+            e_bar: d.e_bar,
+            eps_cr: d.eps_cr,
+            theta_cr: d.theta_cr,
+            mu: d.mu,
+            kt_over_kn: d.kt_over_kn,
+            crushing_stress: None,
+            crushing_energy: None,
+        }
     }
 }
 
@@ -69,6 +85,20 @@ impl MechanicsConfig {
     /// The solver's parameters for a sample of out-of-plane thickness `t_z`, checked; an invalid
     /// value is reported at its `[mechanics]` key in `source`.
     pub fn validated_params(&self, t_z: f64, source: &super::Source) -> Result<crate::dem::mechanics::MechParams, super::ConfigError> {
+        let at = |key: &str, msg: String| source.error_at(&[super::Seg::Key("mechanics".into()), super::Seg::Key(key.into())], msg);
+        let crushing = match (self.crushing_stress, self.crushing_energy) {
+            (None, None) => None,
+            (Some(stress), Some(energy)) => Some(crate::dem::mechanics::Crushing { stress, energy }),
+            (Some(_), None) => {
+                return Err(at(
+                    "crushing_stress",
+                    "`crushing_stress` needs `crushing_energy` (J/m², the crushing fracture energy) beside it".into(),
+                ))
+            }
+            (None, Some(_)) => {
+                return Err(at("crushing_energy", "`crushing_energy` is used only with `crushing_stress` (Pa)".into()))
+            }
+        };
         let params = crate::dem::mechanics::MechParams {
             e_bar: self.e_bar,
             t_z,
@@ -76,6 +106,7 @@ impl MechanicsConfig {
             theta_cr: self.theta_cr,
             mu: self.mu,
             kt_over_kn: self.kt_over_kn,
+            crushing,
         };
         params.validate().map_err(|e| {
             let field = e.to_string().split('`').nth(1).unwrap_or("").to_string();

@@ -107,6 +107,8 @@ pub struct CalibrationBounds {
     pub eps_cr: [f64; 2],
     /// Critical rotation θ_cr [rad].
     pub theta_cr: [f64; 2],
+    /// Crushing stress σ_c [Pa] (optional fifth unknown; needs `[mechanics] crushing_energy`).
+    pub crushing_stress: Option<[f64; 2]>,
 }
 
 /// `[calibration]`: (a) the DEM against the experiment.
@@ -279,6 +281,8 @@ impl IdentifyJob {
             theta_cr: m.theta_cr,
             mu: m.mu,
             kt_over_kn: m.kt_over_kn,
+            crushing_stress: m.crushing_stress,
+            crushing_energy: m.crushing_energy,
         };
         m.validated_params(spec.sample.thickness, &source)?;
         // An interval: finite, lower < upper, and (if `positive`) lower > 0.
@@ -315,6 +319,15 @@ impl IdentifyJob {
             interval(&["calibration", "bounds", "e_bar"], b.e_bar, true, "e_bar")?;
             interval(&["calibration", "bounds", "eps_cr"], b.eps_cr, true, "eps_cr")?;
             interval(&["calibration", "bounds", "theta_cr"], b.theta_cr, true, "theta_cr")?;
+            if let Some(sc) = b.crushing_stress {
+                interval(&["calibration", "bounds", "crushing_stress"], sc, true, "crushing_stress")?;
+                if m.crushing_energy.is_none() {
+                    return Err(source.error_at(
+                        &at(&["calibration", "bounds", "crushing_stress"]),
+                        "calibrating crushing_stress needs [mechanics] crushing_energy (J/m², fixed) and a crushing_stress (any value in the bounds)",
+                    ));
+                }
+            }
             if c.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) || c.weights.iter().all(|w| *w == 0.0) {
                 return Err(source.error_at(&at(&["calibration", "weights"]), "expected four finite weights >= 0, not all zero"));
             }

@@ -1,5 +1,6 @@
 //! DEM calibration against experiments (SPEC §3a): find the lattice parameters
-//! `x = (α, Ē, ε_cr, θ_cr)` (μ fixed) for which the mean over random samples of the virtual
+//! `x = (α, Ē, ε_cr, θ_cr)`, optionally with the crushing stress σ_c as a fifth unknown
+//! (`dem::mechanics::crushing`; its energy G_c fixed), μ fixed, for which the mean over random samples of the virtual
 //! test's E, ν, first-crack stress and peak stress match the measured ones (Table 1).
 //!
 //! Objective (sum of squared relative errors of the sample means m_k(x) against targets t_k):
@@ -90,7 +91,7 @@ pub struct Calibration {
     pub test: VirtualTest,
     /// Random samples per design point.
     pub samples: usize,
-    /// The unknowns α, Ē, ε_cr, θ_cr and their intervals, in this order.
+    /// The unknowns α, Ē, ε_cr, θ_cr (and σ_c with crushing) and their intervals, in this order.
     pub space: Space,
     /// The measured numbers.
     pub targets: Targets,
@@ -128,9 +129,10 @@ pub struct CalibrationResult {
     pub best_failures: Vec<String>,
 }
 
-/// The parameters at the physical point `x = (α, Ē, ε_cr, θ_cr)`.
+/// The parameters at the physical point `x = (α, Ē, ε_cr, θ_cr[, σ_c])`.
 pub fn parameters_at(fixed: &DemParameters, x: &[f64]) -> DemParameters {
-    DemParameters { alpha: x[0], e_bar: x[1], eps_cr: x[2], theta_cr: x[3], ..*fixed }
+    let crushing_stress = x.get(4).copied().or(fixed.crushing_stress);
+    DemParameters { alpha: x[0], e_bar: x[1], eps_cr: x[2], theta_cr: x[3], crushing_stress, ..*fixed }
 }
 
 /// J of a set of runs (see the module docs).

@@ -24,6 +24,22 @@ pub struct DemParameters {
     pub mu: f64,
     /// Tangential over normal contact stiffness.
     pub kt_over_kn: f64,
+    /// Crushing stress σ_c [Pa] (`dem::mechanics::crushing`; `None`: SPEC §1's model).
+    #[serde(default)]
+    pub crushing_stress: Option<f64>,
+    /// Crushing fracture energy G_c [J/m²], with `crushing_stress`.
+    #[serde(default)]
+    pub crushing_energy: Option<f64>,
+}
+
+impl DemParameters {
+    /// The crushing parameters, when both are set.
+    pub fn crushing(&self) -> Option<crate::dem::mechanics::Crushing> {
+        match (self.crushing_stress, self.crushing_energy) {
+            (Some(stress), Some(energy)) => Some(crate::dem::mechanics::Crushing { stress, energy }),
+            _ => None,
+        }
+    }
 }
 
 /// What one virtual test gives the identification.
@@ -75,6 +91,7 @@ pub fn run_virtual_test(base: &SampleConfig, p: &DemParameters, test: &VirtualTe
         theta_cr: p.theta_cr,
         mu: p.mu,
         kt_over_kn: p.kt_over_kn,
+        crushing: p.crushing(),
     };
     params.validate().map_err(|e| format!("sample {k}: {e}"))?;
     let r = run_test(&sample, &params, test).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;

@@ -46,6 +46,16 @@ pub enum MechanicsError {
         /// End point on particle j.
         seed_j: [f64; 2],
     },
+    /// The crushing softening is steeper than a contact's elastic stiffness (snap-back).
+    #[error("`crushing_energy` = {energy} J/m² is too small for a contact of ℓ_c = {l_c} m: crushing needs G_c > σ_c² ℓ_c/(2 Ē) = {minimum} J/m² (softening without snap-back)")]
+    CrushingSnapBack {
+        /// The crushing energy given.
+        energy: f64,
+        /// The contact's length ℓ_c (m).
+        l_c: f64,
+        /// The smallest admissible energy for it.
+        minimum: f64,
+    },
 }
 
 /// `Ok(x)` if `x` is finite and > 0.

@@ -18,9 +18,11 @@
 //! | [`failure`]    | the failure index P, the failure mode, the λ at which P reaches 1 |
 //! | [`contact`]    | overlap, chord, normal, normal force and its linearizations |
 //! | [`friction`]   | Coulomb return map, dissipation, tangent |
+//! | [`crushing`]   | optional compressive failure: beam crushing, bounded and softening contact pressure |
 
 pub mod beam;
 pub mod contact;
+pub mod crushing;
 pub mod error;
 pub mod failure;
 pub mod friction;
@@ -29,6 +31,7 @@ pub mod thresholds;
 
 pub use beam::{beam_actions, beam_forces, beam_stiffness, BeamActions, BeamGeom};
 pub use contact::{contact, contact_length, Contact};
+pub use crushing::{CrushUpdate, Crushing};
 pub use error::MechanicsError;
 pub use failure::{failure_index, failure_lambda, failure_mode, first_crossing, FailureMode};
 pub use friction::{friction_stiffness, friction_update, FrictionUpdate, SlipState};
@@ -54,11 +57,13 @@ pub struct MechParams {
     pub mu: f64,
     /// Tangential contact stiffness as a multiple of the normal one, `k_t = kt_over_kn · k_n`.
     pub kt_over_kn: f64,
+    /// Optional crushing (an extension of SPEC §1, [`crushing`]); `None`: SPEC §1's model.
+    pub crushing: Option<Crushing>,
 }
 
 impl Default for MechParams {
     fn default() -> Self {
-        MechParams { e_bar: 2.5e9, t_z: 1.0, eps_cr: 1e-4, theta_cr: 7e-4, mu: 0.6, kt_over_kn: 1.0 }
+        MechParams { e_bar: 2.5e9, t_z: 1.0, eps_cr: 1e-4, theta_cr: 7e-4, mu: 0.6, kt_over_kn: 1.0, crushing: None }
     }
 }
 
@@ -76,6 +81,9 @@ impl MechParams {
         positive("theta_cr", self.theta_cr)?;
         non_negative("mu", self.mu)?;
         positive("kt_over_kn", self.kt_over_kn)?;
+        if let Some(c) = &self.crushing {
+            c.validate()?;
+        }
         Ok(())
     }
 }

@@ -16,7 +16,7 @@
 //! | `displacement`          | node   | exact rigid motion of the node: `u + (R(θ) − 1)(x − c)` of its stone (crack nodes: the mean of the two stones) |
 //! | `particle_displacement` | cell   | `(u_x, u_y, 0)` of the stone's centroid (lines: mean of the two stones) |
 //! | `rotation`              | cell   | `θ` (rad, counter-clockwise)                                 |
-//! | `crack`                 | cell   | −1 for stones and for beams still intact at the state; 0 broken in tension, 1 in shear/rotation |
+//! | `crack`                 | cell   | −1 for stones and for beams still intact at the state; 0 broken in tension, 1 in shear/rotation, 2 crushed |
 //! | `particle`, `beam`      | cell   | stone index (−1 on lines), beam index (−1 on stones)         |
 //!
 //! A beam counts as broken from the state after its pre-break state (`BrokenBeam::state`) on.
@@ -111,7 +111,14 @@ fn build_mesh(sample: &Sample, result: &TestResult) -> Mesh {
         m.particle.push(-1);
         m.beam.push(b.beam as i32);
         m.stones.push((beam.i, beam.j));
-        m.cracks.push((b.state, if b.mode == FailureModeTag::Tension { 0 } else { 1 }));
+        m.cracks.push((
+            b.state,
+            match b.mode {
+                FailureModeTag::Tension => 0,
+                FailureModeTag::Shear => 1,
+                FailureModeTag::Crushing => 2,
+            },
+        ));
     }
     m
 }

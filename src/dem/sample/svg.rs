@@ -35,7 +35,8 @@ pub struct SvgStyle {
 }
 
 impl Default for SvgStyle {
-    /// 800 px wide, no exaggeration, no beams, categories 0 = tension (red), 1 = shear (blue).
+    /// 800 px wide, no exaggeration, no beams, categories 0 = tension (red), 1 = shear (blue),
+    /// 2 = crushing (orange; only with the optional crushing of `dem::mechanics::crushing`).
     fn default() -> Self {
         SvgStyle {
             width_px: 800.0,
@@ -49,6 +50,10 @@ impl Default for SvgStyle {
                 CrackCategory {
                     label: "shear".into(),
                     colour: "#1f77b4".into(),
+                },
+                CrackCategory {
+                    label: "crushing".into(),
+                    colour: "#ff7f0e".into(),
                 },
             ],
             title: None,

@@ -12,6 +12,13 @@
 //! state (rotations included), followed by the Coulomb return map ([`mechanics::friction_update`]).
 //! Internal forces `F_n b + F_t c` ([`Contact::normal_forces`], [`Contact::tangential_forces`]).
 //!
+//! **Crushing (optional, [`mechanics::crushing`]).** With `MechParams::crushing`, the normal
+//! force is bounded by the crushing return map from the committed plastic penetration `δ_p` of
+//! the pair: `F_n = k (S_r − L δ_p) ≤ σ_c L t_z (1 − δ_p/δ_u)₊`; friction then uses this `F_n`.
+//! The committed history of a pair ([`ContactHistory`]: `F_t`, `δ_p`) survives while the stones
+//! are apart, so a crushed joint that reopens and closes again starts from its plastic
+//! penetration.
+//!
 //! **Stored energy.** For a flat contact the overlap is a strip, `S_r = L δ`, so `F_n = k_n δ`
 //! and the normal energy is `F_n²/(2 k_n)`; the elastic tangential energy is `F_t²/(2 k_t)`.
 //! These state functions are what the energy bookkeeping counts (exact for flat contacts).
@@ -23,6 +30,19 @@ use crate::dem::mechanics::{self, Contact, FrictionUpdate, MechParams, SlipState
 use crate::dem::polygon::Polygon;
 use nalgebra::{SMatrix, SVector};
 use crate::dem::sample::Sample;
+
+/// The committed history of a pair: its tangential force and its plastic (crushing)
+/// penetration.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactHistory {
+    /// Committed tangential force `F_t` (N).
+    pub f_t: f64,
+    /// Committed plastic penetration `δ_p` (m), 0 without crushing.
+    pub delta_p: f64,
+}
+
+/// The committed histories, by pair `(i < j)`.
+pub type Histories = BTreeMap<(usize, usize), ContactHistory>;
 
 /// An active contact in a trial state.
 #[derive(Clone, Debug)]
@@ -37,12 +57,24 @@ pub struct ActiveContact {
     pub friction: FrictionUpdate,
     /// Tangential stiffness used.
     pub k_t: f64,
+    /// The crushing update of the normal force (`None` without crushing).
+    pub crush: Option<mechanics::CrushUpdate>,
 }
 
 impl ActiveContact {
     /// Whether the contact sticks.
     pub fn sticks(&self) -> bool {
         self.friction.state == SlipState::Stick
+    }
+
+    /// The history to commit for this pair.
+    pub fn history(&self) -> ContactHistory {
+        ContactHistory { f_t: self.friction.f_t, delta_p: self.crush.map_or(0.0, |c| c.delta_p) }
+    }
+
+    /// Energy dissipated by crushing in the increment (J).
+    pub fn crushing_dissipation(&self) -> f64 {
+        self.crush.map_or(0.0, |c| c.dissipation)
     }
 
     /// Stored elastic energy `F_n²/(2k_n) + F_t²/(2k_t)`.
@@ -120,7 +152,7 @@ fn same_platen(sample: &Sample, i: usize, j: usize) -> bool {
 }
 
 /// Evaluates the candidate pairs at `z`, with friction trial states from the committed tangential
-/// forces `committed` and the committed coordinates `z_commit`.
+/// forces and plastic penetrations `committed` and the committed coordinates `z_commit`.
 pub fn evaluate(
     sample: &Sample,
     map: &DofMap,
@@ -128,13 +160,13 @@ pub fn evaluate(
     pairs: &[(usize, usize)],
     z: &[f64],
     z_commit: &[f64],
-    committed: &BTreeMap<(usize, usize), f64>,
+    committed: &Histories,
 ) -> Result<Vec<ActiveContact>, DemError> {
     let mut out = Vec::new();
     for &(i, j) in pairs {
         let q = [map.particle_dofs(i, z), map.particle_dofs(j, z)];
         let c = [map.particle_dofs(i, z_commit), map.particle_dofs(j, z_commit)];
-        let old = committed.get(&(i, j)).copied().unwrap_or(0.0);
+        let old = committed.get(&(i, j)).copied().unwrap_or_default();
         if let Some(a) = evaluate_pair(sample, params, i, j, q, c, old)? {
             out.push(a);
         }
@@ -143,7 +175,7 @@ pub fn evaluate(
 }
 
 /// The contact of stones `i`, `j` at DOFs `q = [q_i, q_j]`, with the friction trial from the
-/// committed DOFs `c` and the committed tangential force `old`; `None` without overlap.
+/// committed DOFs `c` and the committed history `old`; `None` without overlap.
 pub fn evaluate_pair(
     sample: &Sample,
     params: &MechParams,
@@ -151,7 +183,7 @@ pub fn evaluate_pair(
     j: usize,
     q: [[f64; 3]; 2],
     c: [[f64; 3]; 2],
-    old: f64,
+    old: ContactHistory,
 ) -> Result<Option<ActiveContact>, DemError> {
     let [qi, qj] = q;
     let (pi, pj) = (&sample.particles[i], &sample.particles[j]);
@@ -168,14 +200,24 @@ pub fn evaluate_pair(
         params,
     )
     .map_err(err)?;
-    let Some(contact) = contact else { return Ok(None) };
+    let Some(mut contact) = contact else { return Ok(None) };
+    let crush = match &params.crushing {
+        Some(cr) => {
+            let u = cr
+                .update(contact.overlap_area, contact.chord_length, params.e_bar, contact.l_c, params.t_z, old.delta_p)
+                .map_err(err)?;
+            contact.f_n = u.f_n;
+            Some(u)
+        }
+        None => None,
+    };
     let [ci, cj] = c;
     let dqi = [qi[0] - ci[0], qi[1] - ci[1], qi[2] - ci[2]];
     let dqj = [qj[0] - cj[0], qj[1] - cj[1], qj[2] - cj[2]];
     let dg = contact.tangential_increment(dqi, dqj);
     let k_t = (params.kt_over_kn * contact.k_n).max(f64::MIN_POSITIVE);
-    let friction = mechanics::friction_update(old, dg, k_t, params.mu, contact.f_n).map_err(err)?;
-    Ok(Some(ActiveContact { i, j, contact, friction, k_t }))
+    let friction = mechanics::friction_update(old.f_t, dg, k_t, params.mu, contact.f_n).map_err(err)?;
+    Ok(Some(ActiveContact { i, j, contact, friction, k_t, crush }))
 }
 
 impl ActiveContact {
@@ -203,7 +245,7 @@ pub fn pair_jacobian(
     a: &ActiveContact,
     q: [[f64; 3]; 2],
     c: [[f64; 3]; 2],
-    old: f64,
+    old: ContactHistory,
 ) -> Result<SMatrix<f64, 6, 6>, DemError> {
     let (d_i, d_j) = (sample.particles[a.i].diameter, sample.particles[a.j].diameter);
     let d = 0.5 * (d_i + d_j);

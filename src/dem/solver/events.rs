@@ -13,6 +13,16 @@
 //! stop at t = 1 of the last stage, or on loss of load (|R| < loss_fraction × peak).
 //! ```
 //!
+//! **Crushing (optional).** With `MechParams::crushing`, a beam also breaks when its compressive
+//! stress reaches σ_c (`P_c = −Ē ε/σ_c ≥ 1`, mode "crushing"); `λ*` is the smallest crossing of
+//! either index, both linear or piecewise linear in λ. Crushing contacts soften inside the
+//! equilibrium iteration (their return map is part of the residual and of the tangent); under
+//! displacement control the loss-of-load test or, when no equilibrium exists past the peak, the
+//! caller's collapse classification ends the test. A crushed beam leaves its stones overlapping
+//! by about its shortening: the contact that takes over holds elastic energy the intact beam's
+//! pair did not, so re-equilibrations after crushing can show a negative relaxation term (energy
+//! is still balanced: `W_ext = stored + dissipated` over the loading steps).
+//!
 //! **Equilibrium iteration.** Residual `r = f_ext − f_int(z) − ε (z − z_commit)` on the
 //! unknowns; `Δz = K̃⁻¹ r` with `K̃` the factorized operator (intact beams, contact normal
 //! penalties `k_n b bᵀ`, sticking tangential terms `k_t c cᵀ`, the regularization `ε`). Converged
@@ -36,7 +46,8 @@
 //! beams `½ zᵀK z`, contacts [`ActiveContact::energy`]), dissipation = fracture (each beam's
 //! energy at the moment it breaks) + friction (return-map dissipation) + relaxation (what the
 //! re-equilibration at fixed load releases beyond the broken beam's own energy: the kinetic
-//! energy a dynamic model would damp). The relaxation term closes the balance over re-
+//! energy a dynamic model would damp) + crushing (the plastic work of crushing contacts, with
+//! [`crate::dem::mechanics::crushing`]). The relaxation term closes the balance over re-
 //! equilibration steps by definition; the balance check is meaningful over the loading steps,
 //! where `W_ext` and `E_stored` are computed independently (reactions vs. beam energies).
 use std::collections::BTreeMap;
@@ -46,6 +57,7 @@ use super::error::DemError;
 use super::factor::LowRankCholesky;
 use super::system::{Model, ZTerm};
 use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
+use contact_set::Histories;
 
 /// What to do with a stone that lost every bond and contact.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
@@ -138,16 +150,16 @@ pub struct StateRecord {
     pub platen_force: [[f64; 3]; 2],
     /// Mean `u_x` of the left and of the right boundary stones.
     pub lateral_ux: [f64; 2],
-    /// Broken beams so far: total, tension, shear.
-    pub broken: [usize; 3],
+    /// Broken beams so far: total, tension, shear, crushing.
+    pub broken: [usize; 4],
     /// Active contacts.
     pub contacts: usize,
     /// External work (J).
     pub external_work: f64,
     /// Stored elastic energy (J).
     pub stored: f64,
-    /// Dissipated: fracture, friction, relaxation (J).
-    pub dissipated: [f64; 3],
+    /// Dissipated: fracture, friction, relaxation, crushing (J).
+    pub dissipated: [f64; 4],
 }
 
 /// A broken beam.
@@ -171,6 +183,8 @@ pub enum FailureModeTag {
     Tension,
     /// Rotation/shear-dominated.
     Shear,
+    /// Compressive stress at the crushing stress (only with crushing).
+    Crushing,
 }
 
 /// The solver state of one test.
@@ -188,7 +202,8 @@ pub struct Solver<'a> {
     // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential).
     pub(super) op_terms: BTreeMap<(usize, usize, u8), ZTerm>,
     pub(super) contacts: Vec<ActiveContact>,
-    pub(super) committed_ft: BTreeMap<(usize, usize), f64>,
+    /// Committed contact histories (tangential force, plastic penetration) by pair.
+    pub(super) committed_ft: Histories,
     load: LoadPoint,
     /// Recorded states.
     pub states: Vec<StateRecord>,
@@ -219,6 +234,7 @@ struct Energy {
     fracture: f64,
     friction: f64,
     relaxation: f64,
+    crushing: f64,
 }
 
 /// How a stage ended.
@@ -315,7 +331,16 @@ impl<'a> Solver<'a> {
     /// without recording it: an intermediate state of a cut-back release.
     fn accept(&mut self) {
         self.energy.friction += self.contacts.iter().map(|a| a.friction.dissipation).sum::<f64>();
-        self.committed_ft = self.contacts.iter().map(|a| ((a.i, a.j), a.friction.f_t)).collect();
+        self.energy.crushing += self.contacts.iter().map(|a| a.crushing_dissipation()).sum::<f64>();
+        // Pairs apart keep their plastic penetration (no tangential force without contact).
+        let mut next: Histories = self
+            .committed_ft
+            .iter()
+            .filter(|(_, h)| h.delta_p > 0.0)
+            .map(|(&k, h)| (k, contact_set::ContactHistory { f_t: 0.0, delta_p: h.delta_p }))
+            .collect();
+        next.extend(self.contacts.iter().map(|a| ((a.i, a.j), a.history())));
+        self.committed_ft = next;
         self.z_commit.clone_from(&self.z);
     }
 
@@ -349,12 +374,18 @@ impl<'a> Solver<'a> {
             lateral_ux[s] = sum / set.len().max(1) as f64;
         }
         let n_t = self.broken.iter().filter(|b| b.mode == FailureModeTag::Tension).count();
+        let n_c = self.broken.iter().filter(|b| b.mode == FailureModeTag::Crushing).count();
         let stored = self.stored_energy();
         if kind == StateKind::Relaxed {
             // Energy released by the re-equilibration beyond the broken beam's own energy.
             if let Some(prev) = self.states.last() {
                 let before = prev.external_work - prev.stored - prev.dissipated.iter().sum::<f64>();
-                let now = self.energy.external - stored - self.energy.fracture - self.energy.friction - self.energy.relaxation;
+                let now = self.energy.external
+                    - stored
+                    - self.energy.fracture
+                    - self.energy.friction
+                    - self.energy.relaxation
+                    - self.energy.crushing;
                 self.energy.relaxation += now - before;
             }
         }
@@ -365,11 +396,11 @@ impl<'a> Solver<'a> {
             platen,
             platen_force: pf,
             lateral_ux,
-            broken: [self.broken.len(), n_t, self.broken.len() - n_t],
+            broken: [self.broken.len(), n_t, self.broken.len() - n_t - n_c, n_c],
             contacts: self.contacts.len(),
             external_work: self.energy.external,
             stored,
-            dissipated: [self.energy.fracture, self.energy.friction, self.energy.relaxation],
+            dissipated: [self.energy.fracture, self.energy.friction, self.energy.relaxation, self.energy.crushing],
         });
         if let (Some(observe), Some(record)) = (self.observer.as_mut(), self.states.last()) {
             observe(self.states.len() - 1, record, &self.z);
@@ -379,7 +410,13 @@ impl<'a> Solver<'a> {
     /// Breaks beam `b` at the committed state.
     fn break_beam(&mut self, b: usize) -> Result<(), DemError> {
         let (qi, qj) = self.model.beam_dofs(b, &self.z);
+        let crushing = self.crushing_index(b, &self.z);
         let mode = match failure_mode(&self.model.geoms[b], &self.model.thresholds, qi, qj) {
+            _ if crushing >= 1.0 - 1e-9
+                && crushing >= failure_index(&self.model.geoms[b], &self.model.thresholds, qi, qj) =>
+            {
+                FailureModeTag::Crushing
+            }
             FailureMode::Tension => FailureModeTag::Tension,
             FailureMode::Shear => FailureModeTag::Shear,
         };
@@ -416,6 +453,24 @@ impl<'a> Solver<'a> {
         Ok(())
     }
 
+    /// The crushing index `P_c = −Ē ε/σ_c` of beam `b` at `z` (−∞ without crushing).
+    fn crushing_index(&self, b: usize, z: &[f64]) -> f64 {
+        let Some(c) = &self.model.params.crushing else { return f64::NEG_INFINITY };
+        let (qi, qj) = self.model.beam_dofs(b, z);
+        let g = &self.model.geoms[b];
+        c.beam_index(self.model.params.e_bar, g.delta_n(qi, qj) / g.ell)
+    }
+
+    /// The smallest crushing fraction of beam `b` along `z_old → z` (`None` without crushing).
+    fn crushing_lambda(&self, b: usize, z_old: &[f64]) -> Option<f64> {
+        let c = self.model.params.crushing.as_ref()?;
+        let g = &self.model.geoms[b];
+        let (q0i, q0j) = self.model.beam_dofs(b, z_old);
+        let (q1i, q1j) = self.model.beam_dofs(b, &self.z);
+        let (e0, e1) = (g.delta_n(q0i, q0j) / g.ell, g.delta_n(q1i, q1j) / g.ell);
+        c.beam_lambda(self.model.params.e_bar, e0, e1 - e0)
+    }
+
     /// The smallest failure fraction along `z_old → z` and its beam.
     fn first_failure(&self, z_old: &[f64]) -> Option<(f64, usize)> {
         let mut best: Option<(f64, usize)> = None;
@@ -433,6 +488,11 @@ impl<'a> Solver<'a> {
                     best = Some((l, b));
                 }
             }
+            if let Some(l) = self.crushing_lambda(b, z_old) {
+                if best.is_none_or(|(bl, _)| l < bl) {
+                    best = Some((l, b));
+                }
+            }
         }
         best
     }
@@ -442,7 +502,7 @@ impl<'a> Solver<'a> {
         let mut best: Option<(f64, usize)> = None;
         for b in (0..self.intact.len()).filter(|&b| self.intact[b]) {
             let (qi, qj) = self.model.beam_dofs(b, &self.z);
-            let p = failure_index(&self.model.geoms[b], &self.model.thresholds, qi, qj);
+            let p = failure_index(&self.model.geoms[b], &self.model.thresholds, qi, qj).max(self.crushing_index(b, &self.z));
             if p >= 1.0 && best.is_none_or(|(bp, _)| p > bp) {
                 best = Some((p, b));
             }

@@ -21,6 +21,8 @@ pub use system::Model;
 pub mod snapshots;
 pub mod virtual_test;
 #[cfg(test)]
+mod crushing_tests;
+#[cfg(test)]
 mod cyclic_tests;
 #[cfg(test)]
 mod tests;

@@ -42,14 +42,14 @@ impl<'m, 'a> Tangent<'m, 'a> {
         contacts: &[ActiveContact],
         z: &[f64],
         z_commit: &[f64],
-        committed: &std::collections::BTreeMap<(usize, usize), f64>,
+        committed: &contact_set::Histories,
     ) -> Result<Self, DemError> {
         let map = &model.map;
         let mut terms = Vec::with_capacity(contacts.len());
         for a in contacts {
             let q = [map.particle_dofs(a.i, z), map.particle_dofs(a.j, z)];
             let c = [map.particle_dofs(a.i, z_commit), map.particle_dofs(a.j, z_commit)];
-            let old = committed.get(&(a.i, a.j)).copied().unwrap_or(0.0);
+            let old = committed.get(&(a.i, a.j)).copied().unwrap_or_default();
             let jac = contact_set::pair_jacobian(model.sample, &model.params, a, q, c, old)?;
             let (idx, g) = map.pair_map(a.i, a.j);
             terms.push((idx, g.transpose() * jac * g));

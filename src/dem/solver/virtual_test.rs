@@ -257,14 +257,14 @@ pub struct CurvePoint {
     pub stress: f64,
     /// Lateral strain.
     pub lateral_strain: f64,
-    /// Broken beams: total, tension, shear.
-    pub broken: [usize; 3],
+    /// Broken beams: total, tension, shear, crushing.
+    pub broken: [usize; 4],
     /// External work (J).
     pub external_work: f64,
     /// Stored energy (J).
     pub stored: f64,
-    /// Dissipated energy: fracture, friction, relaxation (J).
-    pub dissipated: [f64; 3],
+    /// Dissipated energy: fracture, friction, relaxation, crushing (J).
+    pub dissipated: [f64; 4],
 }
 
 /// Derived numbers of a test.
