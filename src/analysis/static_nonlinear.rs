@@ -20,6 +20,11 @@
 //! their element tags). Every converged increment is written to `results.xdmf` before, so a run
 //! that stops keeps what it computed.
 //!
+//! # Viscous damage (optional)
+//! With `damage_relaxation_time = τ` the damage histories follow Duvaut–Lions' law in the
+//! pseudo-time of the stages (each lasts 1): before every increment the elements get Δt = the
+//! increment's fraction of its stage (`Element::set_damage_relaxation`, `material::state` docs).
+//!
 //! # Outputs
 //! `results.xdmf` (one step per converged increment; time = λ in the loads stage, 1 + the
 //! fraction of the control target in the control stage), `curve.csv` (one line per converged
@@ -155,6 +160,11 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
         while t < 1.0 - 1e-12 {
             let target = (t + dt).min(1.0);
             let inc = (stage.at)(target);
+            if cfg.damage_relaxation_time.is_some() {
+                for e in disc.elements.iter_mut() {
+                    e.set_damage_relaxation(target - t, cfg.damage_relaxation_time);
+                }
+            }
             let mut out = sys.solve_increment(ctx, &mut disc, mesh, model, &inc, &settings)?;
             ls_total += out.line_search_evaluations;
             if !out.converged && !settings.secant {

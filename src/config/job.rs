@@ -102,6 +102,11 @@ pub struct StaticNonlinearConfig {
     pub stiffness: IterationMatrix,
     /// Displacement control after the loads (pushover); absent: load control only.
     pub control: Option<DisplacementControlConfig>,
+    /// Relaxation time τ of an optional viscous (Duvaut–Lions) regularization of the damage
+    /// histories of shell layers, in the analysis' pseudo-time: each stage (the loads, then the
+    /// control) lasts 1, so τ = 0.01 is 1% of a stage (`material::state` docs). Absent (the
+    /// default): the rate-independent law. A viscous run's dissipated energy depends on τ.
+    pub damage_relaxation_time: Option<f64>,
 }
 
 /// `[analysis] stiffness`: the matrix of the Newton-type iterations.

@@ -153,6 +153,9 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         }
         positive(src, &at("force_tolerance"), "force tolerance", c.force_tolerance)?;
         positive(src, &at("energy_tolerance"), "energy tolerance", c.energy_tolerance)?;
+        if let Some(tau) = c.damage_relaxation_time {
+            positive(src, &at("damage_relaxation_time"), "damage relaxation time", tau)?;
+        }
         if let Some(ctl) = &c.control {
             let at = |k: &str| vec![key("analysis"), key("control"), key(k)];
             match (&ctl.group, &ctl.node) {

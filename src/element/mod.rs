@@ -165,4 +165,9 @@ pub trait Element: Debug {
     /// Restore the committed (and trial) state from `state` (length `n_state()`), as written by
     /// [`Element::save_state`].
     fn load_state(&mut self, state: &[f64]) -> Result<(), ElementError>;
+
+    /// The increment of (pseudo-)time `dt` of the next evaluations and the relaxation time `tau`
+    /// of the optional viscous regularization of the damage law (`None`: rate independent).
+    /// Elements without that law ignore it (the default).
+    fn set_damage_relaxation(&mut self, _dt: f64, _tau: Option<f64>) {}
 }

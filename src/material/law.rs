@@ -21,6 +21,7 @@ pub struct PointLaw {
     softening_c: Option<CompressionSoftening>,
     h: f64,
     regularization: Regularization,
+    relaxation: f64,
 }
 
 impl PointLaw {
@@ -41,7 +42,25 @@ impl PointLaw {
             softening_c: b_s.map(|b_s| CompressionSoftening::new(p.eps0_c, p.b_c, b_s)),
             h,
             regularization: p.regularization,
+            relaxation: f64::INFINITY,
         }
+    }
+
+    /// The law with the viscous (Duvaut–Lions) regularization of the damage histories for one
+    /// increment of (pseudo-)time `dt` and the relaxation time `tau` (same unit): the ratio
+    /// r = Δt/τ used when the histories evolve (the `material::state` module docs). With
+    /// `tau = None` (the default of every law) the law is rate independent (r = ∞).
+    pub fn with_relaxation(mut self, dt: f64, tau: Option<f64>) -> Self {
+        self.relaxation = match tau {
+            Some(tau) if tau > 0.0 && dt.is_finite() && dt >= 0.0 => dt / tau,
+            _ => f64::INFINITY,
+        };
+        self
+    }
+
+    /// r = Δt/τ of the viscous regularization (∞: rate independent, the default).
+    pub fn relaxation(&self) -> f64 {
+        self.relaxation
     }
 
     /// Young modulus E (Pa).

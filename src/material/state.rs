@@ -1,5 +1,20 @@
 //! [`DamageState`]: the history of one material point, the active [`Side`] of the unilateral split,
 //! and the evolution of the history over one strain update.
+//!
+//! # Optional viscous regularization (Duvaut–Lions on the history)
+//! Rate independent (the default, SPEC §2): κ = max(κ_old, ε_eq). With a relaxation time τ the
+//! history relaxes towards the rate-independent value, κ̇ = ⟨ε_eq − κ⟩₊ / τ, integrated by
+//! backward Euler over an increment Δt (r = Δt/τ, [`PointLaw::with_relaxation`]):
+//!
+//! ```text
+//!   loading (ε_eq > κ_old):  κ = (κ_old + r ε_eq) / (1 + r),   ∂κ/∂ε_eq = r / (1 + r)
+//!   dissipated:              c [F(κ) − F(κ_old)],  c = y / κ²    (Y = y at the end of the step)
+//! ```
+//! r = ∞ gives κ = ε_eq and c = y/ε_eq², the rate-independent update exactly; as Δt → 0 at fixed
+//! τ the update converges to the viscous solution. d = d(κ) keeps its closed form, so the state
+//! layout, the output and the checkpoints are unchanged. The viscous law lets the stress exceed
+//! the rate-independent envelope for a time of order τ: it delays localization and snap-back in
+//! quasi-static runs, at the price of a response that depends on τ and on the loading rate.
 
 use serde::{Deserialize, Serialize};
 
@@ -118,11 +133,17 @@ pub(super) fn evolve(law: &PointLaw, side: Side, eps_eq: f64, y: f64, committed:
     };
     let kappa_old = state.kappa(side);
     let loading = eps_eq > kappa_old;
-    let kappa = if loading { eps_eq } else { kappa_old };
+    let r = law.relaxation();
+    // κ and ∂κ/∂ε_eq: rate independent for r = ∞, Duvaut–Lions otherwise (module docs).
+    let (kappa, dk) = match (loading, r.is_finite()) {
+        (false, _) => (kappa_old, 0.0),
+        (true, false) => (eps_eq, 1.0),
+        (true, true) => ((kappa_old + r * eps_eq) / (1.0 + r), r / (1.0 + r)),
+    };
     let dv = law.damage(side, kappa);
     let (dd_deq, dissipation) = if loading {
-        let c = y / (eps_eq * eps_eq);
-        (dv.slope, law.dissipation(side, c, kappa_old, kappa))
+        let c = y / (kappa * kappa);
+        (dv.slope * dk, law.dissipation(side, c, kappa_old, kappa))
     } else {
         (0.0, 0.0)
     };
@@ -137,4 +158,74 @@ pub(super) fn evolve(law: &PointLaw, side: Side, eps_eq: f64, y: f64, committed:
         }
     }
     Evolution { state, integrity: dv.integrity, dd_deq, dissipation, loading }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::plane_stress::{self, PlaneStress};
+    use crate::material::test_support::{fd_tangent, law, rel_diff};
+    use nalgebra::Vector3;
+
+    #[test]
+    fn without_a_relaxation_time_the_update_is_rate_independent() {
+        // with_relaxation(dt, None) gives r = ∞: bitwise the same law and the same update.
+        let base = law();
+        let v = base.with_relaxation(0.3, None);
+        assert_eq!(v, base);
+        assert_eq!(base.relaxation(), f64::INFINITY);
+        let eps = 7.0 * base.eps0_t();
+        let a = evolve(&base, Side::Tension, eps, 0.5 * base.e() * eps * eps, &DamageState::default());
+        assert_eq!(a.state.kappa_t, eps);
+    }
+
+    #[test]
+    fn held_strain_relaxes_to_the_rate_independent_history_as_backward_euler_predicts() {
+        // ε_eq = e held, κ₀ = ε₀: the backward-Euler recursion κ_{n+1} = (κ_n + r e)/(1 + r) has
+        // the closed form κ_n = e − (e − ε₀)/(1 + r)^n (module docs). 1e-14 relative, round-off.
+        let base = law();
+        let (tau, dt) = (0.05, 0.01);
+        let v = base.with_relaxation(dt, Some(tau));
+        let r = dt / tau;
+        assert!((v.relaxation() - r).abs() < 1e-15);
+        let e = 9.0 * base.eps0_t();
+        let y = 0.5 * base.e() * e * e;
+        let mut st = DamageState::default();
+        let mut dissipated = 0.0;
+        for n in 1..=200 {
+            let evo = evolve(&v, Side::Tension, e, y, &st);
+            let exact = e - (e - base.eps0_t()) / (1.0 + r).powi(n);
+            assert!((evo.state.kappa_t - exact).abs() <= 1e-14 * e, "step {n}: {} vs {exact}", evo.state.kappa_t);
+            assert!(evo.dissipation >= 0.0);
+            dissipated += evo.dissipation;
+            st = evo.state;
+        }
+        // After 200 steps (40 τ) the history is the rate-independent one to e^{-40}-ish.
+        let plain = evolve(&base, Side::Tension, e, y, &DamageState::default());
+        assert!((st.d_t - plain.state.d_t).abs() < 1e-12);
+        // The energy dissipated at fixed strain is Y Δd with Y = y (Y = y at the end of each step
+        // and d' positive: bounded by y [d(e) − 0] and positive).
+        assert!(dissipated > 0.0 && dissipated <= y * plain.state.d_t * (1.0 + 1e-12), "{dissipated} vs {}", y * plain.state.d_t);
+    }
+
+    #[test]
+    fn viscous_tangent_matches_finite_differences() {
+        // Plane stress with r = 0.5, loading states on both sides and in the switch band:
+        // central differences, step 1e-7 ‖ε‖∞, tolerance 1e-6 norm-wise relative (as the
+        // rate-independent checks in plane_stress.rs).
+        let v = law().with_relaxation(0.5, Some(1.0));
+        let strains = [
+            Vector3::new(6.0e-4, -1.0e-4, 2.0e-4),
+            Vector3::new(-3.0e-3, 0.4e-3, 0.5e-3),
+            Vector3::new(-2.0e-3, -1.5e-3, 0.1e-3),
+            Vector3::new(1.0e-3, -1.05e-3, 0.3e-3),
+        ];
+        for eps in strains {
+            let r = plane_stress::update(&v, &eps, &DamageState::default());
+            assert!(r.loading, "{eps:?} should load");
+            let fd = fd_tangent::<3, PlaneStress>(&v, &eps, &DamageState::default(), 1e-7 * eps.amax());
+            let err = rel_diff(r.tangent.as_slice(), fd.as_slice());
+            assert!(err <= 1e-6, "{eps:?}: {err:e}");
+        }
+    }
 }

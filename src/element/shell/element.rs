@@ -494,4 +494,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         self.revert();
         Ok(())
     }
+
+    fn set_damage_relaxation(&mut self, dt: f64, tau: Option<f64>) {
+        if let SectionLaw::Damage(law) = &mut self.law {
+            *law = law.with_relaxation(dt, tau);
+        }
+    }
 }
