@@ -334,7 +334,7 @@ impl DynamicSystem for PetscSystem<'_> {
             // solver (and the next `prepare` assembling J again) starts clean.
             self.ksp = new_solver(self.ctx, self.linear)?;
             self.key = None;
-            return Err(e);
+            return Err(e.into());
         }
         self.y.with_owned_values(|s| x.copy_from_slice(s))?;
         self.solves += 1;
