@@ -66,15 +66,28 @@ description, typical Savoyard baroque churches of this size and the site's photo
                 the triumphal arch;
     buttresses  the facade corners, the nave's south-east corner and the sacristy's east corners
                 (vertical, on the wall corner edges);
-    timber      roof trusses (rafters at x = 5, 10, 15 over the nave, 23.5 and 27 over the
-                choir), purlins (ridge and mid-slope, nave with the overhang, choir-sacristy), the
-                belfry posts and ring and the onion's ribs.
+    timber, in three kinds of groups:
+    trusses     the roof trusses (rafters at x = 5, 10, 15 over the nave, 23.5 and 27 over the
+                choir);
+    nave_purlins, choir_purlins
+                the purlins (ridge and mid-slope) of the nave roof (with the overhang) and of
+                the choir-sacristy roof: they carry the roof covering, whose mass the jobs give
+                them per length (the two roofs' purlins carry different widths of roof, hence
+                two groups; see jobs/church.toml);
+    belfry      the belfry posts and ring and the onion's ribs.
   Wall thicknesses (used by the jobs, not by the mesh): facade 1.0, nave walls 0.9, choir
   walls 0.8, sacristy 0.6, tower 1.0, vaults 0.25 (nave) 0.2 (choir), tribune 0.3.
 
 Physical groups: surfaces facade, nave_walls, choir_walls, sacristy, tower, nave_vault,
-choir_vault, tribune; curves arches, pilasters, buttresses, timber; curves "supports" (the wall
-bases at the foundation, z = 0 for the nave and tower, z = 0.5 for the choir and sacristy).
+choir_vault, tribune; curves arches, pilasters, buttresses, nave_purlins, choir_purlins,
+trusses, belfry; curves "supports" (the wall bases at the foundation, z = 0 for the nave and
+tower, z = 0.5 for the choir and sacristy). The physical tags follow CURVE_GROUPS' order, which
+keeps the tags of the groups that existed before the timber was split (supports = 13).
+
+Roof geometry the jobs need for the covering's mass (the purlins' tributary widths): nave roof
+slope length sqrt(5.4^2 + 4.5^2) = 7.03 m per side over 21.5 m (with the overhang), three
+purlins sharing the two slopes (4.69 m each); choir-sacristy roof sqrt(3.65^2 + 3.0^2) = 4.72 m
+per side over 11 m, three purlins (3.15 m each).
 Every mesh entity is in at most one group, so a job maps each group to one part.
 
 Mesh: element size SIZE (coarse 0.85 m, fine 0.22 m); vaults structured (quads between two
@@ -127,7 +140,8 @@ COARSE_SIZE = 0.85
 FINE_SIZE = 0.22
 
 SURFACE_GROUPS = ["facade", "nave_walls", "choir_walls", "sacristy", "tower", "nave_vault", "choir_vault", "tribune"]
-CURVE_GROUPS = ["arches", "pilasters", "buttresses", "timber", "supports"]
+# The new timber groups after "supports" (physical tags of the older groups unchanged).
+CURVE_GROUPS = ["arches", "pilasters", "buttresses", "nave_purlins", "supports", "choir_purlins", "trusses", "belfry"]
 
 # Derived positions
 HW = NAVE_WIDTH / 2          # nave half width (wall axes at y = ±HW)
@@ -302,34 +316,34 @@ def build(occ):
         b.line("buttresses", (0, side * HW, 0), (0, side * HW, NAVE_EAVES))
         b.line("buttresses", (XEND, side * CW, CHOIR_FLOOR), (XEND, side * CW, CHOIR_EAVES))
     b.line("buttresses", (XE, -HW, 0), (XE, -HW, NAVE_EAVES))
-    # --- timber: nave trusses (rafters) and purlins with the overhang
+    # --- timber: nave trusses (rafters) and purlins (which carry the covering) with the overhang
     def rafter_z(y, half, eaves, ridge):
         return eaves + (ridge - eaves) * (1 - abs(y) / half)
     for k in range(1, BAYS):
         x = k * bay
         for side in (-1, 1):
-            b.polyline("timber", [(x, side * HW, NAVE_EAVES), (x, side * HW / 2, rafter_z(HW / 2, HW, NAVE_EAVES, NAVE_RIDGE)), (x, 0, NAVE_RIDGE)])
+            b.polyline("trusses", [(x, side * HW, NAVE_EAVES), (x, side * HW / 2, rafter_z(HW / 2, HW, NAVE_EAVES, NAVE_RIDGE)), (x, 0, NAVE_RIDGE)])
     for y in (-HW / 2, 0.0, HW / 2):
         z = rafter_z(y, HW, NAVE_EAVES, NAVE_RIDGE)
-        b.line("timber", (-OVERHANG, y, z), (NAVE_LENGTH, y, z))
+        b.line("nave_purlins", (-OVERHANG, y, z), (NAVE_LENGTH, y, z))
     # choir-sacristy roof: trusses at mid-choir and on the choir-sacristy wall, purlins to the end gable
     for x in ((XE + XS) / 2, XS):
         for side in (-1, 1):
-            b.polyline("timber", [(x, side * CW, CHOIR_EAVES), (x, side * CW / 2, rafter_z(CW / 2, CW, CHOIR_EAVES, CHOIR_RIDGE)), (x, 0, CHOIR_RIDGE)])
+            b.polyline("trusses", [(x, side * CW, CHOIR_EAVES), (x, side * CW / 2, rafter_z(CW / 2, CW, CHOIR_EAVES, CHOIR_RIDGE)), (x, 0, CHOIR_RIDGE)])
     for y in (-CW / 2, 0.0, CW / 2):
         z = rafter_z(y, CW, CHOIR_EAVES, CHOIR_RIDGE)
-        b.line("timber", (XE, y, z), (XEND, y, z))
+        b.line("choir_purlins", (XE, y, z), (XEND, y, z))
     # belfry: posts on the tower corners, a ring, the onion's ribs (bulge, neck, spire)
     corners = [(TX0, TY0), (TX1, TY0), (TX1, TY1), (TX0, TY1)]
     top = TOWER_TOP + BELFRY_POSTS
     z_bulge, z_neck = top + 1.2, top + 3.0
     for i, (x, y) in enumerate(corners):
         xn, yn = corners[(i + 1) % 4]
-        b.line("timber", (x, y, TOWER_TOP), (x, y, top))
-        b.line("timber", (x, y, top), (xn, yn, top))
+        b.line("belfry", (x, y, TOWER_TOP), (x, y, top))
+        b.line("belfry", (x, y, top), (xn, yn, top))
         bulge = lambda px, py: (txc + 1.2 * (px - txc), tyc + 1.2 * (py - tyc), z_bulge)
-        b.line("timber", bulge(x, y), bulge(xn, yn))
-        b.polyline("timber", [(x, y, top), bulge(x, y), (txc + 0.3 * (x - txc), tyc + 0.3 * (y - tyc), z_neck), (txc, tyc, TOWER_SPIRE)])
+        b.line("belfry", bulge(x, y), bulge(xn, yn))
+        b.polyline("belfry", [(x, y, top), bulge(x, y), (txc + 0.3 * (x - txc), tyc + 0.3 * (y - tyc), z_neck), (txc, tyc, TOWER_SPIRE)])
     # --- supports: the wall bases at the foundation
     b.line("supports", (0, -HW, 0), (0, -dw / 2, 0))
     b.line("supports", (0, dw / 2, 0), (0, HW, 0))

@@ -382,6 +382,10 @@ impl Element for FiberBeam3d {
         Ok(())
     }
 
+    fn dissipated_energy(&self) -> f64 {
+        self.dissipated
+    }
+
     fn n_state(&self) -> usize {
         if self.committed.is_empty() {
             0

@@ -156,6 +156,13 @@ pub trait Element: Debug {
         values: &mut [f64],
     ) -> Result<(), ElementError>;
 
+    /// Energy dissipated by the material up to the committed state (J): the law's own
+    /// Σ ∫ (Y_t ḋ_t + Y_c ḋ_c) dV over the element's integration points, never negative and
+    /// never decreasing. 0 for elastic elements.
+    fn dissipated_energy(&self) -> f64 {
+        0.0
+    }
+
     /// Number of f64 values of the committed state (0 for elastic elements).
     fn n_state(&self) -> usize;
 

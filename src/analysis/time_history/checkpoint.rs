@@ -11,7 +11,8 @@
 //! replaces `latest.json` the same way, then removes older step folders. A run killed at any
 //! moment leaves `latest.json` pointing at a complete checkpoint (the previous one until the new
 //! one is whole). The rank file (little-endian): magic `MHPCCKP1`; u64 ranks, rank, owned DOFs,
-//! step, elements, node-envelope and cell-envelope lengths; f64 time and the six energies; the
+//! step, elements, node-envelope and cell-envelope lengths; f64 time and the eight energies
+//! ([`super::EnergyBalance::to_array`]); the
 //! vectors u, v, a, f_int, C v; per element its state length (u64) then all states (f64); the
 //! envelopes; an FNV-1a checksum of everything before it. A restart needs the same rank count
 //! (the partition, hence the owned DOFs and elements, depends on it).
@@ -21,7 +22,9 @@ use crate::run::Error;
 use mpi::traits::CommunicatorCollectives;
 use std::path::{Path, PathBuf};
 
-const MAGIC: &[u8; 8] = b"MHPCCKP1";
+const MAGIC: &[u8; 8] = b"MHPCCKP2";
+/// The layout before the law's dissipation was part of the energies (six of them).
+const OLD_MAGIC: &[u8; 8] = b"MHPCCKP1";
 
 /// The state of one rank at the end of a converged step.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,7 +34,7 @@ pub struct Checkpoint {
     /// Time [s].
     pub t: f64,
     /// Energies ([`super::EnergyBalance::to_array`]).
-    pub energy: [f64; 6],
+    pub energy: [f64; super::EnergyBalance::N_VALUES],
     /// u, v, a, f_int, C v (owned entries).
     pub vectors: [Vec<f64>; 5],
     /// Committed state of every owned element.
@@ -127,6 +130,9 @@ impl Reader<'_> {
 
 /// Decodes a rank file; checks magic, checksum and the rank layout.
 fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, String> {
+    if b.len() >= 8 && &b[..8] == OLD_MAGIC {
+        return Err("written by an older version (six energies, without the law's dissipation); start the time history again without --restart".into());
+    }
     if b.len() < 8 + 8 * 8 + 8 || &b[..8] != MAGIC {
         return Err("not a checkpoint file (bad magic or too short)".into());
     }
@@ -146,8 +152,8 @@ fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, String> {
     }
     let (n, step, n_el, n_ne, n_ce) = (h[2], h[3], h[4], h[5], h[6]);
     let t = r.f64s(1).ok_or_else(bad)?[0];
-    let e = r.f64s(6).ok_or_else(bad)?;
-    let energy = [e[0], e[1], e[2], e[3], e[4], e[5]];
+    let e = r.f64s(super::EnergyBalance::N_VALUES).ok_or_else(bad)?;
+    let energy: [f64; super::EnergyBalance::N_VALUES] = e.try_into().map_err(|_| bad())?;
     let mut vecs = Vec::new();
     for _ in 0..5 {
         vecs.push(r.f64s(n).ok_or_else(bad)?);
@@ -216,7 +222,7 @@ mod tests {
         let c = Checkpoint {
             step: 7,
             t: 0.07,
-            energy: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            energy: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
             vectors: [vec![1.0, -2.0], vec![3.0, 4.0], vec![5.0, 6.0], vec![7.0, 8.0], vec![9.0, 10.0]],
             states: vec![vec![], vec![0.1, 0.2, 0.3]],
             node_envelope: vec![1.5],

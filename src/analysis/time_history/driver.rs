@@ -74,8 +74,9 @@ pub struct TimeHistorySummary {
     pub output_steps: usize,
     /// Checkpoints written.
     pub checkpoints: usize,
-    /// Final energies [J]: input, kinetic, strain, damping, dissipated by damage.
-    pub energy: [f64; 5],
+    /// Final energies [J]: input, kinetic, strain, damping, dissipated by damage (the law's),
+    /// exchanged at unilateral switches (`energy.rs`).
+    pub energy: [f64; 6],
     /// Largest relative energy-balance error over the steps.
     pub max_balance_error: f64,
     /// Peak relative displacement over nodes and time, x y z [m].
@@ -350,7 +351,7 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
     summary.seconds[4] = t_checkpoint;
     summary.seconds_per_step = t_stepping / steps_done as f64;
     let e = state.energy;
-    summary.energy = [e.input, e.kinetic, e.strain - e.strain0, e.damping, e.dissipated()];
+    summary.energy = [e.input, e.kinetic, e.strain - e.strain0, e.damping, e.dissipated(), e.unilateral()];
     // Envelopes over ranks.
     let mut peak = [0.0; 4];
     for (k, p) in peak.iter_mut().enumerate() {
@@ -381,7 +382,7 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
         }
     }
     log.info(format!(
-        "time history done: t = {:.4} s, {} iteration(s), {} factorization(s), {:.4} s per step; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, balance error {:.2e} (max {:.2e})",
+        "time history done: t = {:.4} s, {} iteration(s), {} factorization(s), {:.4} s per step; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",
         state.t,
         summary.iterations,
         summary.factorizations,
@@ -397,6 +398,7 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
         e.strain - e.strain0,
         e.damping,
         e.dissipated(),
+        e.unilateral(),
         e.relative_error(),
         summary.max_balance_error
     ));

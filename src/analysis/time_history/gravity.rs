@@ -42,9 +42,11 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
         let mut converged = false;
         let mut rel = f64::INFINITY;
         let mut its = 0;
+        let mut reason = String::from("no convergence");
         for it in 0..=s.max_iterations {
             its = it;
-            if sys.internal_force(&trial, &mut fi).is_err() {
+            if let Err(e) = sys.internal_force(&trial, &mut fi) {
+                reason = e.to_string();
                 break;
             }
             for i in 0..n {
@@ -52,6 +54,7 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
             }
             rel = sys.dot(&r, &r).sqrt() / (target * f_norm);
             if !rel.is_finite() {
+                reason = "the residual is not finite".into();
                 break;
             }
             if rel <= s.tolerance {
@@ -61,7 +64,8 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
             if it == s.max_iterations {
                 break;
             }
-            if sys.prepare(Some(&trial), 0.0, 0.0).and_then(|_| sys.solve(&r, &mut du)).is_err() {
+            if let Err(e) = sys.prepare(Some(&trial), 0.0, 0.0).and_then(|_| sys.solve(&r, &mut du)) {
+                reason = format!("iteration {it}: {e}");
                 break;
             }
             for i in 0..n {
@@ -85,7 +89,7 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
                 )));
             }
             dl /= 2.0;
-            log.info(format!("gravity: step towards λ = {target:.4} failed (residual {rel:.2e}); Δλ = {dl:.4e}"));
+            log.info(format!("gravity: step towards λ = {target:.4} failed after {its} iteration(s) (residual {rel:.2e}: {reason}); Δλ = {dl:.4e}"));
         }
     }
     Ok(u)

@@ -63,6 +63,16 @@ pub struct PetscSystem<'a> {
     pub solve_seconds: f64,
 }
 
+/// The linear solver: MUMPS LU (Cholesky for a linear model), then the options.
+fn new_solver(ctx: &Context, linear: bool) -> Result<Ksp, Error> {
+    let mut ksp = Ksp::new(&ctx.comm, "")?;
+    ksp.set_type("preonly")?;
+    ksp.set_pc_type(if linear { "cholesky" } else { "lu" })?;
+    ksp.set_factor_solver("mumps")?;
+    ksp.set_from_options()?;
+    Ok(ksp)
+}
+
 impl<'a> PetscSystem<'a> {
     /// Collective. Sets up the discretization, assembles `M`, `K₀`, the static load and the
     /// influence vectors, and creates the solver (options read now, under no prefix).
@@ -84,11 +94,7 @@ impl<'a> PetscSystem<'a> {
         let mut nonlinear = 0u64;
         ctx.comm.all_reduce_into(&nonlinear_local, &mut nonlinear, mpi::collective::SystemOperation::sum());
         let linear = nonlinear == 0;
-        let mut ksp = Ksp::new(&ctx.comm, "")?;
-        ksp.set_type("preonly")?;
-        ksp.set_pc_type(if linear { "cholesky" } else { "lu" })?;
-        ksp.set_factor_solver("mumps")?;
-        ksp.set_from_options()?;
+        let ksp = new_solver(ctx, linear)?;
         let first = (6 * disc.dofs.node_offset()) as i32;
         let idx: Vec<i32> = (0..n as i32).map(|i| first + i).collect();
         let mut x = Vector::new_mpi(&ctx.comm, n, None)?;
@@ -321,11 +327,26 @@ impl DynamicSystem for PetscSystem<'_> {
         let t0 = Instant::now();
         self.x.copy_owned_from(r)?;
         let solved = self.ksp.solve(&self.x, &mut self.y).map_err(Error::from);
-        agree(&self.ctx.comm, solved, Error::exit_code)?;
+        if let Err(e) = agree(&self.ctx.comm, solved, Error::exit_code) {
+            // A failed factorization poisons the solver: PETSc's MUMPS interface skips every
+            // later numeric factorization of the same factor once one has failed (INFOG(1) < 0
+            // stays set), so every retry of a cut step would fail at its first solve. A fresh
+            // solver (and the next `prepare` assembling J again) starts clean.
+            self.ksp = new_solver(self.ctx, self.linear)?;
+            self.key = None;
+            return Err(e.into());
+        }
         self.y.with_owned_values(|s| x.copy_from_slice(s))?;
         self.solves += 1;
         self.solve_seconds += t0.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    fn dissipated_energy(&self) -> f64 {
+        let local: f64 = self.disc.elements.iter().map(|e| e.dissipated_energy()).sum();
+        let mut global = 0.0;
+        self.ctx.comm.all_reduce_into(&local, &mut global, mpi::collective::SystemOperation::sum());
+        global
     }
 
     fn commit(&mut self) {

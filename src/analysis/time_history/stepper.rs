@@ -81,7 +81,8 @@ impl State {
         let mut mv = vec![0.0; n];
         sys.mass_mult(&v, &mut mv)?;
         let strain = 0.5 * sys.dot(&u, &f_int);
-        let energy = EnergyBalance { kinetic: 0.5 * sys.dot(&v, &mv), strain, strain0: strain, ..Default::default() };
+        let damage = sys.dissipated_energy();
+        let energy = EnergyBalance { kinetic: 0.5 * sys.dot(&v, &mv), strain, strain0: strain, damage, damage0: damage, ..Default::default() };
         Ok(State { step: 0, t: 0.0, u, v, a, f_int, cv, energy })
     }
 }
@@ -299,6 +300,8 @@ impl Stepper {
         e.damping += d[1];
         e.internal_work += d[2];
         e.strain = 0.5 * d[3];
+        // The elements were committed before `accept`: their dissipation is the step's end's.
+        e.damage = sys.dissipated_energy();
         if mv_ok {
             e.kinetic = 0.5 * d[4];
         }

@@ -41,6 +41,11 @@ pub trait DynamicSystem {
     fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error>;
     /// `x = J⁻¹ r` with the last prepared `J`. Collective.
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error>;
+    /// The energy the material law has dissipated up to the committed state, summed over all
+    /// elements of all ranks (`Element::dissipated_energy`) [J]; 0 for a linear system. Collective.
+    fn dissipated_energy(&self) -> f64 {
+        0.0
+    }
     /// Accepts the trial state of every element.
     fn commit(&mut self);
     /// Discards the trial state of every element.

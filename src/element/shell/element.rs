@@ -456,6 +456,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         Ok(())
     }
 
+    fn dissipated_energy(&self) -> f64 {
+        self.dissipated
+    }
+
     fn n_state(&self) -> usize {
         if self.committed.is_empty() {
             0
