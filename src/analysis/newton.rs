@@ -121,6 +121,15 @@ pub fn global_sum(ctx: &Context, x: f64) -> f64 {
     out
 }
 
+/// Collective. The linear solver: MUMPS LU (the options database is applied at the first solve).
+fn new_solver(ctx: &Context) -> Result<Ksp, Error> {
+    let mut ksp = Ksp::new(&ctx.comm, "")?;
+    ksp.set_type("preonly")?;
+    ksp.set_pc_type("lu")?;
+    ksp.set_factor_solver("mumps")?;
+    Ok(ksp)
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -157,10 +166,7 @@ impl NonlinearSystem {
             }
         }
         let free: Vec<bool> = disc.dofs.owned.iter().flat_map(|&n| (0..6).map(move |d| (n, d))).map(|(n, d)| disc.dofs.equation(n, d) >= 0).collect();
-        let mut ksp = Ksp::new(&ctx.comm, "")?;
-        ksp.set_type("preonly")?;
-        ksp.set_pc_type("lu")?;
-        ksp.set_factor_solver("mumps")?;
+        let ksp = new_solver(ctx)?;
         Ok(NonlinearSystem {
             n_owned,
             first,
@@ -232,7 +238,14 @@ impl NonlinearSystem {
         for b in rhs {
             self.rhs.set_values(&idx, b)?;
             self.rhs.assemble()?;
-            agree(&ctx.comm, self.ksp.solve(&self.rhs, &mut self.sol).map_err(Error::from), Error::exit_code)?;
+            if let Err(e) = agree(&ctx.comm, self.ksp.solve(&self.rhs, &mut self.sol).map_err(Error::from), Error::exit_code) {
+                // A failed factorization poisons the solver: PETSc's MUMPS interface skips every
+                // later numeric factorization once one has failed, so every retry of a cut
+                // increment would fail at its first solve. A fresh solver starts clean.
+                self.ksp = new_solver(ctx)?;
+                self.options_set = false;
+                return Err(e.into());
+            }
             out.push(self.sol.owned_values()?);
         }
         Ok(out)
