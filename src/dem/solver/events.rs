@@ -43,7 +43,9 @@ use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
-use super::factor::LowRankCholesky;
+use super::equilibrium::Refactor;
+use super::factor::{LowRankCholesky, TermId};
+use super::profile::SolverProfile;
 use super::system::{Model, ZTerm};
 use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
 
@@ -185,8 +187,11 @@ pub struct Solver<'a> {
     pub(super) reg: Vec<f64>,
     pub(super) factor: LowRankCholesky,
     pub(super) needs_factor: bool,
-    // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential).
-    pub(super) op_terms: BTreeMap<(usize, usize, u8), ZTerm>,
+    /// Why `needs_factor` was set (for the profile; `None`: a floating stone).
+    pub(super) pending_refactor: Option<Refactor>,
+    // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential),
+    // with their handle in the Woodbury correction while they are there.
+    pub(super) op_terms: BTreeMap<(usize, usize, u8), (ZTerm, Option<TermId>)>,
     pub(super) contacts: Vec<ActiveContact>,
     pub(super) committed_ft: BTreeMap<(usize, usize), f64>,
     load: LoadPoint,
@@ -202,6 +207,8 @@ pub struct Solver<'a> {
     pub n_solves: usize,
     /// Load-increment cut-backs done (halvings of a load step or of a beam's release).
     pub n_cutbacks: usize,
+    /// Counters and phase times ([`SolverProfile`]).
+    pub profile: SolverProfile,
     lateral: [Vec<usize>; 2],
     /// Mean stone diameter D̄ (m): weighs moments in the merit function.
     pub(super) mean_diameter: f64,
@@ -258,6 +265,7 @@ impl<'a> Solver<'a> {
             reg,
             factor: LowRankCholesky::new(n_eq),
             needs_factor: true,
+            pending_refactor: None,
             op_terms: BTreeMap::new(),
             contacts: Vec::new(),
             committed_ft: BTreeMap::new(),
@@ -269,6 +277,7 @@ impl<'a> Solver<'a> {
             stage: 0,
             n_solves: 0,
             n_cutbacks: 0,
+            profile: SolverProfile::default(),
             lateral,
             mean_diameter,
             max_move: 0.05 * mean_diameter,
