@@ -34,7 +34,7 @@ use super::gmres::gmres;
 use super::system::ZTerm;
 use super::profile;
 use super::tangent::Tangent;
-use super::factor::TermId;
+use super::factor::{SparseColumn, TermId};
 use std::time::Instant;
 
 /// A residual evaluation.
@@ -107,19 +107,12 @@ impl<'a> Solver<'a> {
         Ok(Some(id))
     }
 
-    /// Takes a contact term out of the operator: drops its Woodbury columns when it entered
-    /// since the last factorization, else subtracts it.
-    fn remove_low_rank(&mut self, term: &ZTerm, id: Option<TermId>) -> Result<(), DemError> {
-        if let Some(id) = id {
-            if self.factor.remove(id) {
-                return Ok(());
-            }
-        }
-        self.add_low_rank(term, -1.0).map(|_| ())
-    }
-
     /// Brings the operator's contact terms (normal penalty, sticking tangential) in line with
-    /// `contacts` (Woodbury updates, or a refactorization when the correction grows too large).
+    /// `contacts`: a term that leaves is dropped from the Woodbury correction when it entered
+    /// since the last factorization, else subtracted; the new and subtracted terms are added
+    /// in one batch. A refactorization is requested instead when the correction would pass
+    /// `max_rank`, or when it has cost more than a factorization (the cost model of
+    /// [`super::factor`]).
     fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
         let mut want: BTreeMap<(usize, usize, u8), ()> = BTreeMap::new();
         for a in contacts {
@@ -128,10 +121,15 @@ impl<'a> Solver<'a> {
                 want.insert((a.i, a.j, 1), ());
             }
         }
+        // (key of a new term, or None for a subtraction; columns; sign)
+        let mut batch: Vec<(Option<(usize, usize, u8)>, Vec<SparseColumn>, f64)> = Vec::new();
         let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
         for k in gone {
             if let Some((t, id)) = self.op_terms.remove(&k) {
-                self.remove_low_rank(&t, id)?;
+                if id.is_some_and(|id| self.factor.remove(id)) || self.needs_factor {
+                    continue;
+                }
+                batch.push((None, self.model.factors(&t), -1.0));
             }
         }
         for a in contacts {
@@ -142,12 +140,37 @@ impl<'a> Solver<'a> {
                 let key = (a.i, a.j, kind);
                 if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
                     let t = self.model.rank_one(a.i, a.j, &dir, k);
-                    let id = self.add_low_rank(&t, 1.0)?;
-                    self.op_terms.insert(key, (t, id));
+                    if !self.needs_factor {
+                        batch.push((Some(key), self.model.factors(&t), 1.0));
+                    }
+                    self.op_terms.insert(key, (t, None));
                 }
             }
         }
-        if !self.needs_factor && self.factor.wants_refactorization() {
+        if self.needs_factor {
+            return Ok(()); // the next factorization includes the current terms
+        }
+        let cols: usize = batch.iter().map(|b| b.1.len()).sum();
+        if self.factor.rank() + cols > self.opts.max_rank {
+            self.needs_factor = true;
+            self.pending_refactor = Some(Refactor::RankCap);
+            return Ok(());
+        }
+        if !batch.is_empty() {
+            let clock = Instant::now();
+            let keys: Vec<_> = batch.iter().map(|b| b.0).collect();
+            let ids = self
+                .factor
+                .add_batch(batch.into_iter().map(|(_, c, s)| (c, s)).collect())
+                .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+            for (key, id) in keys.into_iter().zip(ids) {
+                if let Some(entry) = key.and_then(|k| self.op_terms.get_mut(&k)) {
+                    entry.1 = Some(id);
+                }
+            }
+            profile::add(&mut self.profile.columns_seconds, clock.elapsed());
+        }
+        if self.factor.wants_refactorization() {
             self.needs_factor = true;
             self.pending_refactor = Some(Refactor::CostModel);
         }

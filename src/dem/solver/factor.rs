@@ -13,8 +13,8 @@
 //!   (A + U Σ Uᵀ)⁻¹ b = x₀ − Y M⁻¹ (Uᵀ x₀),   x₀ = A⁻¹ b,  Y = A⁻¹ U,  M = Σ + Uᵀ Y   (m × m)
 //! ```
 //!
-//! `Y` is built term by term as terms arrive (one sparse solve with the term's columns as
-//! right-hand sides), `M` is recomputed from the sparse `U` (`6m²` flops) and factorized densely
+//! `Y` is built as terms arrive (the new terms' columns solved together, [`BATCH`] right-hand
+//! sides per pass over `L`), `M` is recomputed from the sparse `U` (`6m²` flops) and factorized densely
 //! (LU, `m ≲ 100`). A term that leaves again before the next factorization ([`Self::remove`],
 //! e.g. a contact that opens in the next Newton iteration) has its columns dropped: exact and
 //! free, instead of a second, cancelling term. When `A + UΣUᵀ` is close to singular, `M` is
@@ -27,13 +27,14 @@
 //! ```text
 //!   one base solve        W_s = 4 nnz(L)                     (forward + backward substitution)
 //!   one factorization     W_f = Σ_j c_j² / R                 (c_j = entries of column j of L)
-//!   a Woodbury column     W_s                                (its base solve)
+//!   a Woodbury column     W_s, or W_s (1 + (k−1) β)          (alone, or k in one pass)
 //!   a corrected solve     W_s + 4 m n                        (Uᵀx₀ is sparse; Y c is dense)
 //! ```
 //!
-//! `R` = [`FACTOR_SPEEDUP`] is how much faster per flop the supernodal factorization (dense
-//! blocks, BLAS-3) runs than the substitutions (memory-bound), measured on the DEM operators of
-//! 1k–50k stones (`examples/dem_factorization.rs`). The flops spent on the correction since the
+//! `β` = [`BATCH_COLUMN_COST`]; `R` is how much faster per flop the factorization runs than the
+//! substitutions (memory-bound): [`FACTOR_SPEEDUP`] for a supernodal factor (dense blocks,
+//! BLAS-3), [`FACTOR_SPEEDUP_SIMPLICIAL`] for a simplicial one (small systems), measured on the
+//! DEM operators of 1k and 10k stones (`examples/dem_factorization.rs`). The flops spent on the correction since the
 //! last factorization (its columns and the extra `4mn` of every solve) are summed; once they
 //! pass `W_f` the caller refactorizes ([`Self::wants_refactorization`]). This is the
 //! rent-or-buy rule: whatever the future sequence of updates, it costs at most twice the best
@@ -55,9 +56,20 @@ pub type UpperTriplets = Vec<Triplet<usize, usize, f64>>;
 /// A sparse column: `(row, value)` pairs.
 pub type SparseColumn = Vec<(usize, f64)>;
 
-/// How much faster per flop a numeric factorization runs than a pair of triangular solves
-/// (measured with `examples/dem_factorization.rs`: see the module docs).
-pub const FACTOR_SPEEDUP: f64 = 6.0;
+/// How much faster per flop a supernodal numeric factorization runs than a pair of triangular
+/// solves (measured with `examples/dem_factorization.rs`, sequential faer: 10k stones, 2.9).
+pub const FACTOR_SPEEDUP: f64 = 3.0;
+
+/// The same for a simplicial factorization (small systems; faer picks it from the structure):
+/// slower per flop than the substitutions (1k stones: 0.27).
+pub const FACTOR_SPEEDUP_SIMPLICIAL: f64 = 0.3;
+
+/// Right-hand sides solved together when Woodbury columns are added ([`LowRankCholesky::add_batch`]).
+pub const BATCH: usize = 16;
+
+/// Cost of each further right-hand side of a batched solve, in base solves (measured with
+/// `examples/dem_factorization.rs`).
+pub const BATCH_COLUMN_COST: f64 = 0.3;
 
 /// Why a factorization failed.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,7 +85,7 @@ struct Symbolic {
     row_idx: Vec<usize>,
     /// `4 nnz(L)`.
     solve_flops: f64,
-    /// `Σ_j c_j²`.
+    /// `Σ_j c_j² / R`.
     factor_flops: f64,
 }
 
@@ -156,7 +168,7 @@ impl LowRankCholesky {
             let (solve_flops, factor_flops) = flop_counts(&sym);
             let req = sym
                 .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-                .or(sym.solve_in_place_scratch::<f64>(3, Par::Seq));
+                .or(sym.solve_in_place_scratch::<f64>(BATCH, Par::Seq));
             self.scratch = MemBuffer::try_new(req).map_err(|e| FactorError(format!("workspace: {e:?}")))?;
             self.values = vec![0.0; sym.len_val()];
             self.symbolic = Some(Symbolic { sym, col_ptr: cp.to_vec(), row_idx: ri.to_vec(), solve_flops, factor_flops });
@@ -185,7 +197,7 @@ impl LowRankCholesky {
         Ok(())
     }
 
-    /// Solves `A X = B` in place for the `k` columns of `x` (column-major, `n × k`, `k ≤ 3`).
+    /// Solves `A X = B` in place for the `k` columns of `x` (column-major, `n × k`, `k ≤ BATCH`).
     fn base_solve(&mut self, x: &mut [f64], k: usize) -> Result<(), FactorError> {
         let s = match (&self.symbolic, self.factorized) {
             (Some(s), true) => s,
@@ -203,7 +215,7 @@ impl LowRankCholesky {
     /// `(W_s, W_f)`: flops of one base solve and (scaled by [`FACTOR_SPEEDUP`]) of one
     /// factorization; zero before the first factorization.
     pub fn costs(&self) -> (f64, f64) {
-        self.symbolic.as_ref().map_or((0.0, 0.0), |s| (s.solve_flops, s.factor_flops / FACTOR_SPEEDUP))
+        self.symbolic.as_ref().map_or((0.0, 0.0), |s| (s.solve_flops, s.factor_flops))
     }
 
     /// Whether the correction has cost more than a factorization since the last one (see the
@@ -216,35 +228,54 @@ impl LowRankCholesky {
     /// Adds `sign · u uᵀ` for each column `u` (sparse, length `n`) to the operator; returns the
     /// term's handle.
     pub fn add_terms(&mut self, cols: Vec<SparseColumn>, sign: f64) -> Result<TermId, FactorError> {
-        let id = TermId(self.next_id);
-        self.next_id += 1;
-        if cols.is_empty() {
-            return Ok(id);
-        }
+        let ids = self.add_batch(vec![(cols, sign)])?;
+        ids.first().copied().ok_or_else(|| FactorError("no term added".into()))
+    }
+
+    /// Adds several terms `(columns, sign)` at once: their columns are solved together, up to
+    /// [`BATCH`] right-hand sides per pass over `L` (the substitutions are memory-bound, so a
+    /// pass with many right-hand sides costs little more than one). Returns the handles in order.
+    pub fn add_batch(&mut self, terms: Vec<(Vec<SparseColumn>, f64)>) -> Result<Vec<TermId>, FactorError> {
         let n = self.n;
-        let k = cols.len();
+        let k: usize = terms.iter().map(|t| t.0.len()).sum();
         let mut rhs = vec![0.0; n * k];
-        for (c, col) in cols.iter().enumerate() {
-            for &(r, v) in col {
-                rhs[c * n + r] += v;
+        let mut c = 0;
+        for (cols, _) in &terms {
+            for col in cols {
+                for &(r, v) in col {
+                    rhs[c * n + r] += v;
+                }
+                c += 1;
             }
         }
-        // At most three right-hand sides per solve (the workspace is sized for three).
-        for chunk in rhs.chunks_mut(3 * n) {
+        for chunk in rhs.chunks_mut(BATCH * n) {
             let kk = chunk.len() / n;
             self.base_solve(chunk, kk)?;
+            self.spent += self.costs().0 * (1.0 + (kk as f64 - 1.0) * BATCH_COLUMN_COST);
         }
-        let start = self.u.len();
-        for (c, col) in cols.into_iter().enumerate() {
-            self.u.push(col);
-            self.y.push(rhs[c * n..(c + 1) * n].to_vec());
-            self.sign.push(sign);
+        let mut ids = Vec::with_capacity(terms.len());
+        let mut c = 0;
+        for (cols, sign) in terms {
+            let id = TermId(self.next_id);
+            self.next_id += 1;
+            ids.push(id);
+            let start = self.u.len();
+            let len = cols.len();
+            for col in cols {
+                self.u.push(col);
+                self.y.push(rhs[c * n..(c + 1) * n].to_vec());
+                self.sign.push(sign);
+                c += 1;
+            }
+            if len > 0 {
+                self.terms.push(Term { id, start, len });
+            }
         }
-        self.terms.push(Term { id, start, len: k });
         self.n_columns += k;
-        self.spent += k as f64 * self.costs().0;
-        self.update_capacitance();
-        Ok(id)
+        if k > 0 {
+            self.update_capacitance();
+        }
+        Ok(ids)
     }
 
     /// Removes a term added since the last factorization (drops its columns: exact, no solve)
@@ -315,7 +346,7 @@ impl LowRankCholesky {
     }
 }
 
-/// `(4 nnz(L), Σ_j c_j²)` from the symbolic factor (`c_j` = entries of column `j`, diagonal
+/// `(4 nnz(L), Σ_j c_j² / R)` from the symbolic factor (`c_j` = entries of column `j`, diagonal
 /// included). A supernode of `w` columns and `r` rows below its diagonal block holds, in its
 /// `k`-th column, `w − k + r` entries.
 fn flop_counts(sym: &SymbolicCholesky<usize>) -> (f64, f64) {
@@ -327,6 +358,7 @@ fn flop_counts(sym: &SymbolicCholesky<usize>) -> (f64, f64) {
                 nnz += c;
                 work += c * c;
             }
+            work /= FACTOR_SPEEDUP_SIMPLICIAL;
         }
         SymbolicCholeskyRaw::Supernodal(s) => {
             let rp = s.col_ptr_for_row_idx();
@@ -338,6 +370,7 @@ fn flop_counts(sym: &SymbolicCholesky<usize>) -> (f64, f64) {
                     work += c * c;
                 }
             }
+            work /= FACTOR_SPEEDUP;
         }
     }
     (4.0 * nnz, work)
@@ -461,7 +494,8 @@ mod tests {
         f.factorize(&t).unwrap();
         let (w_s, w_f) = f.costs();
         assert_eq!(w_s, 4.0 * 21.0);
-        assert!((w_f * FACTOR_SPEEDUP - 91.0).abs() < 1e-12);
+        let r = (91.0 / w_f - FACTOR_SPEEDUP).abs().min((91.0 / w_f - FACTOR_SPEEDUP_SIMPLICIAL).abs());
+        assert!(r < 1e-12, "W_f = {w_f}");
         assert!(!f.wants_refactorization());
     }
 
