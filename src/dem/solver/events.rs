@@ -28,8 +28,10 @@
 //!
 //! **Low-rank updates.** A break adds `−Σ u uᵀ` (rank ≤ 3) to the Woodbury correction of the
 //! factorization ([`LowRankCholesky`]); contact terms entering / leaving the operator likewise
-//! (rank 1 each). The base matrix is refactorized when the correction's rank exceeds
-//! `max_rank`, or when a Newton iteration needs more than 3 solves (accuracy safeguard).
+//! (rank 1 each; a contact term that leaves before the next factorization is dropped from the
+//! correction). The base matrix is refactorized when the correction has cost more than a
+//! factorization (the cost model of [`super::factor`]), when its rank would exceed `max_rank`,
+//! or when its capacitance matrix is ill-conditioned or GMRES fails with it (accuracy).
 //!
 //! **Energy.** Per committed state: external work (trapezoid of the platen forces times the
 //! platen displacement increments, prescribed and force-controlled DOFs), stored energy (intact
