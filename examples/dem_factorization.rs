@@ -5,12 +5,15 @@
 //!
 //! Prints one JSON line: stones, equations, non-zeros of the upper triangle, seconds to build the
 //! sample, to assemble, for the first factorization (symbolic + numeric), for a second numeric
-//! factorization of the same pattern, and for one solve. `scripts/bench/dem.sh` divides the cost
-//! of a beam-break event by these.
+//! factorization of the same pattern, for one solve and for a batch of Woodbury columns, with the
+//! cost model's estimate (`factor.rs`) of a factorization in solves beside the measured ratio
+//! (they agree when `FACTOR_SPEEDUP` is right), and the batch's `BATCH_COLUMN_COST`.
+//! `scripts/bench/dem.sh` divides the cost of a beam-break event by these.
 use std::time::Instant;
 
 use masonry_hpc::dem::mechanics::MechParams;
 use masonry_hpc::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
+use masonry_hpc::dem::solver::factor::BATCH;
 use masonry_hpc::dem::solver::{DofControl, DofMap, LowRankCholesky, Model};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -41,14 +44,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let t3 = Instant::now();
     factor.factorize(&upper).map_err(|e| e.0)?;
     let numeric = t3.elapsed().as_secs_f64();
-    let mut x = vec![1.0; n_eq];
-    let t4 = Instant::now();
-    factor.solve(&mut x).map_err(|e| e.0)?;
-    let solve = t4.elapsed().as_secs_f64();
+    // One solve (best of 5), and a batch of BATCH Woodbury columns (best of 3, unit vectors).
+    let mut solve = f64::INFINITY;
+    for _ in 0..5 {
+        let mut x = vec![1.0; n_eq];
+        let t4 = Instant::now();
+        factor.solve(&mut x).map_err(|e| e.0)?;
+        solve = solve.min(t4.elapsed().as_secs_f64());
+    }
+    let mut batch = f64::INFINITY;
+    for _ in 0..3 {
+        let cols: Vec<_> = (0..BATCH).map(|k| vec![((k * 7919) % n_eq, 1e-3)]).collect();
+        let t5 = Instant::now();
+        factor.add_batch(vec![(cols, 1.0)]).map_err(|e| e.0)?;
+        batch = batch.min(t5.elapsed().as_secs_f64());
+        factor.factorize(&upper).map_err(|e| e.0)?;
+    }
+    let (w_s, w_f) = factor.costs();
     println!(
-        "{{\"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"solve_seconds\": {solve:.5}}}",
+        "{{\"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"solve_seconds\": {solve:.6}, \"batch_columns\": {BATCH}, \"batch_seconds\": {batch:.6}, \"solve_flops\": {w_s:.4e}, \"factor_cost_in_solves\": {:.2}, \"factor_over_solve_time\": {:.2}, \"batch_column_cost\": {:.3}}}",
         sample.particles.len(),
-        upper.len()
+        upper.len(),
+        w_f / w_s,
+        numeric / solve,
+        (batch / solve - 1.0) / (BATCH as f64 - 1.0)
     );
     Ok(())
 }

@@ -32,7 +32,10 @@ use super::error::DemError;
 use super::events::Solver;
 use super::gmres::gmres;
 use super::system::ZTerm;
+use super::profile;
 use super::tangent::Tangent;
+use super::factor::{SparseColumn, TermId};
+use std::time::Instant;
 
 /// A residual evaluation.
 pub(super) struct Evaluation {
@@ -46,33 +49,70 @@ pub(super) struct Evaluation {
     pub merit: f64,
 }
 
+/// Why the operator is refactorized (counted in [`super::SolverProfile::refactorizations`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Refactor {
+    /// The Woodbury correction has cost more than a factorization (cost model).
+    CostModel,
+    /// The correction's rank would pass `max_rank`.
+    RankCap,
+    /// Ill-conditioned capacitance matrix, or GMRES failed with the correction.
+    Accuracy,
+}
+
 impl<'a> Solver<'a> {
-    pub(super) fn refactorize(&mut self) -> Result<(), DemError> {
-        let extra: Vec<ZTerm> = self.op_terms.values().cloned().collect();
+    /// Factorizes the current operator (intact beams, the contact terms, `ε`); `cause` is
+    /// counted in the profile (`None`: the first factorization, or a floating stone).
+    pub(super) fn refactorize(&mut self, cause: Option<Refactor>) -> Result<(), DemError> {
+        let clock = Instant::now();
+        let extra: Vec<ZTerm> = self.op_terms.values_mut().map(|(t, id)| {
+            *id = None;
+            t.clone()
+        }).collect();
         let t = self.model.assemble(&self.intact, &self.reg, &extra);
         self.factor
             .factorize(&t)
             .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
         self.needs_factor = false;
+        let r = &mut self.profile.refactorizations;
+        match cause {
+            Some(Refactor::CostModel) => r.cost_model += 1,
+            Some(Refactor::RankCap) => r.rank_cap += 1,
+            Some(Refactor::Accuracy) => r.accuracy += 1,
+            None if self.factor.n_factorizations == 1 => r.initial += 1,
+            None => r.floating += 1,
+        }
+        profile::add(&mut self.profile.factor_seconds, clock.elapsed());
         Ok(())
     }
 
-    pub(super) fn add_low_rank(&mut self, term: &ZTerm, sign: f64) -> Result<(), DemError> {
+    /// Adds `sign ·` `term` to the operator as a Woodbury term; `None` when the operator is to
+    /// be refactorized anyway (then the factorization includes the term).
+    pub(super) fn add_low_rank(&mut self, term: &ZTerm, sign: f64) -> Result<Option<TermId>, DemError> {
         if self.needs_factor {
-            return Ok(()); // the next factorization will include the current terms
+            return Ok(None); // the next factorization will include the current terms
         }
         let cols = self.model.factors(term);
         if self.factor.rank() + cols.len() > self.opts.max_rank {
             self.needs_factor = true;
-            return Ok(());
+            self.pending_refactor = Some(Refactor::RankCap);
+            return Ok(None);
         }
-        self.factor
+        let clock = Instant::now();
+        let id = self
+            .factor
             .add_terms(cols, sign)
-            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })
+            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+        profile::add(&mut self.profile.columns_seconds, clock.elapsed());
+        Ok(Some(id))
     }
 
     /// Brings the operator's contact terms (normal penalty, sticking tangential) in line with
-    /// `contacts` (Woodbury updates, or a refactorization when the correction grows too large).
+    /// `contacts`: a term that leaves is dropped from the Woodbury correction when it entered
+    /// since the last factorization, else subtracted; the new and subtracted terms are added
+    /// in one batch. A refactorization is requested instead when the correction would pass
+    /// `max_rank`, or when it has cost more than a factorization (the cost model of
+    /// [`super::factor`]).
     fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
         let mut want: BTreeMap<(usize, usize, u8), ()> = BTreeMap::new();
         for a in contacts {
@@ -81,10 +121,15 @@ impl<'a> Solver<'a> {
                 want.insert((a.i, a.j, 1), ());
             }
         }
+        // (key of a new term, or None for a subtraction; columns; sign)
+        let mut batch: Vec<(Option<(usize, usize, u8)>, Vec<SparseColumn>, f64)> = Vec::new();
         let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
         for k in gone {
-            if let Some(t) = self.op_terms.remove(&k) {
-                self.add_low_rank(&t, -1.0)?;
+            if let Some((t, id)) = self.op_terms.remove(&k) {
+                if id.is_some_and(|id| self.factor.remove(id)) || self.needs_factor {
+                    continue;
+                }
+                batch.push((None, self.model.factors(&t), -1.0));
             }
         }
         for a in contacts {
@@ -95,16 +140,53 @@ impl<'a> Solver<'a> {
                 let key = (a.i, a.j, kind);
                 if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
                     let t = self.model.rank_one(a.i, a.j, &dir, k);
-                    self.add_low_rank(&t, 1.0)?;
-                    self.op_terms.insert(key, t);
+                    if !self.needs_factor {
+                        batch.push((Some(key), self.model.factors(&t), 1.0));
+                    }
+                    self.op_terms.insert(key, (t, None));
                 }
             }
+        }
+        if self.needs_factor {
+            return Ok(()); // the next factorization includes the current terms
+        }
+        let cols: usize = batch.iter().map(|b| b.1.len()).sum();
+        if self.factor.rank() + cols > self.opts.max_rank {
+            self.needs_factor = true;
+            self.pending_refactor = Some(Refactor::RankCap);
+            return Ok(());
+        }
+        if !batch.is_empty() {
+            let clock = Instant::now();
+            let keys: Vec<_> = batch.iter().map(|b| b.0).collect();
+            let ids = self
+                .factor
+                .add_batch(batch.into_iter().map(|(_, c, s)| (c, s)).collect())
+                .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+            for (key, id) in keys.into_iter().zip(ids) {
+                if let Some(entry) = key.and_then(|k| self.op_terms.get_mut(&k)) {
+                    entry.1 = Some(id);
+                }
+            }
+            profile::add(&mut self.profile.columns_seconds, clock.elapsed());
+        }
+        if self.factor.wants_refactorization() {
+            self.needs_factor = true;
+            self.pending_refactor = Some(Refactor::CostModel);
         }
         Ok(())
     }
 
     /// The residual at `z` for the external forces `f_ext` (over `z`).
-    pub(super) fn evaluate(&self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
+    pub(super) fn evaluate(&mut self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
+        let clock = Instant::now();
+        let ev = self.evaluate_at(z, f_ext);
+        self.profile.evaluations += 1;
+        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
+        ev
+    }
+
+    fn evaluate_at(&self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
         let has_broken = self.broken.len() > 0;
         let contacts = if self.opts.contacts && has_broken {
             let pairs = contact_set::candidates(self.model.sample, &self.model.map, z, &self.intact);
@@ -155,28 +237,37 @@ impl<'a> Solver<'a> {
             f_ext[zi] += load.forces[k];
         }
         let n_eq = map.n_eq();
-        let mut ev = self.evaluate(&self.z, &f_ext)?;
+        let z0 = self.z.clone();
+        let mut ev = self.evaluate(&z0, &f_ext)?;
         for _ in 0..self.opts.max_iterations {
             if ev.relative <= self.opts.tol {
                 self.contacts = ev.contacts;
                 return Ok(());
             }
+            self.profile.newton_iterations += 1;
             self.sync_operator(&ev.contacts)?;
             if self.needs_factor {
-                self.refactorize()?;
+                let cause = self.pending_refactor.take();
+                self.refactorize(cause)?;
             }
+            self.profile.max_rank = self.profile.max_rank.max(self.factor.rank());
+            self.profile.columns_added = self.factor.n_columns;
+            self.profile.columns_dropped = self.factor.n_dropped;
             let fail = |e: super::factor::FactorError, ev: usize| DemError::Factorization { event: ev, reason: e.0 };
             let events = self.broken.len();
             let mut dz = vec![0.0; n_eq];
             if self.factor.rank() > 0 && !self.factor.is_accurate() {
                 // A near-singular Woodbury capacitance matrix: drop the correction.
-                self.refactorize()?;
+                self.refactorize(Some(Refactor::Accuracy))?;
             }
             if ev.contacts.is_empty() {
+                let clock = Instant::now();
                 dz.clone_from(&ev.r);
                 self.factor.solve(&mut dz).map_err(|e| fail(e, events))?;
                 self.n_solves += 1;
+                profile::add(&mut self.profile.solve_seconds, clock.elapsed());
             } else {
+                let clock = Instant::now();
                 let tangent = Tangent::new(
                     &self.model,
                     &self.intact,
@@ -186,15 +277,37 @@ impl<'a> Solver<'a> {
                     &self.z_commit,
                     &self.committed_ft,
                 )?;
+                profile::add(&mut self.profile.tangent_seconds, clock.elapsed());
                 // Inexact Newton: the linear solve to 1e-8 of ‖r‖ (tighter costs solves and
                 // gains nothing; looser, 1e-6, lost two of the paper wall's 16 shear samples).
-                let factor = &self.factor;
-                let info = gmres(&mut dz, &ev.r, |v, o| tangent.apply(v, o), |v| factor.solve(v), 1e-8, 60, 240)
-                    .map_err(|e| fail(e, events))?;
+                let clock = Instant::now();
+                let factor = &mut self.factor;
+                let mut in_precond = std::time::Duration::ZERO;
+                let info = gmres(
+                    &mut dz,
+                    &ev.r,
+                    |v, o| tangent.apply(v, o),
+                    |v| {
+                        let c = Instant::now();
+                        let r = factor.solve(v);
+                        in_precond += c.elapsed();
+                        r
+                    },
+                    1e-8,
+                    60,
+                    240,
+                )
+                .map_err(|e| fail(e, events))?;
                 self.n_solves += info.iterations;
+                let p = &mut self.profile;
+                p.gmres_solves += 1;
+                p.gmres_iterations += info.iterations;
+                profile::add(&mut p.solve_seconds, in_precond);
+                profile::add(&mut p.gmres_seconds, clock.elapsed().saturating_sub(in_precond));
                 if !info.converged && self.factor.rank() > 0 {
                     // An inaccurate Woodbury correction: start the next iteration afresh.
                     self.needs_factor = true;
+                    self.pending_refactor = Some(Refactor::Accuracy);
                 }
             }
             self.cap_step(&mut dz);
@@ -233,7 +346,7 @@ impl<'a> Solver<'a> {
     /// at the accepted point.
     fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<Evaluation, DemError> {
         let base = self.z.clone();
-        let unknowns = &self.model.map.unknowns;
+        let unknowns = self.model.map.unknowns.clone();
         let mut best: Option<(f64, Evaluation)> = None;
         let mut alpha = 1.0;
         for _ in 0..6 {

@@ -38,8 +38,10 @@
 //!
 //! **Low-rank updates.** A break adds `−Σ u uᵀ` (rank ≤ 3) to the Woodbury correction of the
 //! factorization ([`LowRankCholesky`]); contact terms entering / leaving the operator likewise
-//! (rank 1 each). The base matrix is refactorized when the correction's rank exceeds
-//! `max_rank`, or when a Newton iteration needs more than 3 solves (accuracy safeguard).
+//! (rank 1 each; a contact term that leaves before the next factorization is dropped from the
+//! correction). The base matrix is refactorized when the correction has cost more than a
+//! factorization (the cost model of [`super::factor`]), when its rank would exceed `max_rank`,
+//! or when its capacitance matrix is ill-conditioned or GMRES fails with it (accuracy).
 //!
 //! **Energy.** Per committed state: external work (trapezoid of the platen forces times the
 //! platen displacement increments, prescribed and force-controlled DOFs), stored energy (intact
@@ -54,7 +56,9 @@ use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
-use super::factor::LowRankCholesky;
+use super::equilibrium::Refactor;
+use super::factor::{LowRankCholesky, TermId};
+use super::profile::SolverProfile;
 use super::system::{Model, ZTerm};
 use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
 use contact_set::Histories;
@@ -199,8 +203,11 @@ pub struct Solver<'a> {
     pub(super) reg: Vec<f64>,
     pub(super) factor: LowRankCholesky,
     pub(super) needs_factor: bool,
-    // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential).
-    pub(super) op_terms: BTreeMap<(usize, usize, u8), ZTerm>,
+    /// Why `needs_factor` was set (for the profile; `None`: a floating stone).
+    pub(super) pending_refactor: Option<Refactor>,
+    // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential),
+    // with their handle in the Woodbury correction while they are there.
+    pub(super) op_terms: BTreeMap<(usize, usize, u8), (ZTerm, Option<TermId>)>,
     pub(super) contacts: Vec<ActiveContact>,
     /// Committed contact histories (tangential force, plastic penetration) by pair.
     pub(super) committed_ft: Histories,
@@ -217,6 +224,8 @@ pub struct Solver<'a> {
     pub n_solves: usize,
     /// Load-increment cut-backs done (halvings of a load step or of a beam's release).
     pub n_cutbacks: usize,
+    /// Counters and phase times ([`SolverProfile`]).
+    pub profile: SolverProfile,
     lateral: [Vec<usize>; 2],
     /// Mean stone diameter D̄ (m): weighs moments in the merit function.
     pub(super) mean_diameter: f64,
@@ -274,6 +283,7 @@ impl<'a> Solver<'a> {
             reg,
             factor: LowRankCholesky::new(n_eq),
             needs_factor: true,
+            pending_refactor: None,
             op_terms: BTreeMap::new(),
             contacts: Vec::new(),
             committed_ft: BTreeMap::new(),
@@ -285,6 +295,7 @@ impl<'a> Solver<'a> {
             stage: 0,
             n_solves: 0,
             n_cutbacks: 0,
+            profile: SolverProfile::default(),
             lateral,
             mean_diameter,
             max_move: 0.05 * mean_diameter,

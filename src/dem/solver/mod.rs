@@ -10,6 +10,7 @@ pub use factor::LowRankCholesky;
 pub mod contact_set;
 mod equilibrium;
 pub mod gmres;
+pub mod profile;
 pub mod tangent;
 pub mod events;
 pub mod system;
@@ -17,6 +18,7 @@ pub mod system;
 pub use events::{
     BrokenBeam, FailureModeTag, FloatingPolicy, LoadPoint, Solver, SolverOptions, StageEnd, StateKind, StateRecord,
 };
+pub use profile::SolverProfile;
 pub use system::Model;
 pub mod snapshots;
 pub mod virtual_test;

@@ -11,7 +11,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::dofs::DofMap;
 use super::error::DemError;
-use super::factor::UpperTriplets;
+use super::factor::{SparseColumn, UpperTriplets};
 use crate::dem::mechanics::{self, BeamGeom, MechParams, Thresholds};
 use crate::dem::sample::Sample;
 use faer::sparse::Triplet;
@@ -141,8 +141,9 @@ impl<'a> Model<'a> {
     }
 
     /// Low-rank factors of a PSD `z` term in equation space: `R K_z Rᵀ = Σ u uᵀ`, from the
-    /// eigen-decomposition `K_z = Σ λ v vᵀ` (`u = √λ R v`, eigenvalues below 1e-12 λ_max dropped).
-    pub fn factors(&self, term: &ZTerm) -> Vec<Vec<f64>> {
+    /// eigen-decomposition `K_z = Σ λ v vᵀ` (`u = √λ R v`, eigenvalues below 1e-12 λ_max dropped);
+    /// each `u` has at most six non-zeros.
+    pub fn factors(&self, term: &ZTerm) -> Vec<SparseColumn> {
         let eig = nalgebra::SymmetricEigen::new(term.k);
         let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
         let mut cols = Vec::new();
@@ -150,15 +151,17 @@ impl<'a> Model<'a> {
             if l <= 1e-12 * lmax || l <= 0.0 {
                 continue;
             }
-            let mut u = vec![0.0; self.map.n_eq()];
-            let mut any = false;
+            let mut u: SparseColumn = Vec::with_capacity(6);
             for a in 0..6 {
                 if let Some(r) = self.map.eq[term.idx[a]] {
-                    u[r] += l.sqrt() * eig.eigenvectors[(a, k)];
-                    any = true;
+                    let v = l.sqrt() * eig.eigenvectors[(a, k)];
+                    match u.iter_mut().find(|(i, _)| *i == r) {
+                        Some(e) => e.1 += v, // a platen's DOF shared by two slave stones
+                        None => u.push((r, v)),
+                    }
                 }
             }
-            if any {
+            if !u.is_empty() {
                 cols.push(u);
             }
         }

@@ -1,0 +1,62 @@
+//! Where an event-driven DEM run spends its time: counters and phase timers of the equilibrium
+//! iterations and the linear solver, filled as the solver runs (a few `Instant::now()` per
+//! Newton iteration; negligible against the work they time).
+//!
+//! Read it after a run ([`super::Solver::profile`]); `examples/dem_profile.rs` prints it as JSON
+//! for a compression test of a random sample.
+use std::time::Duration;
+
+/// Counters and phase times of one solver.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct SolverProfile {
+    /// Newton iterations (linear solves of the tangent).
+    pub newton_iterations: usize,
+    /// Newton iterations that needed GMRES (some contact active).
+    pub gmres_solves: usize,
+    /// GMRES products (each one preconditioner solve).
+    pub gmres_iterations: usize,
+    /// Residual evaluations (contact detection + forces), line search included.
+    pub evaluations: usize,
+    /// Woodbury columns added (each one base solve).
+    pub columns_added: usize,
+    /// Woodbury columns dropped because their term left the operator before a refactorization
+    /// (no solve).
+    pub columns_dropped: usize,
+    /// Largest Woodbury rank reached.
+    pub max_rank: usize,
+    /// Numeric factorizations, by cause: the cost model, the rank cap, an inaccurate
+    /// capacitance matrix or GMRES failure, a floating stone, the first one.
+    pub refactorizations: Refactorizations,
+    /// Seconds in numeric (and symbolic) factorizations.
+    pub factor_seconds: f64,
+    /// Seconds computing Woodbury columns (base solves of new terms, capacitance update).
+    pub columns_seconds: f64,
+    /// Seconds in preconditioner / direct solves.
+    pub solve_seconds: f64,
+    /// Seconds in GMRES outside the preconditioner (tangent products, orthogonalization).
+    pub gmres_seconds: f64,
+    /// Seconds building the contact tangent (central differences).
+    pub tangent_seconds: f64,
+    /// Seconds in residual evaluations (contacts, forces).
+    pub evaluate_seconds: f64,
+}
+
+/// Numeric factorizations by cause.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Refactorizations {
+    /// The first factorization of the run.
+    pub initial: usize,
+    /// The accumulated Woodbury columns cost more than a factorization ([`super::factor`]).
+    pub cost_model: usize,
+    /// The Woodbury rank would pass `max_rank`.
+    pub rank_cap: usize,
+    /// Ill-conditioned capacitance matrix, or GMRES did not converge with the correction.
+    pub accuracy: usize,
+    /// A stone lost every bond and contact.
+    pub floating: usize,
+}
+
+/// Adds the seconds of `d` to `acc`.
+pub(super) fn add(acc: &mut f64, d: Duration) {
+    *acc += d.as_secs_f64();
+}
