@@ -12,21 +12,16 @@
 use std::time::Instant;
 
 use masonry_hpc::dem::mechanics::MechParams;
-use masonry_hpc::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
+
+#[path = "common/random_sample.rs"]
+mod random_sample;
 use masonry_hpc::dem::solver::factor::BATCH;
 use masonry_hpc::dem::solver::{DofControl, DofMap, LowRankCholesky, Model};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(1000);
     let t0 = Instant::now();
-    let sample = Sample::build(&SampleConfig {
-        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
-        thickness: 1.0,
-        seed: 7,
-        alpha: 0.8,
-        facet_tolerance: 0.02,
-        tiny_facets: TinyFacetPolicy::Merge,
-    })?;
+    let sample = random_sample::random_square(n)?;
     let build = t0.elapsed().as_secs_f64();
     let params = MechParams::default();
     let map = DofMap::new(&sample, [[DofControl::Prescribed; 3]; 2])?;

@@ -11,7 +11,9 @@ use std::io::Write;
 use std::time::Instant;
 
 use masonry_hpc::dem::mechanics::MechParams;
-use masonry_hpc::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
+
+#[path = "common/random_sample.rs"]
+mod random_sample;
 use masonry_hpc::dem::solver::{DofControl, DofMap, LoadPoint, Model, Solver, SolverOptions, StageEnd};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -19,14 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1000);
     let max_strain: f64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(2e-3);
     let steps: usize = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(40);
-    let sample = Sample::build(&SampleConfig {
-        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
-        thickness: 1.0,
-        seed: 7,
-        alpha: 0.8,
-        facet_tolerance: 0.02,
-        tiny_facets: TinyFacetPolicy::Merge,
-    })?;
+    let sample = random_sample::random_square(n)?;
     let params = MechParams::default();
     let map = DofMap::new(&sample, [[DofControl::Prescribed; 3]; 2])?;
     let model = Model::new(&sample, &params, map)?;
