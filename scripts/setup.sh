@@ -19,6 +19,11 @@ done
 
 debs=(build-essential pkg-config libclang-dev libopenmpi-dev openmpi-bin
       petsc-dev slepc-dev libhdf5-openmpi-dev libmetis-dev
+      # an optimized BLAS/LAPACK under MUMPS's and SLEPc's dense kernels: petsc-dev brings only the
+      # reference libblas3 (with it the fine church's gravity step had not ended after 13 min on 2
+      # ranks; with OpenBLAS it takes 224 s); this single-threaded OpenBLAS (one thread per MPI
+      # rank) takes over the libblas.so.3 alternative on install
+      libopenblas0-serial
       # shared libraries the PyPI gmsh wheel loads (the church mesh script)
       libglu1-mesa libgl1 libxrender1 libxcursor1 libxft2 libxinerama1 libgomp1)
 [ "$want_paraview" = 1 ] && debs+=(paraview python3-paraview xvfb xauth)

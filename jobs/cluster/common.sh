@@ -51,6 +51,11 @@ echo "PETSc $(pkg-config --modversion petsc), SLEPc $(pkg-config --modversion sl
 if [ ! -x target/release/masonry-hpc ] || [ -n "${REBUILD:-}" ]; then
   cargo build --release
 fi
+# The dense kernels of MUMPS's factorizations (most of a step's time on the fine mesh) run in the
+# BLAS that PETSc links: a reference (netlib) libblas is several times slower than OpenBLAS, BLIS
+# or MKL. Print which one the binary resolves, to be read in the log.
+blas=$(ldd target/release/masonry-hpc 2>/dev/null | awk '/libblas|libopenblas|mkl_core|libblis/ {print $3; exit}')
+echo "BLAS: ${blas:+$(readlink -f "$blas")}"
 
 # 4. The fine mesh: meshes/church-fine.msh is committed (36,637 nodes, 219,822 DOF);
 #    regenerate it if it is missing (needs `pip install --user gmsh`).

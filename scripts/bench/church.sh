@@ -47,10 +47,14 @@ measure() {
   echo "$mem" > "$work/run.mem"
 }
 
+# The BLAS under MUMPS (the factorizations' dense kernels) and OpenBLAS's kernel family (env.sh).
+blas_lib=$(ldd target/release/masonry-hpc 2>/dev/null | awk '/libblas|libopenblas|mkl_core|libblis/ {print $3; exit}')
+blas="${blas_lib:+$(readlink -f "$blas_lib")}${OPENBLAS_CORETYPE:+ ($OPENBLAS_CORETYPE)}"
+
 emit() { # case np summary.json load_before
-  python3 - "$@" "$(cat "$work/run.wall")" "$(cat "$work/run.mem")" "$(loadavg)" <<'PY'
+  python3 - "$@" "$(cat "$work/run.wall")" "$(cat "$work/run.mem")" "$(loadavg)" "$blas" <<'PY'
 import json, sys
-case, np_, summ, load0, wall, mem, load1 = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], float(sys.argv[5]), sys.argv[6], sys.argv[7]
+case, np_, summ, load0, wall, mem, load1, blas = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], float(sys.argv[5]), sys.argv[6], sys.argv[7], sys.argv[8]
 s = json.load(open(summ))
 th = s["time_history"]
 mem = sorted(int(x) for x in mem.split())
@@ -59,7 +63,7 @@ out = {
     "steps": th["steps"] - th["first_step"], "seconds": round(wall, 2), "seconds_per_step": round(th["seconds_per_step"], 4),
     "seconds_stages": [round(x, 2) for x in s["stages"]["seconds"]], "seconds_gravity": round(th["seconds"][1], 2),
     "iterations": th["iterations"], "factorizations": th["factorizations"], "substepped_steps": th["substepped_steps"],
-    "max_damage": th["max_damage"], "peak_memory_mb_per_rank": mem, "load_average": [float(load0), float(load1)],
+    "max_damage": th["max_damage"], "peak_memory_mb_per_rank": mem, "load_average": [float(load0), float(load1)], "blas": blas,
 }
 print(json.dumps(out))
 PY
