@@ -142,7 +142,8 @@ fn peak_energy_fit_of_peak_aligned_samples_recovers_the_mean_law() {
     std::fs::write(&f, text).unwrap();
     let out = run(0, &[f.to_str().unwrap()]);
     assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
-    let law = &summary(&dir)["law"];
+    let s = summary(&dir);
+    let law = &s["law"];
     let (tp, cp) = (law["tension_peak_error"].as_f64().unwrap(), law["compression_peak_error"].as_f64().unwrap());
     assert!(tp.abs() < 0.05 && cp.abs() < 0.05, "peak errors {tp}, {cp}");
     // The mean curve's tensile peak is the mean of the samples' peaks, E · 1e-4 (to the
