@@ -102,6 +102,83 @@ fn law_identification_recovers_the_law_that_made_the_curves() {
     assert_eq!(read.e, 2.885e9);
 }
 
+/// Writes every law's uniaxial curve, in the test direction, as `sample,strain,stress,loss_of_load`.
+fn write_law_samples(file: &Path, laws: &[DamageParams], max: f64, tension: bool) {
+    let mut s = String::from("sample,strain,stress,loss_of_load\n");
+    let sign = if tension { 1.0 } else { -1.0 };
+    for (k, p) in laws.iter().enumerate() {
+        let law = p.for_element(H).unwrap();
+        let path = if tension { LoadPath::<3>::uniaxial_tension(max, 300) } else { LoadPath::<3>::uniaxial_compression(max, 300) }.unwrap();
+        for r in run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap() {
+            s.push_str(&format!("{k},{:e},{:e},0\n", sign * r.strain[0], sign * r.stress[0]));
+        }
+    }
+    std::fs::write(file, s).unwrap();
+}
+
+#[test]
+fn peak_energy_fit_of_peak_aligned_samples_recovers_the_mean_law() {
+    // Two "samples": the known law with thresholds 10 % below and above (ε₀ᵗ 0.9e-4 and 1.1e-4,
+    // ε₀ᶜ 3.6e-4 and 4.4e-4). Their peak-aligned mean peaks at the mean of their peaks,
+    // E · 1.0e-4 in tension, at the mean peak strain; the peak_energy fit must put the law's
+    // peaks within 5 % of the mean curve's (the acceptance of the paper's wall), and ε₀ᵗ,
+    // which alone sets the tensile peak E ε₀ᵗ, within 2 % of 1.0e-4 (the mean of two
+    // straight rises to E ε₀ᵗ is the straight rise to the mean).
+    let dir = scratch("identify-peak-energy");
+    let p = known_law();
+    let pair = |lo: DamageParams, hi: DamageParams| [lo, hi];
+    let t = pair(DamageParams { eps0_t: 0.9e-4, ..p }, DamageParams { eps0_t: 1.1e-4, ..p });
+    let c = pair(DamageParams { eps0_c: 3.6e-4, ..p }, DamageParams { eps0_c: 4.4e-4, ..p });
+    write_law_samples(&dir.join("ts.csv"), &t, 6e-4, true);
+    write_law_samples(&dir.join("cs.csv"), &c, 1.5e-2, false);
+    let text = format!(
+        "[analysis]\ntype = \"identification\"\nseed = 3\n\
+         [sample]\nseed = 1\nlayout = {{ type = \"coursed\", width = 1.0, height = {H}, n_courses = 3, n_per_course = 3 }}\n\
+         [law]\ndem_samples = {{ tension = \"ts.csv\", compression = \"cs.csv\" }}\nyoung_modulus = 2.885e9\npoisson = 0.19\n\
+         error = \"peak_energy\"\nmean = \"peak_aligned\"\npoints = 60\niterations = 3\nbatch = 2\npolish_iterations = 150\n{LAW_BOUNDS}\n\
+         [output]\ndir = \"out\"\nexisting = \"overwrite\"\n"
+    );
+    let f = dir.join("law.toml");
+    std::fs::write(&f, text).unwrap();
+    let out = run(0, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
+    let s = summary(&dir);
+    let law = &s["law"];
+    let (tp, cp) = (law["tension_peak_error"].as_f64().unwrap(), law["compression_peak_error"].as_f64().unwrap());
+    assert!(tp.abs() < 0.05 && cp.abs() < 0.05, "peak errors {tp}, {cp}");
+    // The mean curve's tensile peak is the mean of the samples' peaks, E · 1e-4 (to the
+    // samples' own resolution: 300 steps to 6e-4, so within 1 %).
+    let dem_t = law["dem_peaks"][0].as_f64().unwrap();
+    assert!((dem_t - 2.885e9 * 1e-4).abs() < 0.01 * 2.885e5, "DEM tensile peak {dem_t}");
+    let eps0_t = law["params"]["eps0_t"].as_f64().unwrap();
+    assert!((eps0_t - 1e-4).abs() < 0.02e-4, "eps0_t {eps0_t}");
+    // Every measure is reported; peak_energy with its three terms.
+    let measures = law["measures"].as_array().unwrap();
+    let names: Vec<&str> = measures.iter().map(|m| m["measure"].as_str().unwrap()).collect();
+    assert_eq!(names, ["eq15", "relative_rms", "peak_energy"]);
+    assert!(measures[2]["tension"]["parts"]["envelope"].is_number(), "{}", measures[2]);
+}
+
+#[test]
+fn dem_samples_and_gf_c_bounds_are_checked() {
+    let dir = scratch("identify-samples-bad");
+    let p = known_law();
+    write_law_curve(&dir.join("t.csv"), &p, 6e-4, true);
+    write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
+    // gf_c with a_c allowed to reach 0 (line 14 holds the bounds).
+    let f = law_job(&dir, "", &LAW_BOUNDS.replace("a_c = [0.5, 1.0]", "a_c = [0.0, 1.0], gf_c = [10.0, 100.0]"));
+    expect_error(&dir, &f, &["law.toml:14:", "key 'law.bounds.a_c'", "a_c must be > 0"], &[0]);
+    // Both kinds of curve files.
+    std::fs::write(dir.join("s.csv"), "sample,strain,stress,loss_of_load\n0,0,0,0\n0,1e-4,2e5,0\n").unwrap();
+    let f = law_job(&dir, "dem_samples = { tension = \"s.csv\", compression = \"s.csv\" }\n", LAW_BOUNDS);
+    expect_error(&dir, &f, &["key 'law.dem_samples'", "not both"], &[0]);
+    // A bad row in a samples file names the file and line.
+    std::fs::write(dir.join("s.csv"), "sample,strain,stress,loss_of_load\n0,0,0,0\n0,1e-4,2e5,yes\n").unwrap();
+    let text = std::fs::read_to_string(&f).unwrap().replace("dem_curves = { tension = \"t.csv\", compression = \"c.csv\" }\n", "");
+    std::fs::write(&f, text).unwrap();
+    expect_error(&dir, &f, &["key 'law.dem_samples.tension'", "s.csv:3:", "expected 0 or 1"], &[0]);
+}
+
 fn expect_error(dir: &Path, job: &Path, needles: &[&str], nps: &[usize]) {
     let _ = dir;
     for &np in nps {

@@ -11,7 +11,7 @@ cd "$(dirname "$0")/../.."
 source scripts/env.sh
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-sed -e "s#\"../results/identify-wall\"#\"$work/out\"#" -e "s#\"../materials/wall-identified.toml\"#\"$work/material.toml\"#" \
+sed -e "s#\"../results/identify-wall\"#\"$work/out\"#" -e "s#\"../results/materials/wall-identified.toml\"#\"$work/material.toml\"#" \
     jobs/identify-wall.toml > "$work/chain.toml"
 start=$(date +%s.%N)
 mpirun -n 2 target/release/masonry-hpc -q "$work/chain.toml" > "$work/log" 2>&1 || true

@@ -12,7 +12,8 @@
 use crate::config::IdentifyJob;
 use crate::identify::calibration::{CalibrationResult, QUANTITIES};
 use crate::identify::collective::broadcast_json;
-use crate::identify::curves::Curve;
+use crate::identify::calibration::Stat;
+use crate::identify::curves::{mean_of, sample_curves_csv, Curve};
 use crate::identify::material_file::{write_material_file, Provenance};
 use crate::identify::virtual_tests::run_virtual_tests;
 use crate::identify::{calibrate, identify, Calibration, EgoSettings, IdentifyError, LawFit, LawResult, Space};
@@ -109,14 +110,30 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
     if let Some(l) = &spec.law {
         let t0 = Instant::now();
         let experiment = spec.experiment.clone().unwrap_or_default();
-        // Reference curves and the DEM's elastic constants, on rank 0.
-        let reference: Result<Option<(Curve, Curve, f64, f64)>, Error> = match &job.dem_curves {
-            Some((t, c)) => Ok(Some((t.clone(), c.clone(), f64::NAN, f64::NAN))),
-            None => {
+        // Reference curves (and whether they are already on a uniform grid from 0), the DEM's
+        // elastic constants and the samples' peaks, on rank 0.
+        type Reference = (Curve, Curve, bool, f64, f64, Option<[Stat; 2]>);
+        let test_max = |t: &Option<crate::dem::solver::VirtualTest>, samples: &[Curve]| match t {
+            Some(crate::dem::solver::VirtualTest::Tension { max_strain, .. } | crate::dem::solver::VirtualTest::Compression { max_strain, .. }) => *max_strain,
+            _ => samples.iter().map(|c| c.x[c.x.len() - 1]).fold(0.0, f64::max),
+        };
+        // The samples' curves, for the pictures (rank 0).
+        let mut sample_curves: Option<(Vec<Curve>, Vec<Curve>)> = job.dem_samples.clone();
+        let reference: Result<Option<Reference>, Error> = match (&job.dem_curves, &job.dem_samples) {
+            (Some((t, c)), _) => Ok(Some((t.clone(), c.clone(), false, f64::NAN, f64::NAN, None))),
+            (None, Some((ts, cs))) if ctx.rank == 0 => {
+                let peaks = |s: &[Curve]| Stat::of(&s.iter().map(|c| c.peak().0).collect::<Vec<_>>());
+                mean_of(l.mean, ts, test_max(&l.tension, ts), l.points, "DEM tension curve")
+                    .and_then(|t| Ok((t, mean_of(l.mean, cs, test_max(&l.compression, cs), l.points, "DEM compression curve")?)))
+                    .map(|(t, c)| Some((t, c, true, f64::NAN, f64::NAN, Some([peaks(ts), peaks(cs)]))))
+                    .map_err(analysis_err)
+            }
+            (None, Some(_)) => Ok(None),
+            (None, None) => {
                 let (Some(tt), Some(ct)) = (&l.tension, &l.compression) else {
                     return Err(Error::Analysis("[law] needs tension and compression tests".into()));
                 };
-                let v = run_virtual_tests(ctx, &spec.sample, &dem, tt, ct, l.samples, l.points).map_err(analysis_err);
+                let v = run_virtual_tests(ctx, &spec.sample, &dem, tt, ct, l.samples, l.points, l.mean).map_err(analysis_err);
                 let v = agree(&ctx.comm, v, Error::exit_code)?;
                 let out = match v {
                     Some(v) => {
@@ -124,9 +141,18 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
                             ctx.log.warn(f);
                         }
                         summary.virtual_test_failures = v.failures.clone();
+                        ctx.log.info(format!(
+                            "virtual tests: E = {:.4e} Pa, nu = {:.4} (compression means); sample peaks: tension {:.4e} ± {:.2e} Pa (n = {}), compression {:.4e} ± {:.2e} Pa (n = {})",
+                            v.young_modulus, v.poisson, v.peaks[0].mean, v.peaks[0].std, v.peaks[0].n, v.peaks[1].mean, v.peaks[1].std, v.peaks[1].n
+                        ));
                         write_dem_curves(job, &v.tension_samples, &v.tension, "dem_tension.csv")
                             .and_then(|_| write_dem_curves(job, &v.compression_samples, &v.compression, "dem_compression.csv"))
-                            .map(|_| Some((v.tension, v.compression, v.young_modulus, v.poisson)))
+                            .and_then(|_| write_text(&job.output_dir.join("dem_tension_samples.csv"), &sample_curves_csv(&v.tension_samples)))
+                            .and_then(|_| write_text(&job.output_dir.join("dem_compression_samples.csv"), &sample_curves_csv(&v.compression_samples)))
+                            .map(|_| {
+                                sample_curves = Some((v.tension_samples, v.compression_samples));
+                                Some((v.tension, v.compression, true, v.young_modulus, v.poisson, Some(v.peaks)))
+                            })
                     }
                     None => Ok(None),
                 };
@@ -136,8 +162,10 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
         let reference = agree(&ctx.comm, reference, Error::exit_code)?;
         summary.seconds.virtual_tests = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
+        let sample_peaks = reference.as_ref().and_then(|r| r.5);
+        let sample_peaks: Option<[Stat; 2]> = broadcast_json(ctx, Some(&sample_peaks)).map_err(analysis_err)?;
         let prepared = reference
-            .map(|(t, c, e_dem, nu_dem)| -> Result<(Curve, Curve, f64, f64), Error> {
+            .map(|(t, c, gridded, e_dem, nu_dem, _)| -> Result<(Curve, Curve, f64, f64), Error> {
                 let (e_x, nu_x) = match l.elastic {
                     crate::config::ElasticSource::Experiment => (experiment.young_modulus, experiment.poisson),
                     crate::config::ElasticSource::Dem => (None, None),
@@ -155,16 +183,28 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
                         path.display()
                     )));
                 }
-                let t = LawFit::on_grid(&t, l.points, "DEM tension curve").map_err(analysis_err)?;
-                let c = LawFit::on_grid(&c, l.points, "DEM compression curve").map_err(analysis_err)?;
+                // Mean curves of samples are on their own uniform grids (through the mean peak
+                // when peak-aligned); curves from dem_curves files are put on one.
+                let (t, c) = if gridded {
+                    t.check("DEM tension curve").and_then(|_| c.check("DEM compression curve")).map_err(analysis_err)?;
+                    (t, c)
+                } else {
+                    (
+                        LawFit::on_grid(&t, l.points, "DEM tension curve").map_err(analysis_err)?,
+                        LawFit::on_grid(&c, l.points, "DEM compression curve").map_err(analysis_err)?,
+                    )
+                };
                 Ok((t, c, e, nu))
             })
             .transpose();
         let prepared = agree(&ctx.comm, prepared, Error::exit_code)?;
         let (tension, compression, e, nu) = broadcast_json(ctx, prepared.as_ref()).map_err(analysis_err)?;
         let b = &l.bounds;
-        let space = Space::new(&[("eps0_t", b.eps0_t), ("eps0_c", b.eps0_c), ("gf_t", b.gf_t), ("a_c", b.a_c), ("b_c", b.b_c)])
-            .map_err(analysis_err)?;
+        let mut unknowns = vec![("eps0_t", b.eps0_t), ("eps0_c", b.eps0_c), ("gf_t", b.gf_t), ("a_c", b.a_c), ("b_c", b.b_c)];
+        if let Some(g) = b.gf_c {
+            unknowns.push((crate::identify::law_fit::GF_C, g));
+        }
+        let space = Space::new(&unknowns).map_err(analysis_err)?;
         let h = l.element_size.unwrap_or(spec.sample.layout.domain().1);
         let fit = LawFit {
             young_modulus: e,
@@ -175,20 +215,23 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
             compression,
             measure: l.error,
             space,
+            sample_peaks,
             levels: l.levels,
             ego: EgoSettings { iterations: l.iterations, batch: l.batch, seed: seed.wrapping_add(1000), log_transform: true, target: None },
             polish_iterations: l.polish_iterations,
         };
         // The no-elastic regularization's size limit, when E was not known at load.
         if let crate::material::Regularization::HillerborgNoElastic = l.regularization {
-            let corner = fit.params_at(&[b.eps0_t[1], b.eps0_c[1], b.gf_t[0], b.a_c[1], b.b_c[1]]);
+            let mut x = vec![b.eps0_t[1], b.eps0_c[1], b.gf_t[0], b.a_c[1], b.b_c[1]];
+            x.extend(b.gf_c.map(|g| g[1]));
+            let corner = fit.params_at(&x);
             corner.for_element(h).map_err(|err| {
                 Error::Analysis(format!("{}: law.bounds.gf_t: at the corner gf_t = {}, eps0_t = {}: {err}", path.display(), b.gf_t[0], b.eps0_t[1]))
             })?;
         }
         let result = agree(&ctx.comm, identify(ctx, &fit).map_err(analysis_err), Error::exit_code)?;
         let written = match &result {
-            Some(r) => write_law(ctx, path, job, &fit, r, &summary).map(Some),
+            Some(r) => write_law(ctx, path, job, &fit, r, &summary, sample_curves.as_ref()).map(Some),
             None => Ok(None),
         };
         summary.material_file = agree(&ctx.comm, written, Error::exit_code)?;
@@ -272,6 +315,11 @@ fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) ->
     chart.save_png(&f).map_err(|e| Error::Analysis(e.to_string()))
 }
 
+/// Rank 0: writes `text` to `file`.
+fn write_text(file: &Path, text: &str) -> Result<(), Error> {
+    std::fs::write(file, text).map_err(io_err(file))
+}
+
 /// Rank 0: the virtual tests' curves (mean, then each sample) as CSV.
 fn write_dem_curves(job: &IdentifyJob, samples: &[Curve], mean: &Curve, name: &str) -> Result<(), Error> {
     let mut s = String::from("strain,stress");
@@ -291,13 +339,63 @@ fn write_dem_curves(job: &IdentifyJob, samples: &[Curve], mean: &Curve, name: &s
 }
 
 /// Rank 0: the law's files (history, charts, material file); returns the material file's path.
-fn write_law(ctx: &Context, path: &Path, job: &IdentifyJob, fit: &LawFit, r: &LawResult, summary: &IdentifySummary) -> Result<String, Error> {
+fn write_law(
+    ctx: &Context,
+    path: &Path,
+    job: &IdentifyJob,
+    fit: &LawFit,
+    r: &LawResult,
+    summary: &IdentifySummary,
+    samples: Option<&(Vec<Curve>, Vec<Curve>)>,
+) -> Result<String, Error> {
     let dir = &job.output_dir;
     let p = &r.params;
     ctx.log.info(format!(
-        "identified law: eps0_t = {:.4e}, eps0_c = {:.4e}, gf_t = {:.4} J/m², a_c = {:.4}, b_c = {:.4} (E = {:.4e} Pa, nu = {:.3}, h = {} m)",
-        p.eps0_t, p.eps0_c, p.gf_t, p.a_c, p.b_c, p.e, p.nu, fit.element_size
+        "identified law: eps0_t = {:.4e}, eps0_c = {:.4e}, gf_t = {:.4} J/m², a_c = {:.4}, b_c = {:.4}{} (E = {:.4e} Pa, nu = {:.3}, h = {} m)",
+        p.eps0_t,
+        p.eps0_c,
+        p.gf_t,
+        p.a_c,
+        p.b_c,
+        p.gf_c.map_or(String::new(), |g| format!(", gf_c = {g:.4} J/m²")),
+        p.e,
+        p.nu,
+        fit.element_size
     ));
+    ctx.log.info(format!(
+        "  peaks: DEM tension {:.4e} Pa, law {:.4e} Pa; DEM compression {:.4e} Pa, law {:.4e} Pa{}",
+        r.dem_peaks[0],
+        r.law_peaks[0],
+        r.dem_peaks[1],
+        r.law_peaks[1],
+        r.dem_sample_peaks.map_or(String::new(), |s| format!(
+            " (samples: tension {:.4e} ± {:.2e}, compression {:.4e} ± {:.2e})",
+            s[0].mean, s[0].std, s[1].mean, s[1].std
+        ))
+    ));
+    for m in &r.measures {
+        let v = |e: &Option<crate::identify::CurveError>| e.map_or("-".to_string(), |e| format!("{:.4}", e.value));
+        let parts = |e: &Option<crate::identify::CurveError>| {
+            e.and_then(|e| e.parts).map_or(String::new(), |p| {
+                format!(
+                    " [envelope {:.4}, peak {:+.4}, post-peak energy {}: DEM {:.4e}, law {:.4e} J/m³]",
+                    p.envelope,
+                    p.peak,
+                    p.energy.map_or("-".into(), |x| format!("{x:+.4}")),
+                    p.reference_energy,
+                    p.model_energy
+                )
+            })
+        };
+        ctx.log.info(format!(
+            "  {:13} tension {}{}, compression {}{}",
+            m.measure,
+            v(&m.tension),
+            parts(&m.tension),
+            v(&m.compression),
+            parts(&m.compression)
+        ));
+    }
     ctx.log.info(format!(
         "  error ({:?}): tension {:.4} over {} points, compression {:.4} over {} points; peak error tension {:+.2}%, compression {:+.2}%",
         fit.measure,
@@ -308,13 +406,15 @@ fn write_law(ctx: &Context, path: &Path, job: &IdentifyJob, fit: &LawFit, r: &La
         100.0 * r.tension_peak_error,
         100.0 * r.compression_peak_error
     ));
-    let mut csv = String::from("evaluation,iteration,eps0_t,eps0_c,gf_t,a_c,b_c,objective,best_so_far,error\n");
+    let names = fit.space.names();
+    let mut csv = format!("evaluation,iteration,{},objective,best_so_far,error\n", names.join(","));
     for (i, ((it, x, v), best)) in r.history.iter().zip(&r.best_so_far).enumerate() {
         let (val, err) = match v {
             Ok(v) => (format!("{v:e}"), String::new()),
             Err(e) => (String::new(), e.replace([',', '\n'], ";")),
         };
-        let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{:e},{val},{best:e},{err}", x[0], x[1], x[2], x[3], x[4]);
+        let xs: Vec<String> = x.iter().map(|v| format!("{v:e}")).collect();
+        let _ = writeln!(csv, "{i},{it},{},{val},{best:e},{err}", xs.join(","));
     }
     let f = dir.join("law.csv");
     std::fs::write(&f, csv).map_err(io_err(&f))?;
@@ -328,25 +428,41 @@ fn write_law(ctx: &Context, path: &Path, job: &IdentifyJob, fit: &LawFit, r: &La
             .series("best so far", best, SeriesStyle::Line),
         "law_error.png",
     )?;
-    for (name, dem, law, file) in [("tension", &fit.tension, &r.law_curves.0, "law_tension.png"), ("compression", &fit.compression, &r.law_curves.1, "law_compression.png")] {
-        let pts = |c: &Curve| c.x.iter().zip(&c.y).map(|(&x, &y)| (x, y / 1e6)).collect::<Vec<_>>();
-        plot(
-            LineChart::new(&format!("Uniaxial {name}: DEM against the identified law"), "strain ε [-] (test direction)", "stress σ [MPa]")
-                .series("DEM (mean of samples)", pts(dem), SeriesStyle::Markers)
-                .series("damage law", pts(law), SeriesStyle::Line),
-            file,
-        )?;
+    let mean_name = match job.spec.law.as_ref().map(|l| l.mean) {
+        Some(crate::identify::curves::MeanKind::Pointwise) => "DEM: mean of the samples",
+        _ => "DEM: peak-aligned mean of the samples",
+    };
+    for (k, (name, dem, law, file)) in
+        [("tension", &fit.tension, &r.law_curves.0, "law_tension.png"), ("compression", &fit.compression, &r.law_curves.1, "law_compression.png")]
+            .into_iter()
+            .enumerate()
+    {
+        let end = dem.x[dem.x.len() - 1];
+        let pts = |c: &Curve| c.x.iter().zip(&c.y).filter(|p| *p.0 <= end).map(|(&x, &y)| (x, y / 1e6)).collect::<Vec<_>>();
+        let mut chart =
+            LineChart::new(&format!("Uniaxial {name}: DEM against the identified law"), "strain ε [-] (test direction)", "stress σ [MPa]");
+        let own = samples.map(|s| if k == 0 { &s.0 } else { &s.1 });
+        for (i, c) in own.into_iter().flatten().enumerate() {
+            chart = chart.series(if i == 0 { "DEM samples" } else { "" }, pts(c), SeriesStyle::Dashed);
+        }
+        chart = chart.series(mean_name, pts(dem), SeriesStyle::Markers).series("damage law", pts(law), SeriesStyle::Line);
+        plot(chart, file)?;
     }
     let provenance = Provenance {
         job: path.display().to_string(),
         method: format!(
-            "2^5 factorial + EGO (kriging, q-EI) on the {:?} error between the law (plane-stress material point, uniaxial stress) and the DEM's mean tension and compression curves",
-            fit.measure
+            "2^{} factorial + EGO (kriging, q-EI) + Nelder-Mead on the {} error between the law (plane-stress material point, uniaxial stress) and the DEM's mean tension and compression curves ({} mean of samples)",
+            fit.space.dim(),
+            fit.measure.name(),
+            match job.spec.law.as_ref().map(|l| l.mean) {
+                Some(crate::identify::curves::MeanKind::Pointwise) => "pointwise",
+                _ => "peak-aligned",
+            }
         ),
         element_size: fit.element_size,
         error_tension: r.fit.tension.value,
         error_compression: r.fit.compression.value,
-        error_measure: format!("{:?}", fit.measure),
+        error_measure: fit.measure.name().to_string(),
         dem: if job.dem_curves.is_some() { None } else { Some(summary.calibration.as_ref().map_or(job.dem, |c| c.parameters)) },
     };
     let f = dir.join("material.toml");

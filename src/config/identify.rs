@@ -31,17 +31,23 @@
 //! tension = { type = "tension", max_strain = 1.0e-3, steps = 50 }
 //! compression = { type = "compression", max_strain = 3.0e-3, steps = 60 }
 //! # dem_curves = { tension = "t.csv", compression = "c.csv" }   # instead of running the DEM
+//! # dem_samples = { tension = "dem_tension_samples.csv", compression = "dem_compression_samples.csv" }
+//! #                            # or every sample's curve, as an earlier run wrote them (law fit only)
+//! mean = "peak_aligned"        # how sample curves are averaged, or "pointwise" (identify::curves)
 //! regularization = "hillerborg"    # or "hillerborg_no_elastic"
 //! # element_size = 1.2         # h of the comparison [m], default the sample height
 //! elastic = "experiment"       # E, ν of the law: "experiment" (else the DEM's means) or "dem"
 //! # young_modulus, poisson     # explicit values win over `elastic`
-//! error = "eq15"               # or "relative_rms"
+//! error = "eq15"               # or "relative_rms", or "peak_energy" (envelope to the peak, peak,
+//!                              # post-peak energy: identify::error_measure)
 //! points = 60                  # resampled points per curve
 //! levels = [0.25, 0.75]        # the 2⁵ factorial's levels, fractions of each interval
 //! iterations = 12
 //! batch = 2
 //! polish_iterations = 400    # Nelder-Mead from the EGO optimum (law evaluations are cheap); 0: off
 //! bounds = { eps0_t = [2e-5, 4e-4], eps0_c = [5e-5, 2e-3], gf_t = [5.0, 500.0], a_c = [0.0, 1.0], b_c = [100.0, 5000.0] }
+//! #   optional sixth unknown in bounds: gf_c = [10.0, 2000.0] (compressive fracture energy, J/m²;
+//! #   needs a_c > 0 throughout)
 //! # material_file = "../materials/wall.toml"   # a copy beside the results' material.toml
 //! ```
 use super::{ExperimentConfig, MechanicsConfig, OutputConfig};
@@ -162,6 +168,8 @@ pub struct LawBounds {
     pub a_c: [f64; 2],
     /// B_c [1/strain].
     pub b_c: [f64; 2],
+    /// Compressive fracture energy G_c [J/m²]: an optional sixth unknown.
+    pub gf_c: Option<[f64; 2]>,
 }
 
 /// `[law.dem_curves]`: DEM curves from files instead of running the DEM.
@@ -187,6 +195,12 @@ pub struct LawIdentConfig {
     pub compression: Option<VirtualTest>,
     /// Curves from files.
     pub dem_curves: Option<DemCurveFiles>,
+    /// Every sample's curve from files (`sample,strain,stress,loss_of_load`, as the chain
+    /// writes them in `dem_*_samples.csv`), averaged by `mean`.
+    pub dem_samples: Option<DemCurveFiles>,
+    /// How the samples' curves are averaged.
+    #[serde(default)]
+    pub mean: crate::identify::curves::MeanKind,
     /// Hillerborg variant.
     #[serde(default = "hillerborg")]
     pub regularization: Regularization,
@@ -259,6 +273,8 @@ pub struct IdentifyJob {
     pub targets: Option<crate::identify::Targets>,
     /// DEM curves read from `[law.dem_curves]` (tension, compression), test direction.
     pub dem_curves: Option<(crate::identify::Curve, crate::identify::Curve)>,
+    /// Every sample's curves read from `[law.dem_samples]` (tension, compression).
+    pub dem_samples: Option<(Vec<crate::identify::Curve>, Vec<crate::identify::Curve>)>,
     /// `[law] material_file`, resolved.
     pub material_copy: Option<PathBuf>,
     /// The results folder.
@@ -350,6 +366,7 @@ impl IdentifyJob {
             });
         }
         let mut dem_curves = None;
+        let mut dem_samples = None;
         let mut material_copy = None;
         if let Some(l) = &spec.law {
             count(&["law", "samples"], l.samples, 1)?;
@@ -361,6 +378,15 @@ impl IdentifyJob {
             interval(&["law", "bounds", "gf_t"], b.gf_t, true, "the fracture energy gf_t")?;
             interval(&["law", "bounds", "b_c"], b.b_c, true, "b_c")?;
             interval(&["law", "bounds", "a_c"], b.a_c, false, "a_c")?;
+            if let Some(g) = b.gf_c {
+                interval(&["law", "bounds", "gf_c"], g, true, "the compressive fracture energy gf_c")?;
+                if b.a_c[0] <= 0.0 {
+                    return Err(source.error_at(
+                        &at(&["law", "bounds", "a_c"]),
+                        format!("with bounds.gf_c, a_c must be > 0 throughout (gf_c regularizes the decaying part A_c), got the lower bound {}", b.a_c[0]),
+                    ));
+                }
+            }
             if b.a_c[0] < 0.0 || b.a_c[1] > 1.0 {
                 return Err(source.error_at(&at(&["law", "bounds", "a_c"]), format!("a_c must lie in [0, 1], got bounds [{}, {}]", b.a_c[0], b.a_c[1])));
             }
@@ -406,10 +432,30 @@ impl IdentifyJob {
                     ));
                 }
             }
-            if l.dem_curves.is_some() && l.elastic == ElasticSource::Dem && (l.young_modulus.is_none() || l.poisson.is_none()) {
-                return Err(source.error_at(&at(&["law", "elastic"]), "elastic = \"dem\" needs the DEM to run; with dem_curves give young_modulus and poisson"));
+            let from_files = l.dem_curves.is_some() || l.dem_samples.is_some();
+            if from_files && l.elastic == ElasticSource::Dem && (l.young_modulus.is_none() || l.poisson.is_none()) {
+                return Err(source.error_at(
+                    &at(&["law", "elastic"]),
+                    "elastic = \"dem\" needs the DEM to run; with dem_curves or dem_samples give young_modulus and poisson",
+                ));
+            }
+            if l.dem_curves.is_some() && l.dem_samples.is_some() {
+                return Err(source.error_at(&at(&["law", "dem_samples"]), "give dem_curves (mean curves) or dem_samples (every sample's curve), not both"));
+            }
+            if let Some(files) = &l.dem_samples {
+                let read = |name: &str, p: &std::path::Path| -> Result<Vec<crate::identify::Curve>, super::ConfigError> {
+                    let file = super::resolve(&folder, p);
+                    let curves = crate::identify::curves::read_sample_curves_csv(&file).map_err(|m| source.error_at(&at(&["law", "dem_samples", name]), m))?;
+                    for (k, c) in curves.iter().enumerate() {
+                        c.check(&format!("DEM {name} curve of sample {k} in {}", file.display()))
+                            .map_err(|e| source.error_at(&at(&["law", "dem_samples", name]), e.to_string()))?;
+                    }
+                    Ok(curves)
+                };
+                dem_samples = Some((read("tension", &files.tension)?, read("compression", &files.compression)?));
             }
             match &l.dem_curves {
+                _ if l.dem_samples.is_some() => {}
                 Some(files) => {
                     let read = |name: &str, p: &std::path::Path| -> Result<crate::identify::Curve, super::ConfigError> {
                         let file = super::resolve(&folder, p);
@@ -423,7 +469,7 @@ impl IdentifyJob {
                 None => {
                     for (k, t, tension) in [("tension", &l.tension, true), ("compression", &l.compression, false)] {
                         let Some(t) = t else {
-                            return Err(source.error_at(&at(&["law"]), format!("[law] needs {k} = {{ type = \"{k}\", max_strain = ..., steps = ... }} or dem_curves")));
+                            return Err(source.error_at(&at(&["law"]), format!("[law] needs {k} = {{ type = \"{k}\", max_strain = ..., steps = ... }}, or dem_curves, or dem_samples")));
                         };
                         t.validate().map_err(|e| source.error_at(&at(&["law", k]), e.to_string()))?;
                         let right = if tension { matches!(t, VirtualTest::Tension { .. }) } else { matches!(t, VirtualTest::Compression { .. }) };
@@ -436,6 +482,6 @@ impl IdentifyJob {
             material_copy = l.material_file.as_ref().map(|p| super::resolve(&folder, p));
         }
         let output_dir = super::output_dir(path, &spec.output);
-        Ok(IdentifyJob { source, spec, dem, targets, dem_curves, material_copy, output_dir })
+        Ok(IdentifyJob { source, spec, dem, targets, dem_curves, dem_samples, material_copy, output_dir })
     }
 }

@@ -9,7 +9,8 @@
 //!   J(x) = Σ_k w_k ( (m_k(x) − t_k) / t_k )²,     k ∈ {E, ν, σ_first crack, σ_peak}
 //! ```
 //! A point whose samples all fail is a failed evaluation; if no sample cracks, the first-crack
-//! term counts as a 100% error. Each design point runs `samples` random samples (seeds
+//! term counts as a 100% error. As in the DEM job, a sample whose solver stopped before its peak
+//! (end `failed`) does not count in the statistics (its peak is only where the solver stopped). Each design point runs `samples` random samples (seeds
 //! `seed, seed + 1, …`, the same for every point: common random numbers, so differences between
 //! points are the parameters', not the samples'). EGO ([`super::collective::run_ego`]) on
 //! ln(J + δ), Latin-hypercube initial design.
@@ -137,9 +138,12 @@ pub fn parameters_at(fixed: &DemParameters, x: &[f64]) -> DemParameters {
 
 /// J of a set of runs (see the module docs).
 pub fn objective(targets: &Targets, weights: &[f64; 4], runs: &[TaskResult<DemRun>]) -> Result<f64, String> {
-    let ok: Vec<&DemRun> = runs.iter().filter_map(|r| r.as_ref().ok()).collect();
+    let ok: Vec<&DemRun> = runs.iter().filter_map(|r| r.as_ref().ok()).filter(|r| r.valid).collect();
     if ok.is_empty() {
-        return Err(runs.iter().find_map(|r| r.as_ref().err().cloned()).unwrap_or_else(|| "no sample".into()));
+        return Err(runs
+            .iter()
+            .find_map(|r| r.as_ref().err().cloned())
+            .unwrap_or_else(|| "every sample stopped before its peak (solver end 'failed')".into()));
     }
     let stats = sample_stats(&ok);
     Ok(relative_errors(&stats, targets).iter().zip(weights).map(|(e, w)| w * e * e).sum())
@@ -173,7 +177,7 @@ fn summarize(c: &Calibration, records: Vec<PointRecord<DemRun>>) -> Result<Calib
     let history: Vec<_> = records.iter().map(|r| (r.iteration, c.space.from_unit(&r.unit), r.value.clone())).collect();
     let best = best_record(&records)?;
     let runs: Vec<DemRun> = best.tasks.iter().filter_map(|r| r.as_ref().ok().cloned()).collect();
-    let refs: Vec<&DemRun> = runs.iter().collect();
+    let refs: Vec<&DemRun> = runs.iter().filter(|r| r.valid).collect();
     let stats = sample_stats(&refs);
     Ok(CalibrationResult {
         parameters: parameters_at(&c.fixed, &c.space.from_unit(&best.unit)),
@@ -183,7 +187,16 @@ fn summarize(c: &Calibration, records: Vec<PointRecord<DemRun>>) -> Result<Calib
         targets: c.targets,
         evaluations: records.len(),
         history,
-        best_failures: best.tasks.iter().filter_map(|r| r.as_ref().err().cloned()).collect(),
+        best_failures: best
+            .tasks
+            .iter()
+            .enumerate()
+            .filter_map(|(k, r)| match r {
+                Err(e) => Some(e.clone()),
+                Ok(d) if !d.valid => Some(format!("sample {k}: the solver stopped before the peak (end {}): left out of the statistics", d.end)),
+                Ok(_) => None,
+            })
+            .collect(),
         best_runs: runs,
     })
 }

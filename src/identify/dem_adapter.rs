@@ -5,7 +5,7 @@
 use super::curves::Curve;
 use crate::dem::mechanics::MechParams;
 use crate::dem::sample::{Sample, SampleConfig};
-use crate::dem::solver::{run_test, VirtualTest};
+use crate::dem::solver::{run_test, TestEnd, VirtualTest};
 use serde::{Deserialize, Serialize};
 
 /// The lattice parameters the identification varies or fixes (SPEC §1): α enters the sample
@@ -62,6 +62,18 @@ pub struct DemRun {
     pub events: usize,
     /// Wall time [s].
     pub seconds: f64,
+    /// Whether the test's numbers are valid: false when the solver stopped before the peak
+    /// (the DEM's `TestEnd::Failed`: no equilibrium before the force had fallen 10 % below its
+    /// peak); the DEM job leaves such samples out of its statistics.
+    #[serde(default = "yes")]
+    pub valid: bool,
+    /// How the test ended (`target`, `loss_of_load`, `collapse`, `failed`).
+    #[serde(default)]
+    pub end: String,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// Curves sent back from a batch task are thinned to about this many points (the peak kept).
@@ -106,7 +118,17 @@ pub fn run_virtual_test(base: &SampleConfig, p: &DemParameters, test: &VirtualTe
             y.push(sign * c.stress);
         }
     }
-    let curve = Curve { x, y, loss_of_load: r.stats.loss_of_load }.monotonic();
+    // A post-peak collapse (no equilibrium once the force had fallen 10 % below its peak: a
+    // brittle failure the quasi-static model cannot follow) carries nothing more, like a loss
+    // of load: the curve is zero beyond its end.
+    let collapsed = matches!(r.end, TestEnd::Collapse { .. });
+    let curve = Curve { x, y, loss_of_load: r.stats.loss_of_load || collapsed }.monotonic();
+    let end = match &r.end {
+        TestEnd::Target => "target",
+        TestEnd::LossOfLoad => "loss_of_load",
+        TestEnd::Collapse { .. } => "collapse",
+        TestEnd::Failed { .. } => "failed",
+    };
     let d = &r.derived;
     Ok(DemRun {
         curve,
@@ -117,5 +139,7 @@ pub fn run_virtual_test(base: &SampleConfig, p: &DemParameters, test: &VirtualTe
         strain_at_peak: d.strain_at_peak.abs(),
         events: r.stats.events,
         seconds: r.stats.seconds,
+        valid: r.end.is_valid(),
+        end: end.to_string(),
     })
 }

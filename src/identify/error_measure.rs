@@ -10,6 +10,32 @@
 //! The option `relative_rms` is `sqrt( Σ_i (f_i^DEM − f_i^con)² / Σ_i (f_i^DEM)² )` over the same
 //! points. Both are reported with the number of points used; `F/n` (the mean of
 //! sqrt(relative error)) reads as a typical relative deviation's square root.
+//!
+//! # `peak_energy`: envelope up to the peak, the peak, the energy after it
+//! Both pointwise measures fail on a brittle curve. The DEM's tension curve rises linearly, then
+//! drops vertically (one crack through the wall) to a low residual tail; its compression curve
+//! with crushing rises, peaks and collapses. A vertical drop makes a pointwise measure a lottery:
+//! a strain shift of one grid step puts a point of the model's peak against the DEM's tail (a
+//! 100 % error on one point), so the optimum lowers the model's peak to hedge, and eq. 15 also
+//! weighs every point of the long tail like the peak. What a structural model needs from the
+//! softening material, and what a mechanician reads off such a curve, is (i) the envelope before
+//! the peak (stiffness, onset of damage, hardening), (ii) the strength, and (iii) the energy
+//! dissipated after the peak, the quantity Hillerborg's regularization carries from the test's
+//! size to any element size (the shape of the drop in between is not objective: it depends on
+//! the test's size and stiffness). So, with the reference peak `f_p^DEM` at grid index p:
+//!
+//! ```text
+//!   F = sqrt( Σ_{i≤p} (f_i^DEM − f_i^con)² / Σ_{i≤p} (f_i^DEM)² )        envelope up to and including the peak
+//!     + | max f^con − f_p^DEM | / f_p^DEM                                    peak (the model's maximum anywhere)
+//!     + | W^con − W^DEM | / W^DEM,   W = ∫_{ε_p}^{ε_end} f dε (trapezoids on the reference grid)
+//! ```
+//! three relative errors of the same weight (a 5 % miss of the peak costs as much as a 5 % miss
+//! of the post-peak energy). The envelope skips near-zero reference values as above. The energy
+//! term is left out when the reference has no post-peak branch (its peak is its last point, or
+//! the energy after it is below η f_p (ε_end − ε_p)). The model's peak is its maximum over its
+//! own curve, which may be finer than the reference grid ([`curve_distance`]): a law peaking
+//! between two grid points is not credited with a lower peak.
+use super::curves::Curve;
 use serde::{Deserialize, Serialize};
 
 /// Reference values below this fraction of the largest one are skipped.
@@ -24,6 +50,38 @@ pub enum ErrorMeasure {
     Eq15,
     /// sqrt(Σ Δf² / Σ f²).
     RelativeRms,
+    /// Relative RMS of the envelope up to the peak + relative peak error + relative error of
+    /// the post-peak energy (module docs).
+    PeakEnergy,
+}
+
+impl ErrorMeasure {
+    /// Every measure, for reports.
+    pub const ALL: [ErrorMeasure; 3] = [ErrorMeasure::Eq15, ErrorMeasure::RelativeRms, ErrorMeasure::PeakEnergy];
+
+    /// The job-file name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ErrorMeasure::Eq15 => "eq15",
+            ErrorMeasure::RelativeRms => "relative_rms",
+            ErrorMeasure::PeakEnergy => "peak_energy",
+        }
+    }
+}
+
+/// The three terms of [`ErrorMeasure::PeakEnergy`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PeakEnergyParts {
+    /// Relative RMS of the envelope up to and including the reference peak.
+    pub envelope: f64,
+    /// Relative error of the model's peak (signed: negative when the model is weaker).
+    pub peak: f64,
+    /// Relative error of the post-peak energy (signed), when the reference has a post-peak branch.
+    pub energy: Option<f64>,
+    /// The reference's post-peak energy W^DEM per unit volume [J/m³] (0 when left out).
+    pub reference_energy: f64,
+    /// The model's post-peak energy W^con on the same strain range [J/m³].
+    pub model_energy: f64,
 }
 
 /// A measured distance.
@@ -33,11 +91,22 @@ pub struct CurveError {
     pub value: f64,
     /// Points used (not skipped).
     pub points: usize,
+    /// The terms of `peak_energy`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parts: Option<PeakEnergyParts>,
 }
 
-/// The distance between `reference` and `model` (same length) by `measure`; `None` when no
-/// reference point is usable or a model value is not finite.
+/// The distance between `reference` and `model` (same length) by a pointwise measure (`eq15`,
+/// `relative_rms`; `peak_energy` is taken on a uniform grid, where the energies' ratio does not
+/// depend on the spacing); `None` when no reference point is usable or a model value is not
+/// finite.
 pub fn curve_error(reference: &[f64], model: &[f64], measure: ErrorMeasure) -> Option<CurveError> {
+    if measure == ErrorMeasure::PeakEnergy {
+        let x: Vec<f64> = (0..reference.len()).map(|i| i as f64).collect();
+        let r = Curve { x: x.clone(), y: reference.to_vec(), loss_of_load: false };
+        let m = Curve { x, y: model.to_vec(), loss_of_load: false };
+        return curve_distance(&r, &m, measure);
+    }
     let fmax = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if fmax == 0.0 || !fmax.is_finite() || reference.len() != model.len() {
         return None;
@@ -49,13 +118,58 @@ pub fn curve_error(reference: &[f64], model: &[f64], measure: ErrorMeasure) -> O
     }
     let value = match measure {
         ErrorMeasure::Eq15 => used.iter().map(|(f, g)| ((f - g).abs() / f.abs()).sqrt()).sum(),
-        ErrorMeasure::RelativeRms => {
+        ErrorMeasure::RelativeRms | ErrorMeasure::PeakEnergy => {
             let num: f64 = used.iter().map(|(f, g)| (f - g).powi(2)).sum();
             let den: f64 = used.iter().map(|(f, _)| f * f).sum();
             (num / den).sqrt()
         }
     };
-    Some(CurveError { value, points: used.len() })
+    Some(CurveError { value, points: used.len(), parts: None })
+}
+
+/// ∫ y dx by trapezoids.
+pub fn trapezoid(x: &[f64], y: &[f64]) -> f64 {
+    x.windows(2).zip(y.windows(2)).map(|(a, b)| 0.5 * (a[1] - a[0]) * (b[0] + b[1])).sum()
+}
+
+/// The distance between the `reference` curve and the `model` curve by `measure`. The model is
+/// interpolated at the reference's abscissae (exact when its own points include them, as the
+/// law's refined path does); `peak_energy` takes the model's peak over its whole curve. `None`
+/// when no reference point is usable or a model value is not finite.
+pub fn curve_distance(reference: &Curve, model: &Curve, measure: ErrorMeasure) -> Option<CurveError> {
+    let on_grid = model.resample(&reference.x);
+    if measure != ErrorMeasure::PeakEnergy {
+        return curve_error(&reference.y, &on_grid, measure);
+    }
+    let n = reference.y.len();
+    if n == 0 || model.y.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    // The reference peak: the first index of the largest value (test direction).
+    let p = (0..n).fold(0, |b, i| if reference.y[i] > reference.y[b] { i } else { b });
+    let fp = reference.y[p];
+    if !(fp > 0.0 && fp.is_finite()) {
+        return None;
+    }
+    let envelope = curve_error(&reference.y[..=p], &on_grid[..=p], ErrorMeasure::RelativeRms)?;
+    let model_peak = model.y.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+    let peak = (model_peak - fp) / fp;
+    let w_ref = trapezoid(&reference.x[p..], &reference.y[p..]);
+    let w_mod = trapezoid(&reference.x[p..], &on_grid[p..]);
+    let span = reference.x[n - 1] - reference.x[p];
+    let energy = (span > 0.0 && w_ref > SKIP_FRACTION * fp * span).then(|| (w_mod - w_ref) / w_ref);
+    let value = envelope.value + peak.abs() + energy.map_or(0.0, f64::abs);
+    Some(CurveError {
+        value,
+        points: envelope.points,
+        parts: Some(PeakEnergyParts {
+            envelope: envelope.value,
+            peak,
+            energy,
+            reference_energy: if energy.is_some() { w_ref } else { 0.0 },
+            model_energy: w_mod,
+        }),
+    })
 }
 
 #[cfg(test)]
@@ -73,5 +187,51 @@ mod tests {
         assert!((r.value - (1.0001f64 / 21.0).sqrt()).abs() < 1e-12);
         assert!(curve_error(&[0.0, 0.0], &[1.0, 1.0], ErrorMeasure::Eq15).is_none());
         assert!(curve_error(&[1.0], &[f64::NAN], ErrorMeasure::Eq15).is_none());
+    }
+
+    #[test]
+    fn peak_energy_by_hand() {
+        // Reference at x = 0..4: (0, 1, 2, 1, 1), peak 2 at x = 2; model (0, 1, 2.2, 0.5, 0.5).
+        // Envelope (x ≤ 2, the origin skipped): sqrt((0² + 0.2²) / (1² + 2²)) = sqrt(0.008).
+        // Peak: (2.2 − 2)/2 = +0.1.
+        // Energy after x = 2 by trapezoids: reference (2+1)/2 + (1+1)/2 = 2.5, model
+        // (2.2+0.5)/2 + (0.5+0.5)/2 = 1.85: (1.85 − 2.5)/2.5 = −0.26.
+        let x = vec![0.0, 1.0, 2.0, 3.0, 4.0];
+        let r = Curve { x: x.clone(), y: vec![0.0, 1.0, 2.0, 1.0, 1.0], loss_of_load: false };
+        let m = Curve { x, y: vec![0.0, 1.0, 2.2, 0.5, 0.5], loss_of_load: false };
+        let e = curve_distance(&r, &m, ErrorMeasure::PeakEnergy).unwrap();
+        let p = e.parts.unwrap();
+        assert!((p.envelope - 0.008f64.sqrt()).abs() < 1e-12, "{p:?}");
+        assert!((p.peak - 0.1).abs() < 1e-12, "{p:?}");
+        assert!((p.energy.unwrap() + 0.26).abs() < 1e-12, "{p:?}");
+        assert!((p.reference_energy - 2.5).abs() < 1e-12 && (p.model_energy - 1.85).abs() < 1e-12);
+        assert!((e.value - (0.008f64.sqrt() + 0.1 + 0.26)).abs() < 1e-12 && e.points == 2, "{e:?}");
+        // The slice form on a uniform grid gives the same value.
+        let s = curve_error(&r.y, &m.y, ErrorMeasure::PeakEnergy).unwrap();
+        assert!((s.value - e.value).abs() < 1e-12);
+        // Identical curves: zero.
+        assert_eq!(curve_distance(&r, &r, ErrorMeasure::PeakEnergy).unwrap().value, 0.0);
+    }
+
+    #[test]
+    fn peak_energy_takes_the_models_own_peak() {
+        // Reference: E ε up to the peak 1 at ε = 1, vertical drop to 0.2, held to ε = 3
+        // (grid step 0.5). Model: the same rise to a peak 1.04 at ε = 1.04,
+        // then the same drop and tail. Its peak lies between two reference points: the measure
+        // sees 1.04 (+4 %), not the value at a grid point.
+        let r = Curve { x: vec![0.0, 0.5, 1.0, 1.0, 1.5, 2.0, 2.5, 3.0], y: vec![0.0, 0.5, 1.0, 0.2, 0.2, 0.2, 0.2, 0.2], loss_of_load: false };
+        let grid: Vec<f64> = (0..=6).map(|i| 0.5 * i as f64).collect();
+        let reference = Curve { x: grid.clone(), y: r.resample(&grid), loss_of_load: false };
+        let m = Curve { x: vec![0.0, 1.04, 1.04, 3.0], y: vec![0.0, 1.04, 0.2, 0.2], loss_of_load: false };
+        let e = curve_distance(&reference, &m, ErrorMeasure::PeakEnergy).unwrap();
+        let p = e.parts.unwrap();
+        assert!((p.peak - 0.04).abs() < 1e-12, "{p:?}");
+        // Envelope: the model is the line ε at the grid points up to 1: zero.
+        assert!(p.envelope.abs() < 1e-12, "{p:?}");
+        // The reference at the grid point 1.0 is the peak (the first of the tied abscissae), so
+        // both energies include the same trapezoid from the peak to the tail at 1.5:
+        // reference 0.5 (1 + 0.2)/2 + 1.5·0.2 = 0.6; model at 1.0: 1.0 (on its rise), same after.
+        assert!((p.reference_energy - 0.6).abs() < 1e-12 && (p.model_energy - 0.6).abs() < 1e-12, "{p:?}");
+        assert!((e.value - 0.04).abs() < 1e-12);
     }
 }

@@ -1,10 +1,15 @@
 //! Identification of the damage law from DEM virtual tests (SPEC §3b).
 //!
-//! Unknowns `x = (ε₀^t, ε₀^c, G_f, A_c, B_c)`; E and ν fixed (from the experiment, or the DEM's
-//! means). For each x the law is driven, as a plane-stress material point, along the DEM tests'
-//! paths: uniaxial stress, ε_xx imposed on the reference curves' uniform strain grids
+//! Unknowns `x = (ε₀^t, ε₀^c, G_f, A_c, B_c)`, optionally a sixth, the compressive fracture
+//! energy G_c (`material::params`: it regularizes the compressive softening after the peak, so
+//! the post-peak energy of a brittle compression curve is fitted apart from the shape before the
+//! peak, which B_c sets); E and ν fixed (from the experiment, or the DEM's means). For each x
+//! the law is driven, as a plane-stress material point, along the DEM tests' paths: uniaxial stress, ε_xx imposed on the reference curves' uniform strain grids
 //! (`material::run_path`, lateral stresses free); its stress is compared with the DEM's mean
-//! curve at the same strains by the error measure ([`super::error_measure`], paper eq. 15):
+//! curve at the same strains by the error measure ([`super::error_measure`]: paper eq. 15, the
+//! relative RMS, or `peak_energy`, the envelope up to the peak, the peak and the post-peak
+//! energy). The law's path passes through the reference grid's strains and through its own peak
+//! strains ([`LawFit::peak_strains`]), so its peak is exact whatever the grid:
 //!
 //! ```text
 //!   F(x) = F_tension(x) + F_compression(x)
@@ -13,7 +18,7 @@
 //! sample's height (the DEM's strain is the platen displacement over the height, so its softening
 //! branch is that of one element of length h crossed by the crack), so G_f comes out per unit
 //! crack area and the material file serves any mesh. Initial design: the 2⁵ two-level
-//! factorial (the paper's 32 combinations); then EGO infill on ln(F + δ); then, since one
+//! factorial (the paper's 32 combinations; 2⁶ with G_c); then EGO infill on ln(F + δ); then, since one
 //! evaluation costs milliseconds, a Nelder–Mead polish from the EGO optimum ([`super::polish`];
 //! its evaluations appear in the history as the iteration after the last infill).
 use super::collective::{best_record, run_ego, PointRecord};
@@ -21,9 +26,9 @@ use super::curves::{uniform_grid, Curve};
 use super::doe::two_level_factorial;
 use super::ego::EgoSettings;
 use super::error::IdentifyError;
-use super::error_measure::{curve_error, CurveError, ErrorMeasure};
+use super::error_measure::{curve_distance, CurveError, ErrorMeasure};
 use super::space::Space;
-use crate::material::{run_path, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization};
+use crate::material::{run_path, Control, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization};
 use crate::parallel::{Context, TaskResult};
 use serde::Serialize;
 
@@ -33,8 +38,18 @@ pub const POLISH_STARTS: usize = 3;
 /// non-smooth objectives such as eq. 15; a restart is the standard remedy).
 pub const POLISH_RESTARTS: usize = 3;
 
-/// The unknowns' names, in order (as in the job file and the material file).
+/// The unknowns' names, in order (as in the job file and the material file); the optional
+/// sixth is [`GF_C`].
 pub const UNKNOWNS: [&str; 5] = ["eps0_t", "eps0_c", "gf_t", "a_c", "b_c"];
+
+/// The optional sixth unknown, the compressive fracture energy G_c [J/m²].
+pub const GF_C: &str = "gf_c";
+
+/// Law steps per reference grid step on the identified law's curves (the pictures). The
+/// objective needs none: under monotonic loading the law's state is a function of the current
+/// strain (κ = the current equivalent strain), so its stress at a grid strain does not depend on
+/// the steps taken to get there, and the peak strain is a step of its own.
+pub const REFINE: usize = 8;
 
 /// Everything the identification needs.
 #[derive(Clone, Debug)]
@@ -55,6 +70,9 @@ pub struct LawFit {
     pub measure: ErrorMeasure,
     /// The unknowns ([`UNKNOWNS`] order) and their intervals.
     pub space: Space,
+    /// The DEM samples' peak stresses (tension, compression), when known: reported beside the
+    /// mean curves' peaks.
+    pub sample_peaks: Option<[super::calibration::Stat; 2]>,
     /// Factorial levels in the unit cube.
     pub levels: [f64; 2],
     /// The EGO loop.
@@ -74,6 +92,17 @@ pub struct LawEvaluation {
     pub total: f64,
 }
 
+/// One measure's values at the identified law (every measure is reported, whichever was fitted).
+#[derive(Clone, Debug, Serialize)]
+pub struct MeasureReport {
+    /// The measure's job-file name.
+    pub measure: &'static str,
+    /// Tension.
+    pub tension: Option<CurveError>,
+    /// Compression.
+    pub compression: Option<CurveError>,
+}
+
 /// The identification's outcome (rank 0).
 #[derive(Clone, Debug, Serialize)]
 pub struct LawResult {
@@ -87,8 +116,12 @@ pub struct LawResult {
     pub compression_peak_error: f64,
     /// DEM peaks (tension, compression) [Pa].
     pub dem_peaks: [f64; 2],
-    /// Law peaks (tension, compression) [Pa].
+    /// Law peaks (tension, compression) [Pa], on the law's refined path.
     pub law_peaks: [f64; 2],
+    /// The DEM samples' peaks (tension, compression), mean ± std, when known.
+    pub dem_sample_peaks: Option<[super::calibration::Stat; 2]>,
+    /// Every measure (eq. 15, relative RMS, peak_energy) at the identified law.
+    pub measures: Vec<MeasureReport>,
     /// Every point: iteration, physical coordinates, objective.
     pub history: Vec<(usize, Vec<f64>, Result<f64, String>)>,
     /// Best objective after each evaluation.
@@ -118,34 +151,55 @@ impl LawFit {
             gf_t: x[2],
             a_c: x[3],
             b_c: x[4],
-            gf_c: None,
+            gf_c: x.get(5).copied(),
             regularization: self.regularization,
         }
     }
 
-    /// The law's stress (test direction) on the tension and compression grids.
-    pub fn law_curves(&self, p: &DamageParams) -> Result<(Curve, Curve), String> {
+    /// The law's stress (test direction) over the tension and compression grids' ranges, on
+    /// paths `refine` times finer than the grids, through the law's peak strains (see
+    /// [`LawFit::peak_strains`]), so the peaks are exact whatever the grid.
+    pub fn law_curves(&self, p: &DamageParams, refine: usize) -> Result<(Curve, Curve), String> {
         let law = p.for_element(self.element_size).map_err(|e| e.to_string())?;
-        let run = |c: &Curve, sign: f64| -> Result<Curve, String> {
-            let n = c.x.len() - 1;
-            let max = c.x[n];
-            let path = if sign > 0.0 { LoadPath::<3>::uniaxial_tension(max, n) } else { LoadPath::<3>::uniaxial_compression(max, n) }
-                .map_err(|e| e.to_string())?;
-            let rec = run_path(PlaneStress, &law, &path, &NewtonSettings::default()).map_err(|e| e.to_string())?;
+        let [peak_t, peak_c] = Self::peak_strains(p);
+        let run = |c: &Curve, sign: f64, critical: f64| -> Result<Curve, String> {
+            let n = (c.x.len() - 1) * refine.max(1);
+            let max = c.x[c.x.len() - 1];
+            let mut strains: Vec<f64> = (1..=n).map(|k| max * k as f64 / n as f64).collect();
+            if critical > 0.0 && critical < max {
+                let i = strains.partition_point(|&e| e < critical);
+                if strains[i] != critical {
+                    strains.insert(i, critical);
+                }
+            }
+            let steps = strains.iter().map(|&e| [Control::Strain(sign * e), Control::Stress(0.0), Control::Stress(0.0)]).collect();
+            let rec = run_path(PlaneStress, &law, &LoadPath::<3>::new(steps), &NewtonSettings::default()).map_err(|e| e.to_string())?;
             Ok(Curve {
                 x: rec.iter().map(|r| sign * r.strain[0]).collect(),
                 y: rec.iter().map(|r| sign * r.stress[0]).collect(),
                 loss_of_load: false,
             })
         };
-        Ok((run(&self.tension, 1.0)?, run(&self.compression, -1.0)?))
+        Ok((run(&self.tension, 1.0, peak_t)?, run(&self.compression, -1.0, peak_c)?))
+    }
+
+    /// The axial strains (magnitudes) at the law's uniaxial peaks, SPEC §2: in tension the
+    /// threshold ε₀ᵗ (ε_eq = ε_xx: the lateral strains are contractions); in compression the
+    /// equivalent strain is κ = r |ε_xx| (r = `DamageParams::uniaxial_compression_ratio`, the
+    /// lateral extensions) and eq. 14's stress (1 − A_c) f_c + A_c f_c (κ/ε₀ᶜ) e^{−B_c(κ−ε₀ᶜ)}
+    /// peaks at κ_s = max(ε₀ᶜ, 1/B_c), unchanged by the optional G_c, which acts after it;
+    /// 0 when r = 0 (no compression damage).
+    pub fn peak_strains(p: &DamageParams) -> [f64; 2] {
+        let r = p.uniaxial_compression_ratio();
+        let kappa_s = p.eps0_c.max(1.0 / p.b_c);
+        [p.eps0_t, if r > 0.0 { kappa_s / r } else { 0.0 }]
     }
 
     /// The errors at the physical point `x`.
     pub fn evaluate(&self, x: &[f64]) -> Result<LawEvaluation, String> {
-        let (t, c) = self.law_curves(&self.params_at(x))?;
+        let (t, c) = self.law_curves(&self.params_at(x), 1)?;
         let err = |reference: &Curve, model: &Curve, what: &str| {
-            curve_error(&reference.y, &model.y, self.measure).ok_or_else(|| format!("{what}: no comparable point"))
+            curve_distance(reference, model, self.measure).ok_or_else(|| format!("{what}: no comparable point"))
         };
         let tension = err(&self.tension, &t, "tension")?;
         let compression = err(&self.compression, &c, "compression")?;
@@ -205,9 +259,17 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
     }
     let params = fit.params_at(&x);
     let fit_eval = fit.evaluate(&x).map_err(IdentifyError::Optimizer)?;
-    let law_curves = fit.law_curves(&params).map_err(IdentifyError::Optimizer)?;
+    let law_curves = fit.law_curves(&params, REFINE).map_err(IdentifyError::Optimizer)?;
     let dem_peaks = [fit.tension.peak().0, fit.compression.peak().0];
     let law_peaks = [law_curves.0.peak().0, law_curves.1.peak().0];
+    let measures = ErrorMeasure::ALL
+        .iter()
+        .map(|&m| MeasureReport {
+            measure: m.name(),
+            tension: curve_distance(&fit.tension, &law_curves.0, m),
+            compression: curve_distance(&fit.compression, &law_curves.1, m),
+        })
+        .collect();
     Ok(Some(LawResult {
         params,
         fit: fit_eval,
@@ -215,6 +277,8 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
         compression_peak_error: (law_peaks[1] - dem_peaks[1]) / dem_peaks[1],
         dem_peaks,
         law_peaks,
+        dem_sample_peaks: fit.sample_peaks,
+        measures,
         history,
         best_so_far,
         law_curves,

@@ -1,8 +1,12 @@
 //! The calibrated DEM's virtual tests for the law identification: tension and compression of
 //! `samples` random samples each, as one dynamic batch (2 × samples tasks), reduced to the
-//! mean curves on uniform strain grids ([`super::curves::mean_curve`]).
+//! mean curves on uniform strain grids ([`super::curves::mean_of`]: peak-aligned or pointwise).
+//! A sample whose solver stopped before its peak (the DEM's `failed` end) has no valid post-peak
+//! branch and is left out of the mean, as the DEM job leaves it out of its statistics; it is
+//! reported with the failures. A post-peak collapse counts, with zero stress after its end.
+use super::calibration::Stat;
 use super::collective::evaluate_points;
-use super::curves::{mean_curve, uniform_grid, Curve};
+use super::curves::{mean_of, Curve, MeanKind};
 use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
 use super::error::IdentifyError;
 use crate::dem::sample::SampleConfig;
@@ -26,6 +30,8 @@ pub struct VirtualCurves {
     pub young_modulus: f64,
     /// Mean Poisson ratio of the compression samples.
     pub poisson: f64,
+    /// The samples' peak stresses [Pa]: tension, compression (mean ± std).
+    pub peaks: [Stat; 2],
 }
 
 fn max_strain(t: &VirtualTest) -> f64 {
@@ -44,6 +50,7 @@ pub fn run_virtual_tests(
     compression: &VirtualTest,
     samples: usize,
     points: usize,
+    mean: MeanKind,
 ) -> Result<Option<VirtualCurves>, IdentifyError> {
     ctx.log.info(format!("virtual tests: tension and compression of {samples} sample(s) each"));
     let tests = [vec![0.0], vec![1.0]];
@@ -55,29 +62,46 @@ pub fn run_virtual_tests(
         return Ok(None);
     };
     let mut failures = Vec::new();
+    // The valid runs; when none is valid, every run that produced a curve (said so in the
+    // failures), so that a test whose samples all stop at their peak still gives a curve.
     let mut split = |rs: &[Result<DemRun, String>], name: &str| -> Vec<DemRun> {
-        rs.iter()
-            .filter_map(|r| match r {
-                Ok(d) => Some(d.clone()),
-                Err(e) => {
-                    failures.push(format!("{name}: {e}"));
-                    None
+        let mut valid = Vec::new();
+        let mut stopped = Vec::new();
+        for (k, r) in rs.iter().enumerate() {
+            match r {
+                Ok(d) if d.valid => valid.push(d.clone()),
+                Ok(d) => {
+                    failures.push(format!(
+                        "{name}: sample {k}: the solver stopped before the peak (end {}, peak {:.4e} Pa at strain {:.4e}): left out of the mean curve",
+                        d.end, d.peak_stress, d.strain_at_peak
+                    ));
+                    stopped.push(d.clone());
                 }
-            })
-            .collect()
+                Err(e) => failures.push(format!("{name}: {e}")),
+            }
+        }
+        if valid.is_empty() && !stopped.is_empty() {
+            failures.push(format!("{name}: no sample reached a valid end: the mean curve is that of the {} stopped sample(s), up to where they stopped", stopped.len()));
+            return stopped;
+        }
+        valid
     };
     let t_runs = split(&results[0], "tension");
     let c_runs = split(&results[1], "compression");
     let tension_samples: Vec<Curve> = t_runs.iter().map(|r| r.curve.clone()).collect();
     let compression_samples: Vec<Curve> = c_runs.iter().map(|r| r.curve.clone()).collect();
-    let t_mean = mean_curve(&tension_samples, &uniform_grid(max_strain(tension), points), "DEM tension curve")?;
-    let c_mean = mean_curve(&compression_samples, &uniform_grid(max_strain(compression), points), "DEM compression curve")?;
+    let t_mean = mean_of(mean, &tension_samples, max_strain(tension), points, "DEM tension curve")?;
+    let c_mean = mean_of(mean, &compression_samples, max_strain(compression), points, "DEM compression curve")?;
     t_mean.check("DEM tension curve")?;
     c_mean.check("DEM compression curve")?;
     let n = c_runs.len() as f64;
     Ok(Some(VirtualCurves {
         young_modulus: c_runs.iter().map(|r| r.young_modulus).sum::<f64>() / n,
         poisson: c_runs.iter().map(|r| r.poisson).sum::<f64>() / n,
+        peaks: [
+            Stat::of(&tension_samples.iter().map(|c| c.peak().0).collect::<Vec<_>>()),
+            Stat::of(&compression_samples.iter().map(|c| c.peak().0).collect::<Vec<_>>()),
+        ],
         tension: t_mean,
         compression: c_mean,
         tension_samples,
