@@ -233,7 +233,7 @@ fn rocking_joint_stores_the_wedge_energy() {
 /// short of `ΔE + D` by `½ ΔF Δg_p` at each kink: the solver's imbalance without contact events
 /// must be that defect (here 1 % of the work; tolerance 10 %: `k_t ∝ L` shortens with the slide
 /// by ≤ 2e-4, the chord normal of the shifted strip tilts by `δ/L ≈ 5e-5`). With contact events
-/// (default) the steps end at the kinks and the balance closes to 1e-3 of the work (the kink
+/// the steps end at the kinks and the balance closes to 1e-3 of the work (the kink
 /// estimate is exact for one linear contact; left: the `O(δ/L)` geometry).
 #[test]
 fn sliding_block_balance_at_stick_slip_kinks() {

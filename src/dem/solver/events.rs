@@ -18,7 +18,7 @@
 //! external work misses the area at the kink: for a spring–slider driven from `F_0` (sticking)
 //! to the Coulomb limit `F_1` with the plastic slip `Δg_p` in one step, the trapezoid is short by
 //! `½ (F_1 − F_0) Δg_p` (exact work `F_1 Δu − (F_1 − F_0)²/(2k)` against the trapezoid
-//! `½ (F_0 + F_1) Δu`). With `SolverOptions::contact_events` (default) a step whose converged
+//! `½ (F_0 + F_1) Δu`). With `SolverOptions::contact_events` (off by default) a step whose converged
 //! end shows such an event is retried to end at the event, estimated along `z_old → z`:
 //! stick → slip where `|F_t,0 + λ(F_trial − F_t,0)| = μ (F_n,0 + λ ΔF_n)`; closing where the
 //! normal approach `b·Δz` has covered the step's approach minus the depth `S_r/L` reached,
@@ -114,7 +114,7 @@ pub struct SolverOptions {
     /// Halvings of a load step (or of a beam's release) tried before giving up.
     pub max_cutbacks: usize,
     /// End load steps at contact events (stick → slip, a contact closing or opening), see the
-    /// module docs.
+    /// module docs (default off).
     pub contact_events: bool,
 }
 
@@ -129,7 +129,7 @@ impl Default for SolverOptions {
             contacts: true,
             floating: FloatingPolicy::Regularize,
             max_cutbacks: 10,
-            contact_events: true,
+            contact_events: false,
         }
     }
 }
