@@ -46,6 +46,28 @@
 //! * Consistent (frozen normal and application point): `K_n = (Ē t_z/ℓ_c) b ∂S_rᵀ` (not symmetric
 //!   in general; equals the penalty form for a pure normal approach).
 //!
+//! # Stored energy
+//! Read as a Winkler layer along the chord, the law is a distributed pressure
+//! `p(s) = κ δ(s)`, `κ = Ē t_z/ℓ_c`, where `δ(s)` is the overlap's thickness along `n_c` at the
+//! tangential coordinate `s` (its section by the line through `s` parallel to `n_c`): the
+//! resultant `∫ p ds = κ S_r = F_n` acts at the pressure centroid, whose tangential coordinate is
+//! the overlap centroid's, `x_c`. Its potential is
+//!
+//! ```text
+//!   U_n = ½ κ ∫ δ(s)² ds        (dU_n = κ ∫ δ dδ(s) ds = F_n b·dq for a rigid relative motion)
+//! ```
+//!
+//! For a strip (uniform `δ` over `L`) `U_n = ½ κ S_r²/L = F_n²/(2 k_n)`. A relative rotation `φ`
+//! makes the strip a wedge, `δ(s) = δ̄ + φ s`: `U_n = ½ k_n (δ̄² + φ² L²/12)`, the moment of `F_n`
+//! about the chord midpoint is `k_n L² φ/12` and does the work `k_n L² φ²/24` that `F_n²/(2 k_n)`
+//! does not hold. For a corner overlap (triangle of depth `h`, chord `2h`) `U_n = κ h³/3` while
+//! `F_n²/(2 k_n) = κ h³/4`. The non-uniform part, the *wedge energy*
+//! `U_w = ½ κ (∫δ² ds − S_r²/L)` (0 for a strip), is [`Contact::wedge_energy`]; the contact's
+//! normal energy is `F_n²/(2 k_n) + U_w` (also with crushing, where `F_n` is the crushed force,
+//! i.e. the plastic penetration is uniform across the chord). `δ(s)` is piecewise linear between
+//! the vertices' tangential coordinates (convex overlap), so `∫δ² ds` is exact:
+//! `Σ h_k (δ_k² + δ_k δ_{k+1} + δ_{k+1}²)/3`.
+//!
 //! # Sign convention
 //! As for the beams, the forces returned are *internal* forces (what the particles exert on the
 //! contact): `f = F_n b`, i.e. `+F_n n_c` at i and `−F_n n_c` at j; the contact pushes j along
@@ -85,6 +107,9 @@ pub struct Contact {
     pub ds_dq: [f64; 6],
     /// Whether the chord was undefined and `n_c` comes from the reference points (see module docs).
     pub from_references: bool,
+    /// The wedge energy `U_w = ½ κ (∫δ(s)² ds − S_r²/L)` (J): the normal elastic energy beyond
+    /// `F_n²/(2 k_n)` of an overlap whose thickness varies along the chord (module docs).
+    pub wedge_energy: f64,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -234,6 +259,11 @@ pub fn contact(
         (n, chord, l, true)
     };
     let e_t = params.e_bar * params.t_z / l_c;
+    let wedge_energy = if chord_length > 0.0 {
+        0.5 * e_t * (thickness_square_integral(v, normal, tol) - area * area / chord_length)
+    } else {
+        0.0
+    };
     Ok(Some(Contact {
         normal,
         point: x_c,
@@ -247,7 +277,56 @@ pub fn contact(
         arm_j,
         ds_dq: ds,
         from_references,
+        wedge_energy,
     }))
+}
+
+/// `∫ δ(s)² ds` of the convex polygon `v` across the direction `n` (unit): `δ(s)` is the length
+/// of its section by the line `{x : t·x = s}`, `t = e_z × n`. `δ` is linear between consecutive
+/// vertex coordinates `s_k` (a convex polygon's width function), so the integral is
+/// `Σ (s_{k+1} − s_k)(δ_k² + δ_k δ_{k+1} + δ_{k+1}²)/3` with `δ_k` the section at `s_k`
+/// (at an end where an edge is parallel to `n`, the section is that edge: the limit from
+/// inside). Coordinates closer than `tol` count as equal.
+fn thickness_square_integral(v: &[P2], n: P2, tol: f64) -> f64 {
+    let t = perp(n);
+    let m = v.len();
+    if m < 3 {
+        return 0.0;
+    }
+    let s: Vec<f64> = v.iter().map(|p| dot(*p, t)).collect();
+    let h: Vec<f64> = v.iter().map(|p| dot(*p, n)).collect();
+    let mut cuts = s.clone();
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
+    let section = |s0: f64| -> f64 {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..m {
+            let l = (k + 1) % m;
+            let mut add = |x: f64| {
+                lo = lo.min(x);
+                hi = hi.max(x);
+            };
+            if (s[k] - s0).abs() <= tol {
+                add(h[k]);
+            }
+            let (a, b) = (s[k].min(s[l]), s[k].max(s[l]));
+            if b - a > tol && s0 > a + tol && s0 < b - tol {
+                add(h[k] + (s0 - s[k]) / (s[l] - s[k]) * (h[l] - h[k]));
+            }
+        }
+        if hi >= lo {
+            hi - lo
+        } else {
+            0.0
+        }
+    };
+    let widths: Vec<f64> = cuts.iter().map(|&c| section(c)).collect();
+    (0..cuts.len().saturating_sub(1))
+        .map(|k| {
+            let (a, b) = (widths[k], widths[k + 1]);
+            (cuts[k + 1] - cuts[k]) * (a * a + a * b + b * b) / 3.0
+        })
+        .sum()
 }
 
 /// The midpoints of the two crossing sets of the outlines, walking the overlap's edge labels; `None`
@@ -467,6 +546,48 @@ mod tests {
         assert!(!c.from_references);
         assert!((c.normal[0] - th.cos()).abs() < 1e-9 && (c.normal[1] - th.sin()).abs() < 1e-9, "{:?}", c.normal);
         assert!((c.overlap_area - 0.1).abs() < 1e-9 && (c.chord_length - 1.0).abs() < 1e-9);
+    }
+
+    /// The normal energy `F_n²/(2k_n) + U_w` is the potential of the normal force: its
+    /// derivative along an approach is `F_n`. Strip: `U_w = 0` (δ uniform). A square turned by
+    /// 45° pressing its corner into a flat top by `h`: the overlap is a triangle of depth `h` on a
+    /// chord `2h`, `S = h²`, `F_n = κ h²`, `∫δ² ds = 2h³/3` → `U_n = κ h³/3` (by hand), whose
+    /// derivative is `κ h² = F_n`; `F_n²/(2k_n) = κ h³/4` alone would give `¾ F_n`. Tolerances:
+    /// 1e-9 relative on the closed forms (clipping round-off), 1e-6 on the central difference
+    /// (step 1e-4 h: truncation O(1e-8)).
+    #[test]
+    fn normal_energy_is_the_potential_of_the_normal_force() {
+        let p = params();
+        let d = 1.0;
+        let kappa = p.e_bar * p.t_z / d;
+        let strip = contact(&unit_square_at(0.0, 0.0), &unit_square_at(0.9, 0.0), [0.5, 0.5], [1.4, 0.5], d, d, &p)
+            .unwrap()
+            .unwrap();
+        assert!(strip.wedge_energy.abs() < 1e-9 * 0.5 * strip.f_n * strip.f_n / strip.k_n, "{}", strip.wedge_energy);
+        let r = std::f64::consts::FRAC_1_SQRT_2;
+        let corner = |h: f64| {
+            // Diamond of half-diagonal r (a unit square turned by 45°), lowest corner at y = 1 − h.
+            let cy = 1.0 - h + r;
+            let diamond = Polygon { vertices: vec![[0.5, cy - r], [0.5 + r, cy], [0.5, cy + r], [0.5 - r, cy]] };
+            contact(&unit_square_at(0.0, 0.0), &diamond, [0.5, 0.5], [0.5, cy], d, d, &p).unwrap().unwrap()
+        };
+        let energy = |c: &Contact| 0.5 * c.f_n * c.f_n / c.k_n + c.wedge_energy;
+        let h = 0.01;
+        let c = corner(h);
+        assert!((c.overlap_area - h * h).abs() < 1e-9 * h * h && (c.chord_length - 2.0 * h).abs() < 1e-9 * h);
+        assert!((c.normal[1] - 1.0).abs() < 1e-12, "{:?}", c.normal);
+        assert!((energy(&c) - kappa * h.powi(3) / 3.0).abs() < 1e-9 * kappa * h.powi(3));
+        assert!((c.wedge_energy - kappa * h.powi(3) / 12.0).abs() < 1e-9 * kappa * h.powi(3));
+        let e = 1e-4 * h;
+        let fd = (energy(&corner(h + e)) - energy(&corner(h - e))) / (2.0 * e);
+        assert!((fd / c.f_n - 1.0).abs() < 1e-6, "dU/dh {fd} vs F_n {}", c.f_n);
+        // A wedge: the upper square turned by φ about the middle of its bottom edge, pressed by
+        // δ̄ (δ(s) = δ̄ + φ s across L = 1): U_w = ½ κ φ² L³/12 to O(δ̄ + φ) relative.
+        let (db, phi) = (1e-4, 1e-4);
+        let upper = unit_square_at(0.0, 1.0 - db).moved([0.5, 1.0 - db], [0.0, 0.0], phi);
+        let w = contact(&unit_square_at(0.0, 0.0), &upper, [0.5, 0.5], [0.5, 1.5 - db], d, d, &p).unwrap().unwrap();
+        let want = 0.5 * kappa * phi * phi / 12.0;
+        assert!((w.wedge_energy / want - 1.0).abs() < 1e-3, "wedge {} vs {want}", w.wedge_energy);
     }
 
     #[test]

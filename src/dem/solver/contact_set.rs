@@ -19,9 +19,12 @@
 //! are apart, so a crushed joint that reopens and closes again starts from its plastic
 //! penetration.
 //!
-//! **Stored energy.** For a flat contact the overlap is a strip, `S_r = L δ`, so `F_n = k_n δ`
-//! and the normal energy is `F_n²/(2 k_n)`; the elastic tangential energy is `F_t²/(2 k_t)`.
-//! These state functions are what the energy bookkeeping counts (exact for flat contacts).
+//! **Stored energy.** The normal energy is the potential of the normal law read as a Winkler
+//! layer along the chord, `½ κ ∫δ(s)² ds` = `F_n²/(2 k_n)` (uniform part; for a flat strip
+//! `S_r = L δ`, `F_n = k_n δ`) `+ U_w` (the wedge energy of an overlap whose thickness varies
+//! along the chord, [`mechanics::Contact::wedge_energy`]); the elastic tangential energy is
+//! `F_t²/(2 k_t)`. Counting only `F_n²/(2 k_n)` misses the work of the contact moment
+//! `k_n L² φ/12` of a relative rotation `φ` (stones rocking on a joint in shear).
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::dofs::DofMap;
@@ -77,11 +80,11 @@ impl ActiveContact {
         self.crush.map_or(0.0, |c| c.dissipation)
     }
 
-    /// Stored elastic energy `F_n²/(2k_n) + F_t²/(2k_t)`.
+    /// Stored elastic energy `F_n²/(2k_n) + U_w + F_t²/(2k_t)` (module docs).
     pub fn energy(&self) -> f64 {
         let c = &self.contact;
         let en = if c.k_n > 0.0 { 0.5 * c.f_n * c.f_n / c.k_n } else { 0.0 };
-        en + 0.5 * self.friction.f_t * self.friction.f_t / self.k_t
+        en + c.wedge_energy + 0.5 * self.friction.f_t * self.friction.f_t / self.k_t
     }
 }
 

@@ -1,6 +1,6 @@
 //! Cyclic virtual tests: the protocol, elastic retracing, the envelope against the monotonic
 //! curve, energy balance over loops, and the particle states kept for the XDMF output.
-use super::tests::{balance, small_wall};
+use super::tests::{balance, column, small_wall};
 use super::*;
 use crate::dem::mechanics::MechParams;
 
@@ -145,18 +145,178 @@ fn cyclic_shear_loops_dissipate() {
     }
 }
 
-/// The energy balance over shear cycles (W_ext = stored + dissipated within 1 %) does NOT hold
-/// yet: after cycles of ±0.5 mm and ±1 mm on this wall the imbalance is 3.3 % of W_ext (6.8 J of
-/// 207 J; during the preload and the first loading it is below 0.1 %), growing on
-/// every unloading–reloading of sliding contacts. Two likely causes, both in the contact law's
-/// bookkeeping: the stored contact energy ½F_n²/k_n is exact only for a flat (strip) overlap
-/// (for a corner overlap, S ∝ δ², it is ¾ of ∫F_n dδ), and the normal force along the chord
-/// normal is not the gradient of the overlap area, so it does work around a closed path.
+/// The energy balance over shear cycles (cycles of ±0.5 mm and ±1 mm on a small wall):
+/// W_ext = stored + dissipated within 1 % of W_ext (issue 3's acceptance tolerance). The stored
+/// contact energy includes the wedge energy of rocking joints ([`crate::dem::mechanics::contact`],
+/// "Stored energy"): counted as `F_n²/(2k_n)` alone the imbalance was 3.3 %; with it 0.83 %
+/// (0.72 % with contact events, which resolve the stick–slip kinks of the trapezoid rule).
 #[test]
-#[ignore = "open: contact energy bookkeeping over load reversals (imbalance 3.3 % after two cycles)"]
 fn cyclic_shear_energy_balance() {
     let s = small_wall(3);
     let r = run_test(&s, &MechParams::default(), &cyclic_shear(vec![0.5e-3, 1e-3])).unwrap();
     let last = r.curve.last().unwrap();
     assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", balance(last), last.external_work);
+}
+
+/// A joint rocked one way, back, the other way and back (two stones, one reversal in each
+/// direction), against its closed form. Column of two unit squares on the fixed bottom platen;
+/// the top platen presses with the force `N = k_n δ̄` (vertical DOF force-controlled), the beam
+/// between the stones is cut, and the contact takes the load: a strip overlap of depth `δ̄`,
+/// `k_n = Ē t_z L/ℓ_c`, L = 1, ℓ_c the common diameter. Then the top platen turns the upper stone
+/// by `Θ` about the middle of the joint (`U_x = −Θ`: the platen turns about `(W/2, H)`, one unit
+/// above the joint). The overlap becomes a wedge `δ(s) = δ̄ − Θ s`; the normal force, applied at
+/// the overlap centroid, has the moment `k_n L² Θ/12` about the joint's middle, so (Winkler
+/// layer, by hand)
+///
+/// ```text
+///   E_stored(Θ) = ½ k_n δ̄² + k_n L² Θ²/24,   W_ext(Θ) − W_ext(0) = k_n L² Θ²/24,   no dissipation
+/// ```
+///
+/// (the joint does not open, `Θ L/2 < δ̄`, and the slip at the contact point is `O(Θ δ̄)`, so it
+/// sticks with a negligible tangential energy). The wedge term is 7.7 % of the energy at
+/// `Θ = δ̄ = 1e-4`: counting only `F_n²/(2k_n)` unbalances the rocked states by as much and
+/// balances again when the joint is back flat. The moment is linear in `Θ`, so the trapezoid
+/// external work is exact. Tolerance 1e-3 relative: the geometric corrections are `O(δ̄/L)`,
+/// `O(Θ)` and `O(Θ²/δ̄)` (finite rotation of the outline), each ≤ 1e-4.
+#[test]
+fn rocking_joint_stores_the_wedge_energy() {
+    use super::dofs::{DofControl::*, DofMap};
+    let s = column(2);
+    let p = MechParams::default();
+    let map = DofMap::new(&s, [[Prescribed; 3], [Prescribed, Force, Prescribed]]).unwrap();
+    let model = Model::new(&s, &p, map).unwrap();
+    let (d_i, d_j) = (s.particles[0].diameter, s.particles[1].diameter);
+    let k_n = p.e_bar * p.t_z * 1.0 / (2.0 / (1.0 / d_i + 1.0 / d_j));
+    let (db, th) = (1e-4, 1e-4);
+    let load = |ux: f64, n: f64, th: f64| LoadPoint { prescribed: vec![0.0, 0.0, 0.0, ux, th], forces: vec![-n] };
+    let mut solver = Solver::new(model, SolverOptions::default(), load(0.0, 0.0, 0.0)).unwrap();
+    solver.start().unwrap();
+    solver.run_stage(&load(0.0, k_n * db, 0.0), 2, None).unwrap();
+    solver.break_and_relax(0).unwrap();
+    let flat = solver.states.len() - 1;
+    for target in [th, 0.0, -th, 0.0] {
+        solver.run_stage(&load(-target, k_n * db, target), 4, None).unwrap();
+    }
+    let st0 = solver.states[flat].clone();
+    let mut rocked = 0;
+    for st in &solver.states[flat..] {
+        let theta = st.platen[1][2];
+        let wedge = k_n * theta * theta / 24.0;
+        let want = 0.5 * k_n * db * db + wedge;
+        let work = st.external_work - st0.external_work;
+        let dissipated: f64 = st.dissipated.iter().zip(&st0.dissipated).map(|(a, b)| a - b).sum();
+        println!("Θ {theta:+.2e}: ΔW {work:.6e}, stored {:.6e}, closed form {want:.6e}", st.stored);
+        assert_eq!(st.contacts, 1);
+        assert!((st.platen[1][1] + db).abs() <= 1e-3 * db, "δ̄ {}", -st.platen[1][1]);
+        assert!((st.stored - want).abs() <= 1e-3 * want, "Θ = {theta}: stored {} vs {want}", st.stored);
+        assert!((work - wedge).abs() <= 1e-3 * want, "Θ = {theta}: ΔW_ext {work} vs {wedge}");
+        assert!(dissipated.abs() <= 1e-6 * want, "dissipated {dissipated}");
+        if theta.abs() > 0.5 * th {
+            rocked += 1;
+        }
+    }
+    assert!(rocked >= 4, "rocked states {rocked}");
+    assert!((solver.states.last().unwrap().platen[1][2]).abs() < 1e-20);
+}
+
+/// A block sliding on a block, pushed and pulled back (two stones, one reversal): the energy
+/// balance with and without contact events, against a spring–slider. Column of two unit
+/// squares, the beam cut, the upper stone pressed by `N = 1e5 N` (vertical force control) and
+/// pushed by the top platen (rotation fixed) to `2e-4 m` in 10 steps and back to 0 in 10: the
+/// contact slip is the platen displacement, the tangential stiffness `k_t = k_n = Ē t_z L/ℓ_c`,
+/// the Coulomb limit `μN = 6e4 N`, reached after `μN/k_t = 2.7e-5 m` (inside the second step)
+/// and, after the reversal, `2μN/k_t` later (inside the third step back). The same steps on
+/// a spring–slider (by hand: `F ← clamp(F + k_t Δu, ±μN)`) give the trapezoid external work
+/// short of `ΔE + D` by `½ ΔF Δg_p` at each kink: the solver's imbalance without contact events
+/// must be that defect (here 1 % of the work; tolerance 10 %: `k_t ∝ L` shortens with the slide
+/// by ≤ 2e-4, the chord normal of the shifted strip tilts by `δ/L ≈ 5e-5`). With contact events
+/// the steps end at the kinks and the balance closes to 1e-3 of the work (the kink
+/// estimate is exact for one linear contact; left: the `O(δ/L)` geometry).
+#[test]
+fn sliding_block_balance_at_stick_slip_kinks() {
+    use super::dofs::{DofControl::*, DofMap};
+    let s = column(2);
+    let p = MechParams::default();
+    let (d_i, d_j) = (s.particles[0].diameter, s.particles[1].diameter);
+    let k_t = p.kt_over_kn * p.e_bar * p.t_z / (2.0 / (1.0 / d_i + 1.0 / d_j));
+    let (n, a, steps) = (1e5, 2e-4, 10usize);
+    let run = |events: bool| {
+        let map = DofMap::new(&s, [[Prescribed; 3], [Prescribed, Force, Prescribed]]).unwrap();
+        let model = Model::new(&s, &p, map).unwrap();
+        let load = |ux: f64, n: f64| LoadPoint { prescribed: vec![0.0, 0.0, 0.0, ux, 0.0], forces: vec![-n] };
+        let opts = SolverOptions { contact_events: events, ..Default::default() };
+        let mut solver = Solver::new(model, opts, load(0.0, 0.0)).unwrap();
+        solver.start().unwrap();
+        solver.run_stage(&load(0.0, n), 2, None).unwrap();
+        solver.break_and_relax(0).unwrap();
+        let st0 = solver.states.last().unwrap().clone();
+        solver.run_stage(&load(a, n), steps, None).unwrap();
+        solver.run_stage(&load(0.0, n), steps, None).unwrap();
+        let last = solver.states.last().unwrap().clone();
+        let bal = |st: &StateRecord| st.external_work - st.stored - st.dissipated.iter().sum::<f64>();
+        (last.external_work - st0.external_work, bal(&last) - bal(&st0), solver.n_contact_events)
+    };
+    // The spring–slider on the same steps: trapezoid work minus (ΔE + D).
+    let limit = p.mu * n;
+    let (mut f, mut trap, mut diss, mut u) = (0.0f64, 0.0, 0.0, 0.0);
+    let targets = (1..=steps).map(|k| a * k as f64 / steps as f64).chain((0..steps).rev().map(|k| a * k as f64 / steps as f64));
+    for target in targets {
+        let du = target - u;
+        let trial = f + k_t * du;
+        let next = trial.clamp(-limit, limit);
+        diss += limit * ((trial - next) / k_t).abs();
+        trap += 0.5 * (f + next) * du;
+        f = next;
+        u = target;
+    }
+    let defect = trap - (0.5 * f * f / k_t + diss);
+    let (w_plain, imb_plain, _) = run(false);
+    let (w_events, imb_events, n_events) = run(true);
+    println!("spring–slider defect {defect:.4e} J; no events: W {w_plain:.4e}, imbalance {imb_plain:.4e}; events ({n_events}): W {w_events:.4e}, imbalance {imb_events:.4e}");
+    assert!(defect < -0.005 * w_plain, "the kinks fall inside steps: defect {defect}");
+    assert!((imb_plain - defect).abs() <= 0.1 * defect.abs(), "imbalance {imb_plain} vs spring–slider {defect}");
+    assert!(n_events >= 2, "events {n_events}");
+    assert!(imb_events.abs() <= 1e-3 * w_events, "imbalance with events {imb_events} of {w_events}");
+}
+
+#[test]
+#[ignore = "diagnostic"]
+fn diag_cyclic_shear_refinement() {
+    let s = small_wall(3);
+    let n: usize = std::env::var("DIAG_N").ok().and_then(|v| v.parse().ok()).unwrap_or(8);
+    let t = VirtualTest::CyclicShear {
+        vertical_stress: 1e6,
+        amplitudes: vec![0.5e-3, 1e-3],
+        steps_per_half_cycle: n,
+        preload_steps: 3,
+        rotation: PlatenRotation::Fixed,
+    };
+    let t0 = std::time::Instant::now();
+    let ev = std::env::var("DIAG_EV").is_ok();
+    let o = SolverOptions { contact_events: ev, ..Default::default() };
+    let r = run_test_with(&s, &MechParams::default(), &t, o).unwrap();
+    let mut prev = 0.0;
+    for c in &r.curve {
+        let b = balance(c);
+        if std::env::var("DIAG_V").is_ok() {
+            println!(
+                "{:4} {:?} u {:+.4e} τ {:+.4e} W {:.4e} E {:.4e} D {:.3e} {:.3e} {:.3e} imb {:+.3e} dimb {:+.3e}",
+                c.state, c.kind, c.displacement, c.stress, c.external_work, c.stored, c.dissipated[0], c.dissipated[1], c.dissipated[2], b, b - prev
+            );
+        }
+        prev = b;
+    }
+    let last = r.curve.last().unwrap();
+    println!(
+        "n {n} contact events {ev} ({}): states {}, events {}, W_ext {:.4e}, stored {:.4e}, diss {:?}, imbalance {:+.4e} ({:+.3} %), {:.1} s",
+        r.stats.contact_events,
+        r.curve.len(),
+        r.stats.events,
+        last.external_work,
+        last.stored,
+        last.dissipated,
+        balance(last),
+        100.0 * balance(last) / last.external_work,
+        t0.elapsed().as_secs_f64()
+    );
 }

@@ -4,7 +4,7 @@ use super::*;
 use crate::dem::mechanics::MechParams;
 use crate::dem::sample::{GeometryOptions, RandomLayout, Sample, SampleConfig, SampleLayout};
 
-fn column(n: usize) -> Sample {
+pub(super) fn column(n: usize) -> Sample {
     // n unit squares stacked: width 1, height n, seeds at the centres (arms 0, ℓ = 1, A = 1).
     let seeds: Vec<[f64; 2]> = (0..n).map(|k| [0.5, k as f64 + 0.5]).collect();
     let opts = GeometryOptions { thickness: 1.0, alpha: 0.8, facet_tolerance: 0.0, tiny_facets: Default::default() };

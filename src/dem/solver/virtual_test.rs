@@ -295,6 +295,9 @@ pub struct RunStats {
     pub seconds: f64,
     /// Whether the run stopped on loss of load.
     pub loss_of_load: bool,
+    /// Load steps ended at a contact event (stick → slip, closing, opening).
+    #[serde(default)]
+    pub contact_events: usize,
     /// Load-increment cut-backs (halved steps or beam releases).
     pub cutbacks: usize,
 }
@@ -541,6 +544,7 @@ pub fn run_test_recording(
             seconds: clock.elapsed().as_secs_f64(),
             loss_of_load: loss,
             cutbacks: solver.n_cutbacks,
+            contact_events: solver.n_contact_events,
         },
         end,
         curve,
