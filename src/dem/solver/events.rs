@@ -209,6 +209,9 @@ pub struct Solver<'a> {
     // with their handle in the Woodbury correction while they are there.
     pub(super) op_terms: BTreeMap<(usize, usize, u8), (ZTerm, Option<TermId>)>,
     pub(super) contacts: Vec<ActiveContact>,
+    /// The contact search's candidate list and the contact Jacobians kept between evaluations.
+    pub(super) candidates: super::contact_candidates::CandidateList,
+    pub(super) jacobians: super::tangent::JacobianCache,
     /// Committed contact histories (tangential force, plastic penetration) by pair.
     pub(super) committed_ft: Histories,
     load: LoadPoint,
@@ -286,6 +289,8 @@ impl<'a> Solver<'a> {
             pending_refactor: None,
             op_terms: BTreeMap::new(),
             contacts: Vec::new(),
+            candidates: Default::default(),
+            jacobians: Default::default(),
             committed_ft: BTreeMap::new(),
             load: initial,
             states: Vec::new(),
@@ -651,7 +656,11 @@ impl<'a> Solver<'a> {
                                 *zn = zo + lam * (*zn - zo);
                             }
                         } else {
-                            self.z.clone_from(&z_old);
+                            // Newton starts from the interpolated state: exact while the contact
+                            // forces are linear along the step, so usually one iteration away.
+                            for (zo, zn) in z_old.iter().zip(self.z.iter_mut()) {
+                                *zn = zo + lam * (*zn - zo);
+                            }
                             match self.equilibrate(&load_l, t_l) {
                                 Ok(()) => {}
                                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => ok = false,

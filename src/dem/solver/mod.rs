@@ -7,6 +7,7 @@ pub mod factor;
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
+pub mod contact_candidates;
 pub mod contact_set;
 mod equilibrium;
 pub mod gmres;
