@@ -11,6 +11,7 @@ pub mod contact_candidates;
 pub mod contact_set;
 mod equilibrium;
 pub mod gmres;
+pub mod ordering;
 pub mod profile;
 pub mod tangent;
 pub mod events;
