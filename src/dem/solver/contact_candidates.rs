@@ -90,7 +90,9 @@ pub fn separation(a: &Polygon, b: &Polygon) -> f64 {
             }
             // Outward unit normal of a counter-clockwise edge: (d_y, −d_x)/|d|.
             let nu = [orient * d[1] / len, -orient * d[0] / len];
-            let top = nu[0] * s[0] + nu[1] * s[1];
+            // The edge's own line bounds a convex polygon; the maximum over all vertices keeps
+            // the bound valid for outlines convex only to round-off.
+            let top = v.iter().map(|w| nu[0] * w[0] + nu[1] * w[1]).fold(nu[0] * s[0] + nu[1] * s[1], f64::max);
             let low = q.vertices.iter().map(|w| nu[0] * w[0] + nu[1] * w[1]).fold(f64::INFINITY, f64::min);
             best = best.max(low - top);
         }

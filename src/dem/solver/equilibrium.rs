@@ -256,7 +256,8 @@ impl<'a> Solver<'a> {
         let n_eq = map.n_eq();
         let z0 = self.z.clone();
         let mut ev = self.evaluate(&z0, &f_ext)?;
-        for _ in 0..self.opts.max_iterations {
+        for iteration in 0..self.opts.max_iterations {
+            self.jacobians.fresh_only = iteration >= super::tangent::FRESH_AFTER;
             if ev.relative <= self.opts.tol {
                 self.contacts = ev.contacts;
                 return Ok(());

@@ -30,7 +30,9 @@
 //! the contact's regime is the same (stick or slip and the slip direction, crushing elastic or
 //! plastic). The default `η` is [`REUSE_FRACTION`]; `η = 0` recomputes every Jacobian. A reused
 //! `J_c` makes the Newton step inexact by about `η` in the far contacts' terms; the residual, and so
-//! the converged state, is always the exact one.
+//! the converged state, is always the exact one. After [`FRESH_AFTER`] iterations of one
+//! equilibrium every Jacobian is recomputed (a contact crossing a geometric kink, e.g. a corner
+//! reaching a corner, changes `J_c` more than its motion says).
 use std::collections::HashMap;
 
 use nalgebra::{SMatrix, SVector};
@@ -44,6 +46,9 @@ type V6 = SVector<f64, 6>;
 
 /// The default reuse threshold `η` of contact Jacobians (see the module docs).
 pub const REUSE_FRACTION: f64 = 1e-2;
+
+/// Newton iterations of one equilibrium after which every contact Jacobian is recomputed.
+pub const FRESH_AFTER: usize = 6;
 
 /// A contact's regime: stick/slip, `∂F_t/∂F_n` (the slip direction), crushing plastic.
 type Regime = (SlipState, f64, bool);
@@ -62,6 +67,9 @@ pub struct JacobianCache {
     entries: HashMap<(usize, usize), Cached>,
     /// The reuse threshold `η` (0: never reuse).
     pub reuse_fraction: f64,
+    /// Recompute every Jacobian (set by the Newton iteration after [`FRESH_AFTER`] iterations
+    /// of one equilibrium: a stale `J_c` must not be what keeps it from converging).
+    pub fresh_only: bool,
     /// Jacobians computed by central differences.
     pub computed: usize,
     /// Jacobians reused.
@@ -70,7 +78,7 @@ pub struct JacobianCache {
 
 impl Default for JacobianCache {
     fn default() -> Self {
-        JacobianCache { entries: HashMap::new(), reuse_fraction: REUSE_FRACTION, computed: 0, reused: 0 }
+        JacobianCache { entries: HashMap::new(), reuse_fraction: REUSE_FRACTION, fresh_only: false, computed: 0, reused: 0 }
     }
 }
 
@@ -87,7 +95,7 @@ impl JacobianCache {
     ) -> Result<SMatrix<f64, 6, 6>, DemError> {
         let regime: Regime = (a.friction.state, a.friction.d_ft_d_fn, a.crush.as_ref().is_some_and(|u| u.plastic));
         let depth = if a.contact.chord_length > 0.0 { a.contact.overlap_area / a.contact.chord_length } else { 0.0 };
-        if let Some(e) = self.entries.get(&(a.i, a.j)) {
+        if let Some(e) = self.entries.get(&(a.i, a.j)).filter(|_| !self.fresh_only) {
             let d = [model.sample.particles[a.i].diameter, model.sample.particles[a.j].diameter];
             let moved: f64 = (0..2)
                 .map(|k| {
