@@ -6,6 +6,7 @@
 //!
 //!     target/release/examples/dem_profile 1000 2e-3 40 [curve.csv]
 //!
+//! `DEM_MAX_EVENTS=N` stops after N beam breaks (the profile of the start of a long run).
 //! `DEM_JACOBIAN_REUSE=0` recomputes every contact Jacobian at every Newton iteration (the
 //! default reuses them while a contact has moved by little, `dem::solver::tangent`).
 //!
@@ -32,7 +33,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let zero = LoadPoint { prescribed: vec![0.0; 6], forces: vec![] };
     let target = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, -max_strain * sample.height, 0.0], forces: vec![] };
     let clock = Instant::now();
-    let mut solver = Solver::new(model, SolverOptions::default(), zero)?;
+    // DEM_MAX_EVENTS stops the test after that many beam breaks (the profile of a part of a long
+    // run: the line then says "stopped: ... events").
+    let mut opts = SolverOptions::default();
+    if let Ok(v) = std::env::var("DEM_MAX_EVENTS") {
+        opts.max_events = v.parse().map_err(|e| format!("DEM_MAX_EVENTS={v}: {e}"))?;
+    }
+    let mut solver = Solver::new(model, opts, zero)?;
     // DEM_JACOBIAN_REUSE sets the reuse threshold of contact Jacobians (0: recompute each time).
     if let Ok(v) = std::env::var("DEM_JACOBIAN_REUSE") {
         solver.set_jacobian_reuse(v.parse().map_err(|e| format!("DEM_JACOBIAN_REUSE={v}: {e}"))?)?;
