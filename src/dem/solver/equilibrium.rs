@@ -139,6 +139,7 @@ impl<'a> Solver<'a> {
         let mut batch: Vec<(Option<(usize, usize, u8)>, Vec<SparseColumn>, f64)> = Vec::new();
         let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
         for k in gone {
+            self.profile.operator_changes[if k.2 == 0 { 1 } else { 3 }] += 1;
             if let Some((t, id)) = self.op_terms.remove(&k) {
                 if id.is_some_and(|id| self.factor.remove(id)) || self.needs_factor {
                     continue;
@@ -153,6 +154,7 @@ impl<'a> Solver<'a> {
             ] {
                 let key = (a.i, a.j, kind);
                 if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
+                    self.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
                     let t = self.model.rank_one(a.i, a.j, &dir, k);
                     if !self.needs_factor {
                         batch.push((Some(key), self.model.factors(&t), 1.0));

@@ -30,6 +30,9 @@ pub struct SolverProfile {
     /// Woodbury columns dropped because their term left the operator before a refactorization
     /// (no solve).
     pub columns_dropped: usize,
+    /// Contact terms that entered / left the operator: normal in, normal out, sticking
+    /// tangential in, tangential out (the contact-set churn the Woodbury columns pay for).
+    pub operator_changes: [usize; 4],
     /// Largest Woodbury rank reached.
     pub max_rank: usize,
     /// Numeric factorizations, by cause: the cost model, the rank cap, an inaccurate
