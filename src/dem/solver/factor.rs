@@ -189,7 +189,7 @@ impl LowRankCholesky {
         let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
         let reuse = matches!(&self.symbolic, Some(s) if s.col_ptr == cp && s.row_idx == ri);
         if !reuse {
-            let symbolic = |ord| {
+            let symbolic = |ord: SymmetricOrdering<'_, usize>| {
                 factorize_symbolic_cholesky(a.symbolic(), Side::Upper, ord, Default::default())
                     .map_err(|e| FactorError(format!("symbolic analysis: {e:?}")))
             };
