@@ -103,7 +103,7 @@ impl JacobianCache {
                     m(q[k], e.q[k]) + m(c[k], e.c[k])
                 })
                 .sum();
-            if e.regime == regime && moved <= self.reuse_fraction * depth {
+            if e.regime == regime && self.reuse_fraction > 0.0 && moved <= self.reuse_fraction * depth {
                 self.reused += 1;
                 return Ok(e.jac);
             }
