@@ -7,7 +7,9 @@
 //! sample, to assemble, for the first factorization (symbolic + numeric), for a second numeric
 //! factorization of the same pattern, for one solve and for a batch of Woodbury columns, with the
 //! cost model's estimate (`factor.rs`) of a factorization in solves beside the measured ratio
-//! (they agree when `FACTOR_SPEEDUP` is right), and the batch's `BATCH_COLUMN_COST`.
+//! (they agree when `FACTOR_SPEEDUP` is right), and the batch's `BATCH_COLUMN_COST`; beside it the
+//! same factorization with the other fill-reducing ordering (AMD or nested dissection, see
+//! `factor::NESTED_DISSECTION_MIN`).
 //! `scripts/bench/dem.sh` divides the cost of a beam-break event by these.
 use std::time::Instant;
 
@@ -15,7 +17,7 @@ use masonry_hpc::dem::mechanics::MechParams;
 
 #[path = "common/random_sample.rs"]
 mod random_sample;
-use masonry_hpc::dem::solver::factor::BATCH;
+use masonry_hpc::dem::solver::factor::{Ordering, BATCH};
 use masonry_hpc::dem::solver::{DofControl, DofMap, LowRankCholesky, Model};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -56,8 +58,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         factor.factorize(&upper).map_err(|e| e.0)?;
     }
     let (w_s, w_f) = factor.costs();
+    // The other ordering on the same matrix: flops of a solve and a factorization, seconds of a
+    // numeric factorization and of a solve (best of 3).
+    let other = match factor.ordering {
+        Ordering::Amd => Ordering::NestedDissection,
+        Ordering::NestedDissection => Ordering::Amd,
+    };
+    let mut alt = LowRankCholesky::with_ordering(n_eq, other);
+    let t6 = Instant::now();
+    alt.factorize(&upper).map_err(|e| e.0)?;
+    let alt_first = t6.elapsed().as_secs_f64();
+    let (mut alt_numeric, mut alt_solve) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..3 {
+        let t7 = Instant::now();
+        alt.factorize(&upper).map_err(|e| e.0)?;
+        alt_numeric = alt_numeric.min(t7.elapsed().as_secs_f64());
+        let mut x = vec![1.0; n_eq];
+        let t8 = Instant::now();
+        alt.solve(&mut x).map_err(|e| e.0)?;
+        alt_solve = alt_solve.min(t8.elapsed().as_secs_f64());
+    }
+    let (alt_w_s, alt_w_f) = alt.costs();
+    let ordering = |o: Ordering| if o == Ordering::Amd { "amd" } else { "nested_dissection" };
+    let alt_line = format!(
+        "\"ordering\": \"{}\", \"other_ordering\": {{\"ordering\": \"{}\", \"first_factorization_seconds\": {alt_first:.5}, \"numeric_factorization_seconds\": {alt_numeric:.5}, \"solve_seconds\": {alt_solve:.6}, \"solve_flops\": {alt_w_s:.4e}, \"factor_flops\": {alt_w_f:.4e}}}, \"factor_flops\": {w_f:.4e}",
+        ordering(factor.ordering),
+        ordering(other)
+    );
     println!(
-        "{{\"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"solve_seconds\": {solve:.6}, \"batch_columns\": {BATCH}, \"batch_seconds\": {batch:.6}, \"solve_flops\": {w_s:.4e}, \"factor_cost_in_solves\": {:.2}, \"factor_over_solve_time\": {:.2}, \"batch_column_cost\": {:.3}}}",
+        "{{{alt_line}, \"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"solve_seconds\": {solve:.6}, \"batch_columns\": {BATCH}, \"batch_seconds\": {batch:.6}, \"solve_flops\": {w_s:.4e}, \"factor_cost_in_solves\": {:.2}, \"factor_over_solve_time\": {:.2}, \"batch_column_cost\": {:.3}}}",
         sample.particles.len(),
         upper.len(),
         w_f / w_s,

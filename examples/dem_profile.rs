@@ -6,6 +6,10 @@
 //!
 //!     target/release/examples/dem_profile 1000 2e-3 40 [curve.csv]
 //!
+//! `DEM_MAX_EVENTS=N` stops after N beam breaks (the profile of the start of a long run).
+//! `DEM_JACOBIAN_REUSE=0` recomputes every contact Jacobian at every Newton iteration (the
+//! default reuses them while a contact has moved by little, `dem::solver::tangent`).
+//!
 //! Progress goes to stderr every 25 recorded states. With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
 use std::io::Write;
 use std::time::Instant;
@@ -29,7 +33,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let zero = LoadPoint { prescribed: vec![0.0; 6], forces: vec![] };
     let target = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, -max_strain * sample.height, 0.0], forces: vec![] };
     let clock = Instant::now();
-    let mut solver = Solver::new(model, SolverOptions::default(), zero)?;
+    // DEM_MAX_EVENTS stops the test after that many beam breaks (the profile of a part of a long
+    // run: the line then says "stopped: ... events").
+    let mut opts = SolverOptions::default();
+    if let Ok(v) = std::env::var("DEM_MAX_EVENTS") {
+        opts.max_events = v.parse().map_err(|e| format!("DEM_MAX_EVENTS={v}: {e}"))?;
+    }
+    let mut solver = Solver::new(model, opts, zero)?;
+    // DEM_JACOBIAN_REUSE sets the reuse threshold of contact Jacobians (0: recompute each time).
+    if let Ok(v) = std::env::var("DEM_JACOBIAN_REUSE") {
+        solver.set_jacobian_reuse(v.parse().map_err(|e| format!("DEM_JACOBIAN_REUSE={v}: {e}"))?)?;
+    }
     // Progress on stderr every 25 recorded states: a run stopped by a time limit still says how
     // far it got.
     let h = sample.height;
@@ -62,11 +76,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let events = solver.broken.len();
+    // Peak resident memory of the process (Linux: VmHWM in /proc/self/status), kB.
+    let vm_hwm_kb: Option<u64> = std::fs::read_to_string("/proc/self/status").ok().and_then(|s| {
+        s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
+    });
     let line = serde_json::json!({
         "stones": sample.particles.len(), "equations": n_eq, "end": end, "events": events,
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
         "peak_stress_pa": peak, "e_pa": e, "solves": solver.n_solves, "cutbacks": solver.n_cutbacks,
-        "profile": solver.profile,
+        "vm_hwm_kb": vm_hwm_kb, "factorizations": solver.factor_stats().0, "profile": solver.profile,
     });
     println!("{line}");
     Ok(())

@@ -10,8 +10,9 @@
 #      (examples/dem_factorization.rs), and the cost of an event in factorizations (target: 10k
 #      under 60 s; the cost per event growing no faster than a factorization);
 #  (c) the scaling: log-log slopes of seconds per event and of the factorization against size.
-# Every line carries the load average (the machine may be shared) and, for (b), the CPU seconds
-# of the run beside its wall seconds: on a loaded machine the CPU time is the cost.
+# Every line carries the load average and `uptime` (the machine may be shared) and, for (b), the
+# CPU seconds of the run beside its wall seconds (on a loaded machine the CPU time is the cost),
+# and the peak memory twice: the maximum RSS from /usr/bin/time, VmHWM from the run itself.
 #
 # Environment: BIN (default target/release/masonry-hpc; target/debug works, its dependencies,
 # faer included, are optimized), DEM_BENCH_SIZES (default "1000 10000 50000"),
@@ -36,17 +37,18 @@ if [ "${DEM_BENCH_SKIP_BATCH:-0}" != 1 ]; then
       -e 's/^existing = .*//' jobs/wall-tension.toml > "$work/tension32.toml"
   sed -i 's/^type = "dem"/type = "dem"\nparticle_states = "none"/' "$work/tension32.toml"
   l0=$(load)
+  u0=$(uptime)
   start=$(date +%s.%N)
   mpirun -n 2 "$BIN" -q "$work/tension32.toml" >/dev/null 2>&1 || true
   end=$(date +%s.%N)
-  python3 - "$work/dem-out/summary.json" "$start" "$end" "$l0" "$BIN" <<'PY'
+  python3 - "$work/dem-out/summary.json" "$start" "$end" "$l0" "$BIN" "$u0" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1])); wall = float(sys.argv[3]) - float(sys.argv[2])
 ok = sum(1 for x in s["samples"] if "Ok" in x["result"])
 print(json.dumps({"case": "dem-paper-wall-tension-batch", "size": 32, "ranks": 2, "seconds": round(wall, 3),
                   "samples_completed": ok, "paper_seconds": 7200, "ratio_paper_over_ours": round(7200 / wall, 1),
                   "events_per_second": round(s["events_per_second"], 1), "load_average": sys.argv[4],
-                  "binary": sys.argv[5]}))
+                  "uptime": sys.argv[6].strip(), "binary": sys.argv[5]}))
 PY
 fi
 
@@ -60,11 +62,13 @@ for n in $SIZES; do
   # means the configured maximum strain, 2e-3, far past the first cracks (about 0.2e-3).
   fact=$("$FACTOR_BIN" "$n")
   l0=$(load)
+  u0=$(uptime)
   t0=$(date +%s.%N)
   out=$( { /usr/bin/time -f "rss_kb=%M cpu_user=%U cpu_sys=%S" timeout "$TIMEOUT" "$PROFILE_BIN" "$n" 2e-3 40 > "$work/profile-$n.json" 2> "$work/profile-$n.err"; } 2>&1 || true )
   t1=$(date +%s.%N)
   l1=$(load)
-  python3 - "$work/profile-$n.json" "$n" "$t0" "$t1" "$(cat "$work/profile-$n.err") $out" "$fact" "$l0" "$TIMEOUT" "$PROFILE_BIN" "$l1" <<'PY' | tee -a "$lines"
+  u1=$(uptime)
+  python3 - "$work/profile-$n.json" "$n" "$t0" "$t1" "$(cat "$work/profile-$n.err") $out" "$fact" "$l0" "$TIMEOUT" "$PROFILE_BIN" "$l1" "$u0" "$u1" <<'PY' | tee -a "$lines"
 import json, os, re, sys
 n, wall, out = int(sys.argv[2]), float(sys.argv[4]) - float(sys.argv[3]), sys.argv[5]
 fact = json.loads(sys.argv[6])
@@ -75,7 +79,8 @@ line = {"case": "dem-random-compression", "size": n, "ranks": 1, "seconds": roun
         "peak_memory_mb": round(int(rss.group(1)) / 1024, 1) if rss else None,
         "equations": fact["equations"], "factorization_seconds": fact["numeric_factorization_seconds"],
         "first_factorization_seconds": fact["first_factorization_seconds"], "solve_seconds": fact["solve_seconds"],
-        "load_average_start": sys.argv[7], "load_average_end": sys.argv[10], "binary": sys.argv[9]}
+        "load_average_start": sys.argv[7], "load_average_end": sys.argv[10],
+        "uptime_start": sys.argv[11].strip(), "uptime_end": sys.argv[12].strip(), "binary": sys.argv[9]}
 text = open(sys.argv[1]).read().strip() if os.path.exists(sys.argv[1]) else ""
 if text:
     r = json.loads(text)
@@ -83,6 +88,8 @@ if text:
     line.update({"completed": True, "end": r["end"], "events": ev, "test_seconds": round(sec, 3),
                  "events_per_second": round(ev / sec, 2), "peak_stress_mpa": round(r["peak_stress_pa"] / 1e6, 4),
                  "young_modulus_gpa": round(r["e_pa"] / 1e9, 4), "profile": r["profile"]})
+    if r.get("vm_hwm_kb"):
+        line["vm_hwm_mb"] = round(r["vm_hwm_kb"] / 1024, 1)
     if ev > 0:
         line["seconds_per_event"] = sec / ev
         line["event_cost_in_factorizations"] = round(sec / ev / max(fact["numeric_factorization_seconds"], 1e-9), 3)

@@ -148,11 +148,18 @@ impl DofMap {
         }
     }
 
-    /// Stone `p`'s DOFs `q_p = T_p z[idx]`.
+    /// Stone `p`'s DOFs `q_p = T_p z[idx]` (written out: this runs for every stone in every
+    /// residual evaluation and failure scan).
+    #[inline]
     pub fn particle_dofs(&self, p: usize, z: &[f64]) -> [f64; 3] {
-        let (idx, t) = self.particle_map(p);
-        let v = t * nalgebra::Vector3::new(z[idx[0]], z[idx[1]], z[idx[2]]);
-        [v[0], v[1], v[2]]
+        match self.owners[p] {
+            Owner::Free { base } => [z[base], z[base + 1], z[base + 2]],
+            Owner::Slave { platen, arm } => {
+                let b = self.platen_base[platen];
+                let (ux, uy, th) = (z[b], z[b + 1], z[b + 2]);
+                [ux - arm[1] * th, uy + arm[0] * th, th]
+            }
+        }
     }
 
     /// Adds the generalized force `f_p` on stone `p` to `out` (in `z`): `out[idx] += T_pᵀ f_p`.
@@ -225,6 +232,24 @@ mod tests {
         }
         for &p in &s.boundary.bottom {
             assert_eq!(map.particle_dofs(p, &z), [0.0; 3]);
+        }
+    }
+
+    #[test]
+    fn particle_dofs_equal_the_map() {
+        // q_p = T_p z[idx] for every stone, free and slave, against the matrix product
+        // (round-off only: 1e-15 of the largest entry).
+        let s = wall();
+        use DofControl::*;
+        let map = DofMap::new(&s, [[Prescribed; 3], [Prescribed, Force, Force]]).unwrap();
+        let z: Vec<f64> = (0..map.n_z).map(|k| 1e-3 * ((k as f64) * 0.77).sin()).collect();
+        for p in 0..s.particles.len() {
+            let (idx, t) = map.particle_map(p);
+            let want = t * nalgebra::Vector3::new(z[idx[0]], z[idx[1]], z[idx[2]]);
+            let got = map.particle_dofs(p, &z);
+            for a in 0..3 {
+                assert!((got[a] - want[a]).abs() <= 1e-15 * 1e-3, "stone {p}: {got:?} vs {want:?}");
+            }
         }
     }
 

@@ -61,6 +61,20 @@ pub(super) enum Refactor {
 }
 
 impl<'a> Solver<'a> {
+    /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0 recomputes every
+    /// Jacobian at every Newton iteration). Errors: `η` negative or not finite.
+    pub fn set_jacobian_reuse(&mut self, eta: f64) -> Result<(), DemError> {
+        if !(eta.is_finite() && eta >= 0.0) {
+            return Err(DemError::InvalidParameter {
+                field: "jacobian reuse fraction",
+                value: eta.to_string(),
+                expected: "a finite number >= 0",
+            });
+        }
+        self.jacobians.reuse_fraction = eta;
+        Ok(())
+    }
+
     /// Factorizes the current operator (intact beams, the contact terms, `ε`); `cause` is
     /// counted in the profile (`None`: the first factorization, or a floating stone).
     pub(super) fn refactorize(&mut self, cause: Option<Refactor>) -> Result<(), DemError> {
@@ -125,6 +139,7 @@ impl<'a> Solver<'a> {
         let mut batch: Vec<(Option<(usize, usize, u8)>, Vec<SparseColumn>, f64)> = Vec::new();
         let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
         for k in gone {
+            self.profile.operator_changes[if k.2 == 0 { 1 } else { 3 }] += 1;
             if let Some((t, id)) = self.op_terms.remove(&k) {
                 if id.is_some_and(|id| self.factor.remove(id)) || self.needs_factor {
                     continue;
@@ -139,6 +154,7 @@ impl<'a> Solver<'a> {
             ] {
                 let key = (a.i, a.j, kind);
                 if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
+                    self.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
                     let t = self.model.rank_one(a.i, a.j, &dir, k);
                     if !self.needs_factor {
                         batch.push((Some(key), self.model.factors(&t), 1.0));
@@ -180,28 +196,31 @@ impl<'a> Solver<'a> {
     /// The residual at `z` for the external forces `f_ext` (over `z`).
     pub(super) fn evaluate(&mut self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
         let clock = Instant::now();
-        let ev = self.evaluate_at(z, f_ext);
+        let pairs = if self.opts.contacts && !self.broken.is_empty() {
+            self.candidates.candidates(self.model.sample, &self.model.map, z, &self.intact)
+        } else {
+            Vec::new()
+        };
+        self.profile.pair_evaluations += pairs.len();
+        self.profile.candidate_rebuilds = self.candidates.rebuilds;
+        let ev = self.evaluate_at(z, f_ext, &pairs);
         self.profile.evaluations += 1;
         profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
         ev
     }
 
-    fn evaluate_at(&self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
-        let has_broken = self.broken.len() > 0;
-        let contacts = if self.opts.contacts && has_broken {
-            let pairs = contact_set::candidates(self.model.sample, &self.model.map, z, &self.intact);
-            contact_set::evaluate(
-                self.model.sample,
-                &self.model.map,
-                &self.model.params,
-                &pairs,
-                z,
-                &self.z_commit,
-                &self.committed_ft,
-            )?
-        } else {
-            Vec::new()
-        };
+    /// The residual at `z` with the contact law evaluated on the candidate `pairs`
+    /// ([`super::contact_candidates`]).
+    fn evaluate_at(&self, z: &[f64], f_ext: &[f64], pairs: &[(usize, usize)]) -> Result<Evaluation, DemError> {
+        let contacts = contact_set::evaluate(
+            self.model.sample,
+            &self.model.map,
+            &self.model.params,
+            pairs,
+            z,
+            &self.z_commit,
+            &self.committed_ft,
+        )?;
         let f = self.internal(z, &contacts);
         let map = &self.model.map;
         let mut r = vec![0.0; map.n_eq()];
@@ -239,7 +258,8 @@ impl<'a> Solver<'a> {
         let n_eq = map.n_eq();
         let z0 = self.z.clone();
         let mut ev = self.evaluate(&z0, &f_ext)?;
-        for _ in 0..self.opts.max_iterations {
+        for iteration in 0..self.opts.max_iterations {
+            self.jacobians.fresh_only = iteration >= super::tangent::FRESH_AFTER;
             if ev.relative <= self.opts.tol {
                 self.contacts = ev.contacts;
                 return Ok(());
@@ -276,7 +296,10 @@ impl<'a> Solver<'a> {
                     &self.z,
                     &self.z_commit,
                     &self.committed_ft,
+                    &mut self.jacobians,
                 )?;
+                self.profile.jacobians_computed = self.jacobians.computed;
+                self.profile.jacobians_reused = self.jacobians.reused;
                 profile::add(&mut self.profile.tangent_seconds, clock.elapsed());
                 // Inexact Newton: the linear solve to 1e-8 of ‖r‖ (tighter costs solves and
                 // gains nothing; looser, 1e-6, lost two of the paper wall's 16 shear samples).

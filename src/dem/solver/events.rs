@@ -235,6 +235,9 @@ pub struct Solver<'a> {
     pub(super) contacts: Vec<ActiveContact>,
     /// The active contacts of the last committed state (for the contact events).
     committed_contacts: Vec<ActiveContact>,
+    /// The contact search's candidate list and the contact Jacobians kept between evaluations.
+    pub(super) candidates: super::contact_candidates::CandidateList,
+    pub(super) jacobians: super::tangent::JacobianCache,
     /// Committed contact histories (tangential force, plastic penetration) by pair.
     pub(super) committed_ft: Histories,
     load: LoadPoint,
@@ -315,6 +318,8 @@ impl<'a> Solver<'a> {
             op_terms: BTreeMap::new(),
             contacts: Vec::new(),
             committed_contacts: Vec::new(),
+            candidates: Default::default(),
+            jacobians: Default::default(),
             committed_ft: BTreeMap::new(),
             load: initial,
             states: Vec::new(),
@@ -758,7 +763,11 @@ impl<'a> Solver<'a> {
                                 *zn = zo + lam * (*zn - zo);
                             }
                         } else {
-                            self.z.clone_from(&z_old);
+                            // Newton starts from the interpolated state: exact while the contact
+                            // forces are linear along the step, so usually one iteration away.
+                            for (zo, zn) in z_old.iter().zip(self.z.iter_mut()) {
+                                *zn = zo + lam * (*zn - zo);
+                            }
                             match self.equilibrate(&load_l, t_l) {
                                 Ok(()) => {}
                                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => ok = false,

@@ -40,12 +40,15 @@
 //! rent-or-buy rule: whatever the future sequence of updates, it costs at most twice the best
 //! schedule chosen in hindsight.
 //!
-//! The symbolic analysis (AMD ordering, elimination tree, supernodes) is kept and reused as long
-//! as the sparsity structure of `A` does not change (broken beams keep their entries, as zeros).
+//! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is kept and reused
+//! as long as the sparsity structure of `A` does not change (broken beams keep their entries, as
+//! zeros). The ordering is faer's AMD for small systems and METIS nested dissection
+//! ([`super::ordering`]) from [`NESTED_DISSECTION_MIN`] unknowns on.
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
+use faer::perm::PermRef;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::DMatrix;
@@ -70,6 +73,20 @@ pub const BATCH: usize = 16;
 /// Cost of each further right-hand side of a batched solve, in base solves (measured with
 /// `examples/dem_factorization.rs`).
 pub const BATCH_COLUMN_COST: f64 = 0.3;
+
+/// The fill-reducing ordering of the symbolic analysis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ordering {
+    /// Approximate minimum degree (faer's own).
+    Amd,
+    /// METIS nested dissection ([`super::ordering`]).
+    NestedDissection,
+}
+
+/// Systems with at least this many unknowns are ordered by nested dissection, smaller ones by
+/// AMD (measured with `examples/dem_factorization.rs`, which factorizes with both).
+pub const NESTED_DISSECTION_MIN: usize = 20_000;
 
 /// Why a factorization failed.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,6 +116,8 @@ struct Term {
 /// `A = LLᵀ` and the Woodbury data of the terms added since.
 pub struct LowRankCholesky {
     n: usize,
+    /// The ordering of the symbolic analysis.
+    pub ordering: Ordering,
     symbolic: Option<Symbolic>,
     values: Vec<f64>,
     factorized: bool,
@@ -122,10 +141,17 @@ pub struct LowRankCholesky {
 }
 
 impl LowRankCholesky {
-    /// An empty solver for `n` unknowns (call [`Self::factorize`] first).
+    /// An empty solver for `n` unknowns (call [`Self::factorize`] first), ordered by nested
+    /// dissection from [`NESTED_DISSECTION_MIN`] unknowns on, else by AMD.
     pub fn new(n: usize) -> Self {
+        Self::with_ordering(n, if n >= NESTED_DISSECTION_MIN { Ordering::NestedDissection } else { Ordering::Amd })
+    }
+
+    /// An empty solver for `n` unknowns with the given ordering.
+    pub fn with_ordering(n: usize, ordering: Ordering) -> Self {
         LowRankCholesky {
             n,
+            ordering,
             symbolic: None,
             values: Vec::new(),
             factorized: false,
@@ -163,8 +189,18 @@ impl LowRankCholesky {
         let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
         let reuse = matches!(&self.symbolic, Some(s) if s.col_ptr == cp && s.row_idx == ri);
         if !reuse {
-            let sym = factorize_symbolic_cholesky(a.symbolic(), Side::Upper, Default::default(), Default::default())
-                .map_err(|e| FactorError(format!("symbolic analysis: {e:?}")))?;
+            let symbolic = |ord: SymmetricOrdering<'_, usize>| {
+                factorize_symbolic_cholesky(a.symbolic(), Side::Upper, ord, Default::default())
+                    .map_err(|e| FactorError(format!("symbolic analysis: {e:?}")))
+            };
+            let sym = match self.ordering {
+                Ordering::Amd => symbolic(SymmetricOrdering::Amd)?,
+                Ordering::NestedDissection => {
+                    let (perm, inv) = super::ordering::nested_dissection(self.n, cp, ri)
+                        .map_err(|e| FactorError(format!("nested dissection: {}", e.0)))?;
+                    symbolic(SymmetricOrdering::Custom(PermRef::new_checked(&perm, &inv, self.n)))?
+                }
+            };
             let (solve_flops, factor_flops) = flop_counts(&sym);
             let req = sym
                 .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())

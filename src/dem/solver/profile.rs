@@ -17,11 +17,22 @@ pub struct SolverProfile {
     pub gmres_iterations: usize,
     /// Residual evaluations (contact detection + forces), line search included.
     pub evaluations: usize,
+    /// Pairs given to the contact law in residual evaluations ([`super::contact_candidates`]).
+    pub pair_evaluations: usize,
+    /// Candidate lists built ([`super::contact_candidates`]).
+    pub candidate_rebuilds: usize,
+    /// Contact Jacobians computed by central differences ([`super::tangent`]).
+    pub jacobians_computed: usize,
+    /// Contact Jacobians reused ([`super::tangent`]).
+    pub jacobians_reused: usize,
     /// Woodbury columns added (each one base solve).
     pub columns_added: usize,
     /// Woodbury columns dropped because their term left the operator before a refactorization
     /// (no solve).
     pub columns_dropped: usize,
+    /// Contact terms that entered / left the operator: normal in, normal out, sticking
+    /// tangential in, tangential out (the contact-set churn the Woodbury columns pay for).
+    pub operator_changes: [usize; 4],
     /// Largest Woodbury rank reached.
     pub max_rank: usize,
     /// Numeric factorizations, by cause: the cost model, the rank cap, an inaccurate

@@ -16,13 +16,112 @@
 //! The factorized operator (beams, penalty `k_n w_b w_bᵀ`, sticking `k_t w_c w_cᵀ`, `ε`) is the
 //! symmetric positive definite approximation of `K_T` used as GMRES preconditioner
 //! ([`super::gmres`]); for flat sticking contacts the two agree.
+//!
+//! **Reused Jacobians.** Twelve evaluations of the contact law per contact and Newton iteration
+//! dominated large samples, where a break moves the far contacts by little. A contact's `J_c` is
+//! kept ([`JacobianCache`]) with the states `q`, `c` it was computed at, and reused while
+//!
+//! ```text
+//!   Σ_{p = i, j} (|Δu_p| + |Δθ_p| D_p)  over both q and c   ≤   η S_r / L
+//! ```
+//!
+//! (the motion of the pair's outlines since, against its mean penetration `S_r/L`, the length
+//! over which `J_c` changes: a corner contact's chord and stiffness grow with the penetration) and
+//! the contact's regime is the same (stick or slip and the slip direction, crushing elastic or
+//! plastic). The default `η` is [`REUSE_FRACTION`]; `η = 0` recomputes every Jacobian. A reused
+//! `J_c` makes the Newton step inexact by about `η` in the far contacts' terms; the residual, and so
+//! the converged state, is always the exact one. After [`FRESH_AFTER`] iterations of one
+//! equilibrium every Jacobian is recomputed (a contact crossing a geometric kink, e.g. a corner
+//! reaching a corner, changes `J_c` more than its motion says).
+use std::collections::HashMap;
+
 use nalgebra::{SMatrix, SVector};
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
 use super::system::Model;
+use crate::dem::mechanics::SlipState;
 
 type V6 = SVector<f64, 6>;
+
+/// The default reuse threshold `η` of contact Jacobians (see the module docs).
+pub const REUSE_FRACTION: f64 = 1e-2;
+
+/// Newton iterations of one equilibrium after which every contact Jacobian is recomputed.
+pub const FRESH_AFTER: usize = 6;
+
+/// A contact's regime: stick/slip, `∂F_t/∂F_n` (the slip direction), crushing plastic.
+type Regime = (SlipState, f64, bool);
+
+#[derive(Clone, Debug)]
+struct Cached {
+    q: [[f64; 3]; 2],
+    c: [[f64; 3]; 2],
+    regime: Regime,
+    jac: SMatrix<f64, 6, 6>,
+}
+
+/// Contact Jacobians kept between Newton iterations, by pair (see the module docs).
+#[derive(Clone, Debug)]
+pub struct JacobianCache {
+    entries: HashMap<(usize, usize), Cached>,
+    /// The reuse threshold `η` (0: never reuse).
+    pub reuse_fraction: f64,
+    /// Recompute every Jacobian (set by the Newton iteration after [`FRESH_AFTER`] iterations
+    /// of one equilibrium: a stale `J_c` must not be what keeps it from converging).
+    pub fresh_only: bool,
+    /// Jacobians computed by central differences.
+    pub computed: usize,
+    /// Jacobians reused.
+    pub reused: usize,
+}
+
+impl Default for JacobianCache {
+    fn default() -> Self {
+        JacobianCache { entries: HashMap::new(), reuse_fraction: REUSE_FRACTION, fresh_only: false, computed: 0, reused: 0 }
+    }
+}
+
+impl JacobianCache {
+    /// `J_c` of contact `a` at `q` with the committed `c`, `old`: the kept one when it may be
+    /// reused, else a new one (kept).
+    fn jacobian(
+        &mut self,
+        model: &Model,
+        a: &ActiveContact,
+        q: [[f64; 3]; 2],
+        c: [[f64; 3]; 2],
+        old: contact_set::ContactHistory,
+    ) -> Result<SMatrix<f64, 6, 6>, DemError> {
+        let regime: Regime = (a.friction.state, a.friction.d_ft_d_fn, a.crush.as_ref().is_some_and(|u| u.plastic));
+        let depth = if a.contact.chord_length > 0.0 { a.contact.overlap_area / a.contact.chord_length } else { 0.0 };
+        if let Some(e) = self.entries.get(&(a.i, a.j)).filter(|_| !self.fresh_only) {
+            let d = [model.sample.particles[a.i].diameter, model.sample.particles[a.j].diameter];
+            let moved: f64 = (0..2)
+                .map(|k| {
+                    let m = |x: [f64; 3], y: [f64; 3]| (x[0] - y[0]).hypot(x[1] - y[1]) + (x[2] - y[2]).abs() * d[k];
+                    m(q[k], e.q[k]) + m(c[k], e.c[k])
+                })
+                .sum();
+            if e.regime == regime && self.reuse_fraction > 0.0 && moved <= self.reuse_fraction * depth {
+                self.reused += 1;
+                return Ok(e.jac);
+            }
+        }
+        let jac = contact_set::pair_jacobian(model.sample, &model.params, a, q, c, old)?;
+        self.computed += 1;
+        self.entries.insert((a.i, a.j), Cached { q, c, regime, jac });
+        Ok(jac)
+    }
+
+    /// Forgets the pairs that are not in `contacts`.
+    fn keep_only(&mut self, contacts: &[ActiveContact]) {
+        if self.entries.len() > contacts.len() {
+            let live: std::collections::HashSet<(usize, usize)> = contacts.iter().map(|a| (a.i, a.j)).collect();
+            self.entries.retain(|k, _| live.contains(k));
+        }
+    }
+}
 
 /// The full tangent `K_T` (see the module docs).
 pub struct Tangent<'m, 'a> {
@@ -34,7 +133,9 @@ pub struct Tangent<'m, 'a> {
 
 impl<'m, 'a> Tangent<'m, 'a> {
     /// The tangent at `z` with the evaluated `contacts`, whose friction trial starts from
-    /// `z_commit` and the committed tangential forces `committed`.
+    /// `z_commit` and the committed tangential forces `committed`; contact Jacobians from and
+    /// into `cache`.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         model: &'m Model<'a>,
         intact: &'m [bool],
@@ -43,14 +144,16 @@ impl<'m, 'a> Tangent<'m, 'a> {
         z: &[f64],
         z_commit: &[f64],
         committed: &contact_set::Histories,
+        cache: &mut JacobianCache,
     ) -> Result<Self, DemError> {
+        cache.keep_only(contacts);
         let map = &model.map;
         let mut terms = Vec::with_capacity(contacts.len());
         for a in contacts {
             let q = [map.particle_dofs(a.i, z), map.particle_dofs(a.j, z)];
             let c = [map.particle_dofs(a.i, z_commit), map.particle_dofs(a.j, z_commit)];
             let old = committed.get(&(a.i, a.j)).copied().unwrap_or_default();
-            let jac = contact_set::pair_jacobian(model.sample, &model.params, a, q, c, old)?;
+            let jac = cache.jacobian(model, a, q, c, old)?;
             let (idx, g) = map.pair_map(a.i, a.j);
             terms.push((idx, g.transpose() * jac * g));
         }
@@ -74,5 +177,53 @@ impl<'m, 'a> Tangent<'m, 'a> {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dem::mechanics::MechParams;
+    use crate::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
+    use crate::dem::solver::dofs::{DofControl, DofMap};
+
+    #[test]
+    fn jacobians_are_reused_only_for_small_motions_in_the_same_regime() {
+        // Two free stones of a random sample pushed together by δ = 10⁻⁴ D̄ across their shared
+        // facet. With η = 10⁻²: a further motion of 10⁻⁴ δ reuses the kept J_c (and a fresh one
+        // differs from it by less than 10⁻³ of its largest entry: the motion is 10⁻⁴ of the
+        // penetration); a motion of 0.5 δ recomputes it; η = 0 always recomputes.
+        let s = Sample::build(&SampleConfig {
+            layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: 60, min_distance_factor: 0.7 }),
+            thickness: 1.0,
+            seed: 3,
+            alpha: 0.8,
+            facet_tolerance: 0.02,
+            tiny_facets: TinyFacetPolicy::Merge,
+        })
+        .unwrap();
+        let map = DofMap::new(&s, [[DofControl::Prescribed; 3]; 2]).unwrap();
+        let model = Model::new(&s, &MechParams::default(), map).unwrap();
+        let b = s.beams.iter().position(|b| !model.map.is_slave(b.i) && !model.map.is_slave(b.j)).unwrap();
+        let (i, j, n) = (s.beams[b].i, s.beams[b].j, s.beams[b].normal);
+        let delta = 1e-4 * s.mean_diameter();
+        let at = |extra: f64| [[0.0; 3], [-(delta + extra * delta) * n[0], -(delta + extra * delta) * n[1], 0.0]];
+        let contact = |q: [[f64; 3]; 2]| {
+            contact_set::evaluate_pair(&s, &model.params, i, j, q, [[0.0; 3]; 2], Default::default()).unwrap().unwrap()
+        };
+        let c = [[0.0; 3]; 2];
+        let mut cache = JacobianCache::default();
+        let j0 = cache.jacobian(&model, &contact(at(0.0)), at(0.0), c, Default::default()).unwrap();
+        assert_eq!((cache.computed, cache.reused), (1, 0));
+        let j1 = cache.jacobian(&model, &contact(at(1e-4)), at(1e-4), c, Default::default()).unwrap();
+        assert_eq!((cache.computed, cache.reused), (1, 1));
+        assert_eq!(j0, j1);
+        let fresh = contact_set::pair_jacobian(&s, &model.params, &contact(at(1e-4)), at(1e-4), c, Default::default()).unwrap();
+        assert!((fresh - j1).amax() <= 1e-3 * fresh.amax(), "{}", (fresh - j1).amax() / fresh.amax());
+        cache.jacobian(&model, &contact(at(0.5)), at(0.5), c, Default::default()).unwrap();
+        assert_eq!((cache.computed, cache.reused), (2, 1));
+        cache.reuse_fraction = 0.0;
+        cache.jacobian(&model, &contact(at(0.5)), at(0.5), c, Default::default()).unwrap();
+        assert_eq!((cache.computed, cache.reused), (3, 1));
     }
 }
