@@ -236,7 +236,10 @@ fn weighted_xz_correlation(d: &[f64], c: &[[f64; 2]]) -> f64 {
 /// splitting crack on the mesh line x = 0.5 m, 234 J).
 /// The three meshes are 15 × 18, 20 × 24 and 25 × 30 (5 × 6 and 10 × 12 pick other mechanisms:
 /// 325 J and 299 J). Measured: 421.0, 429.7 and 427.9 J, spread 2.0%; peaks 262.9, 261.0 and
-/// 259.8 kN; x–z correlations −0.68, −0.71, −0.73.
+/// 259.8 kN; x–z correlations −0.68, −0.71, −0.73 (meshes of scripts/make_quad_mesh.py).
+/// Status: this test FAILS: with the mesh file written here (same geometry, another numbering)
+/// the 15 × 18 wall dissipates 256.3 J at 2.8 mm (another post-peak mechanism), 20 × 24 and
+/// 25 × 30 427.8 J each; the mechanism after the peak is not unique (see τ/2 above).
 ///
 /// Asserted, per mesh: the run reaches 2.8 mm; the force peaks inside the run and falls by more
 /// than 10% after it (softening); the compression damage lies on the loaded diagonal: in the rows
