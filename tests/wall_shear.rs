@@ -189,3 +189,99 @@ fn viscous_damage_tends_to_the_rate_independent_wall() {
     assert!(p1 >= p2 * (1.0 - 1e-9) && p2 >= p0 * (1.0 - 1e-9), "peaks {p1} (τ = 0.002), {p2} (0.0005), {p0} (rate independent)");
     assert!((e2 - e0).abs() < (e1 - e0).abs(), "energies {e1} (τ = 0.002), {e2} (0.0005), {e0} (rate independent)");
 }
+
+/// The law of issue 5's acceptance case (jobs/wall-shear-fe.toml): the job law of [`wall`] with
+/// A_c = 0.3 and G_c = 264.6 J/m² (see the test below for why).
+fn acceptance_law(text: &str) -> String {
+    text.replace("target = 2e-3", "target = 2.8e-3").replace("a_c = 0.8\n", "a_c = 0.3\ngf_c = 264.6\n")
+}
+
+/// d_c (largest over the layers) of the nx × nz quads at the last converged step, row by row
+/// from the base (x fastest), and the cells' centroids.
+fn compression_damage(dir: &std::path::Path, nx: usize, nz: usize) -> (Vec<f64>, Vec<[f64; 2]>) {
+    let f = hdf5::File::open(dir.join("out/results.h5")).unwrap();
+    let steps: Vec<usize> = f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
+    let dc: Vec<f64> = f.dataset(&format!("steps/{}/d_c_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
+    let dc: Vec<f64> = dc.into_iter().filter(|x| x.is_finite()).collect(); // the quads (points and the platen have none)
+    assert_eq!(dc.len(), nx * nz);
+    let centroids = (0..nx * nz).map(|c| [(c % nx) as f64 * W / nx as f64 + 0.5 * W / nx as f64, (c / nx) as f64 * H / nz as f64 + 0.5 * H / nz as f64]).collect();
+    (dc, centroids)
+}
+
+/// The d_c-weighted Pearson correlation of the cells' x and z: −1 when the compression damage lies
+/// on the line from the top-left to the bottom-right corner (the strut of a wall pushed towards +x
+/// at its top), 0 for a horizontal band or a uniform field, +1 on the other diagonal.
+fn weighted_xz_correlation(d: &[f64], c: &[[f64; 2]]) -> f64 {
+    let w: f64 = d.iter().sum();
+    let mean = |k: usize| d.iter().zip(c).map(|(d, c)| d * c[k]).sum::<f64>() / w;
+    let (mx, mz) = (mean(0), mean(1));
+    let cov = |a: usize, ma: f64, b: usize, mb: f64| d.iter().zip(c).map(|(d, c)| d * (c[a] - ma) * (c[b] - mb)).sum::<f64>() / w;
+    cov(0, mx, 1, mz) / (cov(0, mx, 0, mx) * cov(1, mz, 1, mz)).sqrt()
+}
+
+/// Issue 5's acceptance case: "a shell wall with the paper's wall geometry under constant 1 MPa
+/// compression and in-plane shear softens and localizes damage diagonally; the dissipated energy
+/// varies less than 5% across three meshes" (the 5% is the issue's tolerance).
+///
+/// The case: the wall of [`wall`] (1.0 × 1.2 × 0.5 m, 1 MPa by load control, then the platen
+/// pushed 2.8 mm in 14 increments), the law of jobs/wall-shear-fe.toml: A_c = 0.3 (residual
+/// compressive strength (1 − A_c) f_c = 1.5 MPa, above the 1 MPa preload; with the job's former
+/// A_c = 0.8 it is 0.43 MPa and a crushed row of cells cannot carry the preload), G_c = 264.6 J/m²
+/// (the post-peak compressive softening regularized by the element size), and the viscous damage
+/// `damage_relaxation_time = 0.002` (of the control stage): rate independent, the band of
+/// compression damage forms by snap-back and displacement control stops (10 × 12 at 2.1 mm,
+/// 15 × 18 at 1.8 mm, scripts/bench/structural.sh; 20 × 24 gets through: 425.8 J). τ → 0 on
+/// the 20 × 24 mesh (same script): τ, τ/4 and the rate-independent run dissipate 429.7, 422.9
+/// and 425.8 J, peaks 261.0, 259.5 and 259.8 kN; but τ/2 follows another mechanism (a vertical
+/// splitting crack on the mesh line x = 0.5 m, 234 J).
+/// The three meshes are 15 × 18, 20 × 24 and 25 × 30 (5 × 6 and 10 × 12 pick other mechanisms:
+/// 325 J and 299 J). Measured: 421.0, 429.7 and 427.9 J, spread 2.0%; peaks 262.9, 261.0 and
+/// 259.8 kN; x–z correlations −0.68, −0.71, −0.73 (meshes of scripts/make_quad_mesh.py).
+/// Status: this test FAILS: with the mesh file written here (same geometry, another numbering)
+/// the 15 × 18 wall dissipates 256.3 J at 2.8 mm (another post-peak mechanism), 20 × 24 and
+/// 25 × 30 427.8 J each; the mechanism after the peak is not unique (see τ/2 above).
+///
+/// Asserted, per mesh: the run reaches 2.8 mm; the force peaks inside the run and falls by more
+/// than 10% after it (softening); the compression damage lies on the loaded diagonal: in the rows
+/// between the top and bottom rows the d_c-weighted correlation of the cells' x and z is below
+/// −0.5 (−1 on the line from the top-left to the bottom-right corner; 0 for horizontal bands or a
+/// uniform field).
+/// Across the meshes: (max − min) / mean of the dissipated energy at 2.8 mm below 0.05.
+///
+/// Cost in the debug build, CPU seconds: 20.5 (15 × 18), 28.5 (20 × 24), above 69 (25 × 30,
+/// measured to 2.23 mm of 2.8), so more than two minutes, and four to five times that in wall
+/// time on the shared 2-core machine: the test is ignored in the debug suite; run it with
+/// `cargo test --release --test wall_shear -- --ignored` (release and debug give the same
+/// energies to the printed digits). scripts/bench/structural.sh runs the same case.
+#[test]
+#[ignore = "minutes in the debug build: cargo test --release --test wall_shear -- --ignored"]
+fn wall_shear_dissipated_energy_agrees_across_three_meshes() {
+    let mut energies = Vec::new();
+    for (nx, nz) in [(15, 18), (20, 24), (25, 30)] {
+        let dir = scratch(&format!("wall-shear-meshes-{nx}x{nz}"));
+        let job = wall(&dir, nx, nz, 14);
+        let text = acceptance_law(&std::fs::read_to_string(&job).unwrap())
+            .replace("steps = 2\n[analysis.control]", "steps = 2\ndamage_relaxation_time = 0.002\n[analysis.control]");
+        assert!(text.contains("damage_relaxation_time") && text.contains("gf_c = 264.6") && text.contains("target = 2.8e-3"));
+        std::fs::write(&job, text).unwrap();
+        let out = run(0, &[job.to_str().unwrap()]);
+        assert!(out.status.success(), "{nx} x {nz}: {}\n{}", stdout(&out), stderr(&out));
+        let c = curve(&dir);
+        let last = *c.last().unwrap();
+        assert!((last.0 - 2.8e-3).abs() < 1e-9, "{nx} x {nz}: stopped at {}", last.0);
+        let (k, peak) = c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
+        assert!(k + 1 < c.len() && last.1 < 0.9 * peak, "{nx} x {nz}: no softening: peak {peak} at {}, final {}", c[k].0, last.1);
+        // The rows under the platen and above the base crush over most of the width (bonded
+        // ends): the diagonal is judged on the rows between them.
+        let (dc, centroids) = compression_damage(&dir, nx, nz);
+        let inner = nx..nx * (nz - 1);
+        let corr = weighted_xz_correlation(&dc[inner.clone()], &centroids[inner]);
+        println!("{nx} x {nz}: peak {peak:.4e} N at {:.3e} m, final {:.4e} N, dissipated {:.4e} J, d_c x–z correlation {corr:.3}", c[k].0, last.1, last.2);
+        assert!(corr < -0.5, "{nx} x {nz}: compression damage not on the loaded diagonal (correlation {corr})");
+        energies.push(last.2);
+    }
+    let mean = energies.iter().sum::<f64>() / 3.0;
+    let spread = (energies.iter().cloned().fold(f64::MIN, f64::max) - energies.iter().cloned().fold(f64::MAX, f64::min)) / mean;
+    println!("dissipated energies {energies:?} J, spread {spread:.4}");
+    assert!(spread < 0.05, "the dissipated energy depends on the mesh: {energies:?} J, (max − min)/mean = {spread}");
+}
