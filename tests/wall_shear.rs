@@ -254,7 +254,7 @@ fn weighted_xz_correlation(d: &[f64], c: &[[f64; 2]]) -> f64 {
 /// `cargo test --release --test wall_shear -- --ignored` (release and debug give the same
 /// energies to the printed digits). scripts/bench/structural.sh runs the same case.
 #[test]
-#[ignore = "minutes in the debug build: cargo test --release --test wall_shear -- --ignored"]
+#[ignore = "fails today (15x18 takes the splitting-crack mechanism with this mesh numbering: 256 J against 428 J) and takes minutes in the debug build: cargo test --release --test wall_shear -- --ignored"]
 fn wall_shear_dissipated_energy_agrees_across_three_meshes() {
     let mut energies = Vec::new();
     for (nx, nz) in [(15, 18), (20, 24), (25, 30)] {
