@@ -29,7 +29,6 @@
 //! order: the pairs skipped are pairs the contact law would find apart, so the contacts are
 //! exactly those of a search from scratch ([`super::contact_set::candidates`]; compared in the
 //! tests below).
-use std::collections::BTreeMap;
 
 use super::dofs::DofMap;
 use crate::dem::polygon::{Polygon, P2};
@@ -127,38 +126,13 @@ impl CandidateList {
         let boxes: Vec<[f64; 4]> = polys
             .iter()
             .map(|poly| {
-                let b = poly.vertices.iter().fold([f64::MAX, f64::MAX, f64::MIN, f64::MIN], |b, v| {
-                    [b[0].min(v[0]), b[1].min(v[1]), b[2].max(v[0]), b[3].max(v[1])]
-                });
+                let b = super::contact_set::bounding_box(poly);
                 [b[0] - h, b[1] - h, b[2] + h, b[3] + h]
             })
             .collect();
-        let cell = boxes.iter().fold(0.0f64, |m, b| m.max(b[2] - b[0]).max(b[3] - b[1])).max(1e-12);
-        let (x0, y0) = boxes.iter().fold((f64::MAX, f64::MAX), |m, b| (m.0.min(b[0]), m.1.min(b[1])));
-        let mut grid: BTreeMap<(i64, i64), Vec<usize>> = BTreeMap::new();
-        for (p, b) in boxes.iter().enumerate() {
-            let (ia, ib) = (((b[0] - x0) / cell) as i64, ((b[2] - x0) / cell) as i64);
-            let (ja, jb) = (((b[1] - y0) / cell) as i64, ((b[3] - y0) / cell) as i64);
-            for gi in ia..=ib {
-                for gj in ja..=jb {
-                    grid.entry((gi, gj)).or_default().push(p);
-                }
-            }
-        }
-        let mut found: BTreeMap<(usize, usize), ()> = BTreeMap::new();
-        for list in grid.values() {
-            for (a, &p) in list.iter().enumerate() {
-                for &q in &list[a + 1..] {
-                    let (i, j) = if p < q { (p, q) } else { (q, p) };
-                    let (bi, bj) = (&boxes[i], &boxes[j]);
-                    if bi[0] <= bj[2] && bj[0] <= bi[2] && bi[1] <= bj[3] && bj[1] <= bi[3] {
-                        found.insert((i, j), ());
-                    }
-                }
-            }
-        }
+        let found = super::contact_set::overlapping_boxes(&boxes, 0.0);
         self.pairs.clear();
-        for (i, j) in found.into_keys() {
+        for (i, j) in found {
             let beam = sample.beam_between(i, j);
             if beam.is_none() && map.is_slave(i) && map.is_slave(j) && same_platen(sample, i, j) {
                 continue;

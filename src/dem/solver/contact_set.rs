@@ -94,24 +94,17 @@ fn current_polygon(sample: &Sample, p: usize, q: [f64; 3]) -> Polygon {
     part.polygon.moved(part.centroid, [q[0], q[1]], q[2])
 }
 
-/// Candidate pairs `(i < j)` without an intact beam (see the module docs).
-pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> Vec<(usize, usize)> {
-    let mut set: BTreeSet<(usize, usize)> = BTreeSet::new();
-    for (b, beam) in sample.beams.iter().enumerate() {
-        if !intact[b] {
-            set.insert((beam.i, beam.j));
-        }
-    }
-    // Bounding boxes of the current polygons.
-    let n = sample.particles.len();
-    let boxes: Vec<[f64; 4]> = (0..n)
-        .map(|p| {
-            let poly = current_polygon(sample, p, map.particle_dofs(p, z));
-            poly.vertices.iter().fold([f64::MAX, f64::MAX, f64::MIN, f64::MIN], |b, v| {
-                [b[0].min(v[0]), b[1].min(v[1]), b[2].max(v[0]), b[3].max(v[1])]
-            })
-        })
-        .collect();
+/// The axis-aligned bounding box `[x_min, y_min, x_max, y_max]` of a polygon.
+pub(super) fn bounding_box(poly: &Polygon) -> [f64; 4] {
+    poly.vertices.iter().fold([f64::MAX, f64::MAX, f64::MIN, f64::MIN], |b, v| {
+        [b[0].min(v[0]), b[1].min(v[1]), b[2].max(v[0]), b[3].max(v[1])]
+    })
+}
+
+/// The pairs `(i < j)` whose boxes overlap within `tol`, in increasing order: a uniform grid
+/// broad phase whose cell is the largest box side, so each box touches at most 2 × 2 cells and
+/// every overlapping pair shares at least one cell.
+pub(super) fn overlapping_boxes(boxes: &[[f64; 4]], tol: f64) -> BTreeSet<(usize, usize)> {
     let cell = boxes.iter().fold(0.0f64, |m, b| m.max(b[2] - b[0]).max(b[3] - b[1])).max(1e-12);
     let (x0, y0) = boxes.iter().fold((f64::MAX, f64::MAX), |m, b| (m.0.min(b[0]), m.1.min(b[1])));
     let mut grid: BTreeMap<(i64, i64), Vec<usize>> = BTreeMap::new();
@@ -124,23 +117,42 @@ pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> 
             }
         }
     }
-    // A small tolerance so stones that touch along an edge (zero overlap) are candidates.
-    let tol = 1e-9 * cell;
+    let mut pairs = BTreeSet::new();
     for list in grid.values() {
         for (a, &p) in list.iter().enumerate() {
             for &q in &list[a + 1..] {
                 let (i, j) = if p < q { (p, q) } else { (q, p) };
                 let (bi, bj) = (&boxes[i], &boxes[j]);
-                let overlap = bi[0] <= bj[2] + tol && bj[0] <= bi[2] + tol && bi[1] <= bj[3] + tol && bj[1] <= bi[3] + tol;
-                if !overlap || map.is_slave(i) && map.is_slave(j) && same_platen(sample, i, j) {
-                    continue;
+                if bi[0] <= bj[2] + tol && bj[0] <= bi[2] + tol && bi[1] <= bj[3] + tol && bj[1] <= bi[3] + tol {
+                    pairs.insert((i, j));
                 }
-                match sample.beam_between(i, j) {
-                    Some(b) if intact[b] => {}
-                    _ => {
-                        set.insert((i, j));
-                    }
-                }
+            }
+        }
+    }
+    pairs
+}
+
+/// Candidate pairs `(i < j)` without an intact beam (see the module docs).
+pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> Vec<(usize, usize)> {
+    let mut set: BTreeSet<(usize, usize)> = BTreeSet::new();
+    for (b, beam) in sample.beams.iter().enumerate() {
+        if !intact[b] {
+            set.insert((beam.i, beam.j));
+        }
+    }
+    // Bounding boxes of the current polygons.
+    let n = sample.particles.len();
+    let boxes: Vec<[f64; 4]> = (0..n).map(|p| bounding_box(&current_polygon(sample, p, map.particle_dofs(p, z)))).collect();
+    // A small tolerance so stones that touch along an edge (zero overlap) are candidates.
+    let cell = boxes.iter().fold(0.0f64, |m, b| m.max(b[2] - b[0]).max(b[3] - b[1])).max(1e-12);
+    for (i, j) in overlapping_boxes(&boxes, 1e-9 * cell) {
+        if map.is_slave(i) && map.is_slave(j) && same_platen(sample, i, j) {
+            continue;
+        }
+        match sample.beam_between(i, j) {
+            Some(b) if intact[b] => {}
+            _ => {
+                set.insert((i, j));
             }
         }
     }
