@@ -392,6 +392,33 @@ fn the_damage_column_is_the_laws_dissipation_under_cyclic_shaking() {
 }
 
 #[test]
+fn krylov_newton_follows_the_full_newton_history() {
+    // The damaging wall (cracking at its base both ways) with full Newton and with Krylov-
+    // accelerated modified Newton (time_history/krylov.rs): both converge every step to the same
+    // force tolerance (1e-9), so the top's history agrees within 1e-6 of its peak (the bound of
+    // the 1-vs-2-rank test of the same wall: damage can amplify differences of that size).
+    let mut tops = Vec::new();
+    for newton in ["tangent", "krylov"] {
+        let dir = scratch(&format!("th-wall-newton-{newton}"));
+        write_wall(&dir, 0.01, 0.5, "");
+        let job = dir.join("th.toml");
+        let text = std::fs::read_to_string(&job).unwrap();
+        let changed = text.replace("newton = \"tangent\"", &format!("newton = \"{newton}\""));
+        assert!(changed.contains(&format!("newton = \"{newton}\"")));
+        std::fs::write(&job, changed).unwrap();
+        run_ok(0, &[job.to_str().unwrap()]);
+        tops.push(csv_column(&dir.join("out/monitors.csv"), "top:uy"));
+        let s = summary(&dir);
+        assert!(s["max_damage"][0].as_f64().unwrap() > 0.1, "{}", s["max_damage"]);
+    }
+    let peak = tops[0].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let worst = tops[0].iter().zip(&tops[1]).map(|(a, b)| (a - b).abs()).fold(0.0f64, f64::max);
+    eprintln!("wall top: peak {peak:.6e} m, largest tangent-vs-krylov difference {worst:.3e} m");
+    assert!(peak > 0.0 && tops[0].len() == tops[1].len());
+    assert!(worst <= 1e-6 * peak, "largest difference {worst:.3e} m against a peak of {peak:.3e} m");
+}
+
+#[test]
 fn a_nonlinear_run_agrees_on_one_and_two_ranks() {
     // The damaging wall on 1 and 2 ranks: the top's history agrees within 1e-6 of its peak
     // (Newton tolerance 1e-9 on the force; damage can amplify differences of round-off size).
@@ -447,6 +474,7 @@ fn bad_input_names_file_line_and_key() {
         ("gamma below 1/2", "newton = \"initial\"", "newton = \"initial\"\ngamma = 0.4", "key 'dynamics.gamma'"),
         ("record shorter than the duration", "duration = 0.1", "duration = 0.5", "key 'dynamics.ground_motion[0].file'"),
         ("unknown key", "newton = \"initial\"", "newton = \"initial\"\nnewmark = 1", "key 'dynamics.newmark'"),
+        ("empty Krylov subspace", "newton = \"initial\"", "newton = \"krylov\"\nkrylov_dimension = 0", "key 'dynamics.krylov_dimension'"),
     ];
     for (what, from, to, key) in cases {
         let text = good.replacen(from, to, 1);

@@ -12,7 +12,8 @@
 //! gamma = 0.5                     # Newmark γ (default 1/2)
 //! # alpha = -0.05                 # HHT α in [-1/3, 0] (scheme = "hht"; then β, γ follow from α)
 //! mass = "consistent"             # or "lumped"
-//! newton = "modified"             # tangent | modified | initial
+//! newton = "modified"             # tangent | modified | initial | krylov
+//! krylov_dimension = 3            # newton = "krylov": subspace size before a tangent refresh
 //! max_iterations = 20
 //! force_tolerance = 1e-6          # ‖r‖ ≤ tol · max(‖M ι a_g‖, ‖f_grav‖, ‖f_int‖)
 //! max_substeps = 4                # halvings of a failing step
@@ -65,6 +66,10 @@ pub enum NewtonKind {
     /// Initial stiffness: the initial tangent, factored once for the whole run (refactored only
     /// when the step size changes).
     Initial,
+    /// Modified Newton with Krylov subspace acceleration (Carlson & Miller; OpenSees
+    /// `KrylovNewton`): the tangent of the step's start, the corrections accelerated over the
+    /// last `krylov_dimension` iterations, the tangent refreshed when that subspace is full.
+    Krylov,
 }
 
 /// Ground-motion direction.
@@ -173,6 +178,10 @@ pub struct DynamicsConfig {
     /// Newton variant.
     #[serde(default)]
     pub newton: NewtonKind,
+    /// With `newton = "krylov"`: corrections kept in the acceleration subspace before the
+    /// tangent is refreshed (default 3, as OpenSees).
+    #[serde(default = "three")]
+    pub krylov_dimension: usize,
     /// Newton iterations per (sub)step (default 20).
     #[serde(default = "twenty")]
     pub max_iterations: usize,
@@ -207,6 +216,9 @@ fn one() -> f64 {
 }
 fn one_usize() -> usize {
     1
+}
+fn three() -> usize {
+    3
 }
 fn twenty() -> usize {
     20
@@ -266,6 +278,9 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     }
     if d.max_iterations == 0 {
         return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
+    }
+    if !(1..=50).contains(&d.krylov_dimension) {
+        return Err(src.error_at(&at("krylov_dimension"), format!("expected 1 to 50 subspace vectors, got {}", d.krylov_dimension)));
     }
     if !(d.force_tolerance.is_finite() && d.force_tolerance > 0.0 && d.force_tolerance < 1.0) {
         return Err(src.error_at(&at("force_tolerance"), format!("expected a tolerance in (0, 1), got {}", d.force_tolerance)));

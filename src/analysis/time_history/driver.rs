@@ -165,7 +165,7 @@ pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, resta
     let first_step = state.step;
     let stem = if restart { format!("results-restart-{first_step:06}") } else { "results".to_string() };
     let it = Integration { cfg, job, mesh, model, ground: &ground, stem, restart };
-    let settings = StepSettings { scheme: Scheme { beta, gamma, alpha }, newton: cfg.newton, max_iterations: cfg.max_iterations, tolerance: cfg.force_tolerance, max_substeps: cfg.max_substeps };
+    let settings = StepSettings { scheme: Scheme { beta, gamma, alpha }, newton: cfg.newton, krylov_dimension: cfg.krylov_dimension, max_iterations: cfg.max_iterations, tolerance: cfg.force_tolerance, max_substeps: cfg.max_substeps };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes)?;
     summary.seconds[0] = t_setup;
     summary.seconds[1] = t_gravity;

@@ -13,7 +13,8 @@
 //! | `damping.rs`       | Rayleigh damping from two frequencies and a ratio, or α and β    |
 //! | `ground.rs`        | `a_g(t)` of up to three records; ground velocity and displacement |
 //! | `system.rs`        | the [`DynamicSystem`] trait and a dense implementation            |
-//! | `stepper.rs`       | one step: Newton (tangent, modified, initial) and substepping     |
+//! | `stepper.rs`       | one step: Newton (tangent, modified, initial, krylov), substepping |
+//! | `krylov.rs`        | Krylov subspace acceleration of modified Newton (Carlson–Miller)  |
 //! | `energy.rs`        | the energy balance                                                |
 //! | `petsc_system.rs`  | [`PetscSystem`]: the distributed model (PETSc matrices, KSP reuse) |
 //! | `gravity.rs`       | the static gravity step the earthquake starts from               |
@@ -29,6 +30,7 @@ mod diagnosis;
 mod driver;
 mod envelope;
 mod gravity;
+mod krylov;
 mod monitor;
 mod petsc_system;
 mod progress;

@@ -10,13 +10,16 @@
 //! converged when `‖r‖ ≤ tol · (‖(1+α) f_{n+1} − α f_n + α(C v_n + f_int,n)‖ + ‖M a‖ + (1+α)(‖C v‖ + ‖f_int‖))`.
 //! `K` is the tangent at every iteration (`tangent`), at the step's start (`modified`) or the
 //! initial stiffness (`initial`); the system keeps a factorization while `K` and the coefficients
-//! stay the same, so a linear model factors once per step size.
+//! stay the same, so a linear model factors once per step size. `krylov` is `modified` with the
+//! corrections accelerated in the subspace of the previous ones ([`super::krylov`]), the tangent
+//! refreshed at the current iterate when that subspace is full.
 //!
 //! A step that does not converge (too many iterations, a non-finite residual, an element or solver
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
 //! (for the diagnosis) and the caller decides.
 use super::energy::EnergyBalance;
+use super::krylov::KrylovAccelerator;
 use super::scheme::Scheme;
 use super::system::DynamicSystem;
 use crate::config::NewtonKind;
@@ -28,6 +31,8 @@ pub struct StepSettings {
     pub scheme: Scheme,
     /// Newton variant.
     pub newton: NewtonKind,
+    /// Subspace size of [`NewtonKind::Krylov`].
+    pub krylov_dimension: usize,
     /// Iterations per (sub)step.
     pub max_iterations: usize,
     /// Relative force tolerance.
@@ -118,6 +123,7 @@ pub struct Stepper {
     /// Settings.
     pub settings: StepSettings,
     s: Scratch,
+    krylov: KrylovAccelerator,
 }
 
 #[derive(Default)]
@@ -156,7 +162,7 @@ enum Attempt {
 impl Stepper {
     /// A stepper.
     pub fn new(settings: StepSettings) -> Stepper {
-        Stepper { settings, s: Scratch::default() }
+        Stepper { settings, s: Scratch::default(), krylov: KrylovAccelerator::new(settings.krylov_dimension) }
     }
 
     /// Advances `state` to time `target` (one nominal step), substepping if needed. On success
@@ -210,6 +216,7 @@ impl Stepper {
         let sc = st.scheme;
         let n = sys.len();
         let s = &mut self.s;
+        let krylov = &mut self.krylov;
         for v in [&mut s.u, &mut s.v, &mut s.a, &mut s.fi, &mut s.cv, &mut s.ma, &mut s.r, &mut s.du, &mut s.rhs] {
             v.resize(n, 0.0);
         }
@@ -267,12 +274,20 @@ impl Stepper {
                 NewtonKind::Modified if it == 0 => sys.prepare(Some(&s.u), c_m, c_c),
                 NewtonKind::Modified => Ok(()),
                 NewtonKind::Initial => sys.prepare(None, c_m, c_c),
+                NewtonKind::Krylov if it == 0 || krylov.is_full() => {
+                    krylov.clear();
+                    sys.prepare(Some(&s.u), c_m, c_c)
+                }
+                NewtonKind::Krylov => Ok(()),
             };
             for x in s.r.iter_mut() {
                 *x /= 1.0 + al;
             }
             if let Err(e) = prepared.and_then(|_| sys.solve(&s.r, &mut s.du)) {
                 return Attempt::Failed { residual, reason: e.to_string() };
+            }
+            if st.newton == NewtonKind::Krylov {
+                krylov.correct(sys, &mut s.du);
             }
             for i in 0..n {
                 s.u[i] += s.du[i];
