@@ -12,7 +12,8 @@
 //!
 //! `DEM_SLIP_TERMS=0` leaves sliding contacts' `k_t c cᵀ` out of the preconditioner (the former
 //! behaviour: every stick/slip change is a change of the factorized operator);
-//! `DEM_FORCING=1e-8` fixes the linear tolerance of Newton steps (default: Eisenstat–Walker).
+//! `DEM_FORCING=1e-8` fixes the linear tolerance of Newton steps (default: Eisenstat–Walker),
+//! `DEM_FORCING=ew:0.01` sets Eisenstat–Walker's `η_max`.
 //! `DEM_BROKEN_CSV=path` writes the broken beams in order (event, beam, mode, state).
 //!
 //! Progress goes to stderr every 25 recorded states. With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
@@ -49,7 +50,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.slip_in_preconditioner = v != "0";
     }
     if let Ok(v) = std::env::var("DEM_FORCING") {
-        opts.forcing = Forcing::Fixed(v.parse().map_err(|e| format!("DEM_FORCING={v}: {e}"))?);
+        let num = |x: &str| x.parse::<f64>().map_err(|e| format!("DEM_FORCING={v}: {e}"));
+        opts.forcing = match v.strip_prefix("ew:") {
+            Some(eta_max) => match opts.forcing {
+                Forcing::EisenstatWalker { gamma, alpha, eta_min, .. } => {
+                    Forcing::EisenstatWalker { gamma, alpha, eta_max: num(eta_max)?, eta_min }
+                }
+                f => f,
+            },
+            None => Forcing::Fixed(num(&v)?),
+        };
     }
     let settings = format!("slip_in_preconditioner={} forcing={:?}", opts.slip_in_preconditioner, opts.forcing);
     let mut solver = Solver::new(model, opts, zero)?;

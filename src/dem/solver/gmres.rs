@@ -14,6 +14,10 @@
 //! faer 0.24 ships): with the symmetric part of the tangent as preconditioner, `A M⁻¹` is the
 //! identity plus a low-rank term (one rank-one term per sliding contact), and GMRES converges in
 //! at most that many iterations plus one, monotonically.
+//!
+//! Inside Newton the solve need not be exact: [`Forcing`] chooses its relative tolerance per
+//! step (Eisenstat–Walker: loose while Newton is far from the solution, tight as it converges,
+//! never below what the Newton test needs).
 
 /// The outcome of a GMRES solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
