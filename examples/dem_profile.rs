@@ -10,6 +10,12 @@
 //! `DEM_JACOBIAN_REUSE=0` recomputes every contact Jacobian at every Newton iteration (the
 //! default reuses them while a contact has moved by little, `dem::solver::tangent`).
 //!
+//! `DEM_SLIP_TERMS=0` leaves sliding contacts' `k_t c cᵀ` out of the preconditioner (the former
+//! behaviour: every stick/slip change is a change of the factorized operator);
+//! `DEM_FORCING=1e-8` fixes the linear tolerance of Newton steps (default: Eisenstat–Walker),
+//! `DEM_FORCING=ew:0.01` sets Eisenstat–Walker's `η_max`.
+//! `DEM_BROKEN_CSV=path` writes the broken beams in order (event, beam, mode, state).
+//!
 //! Progress goes to stderr every 25 recorded states. With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
 use std::io::Write;
 use std::time::Instant;
@@ -18,6 +24,7 @@ use masonry_hpc::dem::mechanics::MechParams;
 
 #[path = "common/random_sample.rs"]
 mod random_sample;
+use masonry_hpc::dem::solver::gmres::Forcing;
 use masonry_hpc::dem::solver::{DofControl, DofMap, LoadPoint, Model, Solver, SolverOptions, StageEnd};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -39,6 +46,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_MAX_EVENTS") {
         opts.max_events = v.parse().map_err(|e| format!("DEM_MAX_EVENTS={v}: {e}"))?;
     }
+    if let Ok(v) = std::env::var("DEM_SLIP_TERMS") {
+        opts.slip_in_preconditioner = v != "0";
+    }
+    if let Ok(v) = std::env::var("DEM_FORCING") {
+        let num = |x: &str| x.parse::<f64>().map_err(|e| format!("DEM_FORCING={v}: {e}"));
+        opts.forcing = match v.strip_prefix("ew:") {
+            Some(eta_max) => match opts.forcing {
+                Forcing::EisenstatWalker { gamma, alpha, eta_min, .. } => {
+                    Forcing::EisenstatWalker { gamma, alpha, eta_max: num(eta_max)?, eta_min }
+                }
+                f => f,
+            },
+            None => Forcing::Fixed(num(&v)?),
+        };
+    }
+    let settings = format!("slip_in_preconditioner={} forcing={:?}", opts.slip_in_preconditioner, opts.forcing);
     let mut solver = Solver::new(model, opts, zero)?;
     // DEM_JACOBIAN_REUSE sets the reuse threshold of contact Jacobians (0: recompute each time).
     if let Ok(v) = std::env::var("DEM_JACOBIAN_REUSE") {
@@ -75,6 +98,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             writeln!(f, "{k},{:.12e},{:.12e},{}", c.0, c.1, c.2)?;
         }
     }
+    if let Ok(path) = std::env::var("DEM_BROKEN_CSV") {
+        let mut f = std::fs::File::create(&path)?;
+        writeln!(f, "event,beam,mode,state")?;
+        for (k, b) in solver.broken.iter().enumerate() {
+            writeln!(f, "{k},{},{:?},{}", b.beam, b.mode, b.state)?;
+        }
+    }
     let events = solver.broken.len();
     // Peak resident memory of the process (Linux: VmHWM in /proc/self/status), kB.
     let vm_hwm_kb: Option<u64> = std::fs::read_to_string("/proc/self/status").ok().and_then(|s| {
@@ -84,7 +114,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "stones": sample.particles.len(), "equations": n_eq, "end": end, "events": events,
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
         "peak_stress_pa": peak, "e_pa": e, "solves": solver.n_solves, "cutbacks": solver.n_cutbacks,
-        "vm_hwm_kb": vm_hwm_kb, "factorizations": solver.factor_stats().0, "profile": solver.profile,
+        "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "profile": solver.profile,
     });
     println!("{line}");
     Ok(())

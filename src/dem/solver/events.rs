@@ -116,6 +116,12 @@ pub struct SolverOptions {
     /// End load steps at contact events (stick → slip, a contact closing or opening), see the
     /// module docs (default off).
     pub contact_events: bool,
+    /// Keep every contact's tangential stiffness `k_t c cᵀ` in the factorized preconditioner,
+    /// sliding or not (default on): a stick/slip change then leaves the factorization alone and
+    /// GMRES absorbs the difference ([`super::tangent`]). Off: only sticking contacts carry it.
+    pub slip_in_preconditioner: bool,
+    /// Tolerance of the linear (GMRES) solve inside Newton ([`super::gmres::Forcing`]).
+    pub forcing: super::gmres::Forcing,
 }
 
 impl Default for SolverOptions {
@@ -130,6 +136,8 @@ impl Default for SolverOptions {
             floating: FloatingPolicy::Regularize,
             max_cutbacks: 10,
             contact_events: false,
+            slip_in_preconditioner: true,
+            forcing: super::gmres::Forcing::default(),
         }
     }
 }

@@ -14,6 +14,10 @@
 //! faer 0.24 ships): with the symmetric part of the tangent as preconditioner, `A M⁻¹` is the
 //! identity plus a low-rank term (one rank-one term per sliding contact), and GMRES converges in
 //! at most that many iterations plus one, monotonically.
+//!
+//! Inside Newton the solve need not be exact: [`Forcing`] chooses its relative tolerance per
+//! step (Eisenstat–Walker: loose while Newton is far from the solution, tight as it converges,
+//! never below what the Newton test needs).
 
 /// The outcome of a GMRES solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -131,6 +135,89 @@ pub fn gmres<E>(
     }
 }
 
+/// The relative tolerance `η_k` of the linear solve of each Newton step,
+/// `‖r_k + K_T Δz‖₂ ≤ η_k ‖r_k‖₂` (inexact Newton).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Forcing {
+    /// The same `η` at every step.
+    Fixed(f64),
+    /// Eisenstat and Walker's choice 2 (SIAM J. Sci. Comput. 17(1), 1996, eq. 2.6 with the
+    /// safeguard of §2.3), with a floor from the Newton goal:
+    ///
+    /// ```text
+    ///   η_0 = η_max
+    ///   η_k = γ (‖r_k‖ / ‖r_{k−1}‖)^α                       (how fast Newton converges now)
+    ///   η_k ← max(η_k, γ η_{k−1}^α)    when γ η_{k−1}^α > 0.1   (no sudden drop)
+    ///   η_k ← min(η_k, η_max)
+    ///   η_k ← max(η_k, η_min, ½ g / ‖r_k‖)                   (no solve beyond the goal g)
+    /// ```
+    ///
+    /// `g` is the 2-norm the linear residual need not go below: Newton stops once
+    /// `‖r‖∞ ≤ g`, and `‖·‖∞ ≤ ‖·‖₂`.
+    EisenstatWalker {
+        /// `γ`.
+        gamma: f64,
+        /// `α`.
+        alpha: f64,
+        /// `η_max`: the first and loosest tolerance.
+        eta_max: f64,
+        /// `η_min`: the tightest tolerance.
+        eta_min: f64,
+    },
+}
+
+impl Default for Forcing {
+    /// Eisenstat–Walker with `γ = 0.9`, `α = 2` (the paper's choice), `η_max = 0.1` (the first
+    /// steps of an equilibrium after a break move many contacts: a looser first step costs more
+    /// Newton iterations, each with a residual evaluation and a tangent, than it saves in GMRES),
+    /// `η_min = 10⁻¹⁰`.
+    fn default() -> Self {
+        Forcing::EisenstatWalker { gamma: 0.9, alpha: 2.0, eta_max: 0.1, eta_min: 1e-10 }
+    }
+}
+
+/// The forcing terms of one Newton solve (one equilibrium), step by step.
+#[derive(Clone, Debug)]
+pub struct ForcingSequence {
+    forcing: Forcing,
+    previous: Option<(f64, f64)>,
+}
+
+impl ForcingSequence {
+    /// A new sequence (the next step is the first).
+    pub fn new(forcing: Forcing) -> Self {
+        ForcingSequence { forcing, previous: None }
+    }
+
+    /// `η_k` for a step from a residual of 2-norm `r_norm`, `goal` the 2-norm below which the
+    /// linear residual is useless (see [`Forcing::EisenstatWalker`]).
+    pub fn next(&mut self, r_norm: f64, goal: f64) -> f64 {
+        let eta = match self.forcing {
+            Forcing::Fixed(eta) => eta,
+            Forcing::EisenstatWalker { gamma, alpha, eta_max, eta_min } => {
+                let mut eta = match self.previous {
+                    None => eta_max,
+                    Some((r_prev, eta_prev)) => {
+                        let mut e = if r_prev > 0.0 { gamma * (r_norm / r_prev).powf(alpha) } else { eta_max };
+                        let keep = gamma * eta_prev.powf(alpha);
+                        if keep > 0.1 {
+                            e = e.max(keep);
+                        }
+                        e
+                    }
+                };
+                eta = eta.min(eta_max);
+                if r_norm > 0.0 {
+                    eta = eta.max(0.5 * goal / r_norm);
+                }
+                eta.max(eta_min).min(eta_max.max(eta_min))
+            }
+        };
+        self.previous = Some((r_norm, eta));
+        eta
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -204,5 +291,30 @@ mod tests {
         .unwrap();
         assert!(info.converged && info.iterations == 1, "{info:?}");
         assert!(x.iter().zip(&b).all(|(x, b)| (3.0 * x - b).abs() < 1e-15));
+    }
+
+    #[test]
+    fn eisenstat_walker_follows_the_convergence_rate_within_its_bounds() {
+        // γ = 0.9, α = 2, η_max = 0.1, η_min = 1e-10, goal 1e-12.
+        // Step 0: η_max = 0.1. Step 1: ‖r‖ falls 1 → 0.1: 0.9 · 0.1² = 9e-3 (safeguard
+        // 0.9 · 0.1² = 9e-3 ≤ 0.1 not applied). Step 2: 0.1 → 1e-4: 0.9 · 1e-6 = 9e-7.
+        // Step 3: ‖r‖ = 1e-11, ratio 1e-7: 0.9e-14, below both ½ goal/‖r‖ = 0.05 → 0.05.
+        let f = Forcing::EisenstatWalker { gamma: 0.9, alpha: 2.0, eta_max: 0.1, eta_min: 1e-10 };
+        let mut s = ForcingSequence::new(f);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
+        assert!(close(s.next(1.0, 1e-12), 0.1));
+        assert!(close(s.next(0.1, 1e-12), 9e-3));
+        assert!(close(s.next(1e-4, 1e-12), 9e-7));
+        assert!(close(s.next(1e-11, 1e-12), 0.05));
+        // Slow convergence (ratio 0.9) is capped at η_max; the fixed forcing never changes.
+        let mut s = ForcingSequence::new(f);
+        s.next(1.0, 0.0);
+        assert!(close(s.next(0.9, 0.0), 0.1));
+        // With a goal of 0 the floor is η_min.
+        let mut s = ForcingSequence::new(f);
+        s.next(1.0, 0.0);
+        assert!(close(s.next(1e-9, 0.0), 1e-10));
+        let mut s = ForcingSequence::new(Forcing::Fixed(1e-8));
+        assert_eq!((s.next(1.0, 0.5), s.next(1e-6, 0.5)), (1e-8, 1e-8));
     }
 }

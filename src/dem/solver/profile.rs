@@ -30,8 +30,9 @@ pub struct SolverProfile {
     /// Woodbury columns dropped because their term left the operator before a refactorization
     /// (no solve).
     pub columns_dropped: usize,
-    /// Contact terms that entered / left the operator: normal in, normal out, sticking
-    /// tangential in, tangential out (the contact-set churn the Woodbury columns pay for).
+    /// Contact terms that entered / left the operator: normal in, normal out, tangential in,
+    /// tangential out (the contact-set churn the Woodbury columns pay for; with
+    /// `SolverOptions::slip_in_preconditioner` off, every stick↔slip flip counts here).
     pub operator_changes: [usize; 4],
     /// Largest Woodbury rank reached.
     pub max_rank: usize,

@@ -13,9 +13,16 @@
 //! of application (`F_n ∂b/∂q`, which for a corner contact with a short chord is as large as the
 //! penalty term). `G` maps the pair to the generalized coordinates ([`super::DofMap::pair_map`]).
 //!
-//! The factorized operator (beams, penalty `k_n w_b w_bᵀ`, sticking `k_t w_c w_cᵀ`, `ε`) is the
+//! The factorized operator (beams, penalty `k_n w_b w_bᵀ`, tangential `k_t w_c w_cᵀ`, `ε`) is the
 //! symmetric positive definite approximation of `K_T` used as GMRES preconditioner
-//! ([`super::gmres`]); for flat sticking contacts the two agree.
+//! ([`super::gmres`]); for flat sticking contacts the two agree. Every contact carries its
+//! `k_t w_c w_cᵀ` there whether it sticks or slides (`SolverOptions::slip_in_preconditioner`):
+//! a sliding contact's tangent replaces it by the slip coupling `μ sign(F_t) w_c (∂F_n)ᵀ`, a
+//! rank-one difference per sliding contact that GMRES absorbs, while the factorization changes
+//! only when a contact closes or opens. With only sticking contacts in it, each of the ~55
+//! stick↔slip flips per Newton iteration of a 10k-stone sample was a Woodbury column pair, and the
+//! rank cap forced a refactorization nearly every iteration (`examples/dem_profile.rs`, 100
+//! events of 10k stones: 262 factorizations and 4520 columns before, 20 and 338 after).
 //!
 //! **Reused Jacobians.** Twelve evaluations of the contact law per contact and Newton iteration
 //! dominated large samples, where a break moves the far contacts by little. A contact's `J_c` is
