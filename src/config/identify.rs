@@ -18,6 +18,8 @@
 //! peak_stress = 2.1e6
 //!
 //! [calibration]                # (a)
+//! strategy = "staged"          # (alpha, e_bar) from (nu, E) on the elastic state, then the
+//!                              # strengths by kriging + EI; or "joint" (all at once)
 //! samples = 4                  # random samples per design point (mean ± std)
 //! design_points = 16           # Latin hypercube
 //! iterations = 4               # EGO infill iterations
@@ -121,6 +123,9 @@ pub struct CalibrationBounds {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CalibrationConfig {
+    /// Staged (elastic parameters first) or joint (identify::calibration).
+    #[serde(default)]
+    pub strategy: crate::identify::Strategy,
     /// Random samples per design point.
     #[serde(default = "four")]
     pub samples: usize,
