@@ -272,7 +272,7 @@ mod tests {
     fn recovers_alpha_and_e_bar_of_a_synthetic_lattice() {
         // Truth: α* solves 0.3 − 0.35 α + 0.12 α² = 0.19 (the smaller root of the quadratic),
         // Ē* = 2.885e9 / (0.7 + 0.25 α*).
-        let (a, b, c) = (0.12, -0.35, 0.3 - 0.19);
+        let (a, b, c): (f64, f64, f64) = (0.12, -0.35, 0.3 - 0.19);
         let alpha_true = (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
         let e_bar_true = 2.885e9 / (0.7 + 0.25 * alpha_true);
         let s = ElasticSettings::new([0.2, 0.8], [2.0e9, 5.0e9], 0.19, 2.885e9);
