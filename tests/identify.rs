@@ -210,6 +210,28 @@ fn bad_bounds_are_located() {
 }
 
 #[test]
+fn bad_calibration_strategy_and_weights_are_located() {
+    let dir = scratch("identify-bad-strategy");
+    let job = |extra: &str| {
+        let text = format!(
+            "[analysis]\ntype = \"identification\"\n[sample]\nseed = 1\n{TINY_WALL}\n\
+             [experiment]\nyoung_modulus = 2.885e9\npoisson = 0.19\nfirst_crack_stress = 0.4e6\npeak_stress = 2.1e6\n\
+             [calibration]\n{extra}\ntest = {{ type = \"compression\", max_strain = 3.0e-3, steps = 30 }}\n\
+             bounds = {{ alpha = [0.5, 1.2], e_bar = [1.5e9, 3.5e9], eps_cr = [5e-5, 2e-4], theta_cr = [3e-4, 1.5e-3] }}\n\
+             [output]\ndir = \"out\"\nexisting = \"overwrite\"\n"
+        );
+        let f = dir.join("cal.toml");
+        std::fs::write(&f, text).unwrap();
+        f
+    };
+    // Line 12 holds the extra key.
+    let f = job("strategy = \"both\"");
+    expect_error(&dir, &f, &["cal.toml:12:", "both", "staged", "joint"], &[0, 2]);
+    let f = job("weights = [1.0, 1.0, 0.0, 0.0]");
+    expect_error(&dir, &f, &["cal.toml:12:", "key 'calibration.weights'", "strategy = \"joint\""], &[0]);
+}
+
+#[test]
 fn element_above_the_regularization_limit_gives_the_limit() {
     // hillerborg_no_elastic needs h < 2 E G_f / f_t² everywhere in the box; the smallest limit
     // is at gf_t = 10, eps0_t = 2e-4: 2 · 2.885e9 · 10 / (2.885e9 · 2e-4)² = 0.17331 m < h = 1.2 m.

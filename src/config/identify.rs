@@ -352,6 +352,12 @@ impl IdentifyJob {
             if c.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) || c.weights.iter().all(|w| *w == 0.0) {
                 return Err(source.error_at(&at(&["calibration", "weights"]), "expected four finite weights >= 0, not all zero"));
             }
+            if c.strategy == crate::identify::Strategy::Staged && c.weights[2] == 0.0 && c.weights[3] == 0.0 {
+                return Err(source.error_at(
+                    &at(&["calibration", "weights"]),
+                    "the staged strategy fits the first crack and the peak in its second stage, and both weights are 0: give one > 0, or strategy = \"joint\"",
+                ));
+            }
             let ex = spec.experiment.clone().unwrap_or_default();
             let need = |v: Option<f64>, k: &str| -> Result<f64, super::ConfigError> {
                 match v {
