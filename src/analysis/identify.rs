@@ -3,7 +3,9 @@
 //! material file. Phases, each collective and followed by an agreement on errors:
 //!
 //! ```text
-//!  calibrate      LHS × samples → EGO (q-EI)      → calibration.json/.csv, calibration.png
+//!  calibrate      staged: elastic α, Ē (1-D root) → calibration_elastic.csv
+//!                 then strengths: LHS × samples → EGO (q-EI); or joint: all unknowns by EGO
+//!                                                 → calibration.json/.csv, calibration.png
 //!  virtual tests  tension + compression × samples → dem_tension.csv, dem_compression.csv
 //!  identify law   2⁵ factorial → EGO (q-EI)       → law.csv, law_error.png, law_tension.png,
 //!                                                   law_compression.png, material.toml

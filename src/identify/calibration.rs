@@ -19,10 +19,11 @@
 //!   strengths (ε_cr, θ_cr[, σ_c]) come from (first crack, peak) by kriging + EI on
 //!   `J₂ = w₃ e²_first crack + w₄ e²_peak` (E and ν do not change in stage 2: same samples,
 //!   same elastic parameters). Why: in the joint search the strengths' errors pull α: first
-//!   crack and peak both grow with α (at fixed ε_cr, σ_c, α 0.37 → 0.55 raises them by 25 % and
-//!   11 %, 8 samples of the paper's wall), so one move of α mends two errors at the cost of a
-//!   ν error that J weighs lightly (5 % in ν adds 0.0025 to J); a surrogate fitted to 40
-//!   points in 5 unknowns settled at α's upper bound with ν −5.4 %. Staging removes that
+//!   crack and peak both grow with α (at fixed ε_cr, θ_cr, σ_c, α 0.37 → 0.55 raises them by
+//!   27 % and 11 %, 8 samples of the paper's wall), so one move of α mends two errors at the
+//!   cost of a ν error that J weighs lightly (5 % in ν adds 0.0025 to J); a surrogate fitted to
+//!   40 points in 5 unknowns settled at α's upper bound with ν −5.4 %, in the shallow basin
+//!   where α alone meets the first crack, and missed the narrow valley where ε_cr and σ_c do. Staging removes that
 //!   trade: ν is met to 0.1 % by construction, and EGO works in 2 or 3 unknowns.
 //! * `joint`: all unknowns at once by kriging + EI on J (SPEC §3a as written).
 //!
