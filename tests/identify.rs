@@ -210,6 +210,28 @@ fn bad_bounds_are_located() {
 }
 
 #[test]
+fn bad_calibration_strategy_and_weights_are_located() {
+    let dir = scratch("identify-bad-strategy");
+    let job = |extra: &str| {
+        let text = format!(
+            "[analysis]\ntype = \"identification\"\n[sample]\nseed = 1\n{TINY_WALL}\n\
+             [experiment]\nyoung_modulus = 2.885e9\npoisson = 0.19\nfirst_crack_stress = 0.4e6\npeak_stress = 2.1e6\n\
+             [calibration]\n{extra}\ntest = {{ type = \"compression\", max_strain = 3.0e-3, steps = 30 }}\n\
+             bounds = {{ alpha = [0.5, 1.2], e_bar = [1.5e9, 3.5e9], eps_cr = [5e-5, 2e-4], theta_cr = [3e-4, 1.5e-3] }}\n\
+             [output]\ndir = \"out\"\nexisting = \"overwrite\"\n"
+        );
+        let f = dir.join("cal.toml");
+        std::fs::write(&f, text).unwrap();
+        f
+    };
+    // Line 12 holds the extra key.
+    let f = job("strategy = \"both\"");
+    expect_error(&dir, &f, &["cal.toml:12:", "both", "staged", "joint"], &[0, 2]);
+    let f = job("weights = [1.0, 1.0, 0.0, 0.0]");
+    expect_error(&dir, &f, &["cal.toml:12:", "key 'calibration.weights'", "strategy = \"joint\""], &[0]);
+}
+
+#[test]
 fn element_above_the_regularization_limit_gives_the_limit() {
     // hillerborg_no_elastic needs h < 2 E G_f / f_t² everywhere in the box; the smallest limit
     // is at gf_t = 10, eps0_t = 2e-4: 2 · 2.885e9 · 10 / (2.885e9 · 2e-4)² = 0.17331 m < h = 1.2 m.
@@ -250,9 +272,22 @@ fn dem_job(dir: &Path, name: &str, alpha: f64, mech: &str) -> PathBuf {
     f
 }
 
+/// The DEM job's sample means as the calibration counts them: E, ν and the first crack over
+/// every sample that ran (a sample stopped at its peak without equilibrium still has valid
+/// states before it), the peak over the counted samples only.
 fn dem_means(dir: &Path, name: &str) -> [f64; 4] {
     let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{name}-out/summary.json"))).unwrap()).unwrap();
-    ["young_modulus", "poisson", "first_crack_stress", "peak_stress"].map(|k| s[k]["mean"].as_f64().unwrap())
+    let samples = s["samples"].as_array().unwrap();
+    let mean = |k: &str, counted_only: bool| {
+        let v: Vec<f64> = samples
+            .iter()
+            .filter(|x| !counted_only || x["counted"].as_bool().unwrap())
+            .filter_map(|x| x["result"]["Ok"][k].as_f64())
+            .collect();
+        assert!(!v.is_empty(), "{name}: no sample has {k}");
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    [mean("young_modulus", false), mean("poisson", false), mean("first_crack_stress", false), mean("peak_stress", true)]
 }
 
 #[test]
@@ -306,11 +341,29 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
     let (a, b) = (rows(2), rows(0));
     assert_eq!(a.len(), 6);
     for (ra, rb) in a.iter().zip(&b) {
-        assert_eq!(ra[2..6], rb[2..6], "design points differ");
+        // α, Ē come from stage 1 (DEM results, 1e-9), the strengths from the seeded design.
+        for c in 2..4 {
+            let (x, y): (f64, f64) = (ra[c].parse().unwrap(), rb[c].parse().unwrap());
+            assert!((x - y).abs() <= 1e-9 * x.abs(), "column {c}: {x} (2 ranks) vs {y} (1 rank)");
+        }
+        assert_eq!(ra[4..6], rb[4..6], "design points differ");
         let (x, y): (f64, f64) = (ra[6].parse().unwrap(), rb[6].parse().unwrap());
         assert!((x - y).abs() <= 1e-9 * x.abs(), "objective {x} (2 ranks) vs {y} (1 rank)");
     }
     let cal = &summaries[0]["calibration"];
+    // Stage 1 (staged, the default) finds the truth's elastic parameters: ν̄ within its
+    // tolerance 1e-3 relative of the truth's (same samples), so α within 1e-3 ν / |dν/dα|
+    // ≈ 1e-3 · 0.13 / 0.12 ≈ 1.1e-3 of 0.8 (README table: dν/dα ≈ −0.12 near α = 0.8, ν 0.13);
+    // Ē within |d ln ḡ/dα| · 1.1e-3 ≈ 0.25 · 1.1e-3 ≈ 3e-4 of 2.5 GPa, with E met exactly.
+    assert_eq!(cal["strategy"], "staged");
+    let el = &cal["elastic"];
+    assert!(el["converged"].as_bool().unwrap(), "{el}");
+    let (alpha, e_bar) = (el["alpha"].as_f64().unwrap(), el["e_bar"].as_f64().unwrap());
+    assert!((alpha - 0.8).abs() < 1.1e-3, "alpha {alpha}");
+    assert!((e_bar / 2.5e9 - 1.0).abs() < 3e-4, "e_bar {e_bar}");
+    assert!((el["poisson"]["mean"].as_f64().unwrap() - t[1]).abs() <= 1e-3 * t[1]);
+    assert_eq!(cal["parameters"]["alpha"].as_f64().unwrap(), alpha);
+    assert!(dir.join("out-2/calibration_elastic.csv").is_file());
     // The result file records the sample statistics at the optimum: an independent DEM job at
     // the identified parameters gives the same means (same samples; 1e-9 relative, JSON round-off).
     let p = &cal["parameters"];
@@ -334,4 +387,22 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
     // The objective J = Σ (relative error)² of the recorded statistics.
     let j: f64 = (0..4).map(|k| cal["relative_errors"][k].as_f64().unwrap().powi(2)).sum();
     assert!((cal["objective"].as_f64().unwrap() - j).abs() <= 1e-9 * j);
+
+    // The joint strategy (all four unknowns by kriging + EI) still runs: its history holds the
+    // four-term J, and no elastic stage.
+    let joint = job
+        .replace("[calibration]\n", "[calibration]\nstrategy = \"joint\"\n")
+        .replace("design_points = 6\niterations = 2", "design_points = 5\niterations = 1")
+        .replace("OUT", "out-joint");
+    let joint = &joint[..joint.find("[law]").unwrap()];
+    let f = dir.join("joint.toml");
+    std::fs::write(&f, format!("{joint}[output]\ndir = \"out-joint\"\nexisting = \"overwrite\"\n")).unwrap();
+    let out = run(0, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "joint: {}\n{}", stdout(&out), stderr(&out));
+    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out-joint/summary.json")).unwrap()).unwrap();
+    let cal = &s["calibration"];
+    assert_eq!(cal["strategy"], "joint");
+    assert!(cal["elastic"].is_null());
+    let best = cal["history"].as_array().unwrap().iter().filter_map(|h| h[2]["Ok"].as_f64()).fold(f64::INFINITY, f64::min);
+    assert!((cal["objective"].as_f64().unwrap() - best).abs() <= 1e-12 * best, "J {} vs best of the history {best}", cal["objective"]);
 }

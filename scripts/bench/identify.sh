@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Identification benchmark: the whole chain of jobs/identify-wall.toml (DEM calibration of the
 # paper's wall against Table 1, virtual tension and compression tests, damage-law identification,
-# material file) on 2 ranks, against the paper's figure for the law identification alone
+# material file) on 2 ranks (wall and CPU seconds), against the paper's figure for the law identification alone
 # ("32 combinations, about 2 hours for the tensile test"). One JSON line per case: the chain,
 # and each phase. Also the calibration machinery on a synthetic target: the DEM's own numbers on
 # a small wall at the paper's parameters, to be recovered within 5% (sample means).
@@ -14,11 +14,16 @@ trap 'rm -rf "$work"' EXIT
 sed -e "s#\"../results/identify-wall\"#\"$work/out\"#" -e "s#\"../results/materials/wall-identified.toml\"#\"$work/material.toml\"#" \
     jobs/identify-wall.toml > "$work/chain.toml"
 start=$(date +%s.%N)
-mpirun -n 2 target/release/masonry-hpc -q "$work/chain.toml" > "$work/log" 2>&1 || true
+/usr/bin/time -f "%U %S" -o "$work/cpu" mpirun -n 2 target/release/masonry-hpc -q "$work/chain.toml" > "$work/log" 2>&1 || true
 end=$(date +%s.%N)
-python3 - "$work/out/summary.json" "$start" "$end" "$work/log" <<'PY'
+python3 - "$work/out/summary.json" "$start" "$end" "$work/log" "$work/cpu" <<'PY'
 import json, os, sys
 path, wall = sys.argv[1], float(sys.argv[3]) - float(sys.argv[2])
+# CPU seconds (user + sys of mpirun and its ranks): the machine may be shared, wall time is not.
+try:
+    cpu = round(sum(float(x) for x in open(sys.argv[5]).read().split()[-2:]), 2)
+except (OSError, ValueError):
+    cpu = None
 paper = 7200.0
 if not os.path.exists(path):
     print(json.dumps({"case": "identify-chain-paper-wall", "ranks": 2, "seconds": round(wall, 3), "completed": False,
@@ -27,12 +32,14 @@ if not os.path.exists(path):
 s = json.load(open(path))
 sec = s["seconds"]
 cal, law = s.get("calibration") or {}, s.get("law") or {}
-line = {"case": "identify-chain-paper-wall", "ranks": 2, "seconds": round(wall, 3), "completed": True,
+line = {"case": "identify-chain-paper-wall", "ranks": 2, "seconds": round(wall, 3), "cpu_seconds": cpu, "completed": True,
+        "strategy": cal.get("strategy"),
         "dem_evaluations": cal.get("evaluations"), "law_evaluations": len(law.get("history", [])),
         "paper_seconds": paper, "ratio_paper_over_ours": round(paper / wall, 2)}
 if s.get("calibration_within_5_percent") is not None:
     line["calibration_within_5_percent"] = s["calibration_within_5_percent"]
     line["calibration_relative_errors"] = [round(e, 4) for e in cal["relative_errors"]]
+    line["calibration_mean_std_n"] = [[st["mean"], st["std"], st["n"]] for st in cal["stats"]]
 if law:
     line["law_peak_errors"] = [round(law["tension_peak_error"], 4), round(law["compression_peak_error"], 4)]
 print(json.dumps(line))

@@ -3,7 +3,9 @@
 //! material file. Phases, each collective and followed by an agreement on errors:
 //!
 //! ```text
-//!  calibrate      LHS × samples → EGO (q-EI)      → calibration.json/.csv, calibration.png
+//!  calibrate      staged: elastic α, Ē (1-D root) → calibration_elastic.csv
+//!                 then strengths: LHS × samples → EGO (q-EI); or joint: all unknowns by EGO
+//!                                                 → calibration.json/.csv, calibration.png
 //!  virtual tests  tension + compression × samples → dem_tension.csv, dem_compression.csv
 //!  identify law   2⁵ factorial → EGO (q-EI)       → law.csv, law_error.png, law_tension.png,
 //!                                                   law_compression.png, material.toml
@@ -93,6 +95,7 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
             design_points: c.design_points,
             seed,
             ego: EgoSettings { iterations: c.iterations, batch: c.batch, seed, log_transform: true, target: None },
+            strategy: c.strategy,
         };
         let result = agree(&ctx.comm, calibrate(ctx, &cal).map_err(analysis_err), Error::exit_code)?;
         let written = match &result {
@@ -251,7 +254,8 @@ fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) ->
     let dir = &job.output_dir;
     let p = &r.parameters;
     ctx.log.info(format!(
-        "calibrated DEM: alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e}{} (mu = {} fixed); J = {:.4e} after {} evaluations",
+        "calibrated DEM ({:?}): alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e}{} (mu = {} fixed); J = {:.4e} after {} evaluations",
+        r.strategy,
         p.alpha,
         p.e_bar,
         p.eps_cr,
@@ -275,6 +279,27 @@ fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) ->
             t[k] / scale[k],
             100.0 * r.relative_errors[k]
         ));
+    }
+    if let Some(el) = &r.elastic {
+        ctx.log.info(format!(
+            "  stage 1 (elastic): {} alpha value(s) evaluated, nu {} its tolerance{}",
+            el.points.len(),
+            if el.converged { "within" } else { "NOT within" },
+            el.note.as_ref().map_or(String::new(), |n| format!(": {n}"))
+        ));
+        let mut csv = String::from("round,alpha,poisson_mean,poisson_std,e_over_e_bar_mean,e_over_e_bar_std,n,error\n");
+        for p in &el.points {
+            let _ = match &p.value {
+                Ok(m) => writeln!(
+                    csv,
+                    "{},{:e},{:e},{:e},{:e},{:e},{},",
+                    p.round, p.alpha, m.poisson.mean, m.poisson.std, m.e_ratio.mean, m.e_ratio.std, m.poisson.n
+                ),
+                Err(e) => writeln!(csv, "{},{:e},,,,,,{}", p.round, p.alpha, e.replace([',', '\n'], ";")),
+            };
+        }
+        let f = dir.join("calibration_elastic.csv");
+        std::fs::write(&f, csv).map_err(io_err(&f))?;
     }
     let crushing = r.history.first().is_some_and(|h| h.1.len() > 4);
     let mut csv = String::from(if crushing {

@@ -18,6 +18,8 @@
 //! peak_stress = 2.1e6
 //!
 //! [calibration]                # (a)
+//! strategy = "staged"          # (alpha, e_bar) from (nu, E) on the elastic state, then the
+//!                              # strengths by kriging + EI; or "joint" (all at once)
 //! samples = 4                  # random samples per design point (mean ± std)
 //! design_points = 16           # Latin hypercube
 //! iterations = 4               # EGO infill iterations
@@ -121,6 +123,9 @@ pub struct CalibrationBounds {
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CalibrationConfig {
+    /// Staged (elastic parameters first) or joint (identify::calibration).
+    #[serde(default)]
+    pub strategy: crate::identify::Strategy,
     /// Random samples per design point.
     #[serde(default = "four")]
     pub samples: usize,
@@ -346,6 +351,12 @@ impl IdentifyJob {
             }
             if c.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) || c.weights.iter().all(|w| *w == 0.0) {
                 return Err(source.error_at(&at(&["calibration", "weights"]), "expected four finite weights >= 0, not all zero"));
+            }
+            if c.strategy == crate::identify::Strategy::Staged && c.weights[2] == 0.0 && c.weights[3] == 0.0 {
+                return Err(source.error_at(
+                    &at(&["calibration", "weights"]),
+                    "the staged strategy fits the first crack and the peak in its second stage, and both weights are 0: give one > 0, or strategy = \"joint\"",
+                ));
             }
             let ex = spec.experiment.clone().unwrap_or_default();
             let need = |v: Option<f64>, k: &str| -> Result<f64, super::ConfigError> {

@@ -143,3 +143,33 @@ where
     }
     Ok(if ctx.rank == 0 { Some(records) } else { None })
 }
+
+/// Collective. A sequence of evaluation rounds driven by rank 0: evaluate `first` (rank 0's),
+/// each point as `tasks_per_point` tasks of `work`; then `next` (called on rank 0 only, with the
+/// round's points and their tasks grouped per point) gives the next round's points, or `None` to
+/// stop. An error of `next` is broadcast, so every rank returns it. The loop of [`run_ego`] for
+/// searches that are not EGO (e.g. the elastic stage of the calibration, a 1-D root).
+pub fn run_rounds<R, W, N>(ctx: &Context, first: Vec<Vec<f64>>, tasks_per_point: usize, work: W, mut next: N) -> Result<(), IdentifyError>
+where
+    R: Serialize + DeserializeOwned + Send,
+    W: Fn(&[f64], usize) -> TaskResult<R> + Sync,
+    N: FnMut(&[Vec<f64>], Vec<Vec<TaskResult<R>>>) -> Result<Option<Vec<Vec<f64>>>, IdentifyError>,
+{
+    let mut cmd = Command::Evaluate(first);
+    loop {
+        let points = match broadcast_json(ctx, Some(&cmd))? {
+            Command::Evaluate(p) => p,
+            Command::Stop => return Ok(()),
+            Command::Fail(msg) => return Err(IdentifyError::Settings(msg)),
+        };
+        let results = evaluate_points(ctx, &points, tasks_per_point, &work)?;
+        cmd = Command::Stop;
+        if let Some(results) = results {
+            cmd = match next(&points, results) {
+                Ok(Some(p)) => Command::Evaluate(p),
+                Ok(None) => Command::Stop,
+                Err(e) => Command::Fail(e.to_string()),
+            };
+        }
+    }
+}

@@ -12,6 +12,7 @@
 //! | `error_measure.rs` | paper eq. 15 and the relative RMS                                       |
 //! | `dem_adapter.rs`   | the one adapter to the DEM virtual lab                                  |
 //! | `calibration.rs`   | (a) DEM calibration against E, ν, first-crack and peak stresses         |
+//! | `elastic_fit.rs`   | (a), staged: stage 1, (α, Ē) from (ν, E) on the elastic state          |
 //! | `virtual_tests.rs` | the calibrated DEM's tension and compression tests, mean curves         |
 //! | `law_fit.rs`       | (b) damage-law identification from the virtual tests                    |
 //! | `polish.rs`        | Nelder–Mead polish of the EGO optimum (cheap objectives)                |
@@ -24,6 +25,7 @@
 pub mod calibration;
 pub mod collective;
 pub mod curves;
+pub mod elastic_fit;
 pub mod dem_adapter;
 pub mod doe;
 pub mod ego;
@@ -35,7 +37,7 @@ pub mod polish;
 pub mod space;
 pub mod virtual_tests;
 
-pub use calibration::{calibrate, Calibration, CalibrationResult, Stat, Targets};
+pub use calibration::{calibrate, Calibration, CalibrationResult, Stat, Strategy, Targets};
 pub use curves::Curve;
 pub use dem_adapter::{DemParameters, DemRun};
 pub use ego::{Ego, EgoSettings, Evaluation};
