@@ -305,15 +305,23 @@ fn tension_damage(dir: &std::path::Path, nx: usize, nz: usize) -> Vec<f64> {
 /// mesh written here took a vertical splitting crack along a mesh line (256 J against 428 J at
 /// 2.8 mm), the meshes of scripts/make_quad_mesh.py (same geometry, other numbering) the diagonal
 /// band, and on 20 × 24 τ/2 gave the splitting crack (234 J) where τ and τ/4 gave the band.
-/// Measured with the averaging: FIGURES_MESHES.
+/// Measured with the averaging, on the meshes of scripts/make_quad_mesh.py (the job's; this
+/// test's own numbering has not been run yet): 15 × 18 and 20 × 24 reach 4 mm with the
+/// diagonal band of d_c, flexural cracks (d_t) at the heel and the opposite top corner and no
+/// splitting crack; peaks 278.0 and 276.4 kN at 2.2–2.4 mm, 233.9 and 232.4 kN at 4 mm (−16 %),
+/// 621.4 and 602.4 J (3.1 % apart), d_c correlation −0.505 (15 × 18). 25 × 30 follows them
+/// (499.4 J at 3.62 mm against 518 and 498 J there: 3.9 % over the three) but STOPS at 3.62 mm:
+/// an increment fails after six halvings (relative residual 1.9e-2, the largest out-of-balance
+/// force at a node of the row above the base). So this test FAILS today on 25 × 30.
 ///
 /// Asserted: per mesh, those of [`acceptance_run`]; across the 15 × 18, 20 × 24 and 25 × 30
 /// meshes, (max − min) / mean of the dissipated energy at 4 mm below 0.05.
 ///
-/// Cost, CPU seconds of the debug build: COST_MESHES: minutes, so the test is ignored in the
-/// debug suite: `cargo test --test wall_shear -- --ignored` (or with `--release`).
+/// Cost, CPU seconds of the debug build (opt-level 1): 17 (15 × 18), 73 (20 × 24), 224 (25 × 30
+/// to where it stopped): minutes, so the test is ignored in the debug suite:
+/// `cargo test --test wall_shear -- --ignored` (or with `--release`).
 #[test]
-#[ignore = "minutes of CPU: cargo test --test wall_shear -- --ignored"]
+#[ignore = "fails today (25x30 stops at 3.62 mm of 4) and takes minutes of CPU: cargo test --test wall_shear -- --ignored"]
 fn wall_shear_dissipated_energy_agrees_across_three_meshes() {
     let runs: Vec<Acceptance> = [(15, 18), (20, 24), (25, 30)].iter().map(|&(nx, nz)| acceptance_run(nx, nz, 0.002)).collect();
     let energies: Vec<f64> = runs.iter().map(|a| a.energy).collect();
@@ -327,7 +335,8 @@ fn wall_shear_dissipated_energy_agrees_across_three_meshes() {
 /// τ = 0.002 and τ/2 (where the local law jumped from the diagonal band to a splitting crack).
 /// Asserted: both runs pass [`acceptance_run`]'s checks, and their dissipated energies at 4 mm
 /// differ by less than 5% (the tolerance for meshes, applied to τ).
-/// Measured: FIGURES_TAU. Ignored for its cost (as above).
+/// Not measured yet with the averaging (the τ run alone: 602.4 J, see above). Ignored for its
+/// cost (as above).
 #[test]
 #[ignore = "minutes of CPU: cargo test --test wall_shear -- --ignored"]
 fn wall_shear_mechanism_does_not_depend_on_the_viscosity() {
@@ -380,7 +389,7 @@ fn nonlocal_radius_bad_input_is_named() {
     let job = wall(&dir, 2, 2, 2);
     let text = std::fs::read_to_string(&job).unwrap().replace("steps = 2\n[analysis.control]", "steps = 2\nnonlocal_radius = -0.1\n[analysis.control]");
     std::fs::write(&job, &text).unwrap();
-    expect_job_error(&job, 2, &["nonlocal_radius", "job.toml:3"]);
+    expect_job_error(&job, 2, &["key 'analysis.nonlocal_radius'", "job.toml:4:1", "> 0, got -0.1"]);
     let elastic = text
         .replace("nonlocal_radius = -0.1", "nonlocal_radius = 0.1")
         .replace("[materials.masonry]\ntype = \"damage\"\n[materials.masonry.law]\n", "[materials.masonry]\ntype = \"elastic\"\n")
