@@ -8,8 +8,8 @@
 //! shear under 1 MPa the diagonal band of compression damage competes with a vertical splitting
 //! crack, a one-cell column of points whose tr σ̃ has crossed to the tensile side. Crossing the
 //! unilateral switch is a jump in strength, because both sides are driven by the same ε_eq:
-//! a point loaded in compression with a principal extension of 3e-4 has d_c ≈ 0.2
-//! (ε₀^c = 2e-4), the same strain on the tensile side gives d_t ≈ 0.85 (ε₀^t = 5e-5). A single
+//! a point loaded in compression with an equivalent strain of 3e-4 has d_c ≈ 0.27
+//! (ε₀^c = 2e-4), the same strain on the tensile side gives d_t ≈ 0.85 (ε₀^t = 5e-5, B_t = 360 at h = 0.05 m). A single
 //! point that crosses loses most of its stiffness at once, its neighbours follow, and the column
 //! of cells on one mesh line becomes a crack.
 //!
