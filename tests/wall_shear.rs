@@ -219,69 +219,185 @@ fn weighted_xz_correlation(d: &[f64], c: &[[f64; 2]]) -> f64 {
     cov(0, mx, 1, mz) / (cov(0, mx, 0, mx) * cov(1, mz, 1, mz)).sqrt()
 }
 
+/// Radius of the nonlocal averaging of issue 5's acceptance case (jobs/wall-shear-fe.toml):
+/// about one stone of the paper's wall (ten courses of six stones in 1.2 × 1.0 m: 0.17 × 0.12 m),
+/// and 2.25 elements of the coarsest of the three meshes.
+const NONLOCAL_RADIUS: f64 = 0.15;
+
+/// What one run of the acceptance case gives (see [`acceptance_run`]).
+#[derive(Debug, Clone, Copy)]
+#[allow(dead_code)] // the fields are read through Debug, in the printed line
+struct Acceptance {
+    peak: f64,
+    peak_at: f64,
+    last: f64,
+    energy: f64,
+    corr_c: f64,
+    longest_column: f64,
+}
+
+/// Issue 5's acceptance case on an nx × nz mesh written by [`wall`] with the relaxation time
+/// `tau`: the law of jobs/wall-shear-fe.toml (A_c = 0.3, G_c = 264.6 J/m², nonlocal radius
+/// [`NONLOCAL_RADIUS`], residual tolerance 1e-4), the platen pushed 4 mm in 20 increments.
+/// Asserted per run: the run reaches 4 mm; the force peaks inside the run and falls by more than
+/// 10% after it (softening); the compression damage lies on the loaded diagonal (in the rows
+/// between the top and bottom rows the d_c-weighted correlation of the cells' x and z is below
+/// −0.5: −1 on the line from the top-left to the bottom-right corner, 0 for horizontal bands or
+/// a uniform field); no vertical splitting crack: in no column of cells is d_t > 0.9 in 90% or
+/// more of those rows (the splitting crack of the local law had d_t ≈ 1 over the whole height of
+/// one column; a diagonal band crosses a column over at most its width divided by its slope).
+fn acceptance_run(nx: usize, nz: usize, tau: f64) -> Acceptance {
+    let dir = scratch(&format!("wall-shear-meshes-{nx}x{nz}-tau{tau}"));
+    let job = wall(&dir, nx, nz, 20);
+    let text = acceptance_law(&std::fs::read_to_string(&job).unwrap())
+        .replace("target = 2.8e-3", "target = 4e-3")
+        .replace(
+            "steps = 2\n[analysis.control]",
+            &format!("steps = 2\nforce_tolerance = 1e-4\nenergy_tolerance = 1e-10\ndamage_relaxation_time = {tau}\nnonlocal_radius = {NONLOCAL_RADIUS}\n[analysis.control]"),
+        );
+    assert!(text.contains("damage_relaxation_time") && text.contains("nonlocal_radius") && text.contains("gf_c = 264.6") && text.contains("target = 4e-3"));
+    std::fs::write(&job, text).unwrap();
+    let out = run(0, &[job.to_str().unwrap()]);
+    assert!(out.status.success(), "{nx} x {nz}: {}\n{}", stdout(&out), stderr(&out));
+    let c = curve(&dir);
+    let last = *c.last().unwrap();
+    assert!((last.0 - 4e-3).abs() < 1e-9, "{nx} x {nz}: stopped at {}", last.0);
+    let (k, peak) = c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
+    assert!(k + 1 < c.len() && last.1 < 0.9 * peak, "{nx} x {nz}: no softening: peak {peak} at {}, final {}", c[k].0, last.1);
+    // The rows under the platen and above the base crush over most of the width (bonded
+    // ends): the diagonal is judged on the rows between them.
+    let (dc, centroids) = compression_damage(&dir, nx, nz);
+    let inner = nx..nx * (nz - 1);
+    let corr_c = weighted_xz_correlation(&dc[inner.clone()], &centroids[inner]);
+    let dt = tension_damage(&dir, nx, nz);
+    let longest_column = (0..nx)
+        .map(|i| (1..nz - 1).filter(|&r| dt[r * nx + i] > 0.9).count() as f64 / (nz - 2) as f64)
+        .fold(0.0, f64::max);
+    let a = Acceptance { peak, peak_at: c[k].0, last: last.1, energy: last.2, corr_c, longest_column };
+    println!("{nx} x {nz}, tau {tau}: {a:?}");
+    assert!(corr_c < -0.5, "{nx} x {nz}: compression damage not on the loaded diagonal (correlation {corr_c})");
+    assert!(longest_column < 0.9, "{nx} x {nz}: a vertical splitting crack (d_t > 0.9 over {longest_column} of a column)");
+    a
+}
+
+/// d_t (largest over the layers) of the nx × nz quads at the last converged step, row by row
+/// from the base (x fastest).
+fn tension_damage(dir: &std::path::Path, nx: usize, nz: usize) -> Vec<f64> {
+    let f = hdf5::File::open(dir.join("out/results.h5")).unwrap();
+    let steps: Vec<usize> = f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
+    let dt: Vec<f64> = f.dataset(&format!("steps/{}/d_t_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
+    let dt: Vec<f64> = dt.into_iter().filter(|x| x.is_finite()).collect();
+    assert_eq!(dt.len(), nx * nz);
+    dt
+}
+
 /// Issue 5's acceptance case: "a shell wall with the paper's wall geometry under constant 1 MPa
 /// compression and in-plane shear softens and localizes damage diagonally; the dissipated energy
 /// varies less than 5% across three meshes" (the 5% is the issue's tolerance).
 ///
-/// The case: the wall of [`wall`] (1.0 × 1.2 × 0.5 m, 1 MPa by load control, then the platen
-/// pushed 2.8 mm in 14 increments), the law of jobs/wall-shear-fe.toml: A_c = 0.3 (residual
-/// compressive strength (1 − A_c) f_c = 1.5 MPa, above the 1 MPa preload; with the job's former
-/// A_c = 0.8 it is 0.43 MPa and a crushed row of cells cannot carry the preload), G_c = 264.6 J/m²
-/// (the post-peak compressive softening regularized by the element size), and the viscous damage
-/// `damage_relaxation_time = 0.002` (of the control stage): rate independent, the band of
-/// compression damage forms by snap-back and displacement control stops (10 × 12 at 2.1 mm,
-/// 15 × 18 at 1.8 mm, scripts/bench/structural.sh; 20 × 24 gets through: 425.8 J). τ → 0 on
-/// the 20 × 24 mesh (same script): τ, τ/4 and the rate-independent run dissipate 429.7, 422.9
-/// and 425.8 J, peaks 261.0, 259.5 and 259.8 kN; but τ/2 follows another mechanism (a vertical
-/// splitting crack on the mesh line x = 0.5 m, 234 J).
-/// The three meshes are 15 × 18, 20 × 24 and 25 × 30 (5 × 6 and 10 × 12 pick other mechanisms:
-/// 325 J and 299 J). Measured: 421.0, 429.7 and 427.9 J, spread 2.0%; peaks 262.9, 261.0 and
-/// 259.8 kN; x–z correlations −0.68, −0.71, −0.73 (meshes of scripts/make_quad_mesh.py).
-/// Status: this test FAILS: with the mesh file written here (same geometry, another numbering)
-/// the 15 × 18 wall dissipates 256.3 J at 2.8 mm (another post-peak mechanism), 20 × 24 and
-/// 25 × 30 427.8 J each; the mechanism after the peak is not unique (see τ/2 above).
+/// The case ([`acceptance_run`]): the wall of [`wall`] (1.0 × 1.2 × 0.5 m, 1 MPa by load
+/// control, then the platen pushed 4 mm in 20 increments), the law of jobs/wall-shear-fe.toml:
+/// A_c = 0.3 (residual compressive strength (1 − A_c) f_c = 1.5 MPa, above the 1 MPa preload),
+/// G_c = 264.6 J/m², the viscous damage `damage_relaxation_time = 0.002`, and the nonlocal
+/// averaging of the damage-driving strains within R = 0.15 m (material::nonlocal; the softening
+/// regularized by R, not by the element size).
+/// Without the averaging (the law before it) the post-peak mechanism was not unique: the 15 × 18
+/// mesh written here took a vertical splitting crack along a mesh line (256 J against 428 J at
+/// 2.8 mm), the meshes of scripts/make_quad_mesh.py (same geometry, other numbering) the diagonal
+/// band, and on 20 × 24 τ/2 gave the splitting crack (234 J) where τ and τ/4 gave the band.
+/// Measured with the averaging, on the meshes of scripts/make_quad_mesh.py (the job's; this
+/// test's own numbering has not been run yet): 15 × 18 and 20 × 24 reach 4 mm with the
+/// diagonal band of d_c, flexural cracks (d_t) at the heel and the opposite top corner and no
+/// splitting crack; peaks 278.0 and 276.4 kN at 2.2–2.4 mm, 233.9 and 232.4 kN at 4 mm (−16 %),
+/// 621.4 and 602.4 J (3.1 % apart), d_c correlations −0.505 and −0.549, longest d_t > 0.9 run
+/// in a column 0.125 and 0.136 of the inner rows (no splitting crack). 25 × 30 follows them
+/// (499.4 J at 3.62 mm against 518 and 498 J there: 3.9 % over the three) but STOPS at 3.62 mm:
+/// an increment fails after six halvings (relative residual 1.9e-2, the largest out-of-balance
+/// force at a node of the row above the base). So this test FAILS today on 25 × 30.
 ///
-/// Asserted, per mesh: the run reaches 2.8 mm; the force peaks inside the run and falls by more
-/// than 10% after it (softening); the compression damage lies on the loaded diagonal: in the rows
-/// between the top and bottom rows the d_c-weighted correlation of the cells' x and z is below
-/// −0.5 (−1 on the line from the top-left to the bottom-right corner; 0 for horizontal bands or a
-/// uniform field).
-/// Across the meshes: (max − min) / mean of the dissipated energy at 2.8 mm below 0.05.
+/// Asserted: per mesh, those of [`acceptance_run`]; across the 15 × 18, 20 × 24 and 25 × 30
+/// meshes, (max − min) / mean of the dissipated energy at 4 mm below 0.05.
 ///
-/// Cost in the debug build, CPU seconds: 20.5 (15 × 18), 28.5 (20 × 24), above 69 (25 × 30,
-/// measured to 2.23 mm of 2.8), so more than two minutes, and four to five times that in wall
-/// time on the shared 2-core machine: the test is ignored in the debug suite; run it with
-/// `cargo test --release --test wall_shear -- --ignored` (release and debug give the same
-/// energies to the printed digits). scripts/bench/structural.sh runs the same case.
+/// Cost, CPU seconds of the debug build (opt-level 1): 17 (15 × 18), 73 (20 × 24), 224 (25 × 30
+/// to where it stopped): minutes, so the test is ignored in the debug suite:
+/// `cargo test --test wall_shear -- --ignored` (or with `--release`).
 #[test]
-#[ignore = "fails today (15x18 takes the splitting-crack mechanism with this mesh numbering: 256 J against 428 J) and takes minutes in the debug build: cargo test --release --test wall_shear -- --ignored"]
+#[ignore = "fails today (25x30 stops at 3.62 mm of 4) and takes minutes of CPU: cargo test --test wall_shear -- --ignored"]
 fn wall_shear_dissipated_energy_agrees_across_three_meshes() {
-    let mut energies = Vec::new();
-    for (nx, nz) in [(15, 18), (20, 24), (25, 30)] {
-        let dir = scratch(&format!("wall-shear-meshes-{nx}x{nz}"));
-        let job = wall(&dir, nx, nz, 14);
-        let text = acceptance_law(&std::fs::read_to_string(&job).unwrap())
-            .replace("steps = 2\n[analysis.control]", "steps = 2\ndamage_relaxation_time = 0.002\n[analysis.control]");
-        assert!(text.contains("damage_relaxation_time") && text.contains("gf_c = 264.6") && text.contains("target = 2.8e-3"));
-        std::fs::write(&job, text).unwrap();
-        let out = run(0, &[job.to_str().unwrap()]);
-        assert!(out.status.success(), "{nx} x {nz}: {}\n{}", stdout(&out), stderr(&out));
-        let c = curve(&dir);
-        let last = *c.last().unwrap();
-        assert!((last.0 - 2.8e-3).abs() < 1e-9, "{nx} x {nz}: stopped at {}", last.0);
-        let (k, peak) = c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
-        assert!(k + 1 < c.len() && last.1 < 0.9 * peak, "{nx} x {nz}: no softening: peak {peak} at {}, final {}", c[k].0, last.1);
-        // The rows under the platen and above the base crush over most of the width (bonded
-        // ends): the diagonal is judged on the rows between them.
-        let (dc, centroids) = compression_damage(&dir, nx, nz);
-        let inner = nx..nx * (nz - 1);
-        let corr = weighted_xz_correlation(&dc[inner.clone()], &centroids[inner]);
-        println!("{nx} x {nz}: peak {peak:.4e} N at {:.3e} m, final {:.4e} N, dissipated {:.4e} J, d_c x–z correlation {corr:.3}", c[k].0, last.1, last.2);
-        assert!(corr < -0.5, "{nx} x {nz}: compression damage not on the loaded diagonal (correlation {corr})");
-        energies.push(last.2);
-    }
+    let runs: Vec<Acceptance> = [(15, 18), (20, 24), (25, 30)].iter().map(|&(nx, nz)| acceptance_run(nx, nz, 0.002)).collect();
+    let energies: Vec<f64> = runs.iter().map(|a| a.energy).collect();
     let mean = energies.iter().sum::<f64>() / 3.0;
     let spread = (energies.iter().cloned().fold(f64::MIN, f64::max) - energies.iter().cloned().fold(f64::MAX, f64::min)) / mean;
     println!("dissipated energies {energies:?} J, spread {spread:.4}");
     assert!(spread < 0.05, "the dissipated energy depends on the mesh: {energies:?} J, (max − min)/mean = {spread}");
+}
+
+/// The same mechanism whatever the viscosity: the acceptance case on the 20 × 24 mesh with
+/// τ = 0.002 and τ/2 (where the local law jumped from the diagonal band to a splitting crack).
+/// Asserted: both runs pass [`acceptance_run`]'s checks, and their dissipated energies at 4 mm
+/// differ by less than 5% (the issue's tolerance for meshes, applied to τ).
+/// Measured (meshes of scripts/make_quad_mesh.py, as the job): τ 602.4 J, τ/2 605.5 J (0.5 %);
+/// peaks 276.4 and 275.9 kN, 232.4 and 231.9 kN at 4 mm; d_c correlations −0.549 and −0.542; the
+/// longest d_t > 0.9 run in a column 0.136 of the inner rows in both (the heel crack). This
+/// test's own mesh numbering has not been run. Ignored for its cost (as above).
+#[test]
+#[ignore = "minutes of CPU: cargo test --test wall_shear -- --ignored"]
+fn wall_shear_mechanism_does_not_depend_on_the_viscosity() {
+    let a = acceptance_run(20, 24, 0.002);
+    let b = acceptance_run(20, 24, 0.001);
+    let d = (a.energy - b.energy).abs() / a.energy;
+    println!("tau: {:.1} J, tau/2: {:.1} J, relative difference {d:.4}", a.energy, b.energy);
+    assert!(d < 0.05, "tau {} J vs tau/2 {} J", a.energy, b.energy);
+}
+
+/// The nonlocal option (`[analysis] nonlocal_radius`, analysis::nonlocal) on the 5 × 6 wall
+/// (h = 0.2 m, R = 0.45 m) with A_c = 0.3, G_c = 264.6 J/m², 4 increments to 1.2 mm (damage
+/// by then: the averages reach beyond a rank's cells), on 1 rank and on 2 ranks (METIS splits
+/// the cells: the averaging gathers every rank's points). Asserted: both reach 1.2 mm, damage
+/// has grown, and the force and the dissipated energy of every increment agree to 1e-6
+/// relative (the same Newton iterates up to round-off; the residual tolerance is 1e-8).
+#[test]
+fn nonlocal_wall_agrees_on_one_and_two_ranks() {
+    let mut curves = Vec::new();
+    for np in [0, 2] {
+        let dir = scratch(&format!("wall-shear-nonlocal-np{np}"));
+        let job = wall(&dir, 5, 6, 4);
+        let text = acceptance_law(&std::fs::read_to_string(&job).unwrap())
+            .replace("target = 2.8e-3", "target = 1.2e-3")
+            .replace("steps = 2\n[analysis.control]", "steps = 2\nnonlocal_radius = 0.45\n[analysis.control]");
+        assert!(text.contains("nonlocal_radius = 0.45") && text.contains("target = 1.2e-3"));
+        std::fs::write(&job, text).unwrap();
+        let out = run(np, &[job.to_str().unwrap()]);
+        assert!(out.status.success(), "np = {np}: {}\n{}", stdout(&out), stderr(&out));
+        assert!(stdout(&out).contains("nonlocal averaging: radius 0.45 m"), "{}", stdout(&out));
+        let c = curve(&dir);
+        assert!((c.last().unwrap().0 - 1.2e-3).abs() < 1e-12, "np = {np}: stopped at {}", c.last().unwrap().0);
+        assert!(c.last().unwrap().2 > 0.0, "np = {np}: no damage by 1.2 mm");
+        curves.push(c);
+    }
+    assert_eq!(curves[0].len(), curves[1].len());
+    for (a, b) in curves[0].iter().zip(&curves[1]) {
+        println!("{:.3e} m: {:.6e} / {:.6e} N, {:.6e} / {:.6e} J", a.0, a.1, b.1, a.2, b.2);
+        assert!((a.1 - b.1).abs() <= 1e-6 * a.1.abs(), "force {} vs {}", a.1, b.1);
+        assert!((a.2 - b.2).abs() <= 1e-6 * a.2.abs().max(1e-3), "energy {} vs {}", a.2, b.2);
+    }
+}
+
+/// Bad nonlocal input: a radius that is not positive is named with its key and line; a radius
+/// on a model whose shells are elastic (nothing to average) stops with the reason. 1 and 2 ranks,
+/// one message, exit code 2.
+#[test]
+fn nonlocal_radius_bad_input_is_named() {
+    let dir = scratch("wall-shear-nonlocal-bad");
+    let job = wall(&dir, 2, 2, 2);
+    let text = std::fs::read_to_string(&job).unwrap().replace("steps = 2\n[analysis.control]", "steps = 2\nnonlocal_radius = -0.1\n[analysis.control]");
+    std::fs::write(&job, &text).unwrap();
+    expect_job_error(&job, 2, &["key 'analysis.nonlocal_radius'", "job.toml:4:1", "> 0, got -0.1"]);
+    let elastic = text
+        .replace("nonlocal_radius = -0.1", "nonlocal_radius = 0.1")
+        .replace("[materials.masonry]\ntype = \"damage\"\n[materials.masonry.law]\n", "[materials.masonry]\ntype = \"elastic\"\n")
+        .replace("eps0_t = 5.0e-5\neps0_c = 2.0e-4\ngf_t = 20.0\na_c = 0.8\nb_c = 1500.0\nregularization = \"hillerborg\"\n", "");
+    assert!(elastic.contains("type = \"elastic\"\nE = 2.885e9\nnu = 0.19\n[materials.steel]"), "{elastic}");
+    std::fs::write(&job, elastic).unwrap();
+    expect_job_error(&job, 2, &["nonlocal_radius = 0.1", "no element of the model has a damage law"]);
 }

@@ -10,6 +10,8 @@
 #    2.8 mm, two laws, rate independent and viscous (below): peak and final force, dissipated
 #    energy, where the compression damage sits, and the energy spread (max - min) / mean over the
 #    meshes (issue 5 asks for < 5% over three meshes).
+# The wall cases keep the local law (the job's nonlocal_radius and force_tolerance 1e-4 are
+# taken out), as measured below; the nonlocal job's own figures are in its header.
 # Run through scripts/bench.sh (which builds first). STRUCTURAL_PARTS="plate" or "wall" runs one
 # part; STRUCTURAL_WORK=dir keeps the jobs and results there (default: a temporary folder).
 set -euo pipefail
@@ -167,6 +169,7 @@ run_wall() { # variant nx nz a_c gf_c tau
       -e "s#^force = \[0.0, 0.0, [^]]*\]#force = [0.0, 0.0, $per_node]#" \
       -e "s#^target = .*#target = 2.8e-3#" -e "s#^steps = [0-9]*\$#steps = 14#" \
       -e '/^\[analysis.control.overlay\]/,/^label/d' -e '/^gf_c = /d' -e '/^damage_relaxation_time = /d' \
+      -e '/^nonlocal_radius = /d' -e 's#^force_tolerance = .*#force_tolerance = 1e-5#' \
       -e "s#^b_c = \(.*\)#b_c = \1\n$law#" -e "s#^a_c = .*#a_c = $ac#" \
       -e "s#^energy_tolerance = \(.*\)#energy_tolerance = \1\n$an#" \
       -e "s#../results/wall-shear-fe#wall-out-$v-$nx#" jobs/wall-shear-fe.toml > "$work/wall-$v-$nx.toml"

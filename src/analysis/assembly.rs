@@ -313,7 +313,7 @@ fn union_across_ranks(ctx: &crate::parallel::Context, local: &[&str]) -> Vec<Str
 }
 
 /// The element's DOF values from the local form of a ghosted vector.
-fn gather(
+pub(super) fn gather(
     nodes: &[usize],
     u_local: Option<&[f64]>,
     local: Option<&std::collections::HashMap<usize, usize>>,

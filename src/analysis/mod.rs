@@ -12,6 +12,7 @@ pub mod material_point;
 pub mod modal;
 pub mod modal_updating;
 pub mod newton;
+pub mod nonlocal;
 pub mod output;
 pub mod spectrum;
 pub mod static_nonlinear;

@@ -112,6 +112,9 @@ pub struct NonlinearSystem {
     k: Matrix,
     ksp: Ksp,
     options_set: bool,
+    /// Nonlocal averaging of the damage-driving strains, if the analysis asks for it
+    /// ([`NonlinearSystem::enable_nonlocal`]); refreshed before every element evaluation.
+    nonlocal: Option<super::nonlocal::NonlocalAveraging>,
 }
 
 /// Collective. Σ over ranks.
@@ -188,6 +191,7 @@ impl NonlinearSystem {
             k,
             ksp,
             options_set: false,
+            nonlocal: None,
         })
     }
 
@@ -200,9 +204,26 @@ impl NonlinearSystem {
         Ok(self.ug.with_local_form(|s| s.to_vec())?)
     }
 
+    /// Collective. Switch the damage shells to nonlocal driving strains averaged within
+    /// `radius` (analysis::nonlocal); every later evaluation refreshes the averages first.
+    pub fn enable_nonlocal(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, radius: f64) -> Result<(), Error> {
+        self.nonlocal = Some(super::nonlocal::NonlocalAveraging::setup(ctx, disc, mesh, model, radius)?);
+        Ok(())
+    }
+
+    /// Collective. The averaged driving strains at the displacement of `local` (no-op for the
+    /// local law).
+    fn refresh_nonlocal(&self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, local: &[f64]) -> Result<(), Error> {
+        match &self.nonlocal {
+            Some(nl) => nl.update(ctx, disc, mesh, model, local),
+            None => Ok(()),
+        }
+    }
+
     /// Collective. f_int at `u` (all rows, owned) into `self.f_int`; elements' trial state at `u`.
-    fn internal_force_at(&mut self, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64]) -> Result<(), Error> {
+    fn internal_force_at(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64]) -> Result<(), Error> {
         let local = self.local_form(u)?;
+        self.refresh_nonlocal(ctx, disc, mesh, model, &local)?;
         assembly::assemble_internal_forces_on(disc, mesh, model, &local, Rows::All, &mut self.fint_vec)?;
         self.f_int = self.fint_vec.owned_values()?;
         Ok(())
@@ -224,6 +245,7 @@ impl NonlinearSystem {
     #[allow(clippy::too_many_arguments)]
     fn solve(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64], rhs: &[&[f64]], secant: bool) -> Result<Vec<Vec<f64>>, Error> {
         let local = self.local_form(u)?;
+        self.refresh_nonlocal(ctx, disc, mesh, model, &local)?;
         self.k.zero_entries()?;
         let request = if secant { EvalRequest::ForceAndSecant } else { EvalRequest::ForceAndTangent };
         assembly::assemble_secant_or_tangent(disc, mesh, model, Some(&local), request, &mut self.k)?;
@@ -273,7 +295,7 @@ impl NonlinearSystem {
             outcome.iterations = it + 1;
             if !self.fresh {
                 let u = self.u.clone();
-                self.internal_force_at(disc, mesh, model, &u)?;
+                self.internal_force_at(ctx, disc, mesh, model, &u)?;
             }
             let r = self.residual(inc.lambda, self.mu);
             let rn = global_sum(ctx, dot(&r, &r)).sqrt();
@@ -338,7 +360,7 @@ impl NonlinearSystem {
             let s0 = global_sum(ctx, dot(&du, &r));
             let trial: Vec<f64> = self.u.iter().zip(&du).map(|(a, b)| a + b).collect();
             self.mu += dmu;
-            self.internal_force_at(disc, mesh, model, &trial)?;
+            self.internal_force_at(ctx, disc, mesh, model, &trial)?;
             self.u = trial;
             self.fresh = true;
             if let (Some(ls), None) = (set.line_search, inc.control_target) {
@@ -348,7 +370,7 @@ impl NonlinearSystem {
                 let mut last_eta = 1.0;
                 let found = line_search::secant(s0, s1, &ls, |eta| -> Result<f64, Error> {
                     let x: Vec<f64> = base.iter().zip(&du).map(|(a, b)| a + eta * b).collect();
-                    self.internal_force_at(disc, mesh, model, &x)?;
+                    self.internal_force_at(ctx, disc, mesh, model, &x)?;
                     last_eta = eta;
                     let r = self.residual(inc.lambda, self.mu);
                     Ok(global_sum(ctx, dot(&du, &r)))
@@ -364,10 +386,10 @@ impl NonlinearSystem {
     }
 
     /// Collective. Accept the current state: trial state brought to u, then committed.
-    pub fn commit(&mut self, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel) -> Result<(), Error> {
+    pub fn commit(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel) -> Result<(), Error> {
         if !self.fresh {
             let u = self.u.clone();
-            self.internal_force_at(disc, mesh, model, &u)?;
+            self.internal_force_at(ctx, disc, mesh, model, &u)?;
         }
         for e in disc.elements.iter_mut() {
             e.commit();

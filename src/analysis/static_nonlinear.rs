@@ -25,6 +25,11 @@
 //! pseudo-time of the stages (each lasts 1): before every increment the elements get Δt = the
 //! increment's fraction of its stage (`Element::set_damage_relaxation`, `material::state` docs).
 //!
+//! # Nonlocal damage (optional)
+//! With `nonlocal_radius = R` the damage of shell layers is driven by strains averaged over the
+//! points of the same layer within R (`analysis::nonlocal`, `material::nonlocal`), and the
+//! softening is regularized by R instead of each element's size. Off by default.
+//!
 //! # Outputs
 //! `results.xdmf` (one step per converged increment; time = λ in the loads stage, 1 + the
 //! fraction of the control target in the control stage), `curve.csv` (one line per converged
@@ -92,6 +97,9 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
     let log = &ctx.log;
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
     let mut sys = NonlinearSystem::new(ctx, mesh, model, &disc, job.spec.solver.matrix)?;
+    if let Some(radius) = cfg.nonlocal_radius {
+        sys.enable_nonlocal(ctx, &mut disc, mesh, model, radius)?;
+    }
     let settings = NewtonSettings {
         max_iterations: cfg.max_iterations,
         force_tolerance: cfg.force_tolerance,
@@ -177,7 +185,7 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
                 ls_total += out.line_search_evaluations;
             }
             if out.converged {
-                sys.commit(&mut disc, mesh, model)?;
+                sys.commit(ctx, &mut disc, mesh, model)?;
                 t = target;
                 let report = write_step(ctx, &disc, mesh, model, &mut sys, &mut writer, &curve_path, stage, &inc, (stage.time)(t), pattern_resultant, out.iterations, out.residual)?;
                 log.info(format!(

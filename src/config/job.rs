@@ -107,6 +107,12 @@ pub struct StaticNonlinearConfig {
     /// control) lasts 1, so τ = 0.01 is 1% of a stage (`material::state` docs). Absent (the
     /// default): the rate-independent law. A viscous run's dissipated energy depends on τ.
     pub damage_relaxation_time: Option<f64>,
+    /// Radius R (m) of the nonlocal averaging of the damage-driving strains of damage shells
+    /// (`material::nonlocal`, `analysis::nonlocal`): each layer point's damage follows the
+    /// strains of the same layer within R, weighted by ⟨1 − r²/R²⟩², and B_t (and B_s of
+    /// `gf_c`) are regularized by R instead of the element size. R should span at least two
+    /// elements. Absent (the default): the local law.
+    pub nonlocal_radius: Option<f64>,
 }
 
 /// `[analysis] stiffness`: the matrix of the Newton-type iterations.

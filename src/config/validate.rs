@@ -156,6 +156,9 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         if let Some(tau) = c.damage_relaxation_time {
             positive(src, &at("damage_relaxation_time"), "damage relaxation time", tau)?;
         }
+        if let Some(r) = c.nonlocal_radius {
+            positive(src, &at("nonlocal_radius"), "nonlocal radius (m)", r)?;
+        }
         if let Some(ctl) = &c.control {
             let at = |k: &str| vec![key("analysis"), key("control"), key(k)];
             match (&ctl.group, &ctl.node) {

@@ -98,6 +98,18 @@ pub struct AppliedLoads {
     pub gravity: [f64; 3],
 }
 
+/// A material point taking part in the nonlocal averaging of damage-driving strains
+/// ([`Element::enable_nonlocal`], `material::nonlocal`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NonlocalPoint {
+    /// Global coordinates (m).
+    pub x: [f64; 3],
+    /// Volume weight V (m³) of the point in the averages.
+    pub volume: f64,
+    /// Points are averaged only with points of the same `layer` (a through-thickness index).
+    pub layer: usize,
+}
+
 /// What every structural element provides to assembly, dynamics, checkpoints and output.
 ///
 /// All vectors and matrices are in **global** axes with the node-major layout of the module docs.
@@ -177,4 +189,21 @@ pub trait Element: Debug {
     /// of the optional viscous regularization of the damage law (`None`: rate independent).
     /// Elements without that law ignore it (the default).
     fn set_damage_relaxation(&mut self, _dt: f64, _tau: Option<f64>) {}
+
+    /// Switch the element's damage law to nonlocal driving strains (`material::nonlocal`), the
+    /// softening regularized by `length` instead of the element size; returns the points whose
+    /// driving strains are averaged (empty, the default: the element takes no part).
+    fn enable_nonlocal(&mut self, _length: f64) -> Result<Vec<NonlocalPoint>, crate::material::MaterialError> {
+        Ok(Vec::new())
+    }
+
+    /// Append the local driving strains `[ε_t,loc, ε_c,loc]` of each of the points
+    /// [`Element::enable_nonlocal`] returned, at the total displacement `u_e`, to `out`.
+    fn local_driving_strains(&self, _u_e: &[f64], _out: &mut Vec<f64>) -> Result<(), ElementError> {
+        Ok(())
+    }
+
+    /// The averaged driving strains (2 per point) and the points' own shares of their averages
+    /// (1 per point) that the next evaluations use.
+    fn set_nonlocal_strains(&mut self, _averaged: &[f64], _self_share: &[f64]) {}
 }

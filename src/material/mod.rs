@@ -11,6 +11,7 @@
 //! | `principal.rs`    | principal strains, ε_eq = sqrt(Σ⟨ε_i⟩₊²) and its gradient               |
 //! | `response.rs`     | [`Response`], stress / secant / consistent tangent, [`StressState`]      |
 //! | `plane_stress.rs` | shell layers: (ε_xx, ε_yy, γ_xy), ε_zz from σ_zz = 0                    |
+//! | `nonlocal.rs`     | shell layers with averaged damage-driving strains (nonlocal integral)    |
 //! | `uniaxial.rs`     | beam fibers: ε_11, lateral strains −ν ε in ε_eq                          |
 //! | `three_d.rs`      | general 3D, Voigt `[xx, yy, zz, yz, xz, xy]`                             |
 //! | `path.rs`         | material-point driver under mixed strain/stress control                  |
@@ -53,6 +54,7 @@
 pub mod damage;
 pub mod error;
 pub mod law;
+pub mod nonlocal;
 pub mod params;
 pub mod path;
 pub mod plane_stress;

@@ -116,7 +116,7 @@ pub fn tensile_weight(x: f64) -> (f64, f64) {
 /// gradient with respect to `[ε_xx, ε_yy, γ_xy]`: dx/dε = C₀ᵀ(1 − x M σ̃/‖σ̃‖)/‖σ̃‖ with
 /// 1 = (1, 1, 0) and M = diag(1, 1, 2). x = 0 with a zero gradient at σ̃ = 0.
 #[inline]
-fn direction(c0: &Matrix3<f64>, sigma_tilde: &Vector3<f64>) -> (f64, Vector3<f64>) {
+pub(super) fn direction(c0: &Matrix3<f64>, sigma_tilde: &Vector3<f64>) -> (f64, Vector3<f64>) {
     let m = Vector3::new(sigma_tilde[0], sigma_tilde[1], 2.0 * sigma_tilde[2]);
     let n = (sigma_tilde[0].powi(2) + sigma_tilde[1].powi(2) + 2.0 * sigma_tilde[2].powi(2)).sqrt();
     if n == 0.0 {

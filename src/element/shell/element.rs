@@ -59,13 +59,13 @@
 use nalgebra::{DMatrix, DVector, Matrix6, SMatrix, SVector, Vector2, Vector3, Vector6};
 
 use super::geometry::FlatGeometry;
-use super::layers::{damage_section, plane_stress_matrix, SectionResponse, ThicknessRule};
+use super::layers::{damage_section, plane_stress_matrix, NonlocalInput, SectionResponse, ThicknessRule};
 use super::section::{ShellMaterial, ShellSection};
 use super::ShellError;
 use crate::element::error::{check_finite_displacement, check_len};
 use crate::element::output::{prepare_matrix, prepare_vector};
-use crate::element::{AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind};
-use crate::material::{DamageState, PointLaw};
+use crate::element::{AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind, NonlocalPoint};
+use crate::material::{nonlocal, DamageState, MaterialError, PointLaw};
 
 /// α of the drilling stiffness k_δ = α G t (module docs).
 pub const DRILLING_FACTOR: f64 = 1e-2;
@@ -136,6 +136,11 @@ pub struct ShellElement<const N: usize, const D: usize> {
     trial: Vec<DamageState>,
     dissipated: f64,
     trial_dissipated: f64,
+    /// Nonlocal averaging ([`Element::enable_nonlocal`]): `[ε̄_t, ε̄_c]` per state point, set by
+    /// the driver before each evaluation; empty for the local law.
+    averaged: Vec<[f64; 2]>,
+    /// The points' own shares of their averages (same layout as `averaged`).
+    self_share: Vec<f64>,
 }
 
 impl<const N: usize, const D: usize> ShellElement<N, D> {
@@ -181,6 +186,8 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             trial: vec![DamageState::default(); n_states],
             dissipated: 0.0,
             trial_dissipated: 0.0,
+            averaged: Vec::new(),
+            self_share: Vec::new(),
         })
     }
 
@@ -245,6 +252,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         committed: &[DamageState],
         trial: &mut [DamageState],
         secant: bool,
+        nonlocal: Option<NonlocalInput>,
     ) -> SectionResponse {
         let strain: Vector6<f64> = pt.b * uf;
         match law {
@@ -260,7 +268,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             SectionLaw::Damage(law) => {
                 let e0: Vector3<f64> = strain.fixed_rows::<3>(0).into_owned();
                 let ka: Vector3<f64> = strain.fixed_rows::<3>(3).into_owned();
-                damage_section(law, rule, &e0, &ka, committed, trial, secant)
+                damage_section(law, rule, &e0, &ka, committed, trial, secant, nonlocal)
             }
         }
     }
@@ -282,10 +290,20 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
                 committed,
                 &mut scratch[..committed.len()],
                 false,
+                self.nonlocal_input(p),
             );
             out.push(PointResultants { n: r.n, m: r.m });
         }
         Ok(out)
+    }
+
+    /// The averaged driving strains of in-plane point `p`'s layer points (nonlocal law), else None.
+    fn nonlocal_input(&self, p: usize) -> Option<NonlocalInput<'_>> {
+        let nz = self.rule.len();
+        (!self.averaged.is_empty()).then(|| NonlocalInput {
+            averaged: &self.averaged[p * nz..(p + 1) * nz],
+            self_share: &self.self_share[p * nz..(p + 1) * nz],
+        })
     }
 
     fn states_of<'a>(&self, p: usize, all: &'a [DamageState]) -> &'a [DamageState] {
@@ -357,6 +375,14 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
                 &self.committed[range.clone()],
                 &mut self.trial[range],
                 request.wants_secant(),
+                if self.averaged.is_empty() {
+                    None
+                } else {
+                    Some(NonlocalInput {
+                        averaged: &self.averaged[p * nz..(p + 1) * nz],
+                        self_share: &self.self_share[p * nz..(p + 1) * nz],
+                    })
+                },
             );
             let w = pt.weight;
             let q: Vector2<f64> = pt.b_s * uf * self.shear_stiffness;
@@ -433,7 +459,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let mut volume = 0.0;
         for (p, pt) in self.points.iter().enumerate() {
             let committed = self.states_of(p, &self.committed);
-            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch, false);
+            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch, false, self.nonlocal_input(p));
             n += r.n;
             m += r.m;
             dissipation += pt.weight * r.dissipation;
@@ -497,6 +523,58 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         self.dissipated = state[state.len() - 1];
         self.revert();
         Ok(())
+    }
+
+    /// Damage layers only: the law rebuilt with the regularization length `length` in place of
+    /// the element size (the band width is then set by the averaging, not by the mesh), and one
+    /// point per (in-plane point p, layer point j), p-major as the state, at the in-plane point's
+    /// position (mid-surface), with volume w_p w_j, averaged within layer point j.
+    fn enable_nonlocal(&mut self, length: f64) -> Result<Vec<NonlocalPoint>, MaterialError> {
+        let (SectionLaw::Damage(_), ShellMaterial::Damage(p)) = (&self.law, &self.section.material) else {
+            return Ok(Vec::new());
+        };
+        self.law = SectionLaw::Damage(p.for_element(length)?);
+        let nz = self.rule.len();
+        let n = self.points.len() * nz;
+        self.averaged = vec![[0.0; 2]; n];
+        self.self_share = vec![1.0; n];
+        let mut out = Vec::with_capacity(n);
+        for pt in &self.points {
+            let mut x = [0.0; 3];
+            for (a, c) in self.coords.iter().enumerate() {
+                for k in 0..3 {
+                    x[k] += pt.shape[a] * c[k];
+                }
+            }
+            for (j, w) in self.rule.weights().iter().enumerate() {
+                out.push(NonlocalPoint { x, volume: pt.weight * w, layer: j });
+            }
+        }
+        Ok(out)
+    }
+
+    fn local_driving_strains(&self, u_e: &[f64], out: &mut Vec<f64>) -> Result<(), ElementError> {
+        let SectionLaw::Damage(law) = &self.law else { return Ok(()) };
+        if self.averaged.is_empty() {
+            return Ok(());
+        }
+        let uf = self.flat_displacement(u_e)?;
+        for pt in &self.points {
+            let strain: Vector6<f64> = pt.b * uf;
+            let e0: Vector3<f64> = strain.fixed_rows::<3>(0).into_owned();
+            let ka: Vector3<f64> = strain.fixed_rows::<3>(3).into_owned();
+            for z in self.rule.z() {
+                out.extend_from_slice(&nonlocal::driving_strains(law, &(e0 + ka * *z)));
+            }
+        }
+        Ok(())
+    }
+
+    fn set_nonlocal_strains(&mut self, averaged: &[f64], self_share: &[f64]) {
+        for ((a, s), (v, share)) in self.averaged.iter_mut().zip(self.self_share.iter_mut()).zip(averaged.chunks_exact(2).zip(self_share)) {
+            *a = [v[0], v[1]];
+            *s = *share;
+        }
     }
 
     fn set_damage_relaxation(&mut self, dt: f64, tau: Option<f64>) {

@@ -30,7 +30,7 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
-use crate::material::{plane_stress, DamageState, PointLaw};
+use crate::material::{nonlocal, plane_stress, DamageState, PointLaw};
 
 /// Points and weights of the through-thickness rule (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -117,8 +117,21 @@ pub struct SectionResponse {
     pub dissipation: f64,
 }
 
+/// The averaged damage-driving strains `[ε̄_t, ε̄_c]` of the layer points of one in-plane point
+/// and their own shares of the averages (`material::nonlocal`), both of length `rule.len()`.
+#[derive(Clone, Copy, Debug)]
+pub struct NonlocalInput<'a> {
+    /// `[ε̄_t, ε̄_c]` per layer point.
+    pub averaged: &'a [[f64; 2]],
+    /// The point's own share s of its average, per layer point.
+    pub self_share: &'a [f64],
+}
+
 /// Damage-law update of all layer points of one in-plane point from the `committed` states,
 /// writing the `trial` states (both of length `rule.len()`). Pure in the committed states.
+/// With `nonlocal` the damage is driven by the given averages (`material::nonlocal`), else by the
+/// points' own strains (`material::plane_stress`).
+#[allow(clippy::too_many_arguments)]
 pub fn damage_section(
     law: &PointLaw,
     rule: &ThicknessRule,
@@ -127,6 +140,7 @@ pub fn damage_section(
     committed: &[DamageState],
     trial: &mut [DamageState],
     secant: bool,
+    nonlocal: Option<NonlocalInput>,
 ) -> SectionResponse {
     debug_assert_eq!(committed.len(), rule.len());
     debug_assert_eq!(trial.len(), rule.len());
@@ -138,7 +152,11 @@ pub fn damage_section(
     let mut dissipation = 0.0;
     for j in 0..rule.len() {
         let (z, w) = (rule.z[j], rule.w[j]);
-        let r = plane_stress::update(law, &(eps0 + kappa * z), &committed[j]);
+        let strain = eps0 + kappa * z;
+        let r = match nonlocal {
+            None => plane_stress::update(law, &strain, &committed[j]),
+            Some(nl) => nonlocal::update(law, &strain, &committed[j], nl.averaged[j], nl.self_share[j]),
+        };
         n += r.stress * w;
         m += r.stress * (w * z);
         let c = if secant { r.secant } else { r.tangent };
