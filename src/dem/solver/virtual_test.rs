@@ -351,6 +351,10 @@ pub struct TestResult {
     /// Particle states kept for the HDF5/XDMF output (not transferred between ranks).
     #[serde(skip)]
     pub particle_states: Vec<ParticleState>,
+    /// The Newton history of the last equilibrium attempts (with `SolverOptions::trace`; not
+    /// transferred between ranks).
+    #[serde(skip)]
+    pub trace: Option<super::trace::Trace>,
 }
 
 /// Runs `test` on `sample` with the default solver options.
@@ -552,6 +556,7 @@ pub fn run_test_recording(
         floating: solver.floating.clone(),
         derived,
         particle_states,
+        trace: solver.trace.take(),
     })
 }
 
