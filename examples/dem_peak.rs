@@ -5,7 +5,8 @@
 //!     target/release/examples/dem_peak jobs/wall-compression.toml 1 3 8   # samples 1, 3, 8
 //!     target/release/examples/dem_peak jobs/wall-compression.toml         # every sample
 //!
-//! `DEM_TRACE=0` leaves the history out (only the endings and seconds).
+//! `DEM_TRACE=0` leaves the history out (only the endings and seconds); `DEM_CONTINUATION=0`
+//! turns the pseudo-transient continuation off (`SolverOptions::continuation`).
 use masonry_hpc::config::{load_job, AnyJob};
 use masonry_hpc::dem::sample::Sample;
 use masonry_hpc::dem::solver::{run_test_with, SolverOptions};
@@ -25,15 +26,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut cfg = job.spec.sample.clone();
         cfg.seed = job.spec.sample.seed.wrapping_add(k as u64);
         let sample = Sample::build(&cfg)?;
-        let opts = SolverOptions { trace, ..Default::default() };
+        let continuation = std::env::var("DEM_CONTINUATION").map_or(true, |v| v != "0");
+        let opts = SolverOptions { trace, continuation, ..Default::default() };
         let r = run_test_with(&sample, &job.params, &job.spec.test, opts)?;
         let peak = r.derived.peak_stress;
         let last = r.curve.last().map_or(0.0, |c| c.stress.abs());
         println!(
-            "sample {k}: {:?}; {} events, {} cut-backs, {:.2} s; peak {:.4} MPa at {:.3e}, last {:.4} MPa ({:.1} % of peak)",
+            "sample {k}: {:?}; {} events, {} cut-backs, {} continued steps, {} continuations, {:.2} s; peak {:.4} MPa at {:.3e}, last {:.4} MPa ({:.1} % of peak)",
             r.end,
             r.stats.events,
             r.stats.cutbacks,
+            r.stats.continued_steps,
+            r.stats.continuations,
             r.stats.seconds,
             peak / 1e6,
             r.derived.strain_at_peak,

@@ -163,12 +163,23 @@ impl<'a> Solver<'a> {
             for (e, &zi) in unknowns.iter().enumerate() {
                 z[zi] += dz[e];
             }
-            ev = self.evaluate(&z, &f_ext)?;
+            let trial = self.evaluate(&z, &f_ext)?;
+            // The work of the out-of-balance forces along the step (trapezoid), the energy the
+            // step releases: ½ (r_k + r_{k+1})ᵀ Δz > 0, else the step overshot a valley.
+            let released = 0.5 * (work * cap + dz.iter().zip(&trial.r).map(|(d, r)| d * r).sum::<f64>());
+            if released <= 0.0 {
+                if let Some(st) = self.trace.as_mut().and_then(|tr| tr.attempts.back_mut()).and_then(|a| a.steps.last_mut()) {
+                    st.alpha = 0.0;
+                }
+                sigma = (4.0 * sigma).clamp(SIGMA_MIN, SIGMA_MAX);
+                continue;
+            }
+            ev = trial;
             self.z = z;
             // A step inside the trust radius: less shift (towards Newton's method); a capped
             // step keeps it.
             if cap >= 1.0 {
-                sigma = (0.25 * sigma).max(SIGMA_MIN);
+                sigma = (0.5 * sigma).max(SIGMA_MIN);
             }
         }
         if let Some(tr) = self.trace.as_mut() {

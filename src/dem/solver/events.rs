@@ -266,8 +266,8 @@ pub struct Solver<'a> {
     pub n_contact_events: usize,
     /// Pseudo-transient continuations run ([`super::continuation`]).
     pub n_continuations: usize,
-    /// Load steps that ended past a snap-back (module docs).
-    pub n_snap_backs: usize,
+    /// Load steps whose equilibrium was found by continuation (module docs, "Continuation").
+    pub n_continued_steps: usize,
     /// Counters and phase times ([`SolverProfile`]).
     pub profile: SolverProfile,
     lateral: [Vec<usize>; 2],
@@ -346,7 +346,7 @@ impl<'a> Solver<'a> {
             n_cutbacks: 0,
             n_contact_events: 0,
             n_continuations: 0,
-            n_snap_backs: 0,
+            n_continued_steps: 0,
             profile: SolverProfile::default(),
             lateral,
             mean_diameter,
@@ -791,7 +791,7 @@ impl<'a> Solver<'a> {
             }
             at_event = false;
             if snapped {
-                self.n_snap_backs += 1;
+                self.n_continued_steps += 1;
                 self.commit(t_try, StateKind::Relaxed);
                 t = t_try;
                 self.load = load.clone();

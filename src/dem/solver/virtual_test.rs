@@ -300,6 +300,13 @@ pub struct RunStats {
     pub contact_events: usize,
     /// Load-increment cut-backs (halved steps or beam releases).
     pub cutbacks: usize,
+    /// Load steps whose equilibrium was found by continuation (past a snap-back, or where
+    /// Newton's method alternated between two states).
+    #[serde(default)]
+    pub continued_steps: usize,
+    /// Pseudo-transient continuations run (snap-backs and stalled releases), converged or not.
+    #[serde(default)]
+    pub continuations: usize,
 }
 
 /// How a test ended.
@@ -549,6 +556,8 @@ pub fn run_test_recording(
             loss_of_load: loss,
             cutbacks: solver.n_cutbacks,
             contact_events: solver.n_contact_events,
+            continued_steps: solver.n_continued_steps,
+            continuations: solver.n_continuations,
         },
         end,
         curve,
