@@ -1,44 +1,58 @@
 //! Pseudo-transient continuation: the static equilibrium at a fixed load that Newton's method
-//! does not reach, because it lies beyond a snap-back.
+//! does not reach.
 //!
-//! **Why Newton stops.** With crushing ([`crate::dem::mechanics::crushing`]), contacts on their
-//! softening branch `F_y(δ_p) = σ_c L t_z (1 − δ_p/δ_u)` give the tangent negative terms
-//! `−H k_n/(k_n − H)`. When a band of them softens together, the wall's equilibrium path turns
-//! back in the platen displacement (a snap-back): past the limit point no equilibrium is near the
-//! last one, at any positive increment; the next one is on the post-peak branch, far away. Newton
-//! from the last state then alternates between two points whose residuals stay at 1e-6..1e-4
-//! (its direction is not one of descent for `½‖r‖²` across the kinks of the return maps, and the
-//! line search takes its best trial). The same happens when a break leaves stones held only by
-//! sliding contacts and the re-equilibration must move them far.
+//! **Why Newton stops** (measured on the paper's wall with crushing, `examples/dem_peak.rs`).
+//! Two situations, both at the compressive peak and after it:
+//! * *alternation across kinks*: the return maps (crushing elastic/plastic, stick/slip) make the
+//!   residual piecewise smooth; with several crushing contacts on their softening branch
+//!   `F_y(δ_p) = σ_c L t_z (1 − δ_p/δ_u)` (tangent terms `−H k_n/(k_n − H)`), Newton's direction
+//!   from one side of a kink is not one of descent for `½‖r‖²` and the line search takes its
+//!   best trial: the iteration alternates between two states at a relative residual of
+//!   1e-6..1e-4, at every increment down to 2⁻¹⁰ of the step, although an equilibrium lies
+//!   close by;
+//! * *snap-back*: a band of crushing contacts softening together turns the path back in the
+//!   platen displacement; past the limit point the next equilibrium is on the post-peak branch,
+//!   far away (a drop of the force at fixed platen displacement); likewise a break that leaves
+//!   stones held only by sliding contacts.
 //!
-//! **The physical path.** Between two static states separated by a snap-back the stones move
-//! dynamically and come to rest, the kinetic energy damped. Its heavily damped limit is followed
-//! in a pseudo-time `τ` (Kelley & Keyes, SIAM J. Numer. Anal. 35 (1998) 508–523; the masses as in
-//! Underwood's dynamic relaxation):
+//! **The damped path.** Between two static states the stones would move dynamically and come to
+//! rest, the kinetic energy damped. Its heavily damped limit is followed in a pseudo-time `τ`
+//! (pseudo-transient continuation, Kelley & Keyes, SIAM J. Numer. Anal. 35 (1998) 508–523; the
+//! masses as in Underwood's dynamic relaxation):
 //!
 //! ```text
-//!   (K_T + σ_k M) Δz_k = r(z_k) ,   z_{k+1} = z_k + Δz_k ,   σ_k = 1/Δτ_k (dimensionless)
-//!   M = diag K₀                     (every beam intact: Underwood's fictitious masses, which make
-//!                                    σ dimensionless and damp each stone by its own stiffness)
-//!   σ₀ = 1 ;  σ_{k+1} = σ_k ‖r_k‖/‖r_{k−1}‖   (switched evolution relaxation, clamped to
-//!                                             [SIGMA_MIN, SIGMA_MAX])
+//!   (K_T + σ_k M) Δz_k = r(z_k) ,   σ_k = 1/Δτ_k (dimensionless) ,   M = diag K₀
 //! ```
 //!
-//! `r` and `K_T` are the static problem's ([`super::equilibrium`], [`super::tangent`]): for large
-//! `σ` the step is a damped gradient step `Δz ≈ (σM)⁻¹ r` that lowers the stored energy; as the
-//! residual falls `σ → 0` and the iteration becomes Newton's method with its quadratic
-//! convergence. A step whose residual norm grows more than `GROWTH` times is rejected and `σ`
-//! multiplied by 10; every step is capped like Newton's (no stone moves more than `max_move` in
-//! one iteration). **Converged only when the static residual meets the equilibrium test,
+//! `M = diag K₀` (every beam intact: Underwood's fictitious masses; they make `σ` dimensionless
+//! and damp each stone by its own stiffness); `r`, `K_T` the static problem's
+//! ([`super::equilibrium`], [`super::tangent`]). A step is taken only if it releases energy:
+//!
+//! ```text
+//!   downhill:  Δzᵀ r(z_k) > 0                         (first-order decrease of the energy)
+//!   released:  ½ (r(z_k) + r(z_k + Δz))ᵀ Δz > 0       (trapezoid of the work of the
+//!                                                     out-of-balance forces along the step)
+//! ```
+//!
+//! (no energy function is needed, only forces; the second test rejects a step that overshoots a
+//! valley, which a residual-norm test cannot tell from a step through an unstable region, where
+//! the residual must grow). A rejected step multiplies `σ` by 4 (more damping) and is solved
+//! again. No stone moves more than the trust radius `TRUST_RADIUS · D̄` in one step (the step is
+//! scaled down); a step inside it halves `σ` (down to `SIGMA_MIN`), so near the equilibrium the
+//! iteration is Newton's method with its fast convergence. `σ₀ = 1`.
+//! **Converged only when the static residual meets the equilibrium test,
 //! `‖r‖∞ ≤ tol · scale`** (the tolerance unchanged): the end state is a static equilibrium with
-//! its own contact and stick/slip set, and it is committed like any other. The friction and
-//! crushing return maps run from the committed state, as in every increment.
+//! its own contact and stick/slip set, committed like any other. The friction and crushing
+//! return maps run from the committed state, as in every increment. Beams are judged at the end
+//! state (the event loop breaks any with `P ≥ 1` there, one at a time).
 //!
 //! The linear solve is GMRES on `K_T + σM` preconditioned by the factorization of the symmetric
 //! operator with the shift `σM` in place of the regularization, refactorized when `σ` has moved
 //! by more than a factor 2 since the last factorization (contact terms entering or leaving in
-//! between are Woodbury terms, as in Newton's method); after the continuation the unshifted
-//! operator is refactorized.
+//! between are Woodbury terms, as in Newton's method); afterwards the unshifted operator is
+//! refactorized. It is a fallback: one continuation costs up to `MAX_ITERATIONS` factorizations
+//! of a small wall, more than Newton's method, and runs only where Newton's method failed at the
+//! smallest increment.
 use super::error::DemError;
 use super::events::{LoadPoint, Solver};
 use super::equilibrium::Refactor;
@@ -46,7 +60,7 @@ use super::gmres::gmres;
 use super::tangent::Tangent;
 use super::trace::NewtonStep;
 
-/// The initial shift `σ₀` (a step as stiff again as the intact lattice).
+/// The initial shift `σ₀` (a step as stiff again as the intact lattice's diagonal).
 const SIGMA_0: f64 = 1.0;
 /// Bounds of the shift.
 const SIGMA_MIN: f64 = 1e-12;

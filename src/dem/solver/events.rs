@@ -37,6 +37,17 @@
 //! pair did not, so re-equilibrations after crushing can show a negative relaxation term (energy
 //! is still balanced: `W_ext = stored + dissipated` over the loading steps).
 //!
+//! **Continuation** ([`SolverOptions::continuation`], on by default). Where Newton's method
+//! finds no equilibrium at the smallest increment (a load step cut back `max_cutbacks` times,
+//! or a beam's release), the equilibrium at that load is sought by pseudo-transient
+//! continuation ([`super::continuation`]), with the same residual tolerance. A load step found
+//! so is recorded as a state of kind "relaxed" at its (tiny) platen increment: past a
+//! snap-back the curve shows a vertical drop at the platen displacement, and the energy the
+//! drop releases is booked as relaxation (what a dynamic model would damp); then, as after any
+//! break, the beams with `P ≥ 1` at that state break one at a time. A release found so ends
+//! the release. If the continuation fails too, Newton's error is returned (the caller's
+//! collapse/failed classification).
+//!
 //! **Equilibrium iteration.** Residual `r = f_ext − f_int(z) − ε (z − z_commit)` on the
 //! unknowns; `Δz = K̃⁻¹ r` with `K̃` the factorized operator (intact beams, contact normal
 //! penalties `k_n b bᵀ`, sticking tangential terms `k_t c cᵀ`, the regularization `ε`). Converged
