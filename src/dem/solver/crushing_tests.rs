@@ -121,3 +121,36 @@ fn paper_wall_with_crushing_peaks_and_balances_energy() {
     assert!(last.broken[3] > 0, "beams crushed");
     assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {}", balance(last));
 }
+
+#[test]
+fn paper_wall_sample_continues_past_its_old_stop() {
+    // jobs/wall-compression.toml's sample 1 (seed 2; σ_c = 2.2 MPa, G_c = 1 kJ/m²), in the job's
+    // steps of Δε = 5e-5, to ε = 1.2e-3 (just past its peak). Without continuation the test
+    // stops at ε = 1.0355e-3, 99.9 % of its peak: Newton alternates between two states
+    // (relative residual 1e-5..1e-4, six crushing contacts on their softening branch) at every
+    // increment down to 2⁻¹⁰ of the step: `Failed`, the sample left out of the statistics. With
+    // continuation the equilibrium of that increment is found (here close by: the stress
+    // changes by 5e-5 relative), the test reaches its target; the continued step is below twice
+    // the smallest cut-back (< 2⁻⁹ of the step 5e-5 × 1.2 m) and W_ext = stored + dissipated
+    // within 1 % of W_ext.
+    let s = Sample::build(&SampleConfig::paper_wall(2)).unwrap();
+    let p = crushing(2.2e6, 1e3);
+    let t = VirtualTest::Compression { max_strain: 1.2e-3, steps: 24 };
+    let off = SolverOptions { continuation: false, ..Default::default() };
+    let before = run_test_with(&s, &p, &t, off).unwrap();
+    assert!(matches!(before.end, TestEnd::Failed { .. }), "the stop at the peak: {:?}", before.end);
+    let stop = before.curve.last().unwrap().strain;
+    assert!((stop + 1.0355e-3).abs() < 1e-6, "stopped at ε = {stop:e}");
+    let r = run_test(&s, &p, &t).unwrap();
+    assert_eq!(r.end, TestEnd::Target);
+    assert!(r.stats.continued_steps >= 1, "{:?}", r.stats);
+    let continued = r
+        .curve
+        .windows(2)
+        .find(|w| w[1].kind == StateKind::Relaxed && w[1].broken == w[0].broken)
+        .map(|w| w[1].displacement - w[0].displacement)
+        .expect("the continued step's state");
+    assert!(continued.abs() < 5e-5 * 1.2 / 512.0, "displacement step {continued:e}");
+    let last = r.curve.last().unwrap();
+    assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", balance(last), last.external_work);
+}

@@ -34,6 +34,7 @@ use super::gmres::{gmres, ForcingSequence};
 use super::system::ZTerm;
 use super::profile;
 use super::tangent::Tangent;
+use super::trace::NewtonStep;
 use super::factor::{SparseColumn, TermId};
 use std::time::Instant;
 
@@ -58,6 +59,8 @@ pub(super) enum Refactor {
     RankCap,
     /// Ill-conditioned capacitance matrix, or GMRES failed with the correction.
     Accuracy,
+    /// The pseudo-transient continuation's shifted operator, or the return from it.
+    Continuation,
 }
 
 impl<'a> Solver<'a> {
@@ -78,12 +81,19 @@ impl<'a> Solver<'a> {
     /// Factorizes the current operator (intact beams, the contact terms, `ε`); `cause` is
     /// counted in the profile (`None`: the first factorization, or a floating stone).
     pub(super) fn refactorize(&mut self, cause: Option<Refactor>) -> Result<(), DemError> {
+        let diagonal = self.reg.clone();
+        self.refactorize_with(cause, &diagonal)
+    }
+
+    /// Factorizes the operator with `diagonal` in place of the regularization `ε` (the
+    /// pseudo-transient continuation's shifted operator, [`super::continuation`]).
+    pub(super) fn refactorize_with(&mut self, cause: Option<Refactor>, diagonal: &[f64]) -> Result<(), DemError> {
         let clock = Instant::now();
         let extra: Vec<ZTerm> = self.op_terms.values_mut().map(|(t, id)| {
             *id = None;
             t.clone()
         }).collect();
-        let t = self.model.assemble(&self.intact, &self.reg, &extra);
+        let t = self.model.assemble(&self.intact, diagonal, &extra);
         self.factor
             .factorize(&t)
             .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
@@ -93,6 +103,7 @@ impl<'a> Solver<'a> {
             Some(Refactor::CostModel) => r.cost_model += 1,
             Some(Refactor::RankCap) => r.rank_cap += 1,
             Some(Refactor::Accuracy) => r.accuracy += 1,
+            Some(Refactor::Continuation) => r.continuation += 1,
             None if self.factor.n_factorizations == 1 => r.initial += 1,
             None => r.floating += 1,
         }
@@ -127,7 +138,7 @@ impl<'a> Solver<'a> {
     /// in one batch. A refactorization is requested instead when the correction would pass
     /// `max_rank`, or when it has cost more than a factorization (the cost model of
     /// [`super::factor`]).
-    fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
+    pub(super) fn sync_operator(&mut self, contacts: &[ActiveContact]) -> Result<(), DemError> {
         let mut want: BTreeMap<(usize, usize, u8), ()> = BTreeMap::new();
         for a in contacts {
             want.insert((a.i, a.j, 0), ());
@@ -259,12 +270,39 @@ impl<'a> Solver<'a> {
         let z0 = self.z.clone();
         let mut ev = self.evaluate(&z0, &f_ext)?;
         let mut forcing = ForcingSequence::new(self.opts.forcing);
+        let events = self.broken.len();
+        let (stage, what) = (self.stage, if extra.is_some() { "release" } else { "load" });
+        if let Some(tr) = self.trace.as_mut() {
+            tr.begin(stage, t, events, what);
+        }
+        let mut previous: Option<Vec<(usize, usize, bool)>> = None;
         for iteration in 0..self.opts.max_iterations {
             self.jacobians.fresh_only = iteration >= super::tangent::FRESH_AFTER;
             if ev.relative <= self.opts.tol {
+                if let Some(tr) = self.trace.as_mut() {
+                    tr.end(ev.relative, true);
+                }
                 self.contacts = ev.contacts;
                 return Ok(());
             }
+            let mut step = self.trace.as_ref().map(|_| {
+                let set: Vec<(usize, usize, bool)> = ev.contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect();
+                let changes = previous.as_ref().map_or(0, |p| set_changes(p, &set));
+                previous = Some(set);
+                NewtonStep {
+                    relative: ev.relative,
+                    merit: ev.merit,
+                    contacts: ev.contacts.len(),
+                    sliding: ev.contacts.iter().filter(|a| !a.sticks()).count(),
+                    crushing: ev.contacts.iter().filter(|a| a.crush.is_some_and(|c| c.plastic)).count(),
+                    set_changes: changes,
+                    gmres_iterations: 0,
+                    linear_converged: true,
+                    cap: 1.0,
+                    alpha: 1.0,
+                    shift: 0.0,
+                }
+            });
             self.profile.newton_iterations += 1;
             self.sync_operator(&ev.contacts)?;
             if self.needs_factor {
@@ -275,7 +313,6 @@ impl<'a> Solver<'a> {
             self.profile.columns_added = self.factor.n_columns;
             self.profile.columns_dropped = self.factor.n_dropped;
             let fail = |e: super::factor::FactorError, ev: usize| DemError::Factorization { event: ev, reason: e.0 };
-            let events = self.broken.len();
             let mut dz = vec![0.0; n_eq];
             // The linear solve's tolerance (Eisenstat–Walker by default; the goal: ‖r‖∞ at
             // convergence, tol · scale = tol ‖r‖∞ / relative).
@@ -329,6 +366,10 @@ impl<'a> Solver<'a> {
                 )
                 .map_err(|e| fail(e, events))?;
                 self.n_solves += info.iterations;
+                if let Some(st) = step.as_mut() {
+                    st.gmres_iterations = info.iterations;
+                    st.linear_converged = info.converged;
+                }
                 let p = &mut self.profile;
                 p.gmres_solves += 1;
                 p.gmres_iterations += info.iterations;
@@ -340,8 +381,17 @@ impl<'a> Solver<'a> {
                     self.pending_refactor = Some(Refactor::Accuracy);
                 }
             }
-            self.cap_step(&mut dz);
-            ev = self.line_search(&dz, &f_ext, ev)?;
+            let cap = self.cap_step(&mut dz);
+            let alpha;
+            (ev, alpha) = self.line_search(&dz, &f_ext, ev)?;
+            if let (Some(tr), Some(mut st)) = (self.trace.as_mut(), step) {
+                st.cap = cap;
+                st.alpha = alpha;
+                tr.step(st);
+            }
+        }
+        if let Some(tr) = self.trace.as_mut() {
+            tr.end(ev.relative, ev.relative <= self.opts.tol);
         }
         if ev.relative <= self.opts.tol {
             self.contacts = ev.contacts;
@@ -357,8 +407,9 @@ impl<'a> Solver<'a> {
         })
     }
 
-    /// Scales `dz` so that no stone moves by more than `max_move` in one iteration.
-    fn cap_step(&self, dz: &mut [f64]) {
+    /// Scales `dz` so that no stone moves by more than `max_move` in one iteration; returns the
+    /// scale applied (1: none).
+    pub(super) fn cap_step(&self, dz: &mut [f64]) -> f64 {
         let map = &self.model.map;
         let big = map
             .unknowns
@@ -369,12 +420,14 @@ impl<'a> Solver<'a> {
         if big > self.max_move {
             let s = self.max_move / big;
             dz.iter_mut().for_each(|d| *d *= s);
+            return s;
         }
+        1.0
     }
 
     /// Backtracking on the merit function along `dz`; moves `self.z` and returns the evaluation
-    /// at the accepted point.
-    fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<Evaluation, DemError> {
+    /// at the accepted point and the step length taken.
+    fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<(Evaluation, f64), DemError> {
         let base = self.z.clone();
         let unknowns = self.model.map.unknowns.clone();
         let mut best: Option<(f64, Evaluation)> = None;
@@ -399,9 +452,9 @@ impl<'a> Solver<'a> {
                 for (e, &zi) in unknowns.iter().enumerate() {
                     self.z[zi] = base[zi] + a * dz[e];
                 }
-                Ok(ev)
+                Ok((ev, a))
             }
-            None => Ok(ev0),
+            None => Ok((ev0, 0.0)),
         }
     }
 
@@ -414,3 +467,13 @@ impl<'a> Solver<'a> {
     }
 }
 
+
+/// Contacts entering or leaving and stick/slip flips between two sets `(i, j, sticks)`, both
+/// sorted by pair.
+fn set_changes(a: &[(usize, usize, bool)], b: &[(usize, usize, bool)]) -> usize {
+    let ma: BTreeMap<(usize, usize), bool> = a.iter().map(|&(i, j, s)| ((i, j), s)).collect();
+    let mb: BTreeMap<(usize, usize), bool> = b.iter().map(|&(i, j, s)| ((i, j), s)).collect();
+    let gone = ma.keys().filter(|k| !mb.contains_key(k)).count();
+    let changed = mb.iter().filter(|(k, s)| ma.get(k).is_none_or(|t| t != *s)).count();
+    gone + changed
+}

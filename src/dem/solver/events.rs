@@ -37,6 +37,17 @@
 //! pair did not, so re-equilibrations after crushing can show a negative relaxation term (energy
 //! is still balanced: `W_ext = stored + dissipated` over the loading steps).
 //!
+//! **Continuation** ([`SolverOptions::continuation`], on by default). Where Newton's method
+//! finds no equilibrium at the smallest increment (a load step cut back `max_cutbacks` times,
+//! or a beam's release), the equilibrium at that load is sought by pseudo-transient
+//! continuation ([`super::continuation`]), with the same residual tolerance. A load step found
+//! so is recorded as a state of kind "relaxed" at its (tiny) platen increment: past a
+//! snap-back the curve shows a vertical drop at the platen displacement, and the energy the
+//! drop releases is booked as relaxation (what a dynamic model would damp); then, as after any
+//! break, the beams with `P ≥ 1` at that state break one at a time. A release found so ends
+//! the release. If the continuation fails too, Newton's error is returned (the caller's
+//! collapse/failed classification).
+//!
 //! **Equilibrium iteration.** Residual `r = f_ext − f_int(z) − ε (z − z_commit)` on the
 //! unknowns; `Δz = K̃⁻¹ r` with `K̃` the factorized operator (intact beams, contact normal
 //! penalties `k_n b bᵀ`, sticking tangential terms `k_t c cᵀ`, the regularization `ε`). Converged
@@ -122,6 +133,13 @@ pub struct SolverOptions {
     pub slip_in_preconditioner: bool,
     /// Tolerance of the linear (GMRES) solve inside Newton ([`super::gmres::Forcing`]).
     pub forcing: super::gmres::Forcing,
+    /// Where Newton's method finds no equilibrium at the smallest increment (a load step or a
+    /// beam's release), look for it by pseudo-transient continuation ([`super::continuation`];
+    /// default on).
+    pub continuation: bool,
+    /// Keep the Newton history of the last equilibrium attempts ([`super::trace`]; default
+    /// off).
+    pub trace: bool,
 }
 
 impl Default for SolverOptions {
@@ -138,6 +156,8 @@ impl Default for SolverOptions {
             contact_events: false,
             slip_in_preconditioner: true,
             forcing: super::gmres::Forcing::default(),
+            continuation: true,
+            trace: false,
         }
     }
 }
@@ -263,6 +283,10 @@ pub struct Solver<'a> {
     pub n_cutbacks: usize,
     /// Load steps ended at a contact event.
     pub n_contact_events: usize,
+    /// Pseudo-transient continuations run ([`super::continuation`]).
+    pub n_continuations: usize,
+    /// Load steps whose equilibrium was found by continuation (module docs, "Continuation").
+    pub n_continued_steps: usize,
     /// Counters and phase times ([`SolverProfile`]).
     pub profile: SolverProfile,
     lateral: [Vec<usize>; 2],
@@ -274,6 +298,8 @@ pub struct Solver<'a> {
     /// keep particle states ([`super::snapshots::Recorder`]).
     #[allow(clippy::type_complexity)]
     pub observer: Option<Box<dyn FnMut(usize, &StateRecord, &[f64]) + 'a>>,
+    /// The Newton history of the last equilibrium attempts (with [`SolverOptions::trace`]).
+    pub trace: Option<super::trace::Trace>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -338,11 +364,14 @@ impl<'a> Solver<'a> {
             n_solves: 0,
             n_cutbacks: 0,
             n_contact_events: 0,
+            n_continuations: 0,
+            n_continued_steps: 0,
             profile: SolverProfile::default(),
             lateral,
             mean_diameter,
             max_move: 0.05 * mean_diameter,
             observer: None,
+            trace: opts.trace.then(Default::default),
             model,
         })
     }
@@ -680,7 +709,16 @@ impl<'a> Solver<'a> {
                     h *= 0.5;
                     self.n_cutbacks += 1;
                     if h < h_min {
-                        return Err(e);
+                        // No equilibrium near the path: the full release by pseudo-transient
+                        // continuation from the last intermediate state.
+                        if !self.opts.continuation {
+                            return Err(e);
+                        }
+                        if self.continuation(load, None, t).is_err() {
+                            self.restore();
+                            return Err(e);
+                        }
+                        s = 1.0;
                     }
                 }
                 Err(e) => return Err(e),
@@ -729,17 +767,35 @@ impl<'a> Solver<'a> {
             }
             let z_old = self.z.clone();
             let load = LoadPoint::lerp(&from, target, t_try);
+            // No equilibrium at the smallest increment: past a limit point of the path, the
+            // state after the snap-back (module docs, "Snap-back").
+            let mut snapped = false;
             let mut ok = match self.equilibrate(&load, t_try) {
                 Ok(()) => true,
                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
+                Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
+                    self.restore();
+                    if self.continuation(&load, None, t_try).is_err() {
+                        self.restore();
+                        self.load = LoadPoint::lerp(&from, target, t);
+                        return Err(e);
+                    }
+                    snapped = true;
+                    true
+                }
                 Err(e) => {
                     self.restore();
                     self.load = LoadPoint::lerp(&from, target, t);
                     return Err(e);
                 }
             };
-            let failure = if ok { self.first_failure(&z_old) } else { None };
-            if ok && self.opts.contact_events && !at_event && failure.is_none_or(|(lam, _)| lam >= 1.0) {
+            let failure = if ok && !snapped { self.first_failure(&z_old) } else { None };
+            if ok
+                && !snapped
+                && self.opts.contact_events
+                && !at_event
+                && failure.is_none_or(|(lam, _)| lam >= 1.0)
+            {
                 if let Some(lam) = self.first_contact_event(&z_old) {
                     let t_c = t + lam * (t_try - t);
                     let min = MIN_EVENT_STEP * step;
@@ -753,7 +809,15 @@ impl<'a> Solver<'a> {
                 }
             }
             at_event = false;
-            if ok {
+            if snapped {
+                self.n_continued_steps += 1;
+                self.commit(t_try, StateKind::Relaxed);
+                t = t_try;
+                self.load = load.clone();
+                while let Some(bb) = self.most_critical() {
+                    self.release(bb, &load, t_try)?;
+                }
+            } else if ok {
                 match failure {
                     None => {
                         self.commit(t_try, StateKind::Loading);

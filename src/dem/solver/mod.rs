@@ -9,11 +9,13 @@ pub use error::DemError;
 pub use factor::LowRankCholesky;
 pub mod contact_candidates;
 pub mod contact_set;
+mod continuation;
 mod equilibrium;
 pub mod gmres;
 pub mod ordering;
 pub mod profile;
 pub mod tangent;
+pub mod trace;
 pub mod events;
 pub mod system;
 

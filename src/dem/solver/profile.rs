@@ -11,6 +11,8 @@ use std::time::Duration;
 pub struct SolverProfile {
     /// Newton iterations (linear solves of the tangent).
     pub newton_iterations: usize,
+    /// Iterations of pseudo-transient continuations (`super::continuation`).
+    pub continuation_iterations: usize,
     /// Newton iterations that needed GMRES (some contact active).
     pub gmres_solves: usize,
     /// GMRES products (each one preconditioner solve).
@@ -66,6 +68,9 @@ pub struct Refactorizations {
     pub accuracy: usize,
     /// A stone lost every bond and contact.
     pub floating: usize,
+    /// The shifted operator of a pseudo-transient continuation, or the return from it
+    /// (`super::continuation`).
+    pub continuation: usize,
 }
 
 /// Adds the seconds of `d` to `acc`.

@@ -300,6 +300,13 @@ pub struct RunStats {
     pub contact_events: usize,
     /// Load-increment cut-backs (halved steps or beam releases).
     pub cutbacks: usize,
+    /// Load steps whose equilibrium was found by continuation (past a snap-back, or where
+    /// Newton's method alternated between two states).
+    #[serde(default)]
+    pub continued_steps: usize,
+    /// Pseudo-transient continuations run (snap-backs and stalled releases), converged or not.
+    #[serde(default)]
+    pub continuations: usize,
 }
 
 /// How a test ended.
@@ -351,6 +358,10 @@ pub struct TestResult {
     /// Particle states kept for the HDF5/XDMF output (not transferred between ranks).
     #[serde(skip)]
     pub particle_states: Vec<ParticleState>,
+    /// The Newton history of the last equilibrium attempts (with `SolverOptions::trace`; not
+    /// transferred between ranks).
+    #[serde(skip)]
+    pub trace: Option<super::trace::Trace>,
 }
 
 /// Runs `test` on `sample` with the default solver options.
@@ -545,6 +556,8 @@ pub fn run_test_recording(
             loss_of_load: loss,
             cutbacks: solver.n_cutbacks,
             contact_events: solver.n_contact_events,
+            continued_steps: solver.n_continued_steps,
+            continuations: solver.n_continuations,
         },
         end,
         curve,
@@ -552,6 +565,7 @@ pub fn run_test_recording(
         floating: solver.floating.clone(),
         derived,
         particle_states,
+        trace: solver.trace.take(),
     })
 }
 
