@@ -63,8 +63,10 @@
 //! does not hold. For a corner overlap (triangle of depth `h`, chord `2h`) `U_n = κ h³/3` while
 //! `F_n²/(2 k_n) = κ h³/4`. The non-uniform part, the *wedge energy*
 //! `U_w = ½ κ (∫δ² ds − S_r²/L)` (0 for a strip), is [`Contact::wedge_energy`]; the contact's
-//! normal energy is `F_n²/(2 k_n) + U_w` (also with crushing, where `F_n` is the crushed force,
-//! i.e. the plastic penetration is uniform across the chord). `δ(s)` is piecewise linear between
+//! normal energy is `F_n²/(2 k_n) + U_w`. With crushing `F_n` is the crushed force (the plastic
+//! penetration is uniform across the chord) and, since that force acts at the overlap centroid,
+//! the moment it carries about the chord midpoint and the wedge energy `U_w = M²/(2 k_φ)`
+//! (`k_φ = k_n L²/12`) scale with it: `U_w (F_n/κS_r)²` (`solver::contact_set`). `δ(s)` is piecewise linear between
 //! the vertices' tangential coordinates (convex overlap), so `∫δ² ds` is exact:
 //! `Σ h_k (δ_k² + δ_k δ_{k+1} + δ_{k+1}²)/3`.
 //!

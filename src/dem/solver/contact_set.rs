@@ -221,6 +221,11 @@ pub fn evaluate_pair(
             let u = cr
                 .update(contact.overlap_area, contact.chord_length, params.e_bar, contact.l_c, params.t_z, old.delta_p)
                 .map_err(err)?;
+            // The crushed force acts at the overlap centroid, so the moment it carries about the
+            // chord midpoint scales with it, and with it the wedge energy, U_w = M²/(2k_φ)
+            // (k_φ = k_n L²/12 for a wedge): U_w (F_n/κS_r)². A fully crushed contact stores none.
+            let elastic = contact.f_n;
+            contact.wedge_energy *= if elastic > 0.0 { (u.f_n / elastic).powi(2) } else { 0.0 };
             contact.f_n = u.f_n;
             Some(u)
         }
