@@ -46,9 +46,9 @@
 use nalgebra::Vector3;
 
 use super::law::PointLaw;
-use super::plane_stress::{direction, elastic_matrix, equivalent_strain, tensile_weight};
+use super::plane_stress::{blended, direction, elastic_matrix, equivalent_strain, tensile_weight, Blend};
 use super::response::Response;
-use super::state::{evolve, DamageState, Side};
+use super::state::{DamageState, Side};
 
 /// The bell weight α(r) = ⟨1 − r²/R²⟩₊² (module docs).
 #[inline]
@@ -93,27 +93,7 @@ pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState, av
     let y = 0.5 * strain.dot(&sigma_tilde);
     let (x, dx) = direction(&c0, &sigma_tilde);
     let (w, dw) = tensile_weight(x);
-    let t = evolve(law, Side::Tension, averaged[0], w * y, committed);
-    let c = evolve(law, Side::Compression, averaged[1], (1.0 - w) * y, &t.state);
-    let state = c.state;
-    let g = w * t.integrity + (1.0 - w) * c.integrity;
-    let secant = c0 * g;
-    let mut dg = dx * (dw * (state.d_c - state.d_t));
-    if t.loading {
-        dg -= (grad * w + dx * (eq * dw)) * (self_share * w * t.dd_deq);
-    }
-    if c.loading {
-        dg -= (grad * (1.0 - w) - dx * (eq * dw)) * (self_share * (1.0 - w) * c.dd_deq);
-    }
-    Response {
-        stress: sigma_tilde * g,
-        secant,
-        tangent: secant + sigma_tilde * dg.transpose(),
-        state,
-        dissipation: t.dissipation + c.dissipation,
-        side,
-        loading: t.loading || c.loading,
-    }
+    blended(law, &Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw }, averaged, self_share, committed)
 }
 
 #[cfg(test)]

@@ -153,17 +153,41 @@ pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) ->
         let evo = evolve(law, side, eq, y, committed);
         return assemble(&c0, &sigma_tilde, side, evo, &grad);
     }
-    let t = evolve(law, Side::Tension, w * eq, w * y, committed);
-    let c = evolve(law, Side::Compression, (1.0 - w) * eq, (1.0 - w) * y, &t.state);
+    let kin = Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw };
+    blended(law, &kin, [w * eq, (1.0 - w) * eq], 1.0, committed)
+}
+
+/// The kinematic quantities of a point inside the switch band (see [`update`]).
+#[derive(Clone, Copy)]
+pub(super) struct Blend {
+    pub c0: Matrix3<f64>,
+    pub sigma_tilde: Vector3<f64>,
+    pub side: Side,
+    pub eq: f64,
+    pub grad: Vector3<f64>,
+    pub y: f64,
+    pub dx: Vector3<f64>,
+    pub w: f64,
+    pub dw: f64,
+}
+
+/// The blended response inside the switch band, each side driven by `driving` = `[ε_t, ε_c]`
+/// (`[w ε_eq, (1 − w) ε_eq]` locally; the averages with the nonlocal law, whose own share
+/// `self_share` of them enters the tangent: 1 locally). The formulas are [`update`]'s.
+#[inline]
+pub(super) fn blended(law: &PointLaw, k: &Blend, driving: [f64; 2], self_share: f64, committed: &DamageState) -> Response<3> {
+    let Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw } = *k;
+    let t = evolve(law, Side::Tension, driving[0], w * y, committed);
+    let c = evolve(law, Side::Compression, driving[1], (1.0 - w) * y, &t.state);
     let state = c.state;
     let g = w * t.integrity + (1.0 - w) * c.integrity;
     let secant = c0 * g;
     let mut dg = dx * (dw * (state.d_c - state.d_t));
     if t.loading {
-        dg -= (grad * w + dx * (eq * dw)) * (w * t.dd_deq);
+        dg -= (grad * w + dx * (eq * dw)) * (self_share * w * t.dd_deq);
     }
     if c.loading {
-        dg -= (grad * (1.0 - w) - dx * (eq * dw)) * ((1.0 - w) * c.dd_deq);
+        dg -= (grad * (1.0 - w) - dx * (eq * dw)) * (self_share * (1.0 - w) * c.dd_deq);
     }
     Response {
         stress: sigma_tilde * g,
