@@ -109,6 +109,23 @@ impl LineChart {
         Ok((pad(x0, x1), pad(y0, y1)))
     }
 
+    /// The colour of each series: named series take the palette's colours in turn; a series
+    /// without a name (one of many samples) continues the group of the named series before it,
+    /// so a legend entry's colour is that of every curve it stands for.
+    fn colours(&self) -> Vec<RGBColor> {
+        let mut k = 0;
+        self.series
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                if i > 0 && !s.name.is_empty() {
+                    k += 1;
+                }
+                PALETTE[k % PALETTE.len()]
+            })
+            .collect()
+    }
+
     /// Draws the chart to a PNG file.
     pub fn save_png(&self, path: &Path) -> Result<(), PlotError> {
         let ((x0, x1), (y0, y1)) = self.range()?;
@@ -133,8 +150,7 @@ impl LineChart {
             .max_light_lines(2)
             .draw()
             .map_err(|e| render(&e))?;
-        for (k, s) in self.series.iter().enumerate() {
-            let color = PALETTE[k % PALETTE.len()];
+        for (s, color) in self.series.iter().zip(self.colours()) {
             let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
             let anno = match s.style {
                 SeriesStyle::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))),
@@ -167,6 +183,17 @@ impl LineChart {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unnamed_series_share_the_colour_of_their_group() {
+        let c = LineChart::new("t", "x", "y")
+            .series("samples", vec![(0.0, 0.0)], SeriesStyle::Line)
+            .series("", vec![(0.0, 1.0)], SeriesStyle::Line)
+            .series("", vec![(0.0, 2.0)], SeriesStyle::Line)
+            .series("experiment", vec![(0.0, 3.0)], SeriesStyle::Markers)
+            .series("law", vec![(0.0, 4.0)], SeriesStyle::Line);
+        assert_eq!(c.colours(), vec![PALETTE[0], PALETTE[0], PALETTE[0], PALETTE[1], PALETTE[2]]);
+    }
 
     #[test]
     fn a_chart_is_written_as_png() {
