@@ -45,6 +45,51 @@ pub fn gmres<E>(
     x: &mut [f64],
     b: &[f64],
     mut apply: impl FnMut(&[f64], &mut [f64]),
+    precond: impl FnMut(&mut [f64]) -> Result<(), E>,
+    tol: f64,
+    restart: usize,
+    max_iterations: usize,
+) -> Result<GmresInfo, E> {
+    gmres_core(x, b, |_, z, out| apply(z, out), precond, tol, restart, max_iterations)
+}
+
+/// [`gmres`] for `A = M + D` where the preconditioner is `M` itself (up to its own round-off)
+/// and `D` is cheap: the Arnoldi products are `A M⁻¹ v = v + D (M⁻¹ v)`, so `A` is never applied
+/// inside a cycle. `apply_difference(z, out)`: `out = D z`; `apply(x, out)`: `out = A x`, used
+/// only for the residual of a restart (`x ≠ 0`).
+///
+/// With `M` the factorized symmetric operator and `D = K_T − M` the contacts' part of the
+/// tangent that the factorization does not hold ([`super::tangent::TangentDifference`]), a
+/// product costs `O(contacts)` instead of `O(beams)`. The solve is that of `M + D` only as far
+/// as `M⁻¹` is exact (a Woodbury correction is, to round-off): Newton's step, not its residual.
+pub fn gmres_split<E>(
+    x: &mut [f64],
+    b: &[f64],
+    mut apply: impl FnMut(&[f64], &mut [f64]),
+    mut apply_difference: impl FnMut(&[f64], &mut [f64]),
+    precond: impl FnMut(&mut [f64]) -> Result<(), E>,
+    tol: f64,
+    restart: usize,
+    max_iterations: usize,
+) -> Result<GmresInfo, E> {
+    let product = |v: Option<&[f64]>, z: &[f64], out: &mut [f64]| match v {
+        Some(v) => {
+            apply_difference(z, out);
+            for (o, vi) in out.iter_mut().zip(v) {
+                *o += vi;
+            }
+        }
+        None => apply(z, out),
+    };
+    gmres_core(x, b, product, precond, tol, restart, max_iterations)
+}
+
+/// The iteration of [`gmres`]: `product(Some(v), z, out)` is `out = A z` for `z = M⁻¹ v` (an
+/// Arnoldi step), `product(None, x, out)` a plain `out = A x`.
+fn gmres_core<E>(
+    x: &mut [f64],
+    b: &[f64],
+    mut product: impl FnMut(Option<&[f64]>, &[f64], &mut [f64]),
     mut precond: impl FnMut(&mut [f64]) -> Result<(), E>,
     tol: f64,
     restart: usize,
@@ -64,7 +109,7 @@ pub fn gmres<E>(
         let r: Vec<f64> = if x.iter().all(|v| *v == 0.0) {
             b.to_vec()
         } else {
-            apply(x, &mut w);
+            product(None, x, &mut w);
             total += 1;
             b.iter().zip(&w).map(|(bi, wi)| bi - wi).collect()
         };
@@ -83,7 +128,7 @@ pub fn gmres<E>(
             // w = A M⁻¹ v_k
             let mut z = v[k].clone();
             precond(&mut z)?;
-            apply(&z, &mut w);
+            product(Some(&v[k]), &z, &mut w);
             zs.push(z);
             total += 1;
             let mut col = vec![0.0; k + 2];

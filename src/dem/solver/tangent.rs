@@ -106,7 +106,10 @@ impl JacobianCache {
             let d = [model.sample.particles[a.i].diameter, model.sample.particles[a.j].diameter];
             let moved: f64 = (0..2)
                 .map(|k| {
-                    let m = |x: [f64; 3], y: [f64; 3]| (x[0] - y[0]).hypot(x[1] - y[1]) + (x[2] - y[2]).abs() * d[k];
+                    let m = |x: [f64; 3], y: [f64; 3]| {
+                        let (dx, dy) = (x[0] - y[0], x[1] - y[1]);
+                        (dx * dx + dy * dy).sqrt() + (x[2] - y[2]).abs() * d[k]
+                    };
                     m(q[k], e.q[k]) + m(c[k], e.c[k])
                 })
                 .sum();
@@ -167,6 +170,23 @@ impl<'m, 'a> Tangent<'m, 'a> {
         Ok(Tangent { model, intact, reg, contacts: terms })
     }
 
+    /// `D = K_T − M` for the factorized operator `M` (see [`TangentDifference`]): per contact,
+    /// its `Gᵀ J_c G` minus `held(i, j)`, the contact terms `M` holds for the pair (normal penalty
+    /// and tangential stiffness, in the same `z` indices, [`super::DofMap::pair_map`]).
+    pub fn difference(
+        &self,
+        contacts: &[ActiveContact],
+        held: impl Fn(usize, usize) -> SMatrix<f64, 6, 6>,
+    ) -> TangentDifference {
+        let eq = &self.model.map.eq;
+        let terms = contacts
+            .iter()
+            .zip(&self.contacts)
+            .map(|(a, (idx, k))| (idx.map(|z| eq[z]), k - held(a.i, a.j)))
+            .collect();
+        TangentDifference { terms }
+    }
+
     /// `out = K_T v` (equations).
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
         let eq = &self.model.map.eq;
@@ -180,6 +200,31 @@ impl<'m, 'a> Tangent<'m, 'a> {
             let y = k * x;
             for a in 0..6 {
                 if let Some(e) = eq[idx[a]] {
+                    out[e] += y[a];
+                }
+            }
+        }
+    }
+}
+
+/// The part of the tangent that the factorized operator `M` does not hold,
+/// `D = K_T − M = Σ_contacts Gᵀ (J_c − k_n b₀ b₀ᵀ − k_t c₀ c₀ᵀ) G`, with `b₀`, `c₀` the directions the
+/// contact's terms entered `M` with: the beams and `ε` are in both and cancel exactly, so a
+/// product `D z` costs `O(contacts)`, against `O(beams)` for `K_T z`
+/// ([`super::gmres::gmres_split`]).
+pub struct TangentDifference {
+    terms: Vec<([Option<usize>; 6], SMatrix<f64, 6, 6>)>,
+}
+
+impl TangentDifference {
+    /// `out = D z` (equations).
+    pub fn apply(&self, z: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|o| *o = 0.0);
+        for (eqs, k) in &self.terms {
+            let x = V6::from_fn(|a, _| eqs[a].map_or(0.0, |e| z[e]));
+            let y = k * x;
+            for a in 0..6 {
+                if let Some(e) = eqs[a] {
                     out[e] += y[a];
                 }
             }
