@@ -23,12 +23,19 @@
 //!
 //! **Query at `z`.** If some `δ_p > h`, the list is rebuilt at `z`. Otherwise a pair whose boxes
 //! overlap now had grown boxes that overlapped at the anchor (each box moved by at most `δ ≤ h`),
-//! so it is listed; and a listed pair can overlap only if `δ_i + δ_j ≥ g_ij` (a projection gap
-//! closes by at most the motion of the two outlines). The candidates are the listed pairs without
-//! an intact beam and with `δ_i + δ_j + τ ≥ g_ij` (`τ = 10⁻⁹ D̄` against round-off), in `(i, j)`
-//! order: the pairs skipped are pairs the contact law would find apart, so the contacts are
-//! exactly those of a search from scratch ([`super::contact_set::candidates`]; compared in the
-//! tests below).
+//! so it is listed; and a listed pair can overlap only if their outlines have closed the gap
+//! `g_ij` on its (fixed) separating axis `n`. Points of stone `p` move by `Δu_p + (R(Δθ_p) − I)(x − c_p)`,
+//! so the projection gap on `n` closes by at most the *relative* motion
+//!
+//! ```text
+//!   δ_ij = |Δu_i − Δu_j| + |Δθ_i| R_i + |Δθ_j| R_j      (Δ: since the anchor)
+//! ```
+//!
+//! (the uniform part of the motion, which grows across a loaded sample, cancels). The candidates
+//! are the listed pairs without an intact beam and with `δ_ij + τ ≥ g_ij` (`τ = 10⁻⁹ D̄` against
+//! round-off; also `δ_i + δ_j + τ ≥ g_ij`, looser, which costs nothing), in `(i, j)` order: the
+//! pairs skipped are pairs the contact law would find apart, so the contacts are exactly those
+//! of a search from scratch ([`super::contact_set::candidates`]; compared in the tests below).
 
 use super::dofs::DofMap;
 use crate::dem::polygon::{Polygon, P2};
@@ -162,10 +169,19 @@ impl CandidateList {
             self.moved.clear();
             self.moved.resize(n, 0.0);
         }
+        let anchor = &self.anchor;
+        let (radius, guard) = (&self.radius, self.guard);
+        let closing = |c: &Pair| {
+            // The relative motion bound of the module docs: |Δu_i − Δu_j| + |Δθ_i| R_i + |Δθ_j| R_j.
+            let (qi, qj) = (map.particle_dofs(c.i, z), map.particle_dofs(c.j, z));
+            let (ai, aj) = (anchor[c.i], anchor[c.j]);
+            let (dx, dy) = ((qi[0] - ai[0]) - (qj[0] - aj[0]), (qi[1] - ai[1]) - (qj[1] - aj[1]));
+            (dx * dx + dy * dy).sqrt() + (qi[2] - ai[2]).abs() * radius[c.i] + (qj[2] - aj[2]).abs() * radius[c.j]
+        };
         self.pairs
             .iter()
             .filter(|c| c.beam.is_none_or(|b| !intact[b]))
-            .filter(|c| self.moved[c.i] + self.moved[c.j] + self.guard >= c.gap)
+            .filter(|c| self.moved[c.i] + self.moved[c.j] + guard >= c.gap && closing(c) + guard >= c.gap)
             .map(|c| (c.i, c.j))
             .collect()
     }

@@ -48,6 +48,8 @@ pub(super) struct Evaluation {
     pub relative: f64,
     /// `½ Σ (w_e r_e)²`, `w = 1` on force rows, `1/D̄` on moment rows.
     pub merit: f64,
+    /// The intact beams' internal forces `K_b z` at the state (over `z`).
+    pub beam_forces: Vec<f64>,
 }
 
 /// Why the operator is refactorized (counted in [`super::SolverProfile::refactorizations`]).
@@ -207,6 +209,16 @@ impl<'a> Solver<'a> {
     /// The residual at `z` for the external forces `f_ext` (over `z`).
     pub(super) fn evaluate(&mut self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
         let clock = Instant::now();
+        let mut beam_forces = vec![0.0; self.model.map.n_z];
+        self.model.add_beam_forces(&self.intact, z, &mut beam_forces);
+        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
+        self.evaluate_with_beams(z, f_ext, beam_forces)
+    }
+
+    /// [`Self::evaluate`] with the beams' forces at `z` given (e.g. `K_b (z₀ + α Δz)` as
+    /// `K_b z₀ + α K_b Δz` along a line search: the beam law is linear).
+    fn evaluate_with_beams(&mut self, z: &[f64], f_ext: &[f64], beam_forces: Vec<f64>) -> Result<Evaluation, DemError> {
+        let clock = Instant::now();
         let pairs = if self.opts.contacts && !self.broken.is_empty() {
             self.candidates.candidates(self.model.sample, &self.model.map, z, &self.intact)
         } else {
@@ -214,7 +226,7 @@ impl<'a> Solver<'a> {
         };
         self.profile.pair_evaluations += pairs.len();
         self.profile.candidate_rebuilds = self.candidates.rebuilds;
-        let ev = self.evaluate_at(z, f_ext, &pairs);
+        let ev = self.evaluate_at(z, f_ext, &pairs, beam_forces);
         self.profile.evaluations += 1;
         profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
         ev
@@ -222,7 +234,13 @@ impl<'a> Solver<'a> {
 
     /// The residual at `z` with the contact law evaluated on the candidate `pairs`
     /// ([`super::contact_candidates`]).
-    fn evaluate_at(&self, z: &[f64], f_ext: &[f64], pairs: &[(usize, usize)]) -> Result<Evaluation, DemError> {
+    fn evaluate_at(
+        &self,
+        z: &[f64],
+        f_ext: &[f64],
+        pairs: &[(usize, usize)],
+        beam_forces: Vec<f64>,
+    ) -> Result<Evaluation, DemError> {
         let contacts = contact_set::evaluate(
             self.model.sample,
             &self.model.map,
@@ -232,7 +250,8 @@ impl<'a> Solver<'a> {
             &self.z_commit,
             &self.committed_ft,
         )?;
-        let f = self.internal(z, &contacts);
+        let mut f = beam_forces.clone();
+        contact_set::add_contact_forces(&self.model.map, &contacts, &mut f);
         let map = &self.model.map;
         let mut r = vec![0.0; map.n_eq()];
         let mut scale = 1e-9 * self.model.params.e_bar * self.model.params.t_z * self.model.sample.width;
@@ -246,7 +265,7 @@ impl<'a> Solver<'a> {
             let w = if zi % 3 == 2 { 1.0 / self.mean_diameter } else { 1.0 };
             merit += 0.5 * (w * r[e]).powi(2);
         }
-        Ok(Evaluation { contacts, r, relative: inf / scale, merit })
+        Ok(Evaluation { contacts, r, relative: inf / scale, merit, beam_forces })
     }
 
     /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
@@ -379,6 +398,9 @@ impl<'a> Solver<'a> {
                 )
                 .map_err(|e| fail(e, events))?;
                 self.n_solves += info.iterations;
+                if std::env::var("DEM_DEBUG_NEWTON").is_ok() {
+                    eprintln!("DBG ev {} it {} rel {:.3e} eta {:.2e} gmres {} contacts {} sliding {} rank {}", self.broken.len(), iteration, ev.relative, eta, info.iterations, ev.contacts.len(), ev.contacts.iter().filter(|a| !a.sticks()).count(), self.factor.rank());
+                }
                 if let Some(st) = step.as_mut() {
                     st.gmres_iterations = info.iterations;
                     st.linear_converged = info.converged;
@@ -440,9 +462,20 @@ impl<'a> Solver<'a> {
 
     /// Backtracking on the merit function along `dz`; moves `self.z` and returns the evaluation
     /// at the accepted point and the step length taken.
+    ///
+    /// The beams' forces along the line are `K_b z₀ + α K_b Δz` (one product `K_b Δz` per
+    /// search, the beam law being linear; the same forces as `K_b z` to round-off).
     fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<(Evaluation, f64), DemError> {
         let base = self.z.clone();
         let unknowns = self.model.map.unknowns.clone();
+        let clock = Instant::now();
+        let mut dz_z = vec![0.0; self.model.map.n_z];
+        for (e, &zi) in unknowns.iter().enumerate() {
+            dz_z[zi] = dz[e];
+        }
+        let mut k_dz = vec![0.0; self.model.map.n_z];
+        self.model.add_beam_forces(&self.intact, &dz_z, &mut k_dz);
+        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
         let mut best: Option<(f64, Evaluation)> = None;
         let mut alpha = 1.0;
         for _ in 0..6 {
@@ -450,7 +483,8 @@ impl<'a> Solver<'a> {
             for (e, &zi) in unknowns.iter().enumerate() {
                 z[zi] += alpha * dz[e];
             }
-            let ev = self.evaluate(&z, f_ext)?;
+            let beams = ev0.beam_forces.iter().zip(&k_dz).map(|(f, k)| f + alpha * k).collect();
+            let ev = self.evaluate_with_beams(&z, f_ext, beams)?;
             let accept = ev.merit <= (1.0 - 1e-4 * alpha) * ev0.merit;
             if best.as_ref().is_none_or(|(_, b)| ev.merit < b.merit) {
                 best = Some((alpha, ev));
