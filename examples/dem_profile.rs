@@ -114,7 +114,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "stones": sample.particles.len(), "equations": n_eq, "end": end, "events": events,
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
         "peak_stress_pa": peak, "e_pa": e, "solves": solver.n_solves, "cutbacks": solver.n_cutbacks,
-        "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "profile": solver.profile,
+        "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.profile,
     });
     println!("{line}");
     Ok(())

@@ -8,6 +8,7 @@ pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
 pub mod contact_candidates;
+mod contact_events;
 pub mod contact_set;
 mod continuation;
 mod equilibrium;
