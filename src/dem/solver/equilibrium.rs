@@ -404,7 +404,7 @@ impl<'a> Solver<'a> {
                 .map_err(|e| fail(e, events))?;
                 self.n_solves += info.iterations;
                 if std::env::var("DEM_DEBUG_NEWTON").is_ok() {
-                    eprintln!("DBG ev {} it {} rel {:.3e} eta {:.2e} gmres {} contacts {} sliding {} rank {}", self.broken.len(), iteration, ev.relative, eta, info.iterations, ev.contacts.len(), ev.contacts.iter().filter(|a| !a.sticks()).count(), self.factor.rank());
+                    eprintln!("DBG {} ev {} it {} rel {:.3e} eta {:.2e} gmres {} contacts {} sliding {} rank {}", what, self.broken.len(), iteration, ev.relative, eta, info.iterations, ev.contacts.len(), ev.contacts.iter().filter(|a| !a.sticks()).count(), self.factor.rank());
                 }
                 if let Some(st) = step.as_mut() {
                     st.gmres_iterations = info.iterations;

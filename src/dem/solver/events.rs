@@ -84,6 +84,7 @@ use super::error::DemError;
 use super::equilibrium::Refactor;
 use super::factor::{LowRankCholesky, TermId};
 use super::profile::SolverProfile;
+use super::step_predictor::StepPredictor;
 use super::system::{Model, ZTerm};
 use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
 use contact_set::Histories;
@@ -432,7 +433,7 @@ impl<'a> Solver<'a> {
     }
 
     /// Back to the committed state (a failed trial).
-    fn restore(&mut self) {
+    pub(super) fn restore(&mut self) {
         self.z.clone_from(&self.z_commit);
     }
 
@@ -702,6 +703,8 @@ impl<'a> Solver<'a> {
         let mut seen = self.states.len();
         // The trial step already ends at a contact event: it is not cut again (no Zeno steps).
         let mut at_event = false;
+        // The response of the last step cut by a break ([`super::step_predictor`]).
+        let mut predictor: Option<StepPredictor> = None;
         while t < 1.0 - 1e-12 {
             // Never step over a step boundary: the recorded curve keeps its regular points.
             let boundary = (((t * n) + 1e-9).floor() + 1.0) / n;
@@ -714,7 +717,7 @@ impl<'a> Solver<'a> {
             // No equilibrium at the smallest increment: past a limit point of the path, the
             // state after the snap-back (module docs, "Snap-back").
             let mut snapped = false;
-            let mut ok = match self.equilibrate(&load, t_try) {
+            let mut ok = match self.equilibrate_predicted(predictor.as_ref(), &load, t, t_try) {
                 Ok(()) => true,
                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
                 Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
@@ -774,6 +777,7 @@ impl<'a> Solver<'a> {
                     Some((lam, b)) => {
                         let t_l = t + lam * (t_try - t);
                         let load_l = LoadPoint::lerp(&from, target, t_l);
+                        let z_end = self.z.clone();
                         if self.contacts.is_empty() {
                             for (zo, zn) in z_old.iter().zip(self.z.iter_mut()) {
                                 *zn = zo + lam * (*zn - zo);
@@ -796,6 +800,7 @@ impl<'a> Solver<'a> {
                         }
                         if ok {
                             self.commit(t_l, StateKind::PreBreak);
+                            predictor = Some(StepPredictor::new(t_l, t_try, &self.z, &z_end));
                             t = t_l;
                             self.load = load_l.clone();
                             let mut next = Some(b);

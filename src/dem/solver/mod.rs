@@ -26,6 +26,7 @@ pub use events::{
 pub use profile::SolverProfile;
 pub use system::Model;
 pub mod snapshots;
+mod step_predictor;
 pub mod virtual_test;
 #[cfg(test)]
 mod crushing_tests;
