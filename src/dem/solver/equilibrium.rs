@@ -367,6 +367,7 @@ impl<'a> Solver<'a> {
                 )?;
                 self.profile.jacobians_computed = self.jacobians.computed;
                 self.profile.jacobians_reused = self.jacobians.reused;
+                self.profile.jacobians_on_cone = self.jacobians.on_cone;
                 // Inexact Newton: the linear solve to η ‖r‖ (`SolverOptions::forcing`; a fixed
                 // 1e-6 lost two of the paper wall's 16 shear samples, a fixed 1e-8 was the
                 // former default).
