@@ -232,6 +232,12 @@ impl<'a> Solver<'a> {
         self.profile.pair_evaluations += pairs.len();
         self.profile.candidate_rebuilds = self.candidates.rebuilds;
         let ev = self.evaluate_at(z, f_ext, &pairs, beam_forces);
+        if let Ok(e) = &ev {
+            if !pairs.is_empty() {
+                let touching: Vec<(usize, usize)> = e.contacts.iter().map(|a| (a.i, a.j)).collect();
+                self.candidates.refresh_apart(self.model.sample, &self.model.map, z, &touching);
+            }
+        }
         self.profile.evaluations += 1;
         profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
         ev
