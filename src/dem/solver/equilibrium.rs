@@ -91,15 +91,27 @@ impl<'a> Solver<'a> {
     /// pseudo-transient continuation's shifted operator, [`super::continuation`]).
     pub(super) fn refactorize_with(&mut self, cause: Option<Refactor>, diagonal: &[f64]) -> Result<(), DemError> {
         let clock = Instant::now();
-        let mut extra: Vec<ZTerm> = Vec::with_capacity(self.op_terms.len() + self.pattern.len());
         for (&(i, j, _), (t, id)) in self.op_terms.iter_mut() {
             *id = None;
             self.pattern.insert((i, j), t.idx);
-            extra.push(t.clone());
         }
-        // Pairs in contact once keep their entries (zeros): the same pattern, the same symbolic
+        // Every pair in contact once keeps its entries (zeros once the contact is gone), one term
+        // per pair in pair order: the same triplets in the same order, the same symbolic
         // analysis (a new pattern costs a fill-reducing ordering, METIS at 10k stones).
-        extra.extend(self.pattern.values().map(|&idx| ZTerm { idx, k: nalgebra::SMatrix::zeros() }));
+        let op = &self.op_terms;
+        let extra: Vec<ZTerm> = self
+            .pattern
+            .iter()
+            .map(|(&(i, j), &idx)| {
+                let mut k = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+                for kind in [0u8, 1] {
+                    if let Some((t, _)) = op.get(&(i, j, kind)) {
+                        k += t.k;
+                    }
+                }
+                ZTerm { idx, k }
+            })
+            .collect();
         let t = self.model.assemble(&self.intact, diagonal, &extra);
         self.factor
             .factorize(&t)
