@@ -140,6 +140,9 @@ pub struct SolverOptions {
     /// Keep the Newton history of the last equilibrium attempts ([`super::trace`]; default
     /// off).
     pub trace: bool,
+    /// Start a load step after a break from the cut step's response
+    /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations).
+    pub predict_steps: bool,
 }
 
 impl Default for SolverOptions {
@@ -158,6 +161,7 @@ impl Default for SolverOptions {
             forcing: super::gmres::Forcing::default(),
             continuation: true,
             trace: false,
+            predict_steps: true,
         }
     }
 }
@@ -717,7 +721,7 @@ impl<'a> Solver<'a> {
             // No equilibrium at the smallest increment: past a limit point of the path, the
             // state after the snap-back (module docs, "Snap-back").
             let mut snapped = false;
-            let mut ok = match self.equilibrate_predicted(predictor.as_ref(), &load, t, t_try) {
+            let mut ok = match self.equilibrate_predicted(predictor.as_ref().filter(|_| self.opts.predict_steps), &load, t, t_try) {
                 Ok(()) => true,
                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
                 Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {

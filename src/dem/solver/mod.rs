@@ -33,6 +33,8 @@ mod crushing_tests;
 #[cfg(test)]
 mod cyclic_tests;
 #[cfg(test)]
+mod speed_tests;
+#[cfg(test)]
 mod tests;
 
 pub use snapshots::{ParticleState, ParticleStates};

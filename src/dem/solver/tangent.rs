@@ -166,6 +166,19 @@ impl JacobianCache {
         Ok(jac)
     }
 
+    /// [`Self::jacobian`], for the solver's tests.
+    #[cfg(test)]
+    pub(super) fn jacobian_for_test(
+        &mut self,
+        model: &Model,
+        a: &ActiveContact,
+        q: [[f64; 3]; 2],
+        c: [[f64; 3]; 2],
+        old: contact_set::ContactHistory,
+    ) -> Result<SMatrix<f64, 6, 6>, DemError> {
+        self.jacobian(model, a, q, c, old)
+    }
+
     /// Forgets the pairs that are not in `contacts`.
     fn keep_only(&mut self, contacts: &[ActiveContact]) {
         if self.entries.len() > contacts.len() {
