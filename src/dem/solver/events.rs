@@ -141,7 +141,8 @@ pub struct SolverOptions {
     /// off).
     pub trace: bool,
     /// Start a load step after a break from the cut step's response
-    /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations).
+    /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations;
+    /// never with crushing, whose softening contacts make the equilibrium depend on the start).
     pub predict_steps: bool,
 }
 
@@ -721,7 +722,7 @@ impl<'a> Solver<'a> {
             // No equilibrium at the smallest increment: past a limit point of the path, the
             // state after the snap-back (module docs, "Snap-back").
             let mut snapped = false;
-            let mut ok = match self.equilibrate_predicted(predictor.as_ref().filter(|_| self.opts.predict_steps), &load, t, t_try) {
+            let mut ok = match self.equilibrate_predicted(predictor.as_ref().filter(|_| self.predicts_steps()), &load, t, t_try) {
                 Ok(()) => true,
                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
                 Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
