@@ -7,7 +7,8 @@
 //!     contacts and friction at z: overlap, F_n, return map from the committed F_t
 //!     ‖r‖∞ ≤ tol · scale  → converged
 //!     K_T Δz = r           (consistent tangent, GMRES preconditioned by the factorized
-//!                           symmetric part; one direct solve when no contact is active)
+//!                           symmetric part M, its products v + D M⁻¹v with D = K_T − M the
+//!                           contacts' part only; one direct solve when no contact is active)
 //!     Δz capped: no stone moves more than `max_move` (translation, or rotation × D̄) per iteration
 //!     line search: z + α Δz, α = 1, ½, ¼ … (6 tries) until the merit ½‖r‖² decreases by
 //!                  the Armijo factor (1 − 10⁻⁴ α); otherwise the trial with the smallest merit
@@ -17,6 +18,8 @@
 //! from the last committed state: path dependence enters only through `F_t,commit`, `z_commit`).
 //! The residual is measured with the same contact evaluation the next iteration uses, so
 //! "converged" means the state *is* in equilibrium with its own contact and stick/slip set.
+//! Along a line search the beams' forces are `K_b z₀ + α K_b Δz` (one product per search; the
+//! beam law is linear, so these are the forces at `z₀ + α Δz` to round-off).
 //!
 //! The merit function weighs the moment rows by `1/D̄` (D̄ = mean stone diameter), so forces and
 //! moments count in the same unit. The scale of the convergence test is the largest internal or
