@@ -15,6 +15,8 @@
 //! `DEM_FORCING=1e-8` fixes the linear tolerance of Newton steps (default: Eisenstat–Walker),
 //! `DEM_FORCING=ew:0.01` sets Eisenstat–Walker's `η_max`.
 //! `DEM_BROKEN_CSV=path` writes the broken beams in order (event, beam, mode, state).
+//! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
+//! `dem::solver::step_predictor`).
 //!
 //! Progress goes to stderr every 25 recorded states. With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
 use std::io::Write;
@@ -45,6 +47,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut opts = SolverOptions::default();
     if let Ok(v) = std::env::var("DEM_MAX_EVENTS") {
         opts.max_events = v.parse().map_err(|e| format!("DEM_MAX_EVENTS={v}: {e}"))?;
+    }
+    if let Ok(v) = std::env::var("DEM_PREDICT") {
+        opts.predict_steps = v != "0";
     }
     if let Ok(v) = std::env::var("DEM_SLIP_TERMS") {
         opts.slip_in_preconditioner = v != "0";
@@ -114,7 +119,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "stones": sample.particles.len(), "equations": n_eq, "end": end, "events": events,
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
         "peak_stress_pa": peak, "e_pa": e, "solves": solver.n_solves, "cutbacks": solver.n_cutbacks,
-        "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "profile": solver.profile,
+        "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.profile,
     });
     println!("{line}");
     Ok(())

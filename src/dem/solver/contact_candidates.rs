@@ -23,12 +23,25 @@
 //!
 //! **Query at `z`.** If some `δ_p > h`, the list is rebuilt at `z`. Otherwise a pair whose boxes
 //! overlap now had grown boxes that overlapped at the anchor (each box moved by at most `δ ≤ h`),
-//! so it is listed; and a listed pair can overlap only if `δ_i + δ_j ≥ g_ij` (a projection gap
-//! closes by at most the motion of the two outlines). The candidates are the listed pairs without
-//! an intact beam and with `δ_i + δ_j + τ ≥ g_ij` (`τ = 10⁻⁹ D̄` against round-off), in `(i, j)`
-//! order: the pairs skipped are pairs the contact law would find apart, so the contacts are
-//! exactly those of a search from scratch ([`super::contact_set::candidates`]; compared in the
-//! tests below).
+//! so it is listed; and a listed pair can overlap only if their outlines have closed the gap
+//! `g_ij` on its (fixed) separating axis `n`. Points of stone `p` move by `Δu_p + (R(Δθ_p) − I)(x − c_p)`,
+//! so the projection gap on `n` closes by at most the *relative* motion
+//!
+//! ```text
+//!   δ_ij = |Δu_i − Δu_j| + |Δθ_i| R_i + |Δθ_j| R_j      (Δ: since the anchor)
+//! ```
+//!
+//! (the uniform part of the motion, which grows across a loaded sample, cancels). The candidates
+//! are the listed pairs without an intact beam and with `δ_ij + τ ≥ g_ij` (`τ = 10⁻⁹ D̄` against
+//! round-off), in `(i, j)` order: the pairs skipped are pairs the contact law would find apart,
+//! so the contacts are exactly those of a search from scratch
+//! ([`super::contact_set::candidates`]; compared in the tests below).
+//!
+//! **Refresh.** The bound holds from any state where the pair's separation was measured, not only
+//! from the list's anchor. A pair the contact law found apart is re-anchored there, with its
+//! separation there (when positive): a crack that opened (its beam broken, the two stones
+//! bonded at the list's anchor, `g_ij ≈ 0`) is then skipped until its two stones have moved,
+//! relative to each other, by its opening.
 
 use super::dofs::DofMap;
 use crate::dem::polygon::{Polygon, P2};
@@ -44,7 +57,11 @@ struct Pair {
     i: usize,
     j: usize,
     beam: Option<usize>,
+    /// The separation `g_ij` at the pair's anchor.
     gap: f64,
+    /// The two stones' DOFs at the pair's anchor (the list's anchor, or where the pair was last
+    /// found apart, [`CandidateList::refresh_apart`]).
+    at: [[f64; 3]; 2],
 }
 
 /// The candidate list of one solver (built at the first query).
@@ -61,8 +78,12 @@ pub struct CandidateList {
     pairs: Vec<Pair>,
     /// Each stone's `δ_p` at the last query (scratch).
     moved: Vec<f64>,
+    /// The listed pairs returned by the last query, by index in `pairs`.
+    last: Vec<usize>,
     /// Lists built (the first one included).
     pub rebuilds: usize,
+    /// Refreshes of the pairs found apart ([`Self::refresh_apart`]).
+    pub refreshes: usize,
 }
 
 /// The current polygon of stone `p` for its DOFs `q`.
@@ -137,7 +158,8 @@ impl CandidateList {
             if beam.is_none() && map.is_slave(i) && map.is_slave(j) && same_platen(sample, i, j) {
                 continue;
             }
-            self.pairs.push(Pair { i, j, beam, gap: separation(&polys[i], &polys[j]) });
+            let at = [self.anchor[i], self.anchor[j]];
+            self.pairs.push(Pair { i, j, beam, gap: separation(&polys[i], &polys[j]), at });
         }
         self.rebuilds += 1;
     }
@@ -150,7 +172,10 @@ impl CandidateList {
             self.moved.resize(n, 0.0);
             for p in 0..n {
                 let (q, a) = (map.particle_dofs(p, z), self.anchor[p]);
-                self.moved[p] = (q[0] - a[0]).hypot(q[1] - a[1]) + (q[2] - a[2]).abs() * self.radius[p];
+                // |Δu| by sqrt(Δx² + Δy²): within an ulp of `hypot` (no overflow at these sizes), and
+                // the bound carries the guard τ.
+                let (dx, dy) = (q[0] - a[0], q[1] - a[1]);
+                self.moved[p] = (dx * dx + dy * dy).sqrt() + (q[2] - a[2]).abs() * self.radius[p];
             }
             fresh = self.moved.iter().any(|&d| d > self.margin);
         }
@@ -159,12 +184,43 @@ impl CandidateList {
             self.moved.clear();
             self.moved.resize(n, 0.0);
         }
-        self.pairs
-            .iter()
-            .filter(|c| c.beam.is_none_or(|b| !intact[b]))
-            .filter(|c| self.moved[c.i] + self.moved[c.j] + self.guard >= c.gap)
-            .map(|c| (c.i, c.j))
-            .collect()
+        let (radius, guard) = (&self.radius, self.guard);
+        let closing = |c: &Pair| {
+            // The relative motion bound of the module docs since the pair's anchor,
+            // |Δu_i − Δu_j| + |Δθ_i| R_i + |Δθ_j| R_j.
+            let (qi, qj) = (map.particle_dofs(c.i, z), map.particle_dofs(c.j, z));
+            let [ai, aj] = c.at;
+            let (dx, dy) = ((qi[0] - ai[0]) - (qj[0] - aj[0]), (qi[1] - ai[1]) - (qj[1] - aj[1]));
+            (dx * dx + dy * dy).sqrt() + (qi[2] - ai[2]).abs() * radius[c.i] + (qj[2] - aj[2]).abs() * radius[c.j]
+        };
+        self.last.clear();
+        for (k, c) in self.pairs.iter().enumerate() {
+            if c.beam.is_none_or(|b| !intact[b]) && closing(c) + guard >= c.gap {
+                self.last.push(k);
+            }
+        }
+        self.last.iter().map(|&k| (self.pairs[k].i, self.pairs[k].j)).collect()
+    }
+
+    /// After the contact law ran on the last query's pairs at `z` and found the contacts
+    /// `touching` (pairs `(i < j)` in increasing order): the pairs it found apart are anchored at
+    /// `z` with their separation there, when positive (module docs, "Refresh").
+    pub fn refresh_apart(&mut self, sample: &Sample, map: &DofMap, z: &[f64], touching: &[(usize, usize)]) {
+        let mut t = touching.iter().peekable();
+        for &k in &self.last {
+            let c = &mut self.pairs[k];
+            while t.next_if(|&&p| p < (c.i, c.j)).is_some() {}
+            if t.peek().is_some_and(|&&p| p == (c.i, c.j)) {
+                continue;
+            }
+            let at = [map.particle_dofs(c.i, z), map.particle_dofs(c.j, z)];
+            let gap = separation(&current_polygon(sample, c.i, at[0]), &current_polygon(sample, c.j, at[1]));
+            if gap > 0.0 {
+                c.gap = gap;
+                c.at = at;
+            }
+        }
+        self.refreshes += 1;
     }
 }
 
@@ -193,9 +249,10 @@ mod tests {
     #[test]
     fn same_contacts_as_a_search_from_scratch() {
         // 150 random stones, 40 % of the beams broken, a sequence of random rigid motions growing
-        // to several margins (so the list is rebuilt): at every state the contacts found from the
-        // list are exactly those of the search from scratch (same pairs, same forces bit for bit),
-        // and the list evaluates fewer pairs.
+        // to several margins (so the list is rebuilt), the pairs found apart re-anchored after
+        // every evaluation: at every state the contacts found from the list are exactly those of
+        // the search from scratch (same pairs, same forces bit for bit), and the list evaluates
+        // fewer pairs.
         let s = Sample::build(&SampleConfig {
             layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: 150, min_distance_factor: 0.7 }),
             thickness: 1.0,
@@ -231,6 +288,8 @@ mod tests {
             let none = Default::default();
             let ca = contact_set::evaluate(&s, &map, &params, &a, &z, &z, &none).unwrap();
             let cb = contact_set::evaluate(&s, &map, &params, &b, &z, &z, &none).unwrap();
+            // The pairs found apart are re-anchored here, as the solver does.
+            list.refresh_apart(&s, &map, &z, &ca.iter().map(|x| (x.i, x.j)).collect::<Vec<_>>());
             assert_eq!(ca.len(), cb.len(), "step {step}");
             for (x, y) in ca.iter().zip(&cb) {
                 assert_eq!((x.i, x.j), (y.i, y.j), "step {step}");

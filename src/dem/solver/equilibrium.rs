@@ -7,7 +7,8 @@
 //!     contacts and friction at z: overlap, F_n, return map from the committed F_t
 //!     ‖r‖∞ ≤ tol · scale  → converged
 //!     K_T Δz = r           (consistent tangent, GMRES preconditioned by the factorized
-//!                           symmetric part; one direct solve when no contact is active)
+//!                           symmetric part M, its products v + D M⁻¹v with D = K_T − M the
+//!                           contacts' part only; one direct solve when no contact is active)
 //!     Δz capped: no stone moves more than `max_move` (translation, or rotation × D̄) per iteration
 //!     line search: z + α Δz, α = 1, ½, ¼ … (6 tries) until the merit ½‖r‖² decreases by
 //!                  the Armijo factor (1 − 10⁻⁴ α); otherwise the trial with the smallest merit
@@ -17,6 +18,8 @@
 //! from the last committed state: path dependence enters only through `F_t,commit`, `z_commit`).
 //! The residual is measured with the same contact evaluation the next iteration uses, so
 //! "converged" means the state *is* in equilibrium with its own contact and stick/slip set.
+//! Along a line search the beams' forces are `K_b z₀ + α K_b Δz` (one product per search; the
+//! beam law is linear, so these are the forces at `z₀ + α Δz` to round-off).
 //!
 //! The merit function weighs the moment rows by `1/D̄` (D̄ = mean stone diameter), so forces and
 //! moments count in the same unit. The scale of the convergence test is the largest internal or
@@ -30,7 +33,7 @@ use std::collections::BTreeMap;
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
 use super::events::Solver;
-use super::gmres::{gmres, ForcingSequence};
+use super::gmres::{gmres_split, ForcingSequence};
 use super::system::ZTerm;
 use super::profile;
 use super::tangent::Tangent;
@@ -48,6 +51,8 @@ pub(super) struct Evaluation {
     pub relative: f64,
     /// `½ Σ (w_e r_e)²`, `w = 1` on force rows, `1/D̄` on moment rows.
     pub merit: f64,
+    /// The intact beams' internal forces `K_b z` at the state (over `z`).
+    pub beam_forces: Vec<f64>,
 }
 
 /// Why the operator is refactorized (counted in [`super::SolverProfile::refactorizations`]).
@@ -89,10 +94,27 @@ impl<'a> Solver<'a> {
     /// pseudo-transient continuation's shifted operator, [`super::continuation`]).
     pub(super) fn refactorize_with(&mut self, cause: Option<Refactor>, diagonal: &[f64]) -> Result<(), DemError> {
         let clock = Instant::now();
-        let extra: Vec<ZTerm> = self.op_terms.values_mut().map(|(t, id)| {
+        for (&(i, j, _), (t, id)) in self.op_terms.iter_mut() {
             *id = None;
-            t.clone()
-        }).collect();
+            self.pattern.insert((i, j), t.idx);
+        }
+        // Every pair in contact once keeps its entries (zeros once the contact is gone), one term
+        // per pair in pair order: the same triplets in the same order, the same symbolic
+        // analysis (a new pattern costs a fill-reducing ordering, METIS at 10k stones).
+        let op = &self.op_terms;
+        let extra: Vec<ZTerm> = self
+            .pattern
+            .iter()
+            .map(|(&(i, j), &idx)| {
+                let mut k = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+                for kind in [0u8, 1] {
+                    if let Some((t, _)) = op.get(&(i, j, kind)) {
+                        k += t.k;
+                    }
+                }
+                ZTerm { idx, k }
+            })
+            .collect();
         let t = self.model.assemble(&self.intact, diagonal, &extra);
         self.factor
             .factorize(&t)
@@ -207,6 +229,16 @@ impl<'a> Solver<'a> {
     /// The residual at `z` for the external forces `f_ext` (over `z`).
     pub(super) fn evaluate(&mut self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
         let clock = Instant::now();
+        let mut beam_forces = vec![0.0; self.model.map.n_z];
+        self.model.add_beam_forces(&self.intact, z, &mut beam_forces);
+        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
+        self.evaluate_with_beams(z, f_ext, beam_forces)
+    }
+
+    /// [`Self::evaluate`] with the beams' forces at `z` given (e.g. `K_b (z₀ + α Δz)` as
+    /// `K_b z₀ + α K_b Δz` along a line search: the beam law is linear).
+    fn evaluate_with_beams(&mut self, z: &[f64], f_ext: &[f64], beam_forces: Vec<f64>) -> Result<Evaluation, DemError> {
+        let clock = Instant::now();
         let pairs = if self.opts.contacts && !self.broken.is_empty() {
             self.candidates.candidates(self.model.sample, &self.model.map, z, &self.intact)
         } else {
@@ -214,7 +246,13 @@ impl<'a> Solver<'a> {
         };
         self.profile.pair_evaluations += pairs.len();
         self.profile.candidate_rebuilds = self.candidates.rebuilds;
-        let ev = self.evaluate_at(z, f_ext, &pairs);
+        let ev = self.evaluate_at(z, f_ext, &pairs, beam_forces);
+        if let Ok(e) = &ev {
+            if !pairs.is_empty() {
+                let touching: Vec<(usize, usize)> = e.contacts.iter().map(|a| (a.i, a.j)).collect();
+                self.candidates.refresh_apart(self.model.sample, &self.model.map, z, &touching);
+            }
+        }
         self.profile.evaluations += 1;
         profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
         ev
@@ -222,7 +260,13 @@ impl<'a> Solver<'a> {
 
     /// The residual at `z` with the contact law evaluated on the candidate `pairs`
     /// ([`super::contact_candidates`]).
-    fn evaluate_at(&self, z: &[f64], f_ext: &[f64], pairs: &[(usize, usize)]) -> Result<Evaluation, DemError> {
+    fn evaluate_at(
+        &self,
+        z: &[f64],
+        f_ext: &[f64],
+        pairs: &[(usize, usize)],
+        beam_forces: Vec<f64>,
+    ) -> Result<Evaluation, DemError> {
         let contacts = contact_set::evaluate(
             self.model.sample,
             &self.model.map,
@@ -232,7 +276,8 @@ impl<'a> Solver<'a> {
             &self.z_commit,
             &self.committed_ft,
         )?;
-        let f = self.internal(z, &contacts);
+        let mut f = beam_forces.clone();
+        contact_set::add_contact_forces(&self.model.map, &contacts, &mut f);
         let map = &self.model.map;
         let mut r = vec![0.0; map.n_eq()];
         let mut scale = 1e-9 * self.model.params.e_bar * self.model.params.t_z * self.model.sample.width;
@@ -246,7 +291,7 @@ impl<'a> Solver<'a> {
             let w = if zi % 3 == 2 { 1.0 / self.mean_diameter } else { 1.0 };
             merit += 0.5 * (w * r[e]).powi(2);
         }
-        Ok(Evaluation { contacts, r, relative: inf / scale, merit })
+        Ok(Evaluation { contacts, r, relative: inf / scale, merit, beam_forces })
     }
 
     /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
@@ -343,17 +388,31 @@ impl<'a> Solver<'a> {
                 )?;
                 self.profile.jacobians_computed = self.jacobians.computed;
                 self.profile.jacobians_reused = self.jacobians.reused;
-                profile::add(&mut self.profile.tangent_seconds, clock.elapsed());
+                self.profile.jacobians_on_cone = self.jacobians.on_cone;
                 // Inexact Newton: the linear solve to η ‖r‖ (`SolverOptions::forcing`; a fixed
                 // 1e-6 lost two of the paper wall's 16 shear samples, a fixed 1e-8 was the
                 // former default).
+                // D = K_T − M: GMRES's products cost O(contacts) (`gmres_split`).
+                let op = &self.op_terms;
+                let held = |i: usize, j: usize| {
+                    let mut k = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+                    for kind in [0u8, 1] {
+                        if let Some((t, _)) = op.get(&(i, j, kind)) {
+                            k += t.k;
+                        }
+                    }
+                    k
+                };
+                let difference = tangent.difference(&ev.contacts, held);
+                profile::add(&mut self.profile.tangent_seconds, clock.elapsed());
                 let clock = Instant::now();
                 let factor = &mut self.factor;
                 let mut in_precond = std::time::Duration::ZERO;
-                let info = gmres(
+                let info = gmres_split(
                     &mut dz,
                     &ev.r,
                     |v, o| tangent.apply(v, o),
+                    |v, o| difference.apply(v, o),
                     |v| {
                         let c = Instant::now();
                         let r = factor.solve(v);
@@ -366,6 +425,9 @@ impl<'a> Solver<'a> {
                 )
                 .map_err(|e| fail(e, events))?;
                 self.n_solves += info.iterations;
+                if std::env::var("DEM_DEBUG_NEWTON").is_ok() {
+                    eprintln!("DBG {} ev {} it {} rel {:.3e} eta {:.2e} gmres {} contacts {} sliding {} rank {}", what, self.broken.len(), iteration, ev.relative, eta, info.iterations, ev.contacts.len(), ev.contacts.iter().filter(|a| !a.sticks()).count(), self.factor.rank());
+                }
                 if let Some(st) = step.as_mut() {
                     st.gmres_iterations = info.iterations;
                     st.linear_converged = info.converged;
@@ -427,9 +489,20 @@ impl<'a> Solver<'a> {
 
     /// Backtracking on the merit function along `dz`; moves `self.z` and returns the evaluation
     /// at the accepted point and the step length taken.
+    ///
+    /// The beams' forces along the line are `K_b z₀ + α K_b Δz` (one product `K_b Δz` per
+    /// search, the beam law being linear; the same forces as `K_b z` to round-off).
     fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<(Evaluation, f64), DemError> {
         let base = self.z.clone();
         let unknowns = self.model.map.unknowns.clone();
+        let clock = Instant::now();
+        let mut dz_z = vec![0.0; self.model.map.n_z];
+        for (e, &zi) in unknowns.iter().enumerate() {
+            dz_z[zi] = dz[e];
+        }
+        let mut k_dz = vec![0.0; self.model.map.n_z];
+        self.model.add_beam_forces(&self.intact, &dz_z, &mut k_dz);
+        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
         let mut best: Option<(f64, Evaluation)> = None;
         let mut alpha = 1.0;
         for _ in 0..6 {
@@ -437,7 +510,8 @@ impl<'a> Solver<'a> {
             for (e, &zi) in unknowns.iter().enumerate() {
                 z[zi] += alpha * dz[e];
             }
-            let ev = self.evaluate(&z, f_ext)?;
+            let beams = ev0.beam_forces.iter().zip(&k_dz).map(|(f, k)| f + alpha * k).collect();
+            let ev = self.evaluate_with_beams(&z, f_ext, beams)?;
             let accept = ev.merit <= (1.0 - 1e-4 * alpha) * ev0.merit;
             if best.as_ref().is_none_or(|(_, b)| ev.merit < b.merit) {
                 best = Some((alpha, ev));

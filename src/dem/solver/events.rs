@@ -77,15 +77,15 @@
 //! [`crate::dem::mechanics::crushing`]). The relaxation term closes the balance over re-
 //! equilibration steps by definition; the balance check is meaningful over the loading steps,
 //! where `W_ext` and `E_stored` are computed independently (reactions vs. beam energies).
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
 use super::equilibrium::Refactor;
 use super::factor::{LowRankCholesky, TermId};
 use super::profile::SolverProfile;
+use super::step_predictor::StepPredictor;
 use super::system::{Model, ZTerm};
-use crate::dem::mechanics::beam::stack;
 use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
 use contact_set::Histories;
 
@@ -140,6 +140,10 @@ pub struct SolverOptions {
     /// Keep the Newton history of the last equilibrium attempts ([`super::trace`]; default
     /// off).
     pub trace: bool,
+    /// Start a load step after a break from the cut step's response
+    /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations;
+    /// never with crushing, whose softening contacts make the equilibrium depend on the start).
+    pub predict_steps: bool,
 }
 
 impl Default for SolverOptions {
@@ -158,6 +162,7 @@ impl Default for SolverOptions {
             forcing: super::gmres::Forcing::default(),
             continuation: true,
             trace: false,
+            predict_steps: true,
         }
     }
 }
@@ -260,9 +265,12 @@ pub struct Solver<'a> {
     // Contact terms currently in the operator, keyed by (i, j, 0 = normal / 1 = tangential),
     // with their handle in the Woodbury correction while they are there.
     pub(super) op_terms: BTreeMap<(usize, usize, u8), (ZTerm, Option<TermId>)>,
+    /// The `z` indices of every pair whose contact terms were ever factorized: they stay in the
+    /// sparsity pattern (as zeros once the contact is gone), so the symbolic analysis is reused.
+    pub(super) pattern: BTreeMap<(usize, usize), [usize; 6]>,
     pub(super) contacts: Vec<ActiveContact>,
     /// The active contacts of the last committed state (for the contact events).
-    committed_contacts: Vec<ActiveContact>,
+    pub(super) committed_contacts: Vec<ActiveContact>,
     /// The contact search's candidate list and the contact Jacobians kept between evaluations.
     pub(super) candidates: super::contact_candidates::CandidateList,
     pub(super) jacobians: super::tangent::JacobianCache,
@@ -350,6 +358,7 @@ impl<'a> Solver<'a> {
             needs_factor: true,
             pending_refactor: None,
             op_terms: BTreeMap::new(),
+            pattern: BTreeMap::new(),
             contacts: Vec::new(),
             committed_contacts: Vec::new(),
             candidates: Default::default(),
@@ -429,7 +438,7 @@ impl<'a> Solver<'a> {
     }
 
     /// Back to the committed state (a failed trial).
-    fn restore(&mut self) {
+    pub(super) fn restore(&mut self) {
         self.z.clone_from(&self.z_commit);
     }
 
@@ -594,65 +603,6 @@ impl<'a> Solver<'a> {
         best.map(|(_, b)| b)
     }
 
-    /// The first contact event along the step `z_old → z` (`z` the converged end of a trial
-    /// step), as the fraction `λ ∈ (0, 1)` of the step, estimated along the straight line
-    /// (module docs, "Contact events"); `None` without an event inside the step.
-    fn first_contact_event(&self, z_old: &[f64]) -> Option<f64> {
-        let map = &self.model.map;
-        let mu = self.model.params.mu;
-        let dq = |i: usize, j: usize| {
-            let (qi, qj) = (map.particle_dofs(i, &self.z), map.particle_dofs(j, &self.z));
-            let (oi, oj) = (map.particle_dofs(i, z_old), map.particle_dofs(j, z_old));
-            stack([qi[0] - oi[0], qi[1] - oi[1], qi[2] - oi[2]], [qj[0] - oj[0], qj[1] - oj[1], qj[2] - oj[2]])
-        };
-        let depth = |a: &ActiveContact| {
-            if a.contact.chord_length > 0.0 {
-                a.contact.overlap_area / a.contact.chord_length
-            } else {
-                0.0
-            }
-        };
-        let old: BTreeMap<(usize, usize), &ActiveContact> =
-            self.committed_contacts.iter().map(|a| ((a.i, a.j), a)).collect();
-        let now: BTreeSet<(usize, usize)> = self.contacts.iter().map(|a| (a.i, a.j)).collect();
-        let mut best: Option<f64> = None;
-        let mut consider = |l: f64| {
-            if l > 0.0 && l < 1.0 && best.is_none_or(|b| l < b) {
-                best = Some(l);
-            }
-        };
-        for a in &self.contacts {
-            match old.get(&(a.i, a.j)) {
-                Some(o) if o.sticks() && !a.sticks() => {
-                    // |F_t,0 + λ (F_trial − F_t,0)| = μ (F_n,0 + λ (F_n − F_n,0))
-                    let (f0, n0) = (o.friction.f_t, o.contact.f_n);
-                    let trial = a.friction.f_t + a.k_t * a.friction.slip;
-                    let sign = trial.signum();
-                    let (num, den) = (mu * n0 - sign * f0, sign * (trial - f0) - mu * (a.contact.f_n - n0));
-                    if num > 0.0 && den > num {
-                        consider(num / den);
-                    }
-                }
-                Some(_) => {}
-                None => {
-                    // Closing: the approach b·Δq of the step against the depth S_r/L reached.
-                    let approach = a.contact.normal_direction().dot(&dq(a.i, a.j));
-                    if approach > depth(a) {
-                        consider(1.0 - depth(a) / approach);
-                    }
-                }
-            }
-        }
-        for o in self.committed_contacts.iter().filter(|o| !now.contains(&(o.i, o.j))) {
-            // Opening: the separation −b·Δq against the committed depth.
-            let separation = -o.contact.normal_direction().dot(&dq(o.i, o.j));
-            if separation > depth(o) {
-                consider(depth(o) / separation);
-            }
-        }
-        best
-    }
-
     /// Finds equilibrium at `load` starting from the current `z` (see [`super::equilibrium`]);
     /// leaves the contacts of the equilibrium state in [`Self::contacts`].
     pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
@@ -758,6 +708,8 @@ impl<'a> Solver<'a> {
         let mut seen = self.states.len();
         // The trial step already ends at a contact event: it is not cut again (no Zeno steps).
         let mut at_event = false;
+        // The response of the last step cut by a break ([`super::step_predictor`]).
+        let mut predictor: Option<StepPredictor> = None;
         while t < 1.0 - 1e-12 {
             // Never step over a step boundary: the recorded curve keeps its regular points.
             let boundary = (((t * n) + 1e-9).floor() + 1.0) / n;
@@ -770,7 +722,7 @@ impl<'a> Solver<'a> {
             // No equilibrium at the smallest increment: past a limit point of the path, the
             // state after the snap-back (module docs, "Snap-back").
             let mut snapped = false;
-            let mut ok = match self.equilibrate(&load, t_try) {
+            let mut ok = match self.equilibrate_predicted(predictor.as_ref().filter(|_| self.predicts_steps()), &load, t, t_try) {
                 Ok(()) => true,
                 Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
                 Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
@@ -830,6 +782,7 @@ impl<'a> Solver<'a> {
                     Some((lam, b)) => {
                         let t_l = t + lam * (t_try - t);
                         let load_l = LoadPoint::lerp(&from, target, t_l);
+                        let z_end = self.z.clone();
                         if self.contacts.is_empty() {
                             for (zo, zn) in z_old.iter().zip(self.z.iter_mut()) {
                                 *zn = zo + lam * (*zn - zo);
@@ -852,6 +805,7 @@ impl<'a> Solver<'a> {
                         }
                         if ok {
                             self.commit(t_l, StateKind::PreBreak);
+                            predictor = Some(StepPredictor::new(t_l, t_try, &self.z, &z_end));
                             t = t_l;
                             self.load = load_l.clone();
                             let mut next = Some(b);

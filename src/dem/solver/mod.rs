@@ -8,6 +8,7 @@ pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
 pub mod contact_candidates;
+mod contact_events;
 pub mod contact_set;
 mod continuation;
 mod equilibrium;
@@ -25,11 +26,14 @@ pub use events::{
 pub use profile::SolverProfile;
 pub use system::Model;
 pub mod snapshots;
+mod step_predictor;
 pub mod virtual_test;
 #[cfg(test)]
 mod crushing_tests;
 #[cfg(test)]
 mod cyclic_tests;
+#[cfg(test)]
+mod speed_tests;
 #[cfg(test)]
 mod tests;
 

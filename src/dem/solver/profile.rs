@@ -27,6 +27,14 @@ pub struct SolverProfile {
     pub jacobians_computed: usize,
     /// Contact Jacobians reused ([`super::tangent`]).
     pub jacobians_reused: usize,
+    /// Contact Jacobians taken on the slip branch for contacts on the Coulomb cone
+    /// ([`super::tangent`], "On the cone").
+    pub jacobians_on_cone: usize,
+    /// Load steps after a break started from the cut step's response
+    /// ([`super::step_predictor`]) and converged from there.
+    pub predicted_steps: usize,
+    /// Load steps whose predicted start failed and that were solved again from the plain start.
+    pub predictor_fallbacks: usize,
     /// Woodbury columns added (each one base solve).
     pub columns_added: usize,
     /// Woodbury columns dropped because their term left the operator before a refactorization

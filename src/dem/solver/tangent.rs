@@ -40,6 +40,16 @@
 //! the converged state, is always the exact one. After [`FRESH_AFTER`] iterations of one
 //! equilibrium every Jacobian is recomputed (a contact crossing a geometric kink, e.g. a corner
 //! reaching a corner, changes `J_c` more than its motion says).
+//!
+//! **On the cone.** A contact that slid at the last committed state starts the next equilibrium
+//! on the Coulomb cone: with no slip increment yet, `|F_t| = μ F_n` and the return map reports
+//! "stick"; the central differences straddle the kink and give the mean of the stick and slip
+//! Jacobians. The first Newton step then treats the contacts still sliding (most of them, 25–90
+//! on a cracked 1k-stone sample) as half stuck, and the next iteration redoes the step. A sticking
+//! contact with `|F_t| ≥ (1 − ON_CONE) μ F_n` takes the slip branch's Jacobian instead
+//! (`∂F_t = μ sign(F_t) ∂F_n`, the differences taken from the committed force pushed outside the
+//! cone by `CONE_PUSH`): the direction it was sliding in. Only Newton's step changes; the
+//! residual, and so the equilibrium, is the return map's own.
 use std::collections::HashMap;
 
 use nalgebra::{SMatrix, SVector};
@@ -56,6 +66,14 @@ pub const REUSE_FRACTION: f64 = 1e-2;
 
 /// Newton iterations of one equilibrium after which every contact Jacobian is recomputed.
 pub const FRESH_AFTER: usize = 6;
+
+/// A sticking contact whose `|F_t| ≥ (1 − ON_CONE) μ F_n` sits on the Coulomb cone (module docs).
+pub const ON_CONE: f64 = 1e-9;
+
+/// How far outside the cone the trial tangential force is pushed to take the slip branch's
+/// Jacobian of a contact on the cone: `F_t (1 + CONE_PUSH)`, far beyond the change of `μ F_n`
+/// under the difference steps (module docs).
+pub const CONE_PUSH: f64 = 1e-2;
 
 /// A contact's regime: stick/slip, `∂F_t/∂F_n` (the slip direction), crushing plastic.
 type Regime = (SlipState, f64, bool);
@@ -81,11 +99,20 @@ pub struct JacobianCache {
     pub computed: usize,
     /// Jacobians reused.
     pub reused: usize,
+    /// Jacobians taken on the slip branch for contacts on the cone.
+    pub on_cone: usize,
 }
 
 impl Default for JacobianCache {
     fn default() -> Self {
-        JacobianCache { entries: HashMap::new(), reuse_fraction: REUSE_FRACTION, fresh_only: false, computed: 0, reused: 0 }
+        JacobianCache {
+            entries: HashMap::new(),
+            reuse_fraction: REUSE_FRACTION,
+            fresh_only: false,
+            computed: 0,
+            reused: 0,
+            on_cone: 0,
+        }
     }
 }
 
@@ -100,13 +127,31 @@ impl JacobianCache {
         c: [[f64; 3]; 2],
         old: contact_set::ContactHistory,
     ) -> Result<SMatrix<f64, 6, 6>, DemError> {
-        let regime: Regime = (a.friction.state, a.friction.d_ft_d_fn, a.crush.as_ref().is_some_and(|u| u.plastic));
+        let plastic = a.crush.as_ref().is_some_and(|u| u.plastic);
+        // On the cone (sliding at the committed state, no slip increment yet): the slip branch's
+        // Jacobian, from a history pushed just outside the cone (module docs, "On the cone").
+        let limit = model.params.mu * a.contact.f_n;
+        let on_cone =
+            a.friction.state == SlipState::Stick && limit > 0.0 && a.friction.f_t.abs() >= (1.0 - ON_CONE) * limit;
+        let (regime, old): (Regime, _) = if on_cone {
+            // The trial force becomes F_t (1 + CONE_PUSH).
+            let f_t = old.f_t + CONE_PUSH * a.friction.f_t;
+            ((SlipState::Slip, model.params.mu * a.friction.f_t.signum(), plastic), contact_set::ContactHistory { f_t, ..old })
+        } else {
+            ((a.friction.state, a.friction.d_ft_d_fn, plastic), old)
+        };
+        if on_cone {
+            self.on_cone += 1;
+        }
         let depth = if a.contact.chord_length > 0.0 { a.contact.overlap_area / a.contact.chord_length } else { 0.0 };
         if let Some(e) = self.entries.get(&(a.i, a.j)).filter(|_| !self.fresh_only) {
             let d = [model.sample.particles[a.i].diameter, model.sample.particles[a.j].diameter];
             let moved: f64 = (0..2)
                 .map(|k| {
-                    let m = |x: [f64; 3], y: [f64; 3]| (x[0] - y[0]).hypot(x[1] - y[1]) + (x[2] - y[2]).abs() * d[k];
+                    let m = |x: [f64; 3], y: [f64; 3]| {
+                        let (dx, dy) = (x[0] - y[0], x[1] - y[1]);
+                        (dx * dx + dy * dy).sqrt() + (x[2] - y[2]).abs() * d[k]
+                    };
                     m(q[k], e.q[k]) + m(c[k], e.c[k])
                 })
                 .sum();
@@ -119,6 +164,19 @@ impl JacobianCache {
         self.computed += 1;
         self.entries.insert((a.i, a.j), Cached { q, c, regime, jac });
         Ok(jac)
+    }
+
+    /// [`Self::jacobian`], for the solver's tests.
+    #[cfg(test)]
+    pub(super) fn jacobian_for_test(
+        &mut self,
+        model: &Model,
+        a: &ActiveContact,
+        q: [[f64; 3]; 2],
+        c: [[f64; 3]; 2],
+        old: contact_set::ContactHistory,
+    ) -> Result<SMatrix<f64, 6, 6>, DemError> {
+        self.jacobian(model, a, q, c, old)
     }
 
     /// Forgets the pairs that are not in `contacts`.
@@ -167,6 +225,23 @@ impl<'m, 'a> Tangent<'m, 'a> {
         Ok(Tangent { model, intact, reg, contacts: terms })
     }
 
+    /// `D = K_T − M` for the factorized operator `M` (see [`TangentDifference`]): per contact,
+    /// its `Gᵀ J_c G` minus `held(i, j)`, the contact terms `M` holds for the pair (normal penalty
+    /// and tangential stiffness, in the same `z` indices, [`super::DofMap::pair_map`]).
+    pub fn difference(
+        &self,
+        contacts: &[ActiveContact],
+        held: impl Fn(usize, usize) -> SMatrix<f64, 6, 6>,
+    ) -> TangentDifference {
+        let eq = &self.model.map.eq;
+        let terms = contacts
+            .iter()
+            .zip(&self.contacts)
+            .map(|(a, (idx, k))| (idx.map(|z| eq[z]), k - held(a.i, a.j)))
+            .collect();
+        TangentDifference { terms }
+    }
+
     /// `out = K_T v` (equations).
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
         let eq = &self.model.map.eq;
@@ -180,6 +255,31 @@ impl<'m, 'a> Tangent<'m, 'a> {
             let y = k * x;
             for a in 0..6 {
                 if let Some(e) = eq[idx[a]] {
+                    out[e] += y[a];
+                }
+            }
+        }
+    }
+}
+
+/// The part of the tangent that the factorized operator `M` does not hold,
+/// `D = K_T − M = Σ_contacts Gᵀ (J_c − k_n b₀ b₀ᵀ − k_t c₀ c₀ᵀ) G`, with `b₀`, `c₀` the directions the
+/// contact's terms entered `M` with: the beams and `ε` are in both and cancel exactly, so a
+/// product `D z` costs `O(contacts)`, against `O(beams)` for `K_T z`
+/// ([`super::gmres::gmres_split`]).
+pub struct TangentDifference {
+    terms: Vec<([Option<usize>; 6], SMatrix<f64, 6, 6>)>,
+}
+
+impl TangentDifference {
+    /// `out = D z` (equations).
+    pub fn apply(&self, z: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|o| *o = 0.0);
+        for (eqs, k) in &self.terms {
+            let x = V6::from_fn(|a, _| eqs[a].map_or(0.0, |e| z[e]));
+            let y = k * x;
+            for a in 0..6 {
+                if let Some(e) = eqs[a] {
                     out[e] += y[a];
                 }
             }

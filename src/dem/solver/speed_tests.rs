@@ -1,0 +1,193 @@
+//! Tests of the pieces that make the event loop cheaper without changing its equilibria: the
+//! load-step predictor after a break, the tangent's difference from the factorized operator,
+//! the slip-branch Jacobian of contacts on the Coulomb cone, and the reused matrix assembly.
+use nalgebra::{DVector, SMatrix};
+
+use super::contact_set::{self, ContactHistory};
+use super::dofs::{DofControl, DofMap};
+use super::tangent::{JacobianCache, Tangent, CONE_PUSH};
+use super::*;
+use crate::dem::mechanics::{MechParams, SlipState};
+use crate::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
+
+fn random(n: usize, seed: u64) -> Sample {
+    Sample::build(&SampleConfig {
+        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
+        thickness: 1.0,
+        seed,
+        alpha: 0.8,
+        facet_tolerance: 0.02,
+        tiny_facets: TinyFacetPolicy::Merge,
+    })
+    .unwrap()
+}
+
+/// Compression of `s` to 2e-3 in 20 steps with `opts`: the solver after the stage.
+fn compress<'a>(s: &'a Sample, opts: SolverOptions) -> Solver<'a> {
+    let map = DofMap::new(s, [[DofControl::Prescribed; 3]; 2]).unwrap();
+    let model = Model::new(s, &MechParams::default(), map).unwrap();
+    let zero = LoadPoint { prescribed: vec![0.0; 6], forces: vec![] };
+    let target = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, -2e-3 * s.height, 0.0], forces: vec![] };
+    let mut solver = Solver::new(model, opts, zero).unwrap();
+    solver.start().unwrap();
+    solver.run_stage(&target, 20, Some((1, 1))).unwrap();
+    solver
+}
+
+#[test]
+fn predicted_load_steps_reach_the_same_equilibria() {
+    // 120 random stones compressed far past the first cracks, with and without the load-step
+    // predictor: the same beams break in the same order at the same states, and every recorded
+    // platen force agrees within 1e-6 of the peak force (the equilibrium tolerance is 1e-8 of
+    // the largest generalized force: two solutions within it differ by about that much, the
+    // margin covers their difference carried over the later steps); the predictor was used and
+    // Newton's method needed fewer iterations with it.
+    let s = random(120, 5);
+    let with = compress(&s, SolverOptions::default());
+    let without = compress(&s, SolverOptions { predict_steps: false, ..Default::default() });
+    assert!(with.broken.len() > 10, "breaks {}", with.broken.len());
+    let seq = |v: &Solver| v.broken.iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
+    assert_eq!(seq(&with), seq(&without));
+    assert_eq!(with.states.len(), without.states.len());
+    let peak = without.states.iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
+    for (a, b) in with.states.iter().zip(&without.states) {
+        assert_eq!((a.kind, a.broken), (b.kind, b.broken));
+        // A break's load fraction comes from the converged end of its step, known to the
+        // tolerance: 1e-7 of the stage (measured: 2e-9).
+        assert!((a.t - b.t).abs() <= 1e-7, "t {} vs {}", a.t, b.t);
+        let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
+        assert!(d <= 1e-6 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
+    }
+    assert!(with.profile.predicted_steps > 0 && without.profile.predicted_steps == 0);
+    assert!(
+        with.profile.newton_iterations < without.profile.newton_iterations,
+        "Newton iterations {} with the predictor, {} without",
+        with.profile.newton_iterations,
+        without.profile.newton_iterations
+    );
+}
+
+/// Two free stones of a random sample pushed together across their shared facet by `δ`, the
+/// beam between them broken: the contact at `q = [0, −(δ + extra) n]` with the history `old`.
+struct Pair<'a> {
+    s: &'a Sample,
+    model: Model<'a>,
+    i: usize,
+    j: usize,
+    beam: usize,
+    n: [f64; 2],
+    delta: f64,
+}
+
+impl<'a> Pair<'a> {
+    fn new(s: &'a Sample) -> Self {
+        let map = DofMap::new(s, [[DofControl::Prescribed; 3]; 2]).unwrap();
+        let model = Model::new(s, &MechParams::default(), map).unwrap();
+        let beam = s.beams.iter().position(|b| !model.map.is_slave(b.i) && !model.map.is_slave(b.j)).unwrap();
+        let (i, j, n) = (s.beams[beam].i, s.beams[beam].j, s.beams[beam].normal);
+        Pair { s, model, i, j, beam, n, delta: 1e-4 * s.mean_diameter() }
+    }
+
+    fn q(&self, tangential: f64) -> [[f64; 3]; 2] {
+        let (n, d) = (self.n, self.delta);
+        [[0.0; 3], [-d * n[0] - tangential * n[1], -d * n[1] + tangential * n[0], 0.0]]
+    }
+
+    fn contact(&self, q: [[f64; 3]; 2], c: [[f64; 3]; 2], old: ContactHistory) -> contact_set::ActiveContact {
+        contact_set::evaluate_pair(self.s, &self.model.params, self.i, self.j, q, c, old).unwrap().unwrap()
+    }
+}
+
+#[test]
+fn contacts_on_the_cone_take_the_slip_branch_jacobian() {
+    // A pressed pair whose committed tangential force sits on the cone, F_t,c = μ F_n, with no
+    // slip increment (q = c): the return map says "stick" (|trial| = μ F_n). Its Jacobian is the
+    // slip branch's, the central differences of the law with the trial force pushed outside the
+    // cone by CONE_PUSH (bit for bit), and it differs from the straddling central differences
+    // at the unpushed state (which mix both branches) by more than 1 % of its largest entry.
+    let s = random(60, 3);
+    let p = Pair::new(&s);
+    let q = p.q(0.0);
+    let f_n = p.contact(q, q, ContactHistory::default()).contact.f_n;
+    let old = ContactHistory { f_t: p.model.params.mu * f_n, delta_p: 0.0 };
+    let a = p.contact(q, q, old);
+    assert_eq!(a.friction.state, SlipState::Stick);
+    let mut cache = JacobianCache::default();
+    let jac = cache_jacobian(&mut cache, &p, &a, q, q, old);
+    assert_eq!(cache.on_cone, 1);
+    let pushed = ContactHistory { f_t: old.f_t + CONE_PUSH * a.friction.f_t, ..old };
+    let slip = contact_set::pair_jacobian(&s, &p.model.params, &a, q, q, pushed).unwrap();
+    assert_eq!(jac, slip);
+    let straddling = contact_set::pair_jacobian(&s, &p.model.params, &a, q, q, old).unwrap();
+    assert!((straddling - slip).amax() > 1e-2 * slip.amax(), "{}", (straddling - slip).amax() / slip.amax());
+    // A contact well inside the cone keeps the straddling (here: plain stick) Jacobian.
+    let inside = ContactHistory { f_t: 0.5 * old.f_t, ..old };
+    let b = p.contact(q, q, inside);
+    let mut fresh = JacobianCache::default();
+    let jb = cache_jacobian(&mut fresh, &p, &b, q, q, inside);
+    assert_eq!(fresh.on_cone, 0);
+    assert_eq!(jb, contact_set::pair_jacobian(&s, &p.model.params, &b, q, q, inside).unwrap());
+}
+
+fn cache_jacobian(
+    cache: &mut JacobianCache,
+    p: &Pair,
+    a: &contact_set::ActiveContact,
+    q: [[f64; 3]; 2],
+    c: [[f64; 3]; 2],
+    old: ContactHistory,
+) -> SMatrix<f64, 6, 6> {
+    cache.jacobian_for_test(&p.model, a, q, c, old).unwrap()
+}
+
+#[test]
+fn tangent_difference_is_the_tangent_minus_the_factorized_operator() {
+    // D = K_T − M for a pair in contact (its beam broken) with M = intact beams + ε + the
+    // contact's normal and tangential terms as they entered the operator, k_n b₀b₀ᵀ and
+    // k_t c₀c₀ᵀ taken at a slightly different state (as after Newton iterations): D v equals
+    // K_T v − M v, M v from the assembled matrix, within 1e-9 of |K_T v| (round-off of the
+    // large beam terms cancelling).
+    let s = random(60, 3);
+    let p = Pair::new(&s);
+    let map = &p.model.map;
+    let mut z = vec![0.0; map.n_z];
+    let (idx, _) = map.particle_map(p.j);
+    let qj = p.q(0.3 * p.delta)[1];
+    for a in 0..3 {
+        z[idx[a]] = qj[a];
+    }
+    let intact: Vec<bool> = (0..s.beams.len()).map(|b| b != p.beam).collect();
+    let reg: Vec<f64> = p.model.diagonal().iter().map(|d| 1e-10 * d.max(1.0)).collect();
+    let zc = vec![0.0; map.n_z];
+    let hist = contact_set::Histories::new();
+    let contacts = contact_set::evaluate(&s, map, &p.model.params, &[(p.i, p.j)], &z, &zc, &hist).unwrap();
+    assert_eq!(contacts.len(), 1);
+    let mut cache = JacobianCache::default();
+    let tangent = Tangent::new(&p.model, &intact, &reg, &contacts, &z, &zc, &hist, &mut cache).unwrap();
+    // The terms as they entered the operator, one iteration earlier (no tangential offset).
+    let earlier = p.contact(p.q(0.0), [[0.0; 3]; 2], ContactHistory::default());
+    let held = [
+        p.model.rank_one(p.i, p.j, &earlier.contact.normal_direction(), earlier.contact.k_n),
+        p.model.rank_one(p.i, p.j, &earlier.contact.tangential_direction(), earlier.k_t),
+    ];
+    let diff = tangent.difference(&contacts, |_, _| held[0].k + held[1].k);
+    let upper = p.model.assemble(&intact, &reg, &held);
+    let n = map.n_eq();
+    let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
+    for t in &upper {
+        m[(t.row, t.col)] += t.val;
+        if t.row != t.col {
+            m[(t.col, t.row)] += t.val;
+        }
+    }
+    let v: Vec<f64> = (0..n).map(|k| ((k as f64) * 0.37).sin()).collect();
+    let (mut kt_v, mut d_v) = (vec![0.0; n], vec![0.0; n]);
+    tangent.apply(&v, &mut kt_v);
+    diff.apply(&v, &mut d_v);
+    let m_v = &m * DVector::from_column_slice(&v);
+    let scale = kt_v.iter().fold(0.0f64, |x, y| x.max(y.abs()));
+    let worst = (0..n).map(|e| (d_v[e] - (kt_v[e] - m_v[e])).abs()).fold(0.0f64, f64::max);
+    assert!(worst <= 1e-9 * scale, "worst {worst} of {scale}");
+    // The difference is not zero: the contact's Jacobian is not the held terms.
+    assert!(d_v.iter().any(|x| x.abs() > 1e-6 * scale));
+}
