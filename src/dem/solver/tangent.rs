@@ -119,7 +119,7 @@ impl Default for JacobianCache {
 impl JacobianCache {
     /// `J_c` of contact `a` at `q` with the committed `c`, `old`: the kept one when it may be
     /// reused, else a new one (kept).
-    fn jacobian(
+    pub(super) fn jacobian(
         &mut self,
         model: &Model,
         a: &ActiveContact,
@@ -164,19 +164,6 @@ impl JacobianCache {
         self.computed += 1;
         self.entries.insert((a.i, a.j), Cached { q, c, regime, jac });
         Ok(jac)
-    }
-
-    /// [`Self::jacobian`], for the solver's tests.
-    #[cfg(test)]
-    pub(super) fn jacobian_for_test(
-        &mut self,
-        model: &Model,
-        a: &ActiveContact,
-        q: [[f64; 3]; 2],
-        c: [[f64; 3]; 2],
-        old: contact_set::ContactHistory,
-    ) -> Result<SMatrix<f64, 6, 6>, DemError> {
-        self.jacobian(model, a, q, c, old)
     }
 
     /// Forgets the pairs that are not in `contacts`.
