@@ -35,7 +35,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let max_strain: f64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(2e-3);
     let steps: usize = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(40);
     let sample = random_sample::random_square(n)?;
-    let params = MechParams::default();
+    let mut params = MechParams::default();
+    // DEM_CRUSHING=σ_c:G_c (Pa, J/m²) turns crushing on (a compressive peak).
+    if let Ok(v) = std::env::var("DEM_CRUSHING") {
+        let (s, g) = v.split_once(':').ok_or_else(|| format!("DEM_CRUSHING={v}: expected stress:energy"))?;
+        let num = |x: &str| x.parse::<f64>().map_err(|e| format!("DEM_CRUSHING={v}: {e}"));
+        params.crushing = Some(masonry_hpc::dem::mechanics::Crushing { stress: num(s)?, energy: num(g)? });
+    }
     let map = DofMap::new(&sample, [[DofControl::Prescribed; 3]; 2])?;
     let model = Model::new(&sample, &params, map)?;
     let n_eq = model.map.n_eq();

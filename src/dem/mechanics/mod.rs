@@ -31,7 +31,7 @@ pub mod thresholds;
 
 pub use beam::{beam_actions, beam_forces, beam_stiffness, BeamActions, BeamGeom};
 pub use contact::{contact, contact_length, Contact};
-pub use crushing::{CrushUpdate, Crushing};
+pub use crushing::{CrushUpdate, Crushing, PlasticState};
 pub use error::MechanicsError;
 pub use failure::{failure_index, failure_lambda, failure_mode, first_crossing, FailureMode};
 pub use friction::{friction_stiffness, friction_update, FrictionUpdate, SlipState};

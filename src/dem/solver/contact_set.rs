@@ -13,11 +13,11 @@
 //! Internal forces `F_n b + F_t c` ([`Contact::normal_forces`], [`Contact::tangential_forces`]).
 //!
 //! **Crushing (optional, [`mechanics::crushing`]).** With `MechParams::crushing`, the normal
-//! force is bounded by the crushing return map from the committed plastic penetration `δ_p` of
-//! the pair: `F_n = k (S_r − L δ_p) ≤ σ_c L t_z (1 − δ_p/δ_u)₊`; friction then uses this `F_n`.
-//! The committed history of a pair ([`ContactHistory`]: `F_t`, `δ_p`) survives while the stones
-//! are apart, so a crushed joint that reopens and closes again starts from its plastic
-//! penetration.
+//! force is bounded by the crushing return map from the committed plastic state of the pair
+//! (plastic overlap area `A_p`, accumulated plastic penetration `κ`):
+//! `F_n = k (S_r − A_p) ≤ σ_c L t_z (1 − κ/δ_u)₊`; friction then uses this `F_n`. The committed
+//! history of a pair ([`ContactHistory`]: `F_t` and the plastic state) survives while the stones
+//! are apart, so a crushed joint that reopens and closes again starts from its plastic state.
 //!
 //! **Stored energy.** The normal energy is the potential of the normal law read as a Winkler
 //! layer along the chord, `½ κ ∫δ(s)² ds` = `F_n²/(2 k_n)` (uniform part; for a flat strip
@@ -34,14 +34,13 @@ use crate::dem::polygon::Polygon;
 use nalgebra::{SMatrix, SVector};
 use crate::dem::sample::Sample;
 
-/// The committed history of a pair: its tangential force and its plastic (crushing)
-/// penetration.
+/// The committed history of a pair: its tangential force and its plastic (crushing) state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactHistory {
     /// Committed tangential force `F_t` (N).
     pub f_t: f64,
-    /// Committed plastic penetration `δ_p` (m), 0 without crushing.
-    pub delta_p: f64,
+    /// Committed plastic state ([`mechanics::crushing`]), zero without crushing.
+    pub plastic: mechanics::PlasticState,
 }
 
 /// The committed histories, by pair `(i < j)`.
@@ -72,7 +71,7 @@ impl ActiveContact {
 
     /// The history to commit for this pair.
     pub fn history(&self) -> ContactHistory {
-        ContactHistory { f_t: self.friction.f_t, delta_p: self.crush.map_or(0.0, |c| c.delta_p) }
+        ContactHistory { f_t: self.friction.f_t, plastic: self.crush.map_or(Default::default(), |c| c.state) }
     }
 
     /// Energy dissipated by crushing in the increment (J).
@@ -219,7 +218,7 @@ pub fn evaluate_pair(
     let crush = match &params.crushing {
         Some(cr) => {
             let u = cr
-                .update(contact.overlap_area, contact.chord_length, params.e_bar, contact.l_c, params.t_z, old.delta_p)
+                .update(contact.overlap_area, contact.chord_length, params.e_bar, contact.l_c, params.t_z, old.plastic)
                 .map_err(err)?;
             // The crushed force acts at the overlap centroid, so the moment it carries about the
             // chord midpoint scales with it, and with it the wedge energy, U_w = M²/(2k_φ)

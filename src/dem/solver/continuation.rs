@@ -5,7 +5,7 @@
 //! Two situations, both at the compressive peak and after it:
 //! * *alternation across kinks*: the return maps (crushing elastic/plastic, stick/slip) make the
 //!   residual piecewise smooth; with several crushing contacts on their softening branch
-//!   `F_y(δ_p) = σ_c L t_z (1 − δ_p/δ_u)` (tangent terms `−H k_n/(k_n − H)`), Newton's direction
+//!   `F_y(κ) = σ_c L t_z (1 − κ/δ_u)` (tangent terms `−H k_n/(k_n − H)`), Newton's direction
 //!   from one side of a kink is not one of descent for `½‖r‖²` and the line search takes its
 //!   best trial: the iteration alternates between two states at a relative residual of
 //!   1e-6..1e-4, at every increment down to 2⁻¹⁰ of the step, although an equilibrium lies
@@ -86,9 +86,8 @@ impl<'a> Solver<'a> {
         }
         let unknowns = map.unknowns.clone();
         let n_eq = map.n_eq();
-        // M = diag K₀ (ε/10⁻¹⁰: the regularization is 10⁻¹⁰ of it, with its fallback for DOFs
-        // without a beam).
-        let mass: Vec<f64> = self.reg.iter().map(|r| r * 1e10).collect();
+        // M = diag K₀ (with a positive fallback for DOFs without a beam).
+        let mass = self.intact_diagonal.clone();
         let events = self.broken.len();
         if let Some(tr) = self.trace.as_mut() {
             tr.begin(self.stage, t, events, "continuation");

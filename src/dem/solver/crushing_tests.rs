@@ -125,33 +125,26 @@ fn paper_wall_with_crushing_peaks_and_balances_energy() {
 #[test]
 fn paper_wall_sample_continues_past_its_old_stop() {
     // jobs/wall-compression.toml's sample 1 (seed 2; σ_c = 2.2 MPa, G_c = 1 kJ/m²), in the job's
-    // steps of Δε = 5e-5, to ε = 1.2e-3 (just past its peak). Without continuation the test
-    // stops at ε = 1.0355e-3, 99.9 % of its peak: Newton alternates between two states
-    // (relative residual 1e-5..1e-4, six crushing contacts on their softening branch) at every
-    // increment down to 2⁻¹⁰ of the step: `Failed`, the sample left out of the statistics. With
-    // continuation the equilibrium of that increment is found (here close by: the stress
-    // changes by 5e-5 relative), the test reaches its target; the continued step is below twice
-    // the smallest cut-back (< 2⁻⁹ of the step 5e-5 × 1.2 m) and W_ext = stored + dissipated
-    // within 1 % of W_ext.
+    // steps of Δε = 5e-5, to ε = 3e-3 (far past its peak at about 1.1e-3). Without continuation
+    // the test stops past the peak, Newton's iterations alternating between two states
+    // (crushing contacts on their softening branch) down to 2⁻¹⁰ of the step: `Failed` or
+    // `Collapse` (measured: collapse at ε = 1.39e-3), the curve short of the target. With
+    // continuation the equilibria past that point are found and the test reaches its target,
+    // with at least one continuation, and W_ext = stored + dissipated within 1 % of W_ext.
     let s = Sample::build(&SampleConfig::paper_wall(2)).unwrap();
     let p = crushing(2.2e6, 1e3);
-    let t = VirtualTest::Compression { max_strain: 1.2e-3, steps: 24 };
+    let t = VirtualTest::Compression { max_strain: 3e-3, steps: 60 };
     let off = SolverOptions { continuation: false, ..Default::default() };
     let before = run_test_with(&s, &p, &t, off).unwrap();
-    assert!(matches!(before.end, TestEnd::Failed { .. }), "the stop at the peak: {:?}", before.end);
+    assert!(matches!(before.end, TestEnd::Failed { .. } | TestEnd::Collapse { .. }), "the stop past the peak: {:?}", before.end);
     let stop = before.curve.last().unwrap().strain;
-    assert!((stop + 1.0355e-3).abs() < 1e-6, "stopped at ε = {stop:e}");
+    assert!(stop > -2e-3 && stop < -1e-3, "stopped at ε = {stop:e}");
     let r = run_test(&s, &p, &t).unwrap();
+    println!("without continuation: {:?} at ε = {stop:e}; with: {:?}, {:?}", before.end, r.end, r.stats);
     assert_eq!(r.end, TestEnd::Target);
-    assert!(r.stats.continued_steps >= 1, "{:?}", r.stats);
-    let continued = r
-        .curve
-        .windows(2)
-        .find(|w| w[1].kind == StateKind::Relaxed && w[1].broken == w[0].broken)
-        .map(|w| w[1].displacement - w[0].displacement)
-        .expect("the continued step's state");
-    assert!(continued.abs() < 5e-5 * 1.2 / 512.0, "displacement step {continued:e}");
+    assert!(r.stats.continuations >= 1, "{:?}", r.stats);
     let last = r.curve.last().unwrap();
+    assert!(last.strain < -3e-3 + 1e-9);
     assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", balance(last), last.external_work);
 }
 
@@ -161,10 +154,11 @@ fn crushed_contacts_keep_the_energy_balance_far_past_the_peak() {
     // to ε = 3e-3, far past its peak, with deeply crushed corner overlaps. When the wedge energy
     // of an overlap was counted at its full elastic value on a crushed contact (whose force, and
     // so whose moment, crushing had reduced), this sample ended with stored + dissipated 356 J
-    // (13 %) above the work done. Asserted: stored ≤ W_ext + 1 % at every state (dissipation is
-    // never negative), and the balance at the end within 2 % of W_ext: measured 1.26 %, above
-    // the 1 % of the tests above; the rest is the crushing return map's constant-width
-    // dissipation (`mechanics::crushing`) when a contact's chord width changes within a step.
+    // (13 %) above the work done. Before loading steps were checked for snaps inside them
+    // (`events.rs`, "Snaps inside a step") it ended 1.3 % short, two steps carrying 25 J and
+    // 36 J of released energy. Asserted: stored ≤ W_ext + 1 % at every state (dissipation is
+    // never negative), and the balance at the end within 1 % of W_ext (measured 0.56 %; seeds 1–8
+    // of the job give 0.46–0.91 %, a remainder that does not fall with the step).
     let s = Sample::build(&SampleConfig::paper_wall(5)).unwrap();
     let t = VirtualTest::Compression { max_strain: 3e-3, steps: 60 };
     let r = run_test(&s, &crushing(2.2e6, 1e3), &t).unwrap();
@@ -174,6 +168,8 @@ fn crushed_contacts_keep_the_energy_balance_far_past_the_peak() {
     for c in &r.curve {
         assert!(c.stored <= c.external_work + 0.01 * w_end, "state at ε {:e}: stored {:e} J, W_ext {:e} J", c.strain, c.stored, c.external_work);
     }
-    println!("seed 5: {} states, end {:?}, W_ext {w_end:.4e} J, imbalance {:.3e} J", r.curve.len(), r.end, balance(last));
-    assert!(balance(last).abs() <= 0.02 * w_end, "imbalance {:e} J of W_ext {w_end:e} J", balance(last));
+    println!("seed 5: {} states, end {:?}, W_ext {w_end:.4e} J, imbalance {:.3e} J, {:?}", r.curve.len(), r.end, balance(last), r.stats);
+    assert!(balance(last).abs() <= 0.01 * w_end, "imbalance {:e} J of W_ext {w_end:e} J", balance(last));
 }
+
+

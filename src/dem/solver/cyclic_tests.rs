@@ -320,3 +320,4 @@ fn diag_cyclic_shear_refinement() {
         t0.elapsed().as_secs_f64()
     );
 }
+

@@ -109,7 +109,7 @@ fn contacts_on_the_cone_take_the_slip_branch_jacobian() {
     let p = Pair::new(&s);
     let q = p.q(0.0);
     let f_n = p.contact(q, q, ContactHistory::default()).contact.f_n;
-    let old = ContactHistory { f_t: p.model.params.mu * f_n, delta_p: 0.0 };
+    let old = ContactHistory { f_t: p.model.params.mu * f_n, plastic: Default::default() };
     let a = p.contact(q, q, old);
     assert_eq!(a.friction.state, SlipState::Stick);
     let mut cache = JacobianCache::default();

@@ -307,6 +307,13 @@ pub struct RunStats {
     /// Pseudo-transient continuations run (snap-backs and stalled releases), converged or not.
     #[serde(default)]
     pub continuations: usize,
+    /// Load steps halved because their energy did not balance (crushing; `events.rs`, "Snaps
+    /// inside a step").
+    #[serde(default)]
+    pub imbalance_cutbacks: usize,
+    /// Such steps left at the smallest increment and recorded as snaps.
+    #[serde(default)]
+    pub snaps_in_steps: usize,
 }
 
 /// How a test ended.
@@ -558,6 +565,8 @@ pub fn run_test_recording(
             contact_events: solver.n_contact_events,
             continued_steps: solver.n_continued_steps,
             continuations: solver.n_continuations,
+            imbalance_cutbacks: solver.n_imbalance_cutbacks,
+            snaps_in_steps: solver.n_snaps_in_steps,
         },
         end,
         curve,
