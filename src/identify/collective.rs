@@ -66,6 +66,9 @@ pub fn best_record<R>(records: &[PointRecord<R>]) -> Result<&PointRecord<R>, Ide
         })
 }
 
+/// Seconds between two progress lines of a batch of points.
+const PROGRESS_SECONDS: f64 = 10.0;
+
 /// Collective. Evaluates `points` (significant on rank 0) as `points × tasks_per_point` tasks
 /// of a dynamic batch; rank 0 gets them grouped per point.
 pub fn evaluate_points<R, W>(
@@ -80,7 +83,16 @@ where
 {
     let m = tasks_per_point.max(1);
     let n = points.len() * m;
-    let batch = run_batch(&ctx.comm, n, |t| work(&points[t / m], t % m), |_, _| {}).map_err(|e| IdentifyError::Batch(e.to_string()))?;
+    // A log line at most every PROGRESS_SECONDS (a batch of 16 points × 8 samples of the
+    // paper's wall takes minutes), and at the end.
+    let mut last = std::time::Instant::now();
+    let progress = |done: usize, total: usize| {
+        if done == total || last.elapsed().as_secs_f64() >= PROGRESS_SECONDS {
+            last = std::time::Instant::now();
+            ctx.log.info(format!("  {done}/{total} runs done ({} point(s) × {m})", points.len()));
+        }
+    };
+    let batch = run_batch(&ctx.comm, n, |t| work(&points[t / m], t % m), progress).map_err(|e| IdentifyError::Batch(e.to_string()))?;
     Ok(batch.map(|all| {
         let mut grouped: Vec<Vec<TaskResult<R>>> = (0..points.len()).map(|_| Vec::with_capacity(m)).collect();
         for (t, r) in all.into_iter().enumerate() {
