@@ -173,3 +173,136 @@ fn crushed_contacts_keep_the_energy_balance_far_past_the_peak() {
 }
 
 
+
+/// Where the energy balance of a crushing sample goes astray: runs the paper's wall
+/// (`DIAG_SEED`, default 12; σ_c 2.2 MPa, G_c 1 kJ/m²) step by step in compression and, for every
+/// step without a break, splits `ΔW − ΔU − ΔD` over its contacts (the trapezoid of each pair's
+/// forces on its stones' motion, against its energy and dissipation), by stick/slip and crushing
+/// state; for sticking contacts on the crushing branch, the normal part again into the area part
+/// (`F_n/L` over `ΔS_r`) and the moment part (the rest of the normal force's work, against the
+/// wedge energy). The per-contact sum equals the global imbalance of the step.
+#[test]
+#[ignore = "diagnostic: per-contact energy balance of crushing steps"]
+fn diag_contact_balance() {
+    use std::collections::BTreeMap;
+    let seed: u64 = std::env::var("DIAG_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(12);
+    let s = Sample::build(&SampleConfig::paper_wall(seed)).unwrap();
+    let p = crushing(2.2e6, 1e3);
+    let map = DofMap::new(&s, [[Prescribed; 3], [Prescribed; 3]]).unwrap();
+    let model = Model::new(&s, &p, map).unwrap();
+    let zero = LoadPoint { prescribed: vec![0.0; 6], forces: vec![] };
+    let mut solver = Solver::new(model, SolverOptions::default(), zero).unwrap();
+    solver.start().unwrap();
+    let h = s.height;
+    let mut cat: BTreeMap<String, f64> = BTreeMap::new();
+    let mut total_global = 0.0;
+    for k in 1..=56 {
+        let eps = 5e-5 * k as f64;
+        let target = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, -eps * h, 0.0], forces: vec![] };
+        let z0 = solver.z.clone();
+        let c0: BTreeMap<(usize, usize), ActiveContactSnapshot> =
+            solver.contacts().iter().map(|a| ((a.i, a.j), snap(a))).collect();
+        let (n0, b0) = (solver.states.len(), solver.broken.len());
+        if solver.run_stage(&target, 1, Some((1, 1))).is_err() {
+            println!("stopped at ε {eps:e}");
+            break;
+        }
+        let z1 = solver.z.clone();
+        if solver.broken.len() != b0 || solver.states.len() != n0 + 1 {
+            continue;
+        }
+        let (a, b) = (&solver.states[n0 - 1], &solver.states[n0]);
+        let global = (b.external_work - a.external_work) - (b.stored - a.stored) - (b.dissipated.iter().sum::<f64>() - a.dissipated.iter().sum::<f64>());
+        total_global += global;
+        let c1: BTreeMap<(usize, usize), ActiveContactSnapshot> =
+            solver.contacts().iter().map(|a| ((a.i, a.j), snap(a))).collect();
+        let mut sum = 0.0;
+        let mut keys: Vec<(usize, usize)> = c0.keys().chain(c1.keys()).copied().collect();
+        keys.sort();
+        keys.dedup();
+        for key in keys {
+            let e = ActiveContactSnapshot::default();
+            let (s0, s1) = (c0.get(&key).unwrap_or(&e), c1.get(&key).unwrap_or(&e));
+            let (q0, q1) = (pair_q(&solver, key, &z0), pair_q(&solver, key, &z1));
+            let w: f64 = (0..6).map(|d| 0.5 * (s0.f[d] + s1.f[d]) * (q1[d] - q0[d])).sum();
+            let imb = w - (s1.u - s0.u) - s1.d;
+            sum += imb;
+            let label = format!(
+                "{}{} {}",
+                if !c0.contains_key(&key) { "new " } else if !c1.contains_key(&key) { "gone " } else { "" },
+                s1.kind,
+                if s0.kind != s1.kind && c0.contains_key(&key) && c1.contains_key(&key) { format!("(from {})", s0.kind) } else { String::new() }
+            );
+            if s0.kind == "stick-plastic" && s1.kind == "stick-plastic" {
+                let wn: f64 = (0..6).map(|d| 0.5 * (s0.fnv[d] + s1.fnv[d]) * (q1[d] - q0[d])).sum();
+                let wt: f64 = (0..6).map(|d| 0.5 * (s0.ftv[d] + s1.ftv[d]) * (q1[d] - q0[d])).sum();
+                *cat.entry("sp: normal W - dUn - dUw - Dc".into()).or_default() += wn - (s1.un - s0.un) - (s1.uw - s0.uw) - s1.dc;
+                *cat.entry("sp: tangential W - dUt - Df".into()).or_default() += wt - (s1.ut - s0.ut) - s1.df;
+                *cat.entry("sp: dUw".into()).or_default() += s1.uw - s0.uw;
+                let ws = 0.5 * (s0.fl + s1.fl) * (s1.sr - s0.sr);
+                *cat.entry("sp: area W_S - dUn - Dc".into()).or_default() += ws - (s1.un - s0.un) - s1.dc;
+                *cat.entry("sp: W_n - W_S - dUw (moment)".into()).or_default() += wn - ws - (s1.uw - s0.uw);
+                *cat.entry("sp: Dc".into()).or_default() += s1.dc;
+            }
+            *cat.entry(label).or_default() += imb;
+        }
+        println!("ε {eps:.2e} σ {:.3e} global {global:+.3} contacts {sum:+.3} ({} contacts)", b.platen_force[1][1] / s.width, c1.len());
+    }
+    println!("total global {total_global:.3}");
+    for (k, v) in &cat {
+        println!("  {k:40} {v:+.3}");
+    }
+}
+
+#[derive(Clone, Default)]
+struct ActiveContactSnapshot {
+    f: [f64; 6],
+    fnv: [f64; 6],
+    ftv: [f64; 6],
+    u: f64,
+    un: f64,
+    uw: f64,
+    ut: f64,
+    dc: f64,
+    df: f64,
+    d: f64,
+    sr: f64,
+    fl: f64,
+    kind: String,
+}
+
+fn snap(a: &contact_set::ActiveContact) -> ActiveContactSnapshot {
+    let f = a.pair_forces();
+    let kind = format!(
+        "{}-{}",
+        if a.sticks() { "stick" } else { "slip" },
+        match a.crush {
+            Some(c) if c.f_n == 0.0 => "crushed",
+            Some(c) if c.plastic => "plastic",
+            _ => "elastic",
+        }
+    );
+    let n = a.contact.normal_direction() * a.contact.f_n;
+    let t = a.contact.tangential_direction() * a.friction.f_t;
+    let c = &a.contact;
+    ActiveContactSnapshot {
+        f: [f[0], f[1], f[2], f[3], f[4], f[5]],
+        fnv: [n[0], n[1], n[2], n[3], n[4], n[5]],
+        ftv: [t[0], t[1], t[2], t[3], t[4], t[5]],
+        un: if c.k_n > 0.0 { 0.5 * c.f_n * c.f_n / c.k_n } else { 0.0 },
+        uw: c.wedge_energy,
+        ut: 0.5 * a.friction.f_t * a.friction.f_t / a.k_t,
+        dc: a.crushing_dissipation(),
+        sr: c.overlap_area,
+        fl: if c.chord_length > 0.0 { c.f_n / c.chord_length } else { 0.0 },
+        df: a.friction.dissipation,
+        u: a.energy(),
+        d: a.friction.dissipation + a.crushing_dissipation(),
+        kind,
+    }
+}
+
+fn pair_q(s: &Solver, (i, j): (usize, usize), z: &[f64]) -> [f64; 6] {
+    let (a, b) = (s.model().map.particle_dofs(i, z), s.model().map.particle_dofs(j, z));
+    [a[0], a[1], a[2], b[0], b[1], b[2]]
+}
