@@ -87,15 +87,7 @@
 //! factorization (the cost model of [`super::factor`]), when its rank would exceed `max_rank`,
 //! or when its capacitance matrix is ill-conditioned or GMRES fails with it (accuracy).
 //!
-//! **Energy.** Per committed state: external work (trapezoid of the platen forces times the
-//! platen displacement increments, prescribed and force-controlled DOFs), stored energy (intact
-//! beams `½ zᵀK z`, contacts [`ActiveContact::energy`]), dissipation = fracture (each beam's
-//! energy at the moment it breaks) + friction (return-map dissipation) + relaxation (what the
-//! re-equilibration at fixed load releases beyond the broken beam's own energy: the kinetic
-//! energy a dynamic model would damp) + crushing (the plastic work of crushing contacts, with
-//! [`crate::dem::mechanics::crushing`]). The relaxation term closes the balance over re-
-//! equilibration steps by definition; the balance check is meaningful over the loading steps,
-//! where `W_ext` and `E_stored` are computed independently (reactions vs. beam energies).
+//! **Energy.** Each recorded state carries the energy account of [`super::energy`].
 use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
@@ -313,7 +305,7 @@ pub struct Solver<'a> {
     pub broken: Vec<BrokenBeam>,
     /// Stones found free-floating, with the event count.
     pub floating: Vec<(usize, usize)>,
-    energy: Energy,
+    pub(super) energy: super::energy::Energy,
     pub(super) stage: usize,
     /// Total equilibrium solves (linear solves, GMRES preconditioner applications included).
     pub n_solves: usize,
@@ -332,7 +324,7 @@ pub struct Solver<'a> {
     pub n_snaps_in_steps: usize,
     /// Counters and phase times ([`SolverProfile`]).
     pub profile: SolverProfile,
-    lateral: [Vec<usize>; 2],
+    pub(super) lateral: [Vec<usize>; 2],
     /// Mean stone diameter D̄ (m): weighs moments in the merit function.
     pub(super) mean_diameter: f64,
     /// Largest move of a stone in one Newton iteration (m): 5 % of D̄.
@@ -343,15 +335,6 @@ pub struct Solver<'a> {
     pub observer: Option<Box<dyn FnMut(usize, &StateRecord, &[f64]) + 'a>>,
     /// The Newton history of the last equilibrium attempts (with [`SolverOptions::trace`]).
     pub trace: Option<super::trace::Trace>,
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-struct Energy {
-    external: f64,
-    fracture: f64,
-    friction: f64,
-    relaxation: f64,
-    crushing: f64,
 }
 
 /// How a stage ended.
@@ -405,7 +388,7 @@ impl<'a> Solver<'a> {
             states: Vec::new(),
             broken: Vec::new(),
             floating: Vec::new(),
-            energy: Energy::default(),
+            energy: Default::default(),
             stage: 0,
             n_solves: 0,
             n_cutbacks: 0,
@@ -447,20 +430,9 @@ impl<'a> Solver<'a> {
         f
     }
 
-    fn stored_energy(&self) -> f64 {
-        let beams: f64 =
-            (0..self.intact.len()).filter(|&b| self.intact[b]).map(|b| self.model.beam_energy(b, &self.z)).sum();
-        beams + self.contacts.iter().map(|a| a.energy()).sum::<f64>()
-    }
-
-    fn platen_forces(&self, f: &[f64]) -> [[f64; 3]; 2] {
-        let b = self.model.map.platen_base;
-        [[f[b[0]], f[b[0] + 1], f[b[0] + 2]], [f[b[1]], f[b[1] + 1], f[b[1] + 2]]]
-    }
-
     /// Makes the trial state the committed one (friction history, regularization anchor)
     /// without recording it: an intermediate state of a cut-back release.
-    fn accept(&mut self) {
+    pub(super) fn accept(&mut self) {
         self.energy.friction += self.contacts.iter().map(|a| a.friction.dissipation).sum::<f64>();
         self.energy.crushing += self.contacts.iter().map(|a| a.crushing_dissipation()).sum::<f64>();
         // Pairs apart keep their plastic state (no tangential force without contact).
@@ -479,82 +451,6 @@ impl<'a> Solver<'a> {
     /// Back to the committed state (a failed trial).
     pub(super) fn restore(&mut self) {
         self.z.clone_from(&self.z_commit);
-    }
-
-    /// Commits the trial state and records it.
-    fn commit(&mut self, t: f64, kind: StateKind) {
-        let f = self.internal(&self.z, &self.contacts);
-        let pf = self.platen_forces(&f);
-        let b = self.model.map.platen_base;
-        let platen = [
-            [self.z[b[0]], self.z[b[0] + 1], self.z[b[0] + 2]],
-            [self.z[b[1]], self.z[b[1] + 1], self.z[b[1] + 2]],
-        ];
-        // External work, trapezoid over the platen DOFs (prescribed and force-controlled).
-        if let Some(prev) = self.states.last() {
-            for k in 0..2 {
-                for a in 0..3 {
-                    self.energy.external +=
-                        0.5 * (prev.platen_force[k][a] + pf[k][a]) * (platen[k][a] - prev.platen[k][a]);
-                }
-            }
-        }
-        self.accept();
-        let mut lateral_ux = [0.0; 2];
-        for (s, set) in self.lateral.iter().enumerate() {
-            let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.z)[0]).sum();
-            lateral_ux[s] = sum / set.len().max(1) as f64;
-        }
-        let n_t = self.broken.iter().filter(|b| b.mode == FailureModeTag::Tension).count();
-        let n_c = self.broken.iter().filter(|b| b.mode == FailureModeTag::Crushing).count();
-        let stored = self.stored_energy();
-        if kind == StateKind::Relaxed {
-            // Energy released by the re-equilibration beyond the broken beam's own energy.
-            if let Some(prev) = self.states.last() {
-                let before = prev.external_work - prev.stored - prev.dissipated.iter().sum::<f64>();
-                let now = self.energy.external
-                    - stored
-                    - self.energy.fracture
-                    - self.energy.friction
-                    - self.energy.relaxation
-                    - self.energy.crushing;
-                self.energy.relaxation += now - before;
-            }
-        }
-        self.states.push(StateRecord {
-            stage: self.stage,
-            t,
-            kind,
-            platen,
-            platen_force: pf,
-            lateral_ux,
-            broken: [self.broken.len(), n_t, self.broken.len() - n_t - n_c, n_c],
-            contacts: self.contacts.len(),
-            external_work: self.energy.external,
-            stored,
-            dissipated: [self.energy.fracture, self.energy.friction, self.energy.relaxation, self.energy.crushing],
-        });
-        if let (Some(observe), Some(record)) = (self.observer.as_mut(), self.states.last()) {
-            observe(self.states.len() - 1, record, &self.z);
-        }
-    }
-
-    /// The energy imbalance `ΔW − ΔU − ΔD` of the trial state against the last recorded one, and
-    /// the scale it is measured against, `max(W, U)` there (module docs, "Snaps inside a step").
-    fn trial_step_imbalance(&self) -> (f64, f64) {
-        let Some(prev) = self.states.last() else { return (0.0, 0.0) };
-        let pf = self.platen_forces(&self.internal(&self.z, &self.contacts));
-        let b = self.model.map.platen_base;
-        let mut work = 0.0;
-        for k in 0..2 {
-            for a in 0..3 {
-                work += 0.5 * (prev.platen_force[k][a] + pf[k][a]) * (self.z[b[k] + a] - prev.platen[k][a]);
-            }
-        }
-        let dissipated: f64 =
-            self.contacts.iter().map(|a| a.friction.dissipation + a.crushing_dissipation()).sum();
-        let imbalance = work - (self.stored_energy() - prev.stored) - dissipated;
-        (imbalance, prev.external_work.max(prev.stored))
     }
 
     /// Breaks beam `b` at the committed state.

@@ -11,6 +11,7 @@ pub mod contact_candidates;
 mod contact_events;
 pub mod contact_set;
 mod continuation;
+mod energy;
 mod equilibrium;
 pub mod gmres;
 pub mod ordering;

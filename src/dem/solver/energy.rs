@@ -1,0 +1,113 @@
+//! The energy account of the event loop ([`super::events`]): what each recorded state carries,
+//! and the check of a trial load step's balance.
+//!
+//! **Per committed state:** external work (trapezoid of the platen forces times the platen
+//! displacement increments, prescribed and force-controlled DOFs), stored energy (intact beams
+//! `½ zᵀK z`, contacts [`super::contact_set::ActiveContact::energy`]), dissipation = fracture (each beam's energy at
+//! the moment it breaks) + friction (return-map dissipation) + relaxation (what the
+//! re-equilibration at fixed load releases beyond the broken beam's own energy: the kinetic
+//! energy a dynamic model would damp) + crushing (the plastic work of crushing contacts, with
+//! [`crate::dem::mechanics::crushing`]). The relaxation term closes the balance over
+//! re-equilibration steps by definition; the balance check is meaningful over the loading steps,
+//! where `W_ext` and `E_stored` are computed independently (reactions vs. beam energies).
+//!
+//! **A trial step** ([`Solver::trial_step_imbalance`]): `ΔW − ΔU − ΔD` against the last recorded
+//! state, with the same trapezoid, stored energy and dissipation as a commit would book (the
+//! events module's "Snaps inside a step").
+use super::events::{FailureModeTag, Solver, StateKind, StateRecord};
+
+/// The running totals (J).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Energy {
+    pub external: f64,
+    pub fracture: f64,
+    pub friction: f64,
+    pub relaxation: f64,
+    pub crushing: f64,
+}
+
+/// Platen generalized values `(U_x, U_y, Θ)` or forces, bottom then top.
+type PlatenValues = [[f64; 3]; 2];
+
+/// The external work from the recorded state `prev` to a state with platen values `platen` and
+/// forces `force`: the trapezoid over the six platen DOFs.
+fn step_work(prev: &StateRecord, platen: &PlatenValues, force: &PlatenValues) -> f64 {
+    let mut w = 0.0;
+    for k in 0..2 {
+        for a in 0..3 {
+            w += 0.5 * (prev.platen_force[k][a] + force[k][a]) * (platen[k][a] - prev.platen[k][a]);
+        }
+    }
+    w
+}
+
+impl<'a> Solver<'a> {
+    /// Intact beams' and active contacts' elastic energy at the trial state.
+    fn stored_energy(&self) -> f64 {
+        let beams: f64 =
+            (0..self.intact.len()).filter(|&b| self.intact[b]).map(|b| self.model.beam_energy(b, &self.z)).sum();
+        beams + self.contacts.iter().map(|a| a.energy()).sum::<f64>()
+    }
+
+    /// The platen DOFs at the trial state and their generalized forces (the reactions of
+    /// prescribed DOFs).
+    fn platen_state(&self) -> (PlatenValues, PlatenValues) {
+        let f = self.internal(&self.z, &self.contacts);
+        let b = self.model.map.platen_base;
+        let at = |v: &[f64], k: usize| [v[b[k]], v[b[k] + 1], v[b[k] + 2]];
+        ([at(&self.z, 0), at(&self.z, 1)], [at(&f, 0), at(&f, 1)])
+    }
+
+    /// Commits the trial state and records it.
+    pub(super) fn commit(&mut self, t: f64, kind: StateKind) {
+        let (platen, pf) = self.platen_state();
+        if let Some(prev) = self.states.last() {
+            self.energy.external += step_work(prev, &platen, &pf);
+        }
+        self.accept();
+        let mut lateral_ux = [0.0; 2];
+        for (s, set) in self.lateral.iter().enumerate() {
+            let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.z)[0]).sum();
+            lateral_ux[s] = sum / set.len().max(1) as f64;
+        }
+        let n_t = self.broken.iter().filter(|b| b.mode == FailureModeTag::Tension).count();
+        let n_c = self.broken.iter().filter(|b| b.mode == FailureModeTag::Crushing).count();
+        let stored = self.stored_energy();
+        if kind == StateKind::Relaxed {
+            // Energy released by the re-equilibration beyond the broken beam's own energy.
+            if let Some(prev) = self.states.last() {
+                let before = prev.external_work - prev.stored - prev.dissipated.iter().sum::<f64>();
+                let e = &self.energy;
+                let now = e.external - stored - e.fracture - e.friction - e.relaxation - e.crushing;
+                self.energy.relaxation += now - before;
+            }
+        }
+        let e = self.energy;
+        self.states.push(StateRecord {
+            stage: self.stage,
+            t,
+            kind,
+            platen,
+            platen_force: pf,
+            lateral_ux,
+            broken: [self.broken.len(), n_t, self.broken.len() - n_t - n_c, n_c],
+            contacts: self.contacts.len(),
+            external_work: e.external,
+            stored,
+            dissipated: [e.fracture, e.friction, e.relaxation, e.crushing],
+        });
+        if let (Some(observe), Some(record)) = (self.observer.as_mut(), self.states.last()) {
+            observe(self.states.len() - 1, record, &self.z);
+        }
+    }
+
+    /// The energy imbalance `ΔW − ΔU − ΔD` of the trial state against the last recorded one, and
+    /// the scale it is measured against, `max(W, U)` there.
+    pub(super) fn trial_step_imbalance(&self) -> (f64, f64) {
+        let Some(prev) = self.states.last() else { return (0.0, 0.0) };
+        let (platen, pf) = self.platen_state();
+        let dissipated: f64 = self.contacts.iter().map(|a| a.friction.dissipation + a.crushing_dissipation()).sum();
+        let imbalance = step_work(prev, &platen, &pf) - (self.stored_energy() - prev.stored) - dissipated;
+        (imbalance, prev.external_work.max(prev.stored))
+    }
+}
