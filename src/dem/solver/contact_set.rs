@@ -246,6 +246,9 @@ impl ActiveContact {
     }
 }
 
+/// The difference step of [`pair_jacobian`], relative to the pair's mean diameter `D̄`.
+pub const DIFFERENCE_STEP: f64 = 1e-8;
+
 /// The 6×6 Jacobian `∂(F_n b + F_t c)/∂(q_i, q_j)` of contact `a` at DOFs `q` by central
 /// differences, with the same committed state `c`, `old` (so the friction return map, the turning
 /// normal and the moving point of application are all included):
@@ -253,6 +256,7 @@ impl ActiveContact {
 /// ```text
 ///   J e_k = [f(q + h_k e_k) − f(q − h_k e_k)] / (2 h_k),   h = 10⁻⁸ D̄ (translations),
 ///                                                            h = 2·10⁻⁸ D̄/D_p (rotations)
+///   (10⁻⁸: DIFFERENCE_STEP)
 /// ```
 ///
 /// (`D̄` the mean diameter of the pair, `D_p` the stone's diameter: its outline moves by about
@@ -270,7 +274,7 @@ pub fn pair_jacobian(
     let d = 0.5 * (d_i + d_j);
     let mut jac = SMatrix::<f64, 6, 6>::zeros();
     for k in 0..6 {
-        let h = if k % 3 == 2 { 2e-8 * d / [d_i, d_j][k / 3] } else { 1e-8 * d };
+        let h = if k % 3 == 2 { 2.0 * DIFFERENCE_STEP * d / [d_i, d_j][k / 3] } else { DIFFERENCE_STEP * d };
         let mut f = [SVector::<f64, 6>::zeros(); 2];
         for (s, sign) in [1.0, -1.0].into_iter().enumerate() {
             let mut qq = q;

@@ -65,6 +65,7 @@ impl<'a> Solver<'a> {
             self.energy.external += step_work(prev, &platen, &pf);
         }
         self.accept();
+        self.raise_reference_force(&pf);
         let mut lateral_ux = [0.0; 2];
         for (s, set) in self.lateral.iter().enumerate() {
             let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.z)[0]).sum();

@@ -108,6 +108,9 @@ const MIN_EVENT_STEP: f64 = 1.0 / 16.0;
 /// The regularization spring of every unknown, relative to its diagonal with all beams intact
 /// (module docs, "Regularization").
 const REGULARIZATION: f64 = 1e-10;
+/// `f_ε = ROUNDOFF_FACTOR · ε_mach · X · Ē t_z`: the round-off of a contact force, below which a
+/// residual counts as converged ([`super::equilibrium`], module docs).
+const ROUNDOFF_FACTOR: f64 = 64.0;
 
 /// The largest energy imbalance of one load step with crushing, as a fraction of the external
 /// work so far (at least of the stored energy), module docs, "Snaps inside a step".
@@ -329,6 +332,11 @@ pub struct Solver<'a> {
     pub(super) mean_diameter: f64,
     /// Largest move of a stone in one Newton iteration (m): 5 % of D̄.
     pub(super) max_move: f64,
+    /// The round-off of a contact force, `f_ε` of [`super::equilibrium`]'s convergence scale (N).
+    pub(super) roundoff_force: f64,
+    /// A tenth of the largest platen force component of the recorded states (N): a floor of
+    /// the convergence scale ([`super::equilibrium`], module docs).
+    pub(super) reference_force: f64,
     /// Called with every recorded state (its index, the record, the coordinates `z`), e.g. to
     /// keep particle states ([`super::snapshots::Recorder`]).
     #[allow(clippy::type_complexity)]
@@ -367,6 +375,13 @@ impl<'a> Solver<'a> {
         let lateral = [model.sample.boundary.left.clone(), model.sample.boundary.right.clone()];
         let intact = vec![true; model.sample.beams.len()];
         let mean_diameter = model.sample.mean_diameter();
+        let extent = model
+            .sample
+            .particles
+            .iter()
+            .flat_map(|p| p.polygon.vertices.iter())
+            .fold(0.0f64, |m, v| m.max(v[0].abs()).max(v[1].abs()));
+        let roundoff_force = ROUNDOFF_FACTOR * f64::EPSILON * extent * model.params.e_bar * model.params.t_z;
         Ok(Solver {
             opts,
             z: vec![0.0; n_z],
@@ -401,6 +416,8 @@ impl<'a> Solver<'a> {
             lateral,
             mean_diameter,
             max_move: 0.05 * mean_diameter,
+            roundoff_force,
+            reference_force: 0.0,
             observer: None,
             trace: opts.trace.then(Default::default),
             model,

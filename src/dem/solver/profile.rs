@@ -30,6 +30,8 @@ pub struct SolverProfile {
     /// Contact Jacobians taken on the slip branch for contacts on the Coulomb cone
     /// ([`super::tangent`], "On the cone").
     pub jacobians_on_cone: usize,
+    /// Contact Jacobians taken in their own regime near the cone (`super::tangent`, "Near the cone").
+    pub jacobians_near_cone: usize,
     /// Load steps after a break started from the cut step's response
     /// ([`super::step_predictor`]) and converged from there.
     pub predicted_steps: usize,

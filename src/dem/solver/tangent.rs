@@ -50,6 +50,18 @@
 //! (`∂F_t = μ sign(F_t) ∂F_n`, the differences taken from the committed force pushed outside the
 //! cone by `CONE_PUSH`): the direction it was sliding in. Only Newton's step changes; the
 //! residual, and so the equilibrium, is the return map's own.
+//!
+//! **Near the cone.** The difference steps move the trial force by up to
+//! `reach = (k_t + μ k_n) h D̄` (`h` = [`contact_set::DIFFERENCE_STEP`]). A contact whose trial lies
+//! closer than `NEAR_CONE · reach` to the cone, on either side, would get the mean of the stick
+//! and slip Jacobians, which is neither branch's: Newton's step is then wrong for that contact,
+//! and a contact crossing from stick to slip stalls the iteration at the kink (the line search
+//! accepts steps of 1/32 while the residual rises; a cyclic reversal of the paper's wall stopped
+//! there). Such a contact takes its own regime's Jacobian, from the committed history shifted by
+//! `max(CONE_PUSH |F_t|, 2 reach)`: outwards when it slides (the slip branch's `F_t = μ F_n`
+//! does not depend on the trial, so this one is exact), inwards when it sticks (the stick
+//! branch's `k_t` is exact; the moment of `F_t` about the moving contact point is taken with the
+//! shifted force, an error of at most that shift in a term of second order).
 use std::collections::HashMap;
 
 use nalgebra::{SMatrix, SVector};
@@ -74,6 +86,11 @@ pub const ON_CONE: f64 = 1e-9;
 /// Jacobian of a contact on the cone: `F_t (1 + CONE_PUSH)`, far beyond the change of `μ F_n`
 /// under the difference steps (module docs).
 pub const CONE_PUSH: f64 = 1e-2;
+
+/// A contact whose trial force lies within `NEAR_CONE` times the reach of the difference steps
+/// of the cone has its Jacobian taken with the history shifted into its own regime (module docs,
+/// "Near the cone").
+pub const NEAR_CONE: f64 = 4.0;
 
 /// A contact's regime: stick/slip, `∂F_t/∂F_n` (the slip direction), crushing plastic.
 type Regime = (SlipState, f64, bool);
@@ -101,6 +118,8 @@ pub struct JacobianCache {
     pub reused: usize,
     /// Jacobians taken on the slip branch for contacts on the cone.
     pub on_cone: usize,
+    /// Jacobians taken in their own regime for contacts near the cone.
+    pub near_cone: usize,
 }
 
 impl Default for JacobianCache {
@@ -112,6 +131,7 @@ impl Default for JacobianCache {
             computed: 0,
             reused: 0,
             on_cone: 0,
+            near_cone: 0,
         }
     }
 }
@@ -133,10 +153,24 @@ impl JacobianCache {
         let limit = model.params.mu * a.contact.f_n;
         let on_cone =
             a.friction.state == SlipState::Stick && limit > 0.0 && a.friction.f_t.abs() >= (1.0 - ON_CONE) * limit;
+        // Near the cone, the difference steps would straddle it (module docs, "Near the cone").
+        let d = 0.5 * (model.sample.particles[a.i].diameter + model.sample.particles[a.j].diameter);
+        let reach = NEAR_CONE * (a.k_t + model.params.mu * a.contact.k_n) * contact_set::DIFFERENCE_STEP * d;
+        let margin = match a.friction.state {
+            SlipState::Stick => limit - a.friction.f_t.abs(),
+            SlipState::Slip => a.friction.slip.abs() * a.k_t,
+        };
+        let shift = (CONE_PUSH * a.friction.f_t.abs()).max(2.0 * reach);
         let (regime, old): (Regime, _) = if on_cone {
             // The trial force becomes F_t (1 + CONE_PUSH).
             let f_t = old.f_t + CONE_PUSH * a.friction.f_t;
             ((SlipState::Slip, model.params.mu * a.friction.f_t.signum(), plastic), contact_set::ContactHistory { f_t, ..old })
+        } else if limit > 0.0 && margin < reach && shift < 0.5 * limit {
+            // Sliding: the trial pushed further out; sticking: pulled further in.
+            let out = if a.friction.state == SlipState::Slip { 1.0 } else { -1.0 };
+            let f_t = old.f_t + out * shift * a.friction.f_t.signum();
+            self.near_cone += 1;
+            ((a.friction.state, a.friction.d_ft_d_fn, plastic), contact_set::ContactHistory { f_t, ..old })
         } else {
             ((a.friction.state, a.friction.d_ft_d_fn, plastic), old)
         };
