@@ -78,6 +78,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::{positive, MechanicsError};
+use super::thickness::ThicknessProfile;
 use super::kinematics::{cross, dot, perp};
 use super::MechParams;
 use crate::dem::polygon::{Polygon, P2};
@@ -112,6 +113,8 @@ pub struct Contact {
     /// The wedge energy `U_w = ½ κ (∫δ(s)² ds − S_r²/L)` (J): the normal elastic energy beyond
     /// `F_n²/(2 k_n)` of an overlap whose thickness varies along the chord (module docs).
     pub wedge_energy: f64,
+    /// The overlap's thickness across `n_c`, `δ(s)` (module docs; [`ThicknessProfile`]).
+    pub profile: ThicknessProfile,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -261,11 +264,9 @@ pub fn contact(
         (n, chord, l, true)
     };
     let e_t = params.e_bar * params.t_z / l_c;
-    let wedge_energy = if chord_length > 0.0 {
-        0.5 * e_t * (thickness_square_integral(v, normal, tol) - area * area / chord_length)
-    } else {
-        0.0
-    };
+    let profile = thickness_profile(v, normal, tol);
+    let wedge_energy =
+        if chord_length > 0.0 { 0.5 * e_t * (profile.clipped(0.0).second - area * area / chord_length) } else { 0.0 };
     Ok(Some(Contact {
         normal,
         point: x_c,
@@ -280,20 +281,19 @@ pub fn contact(
         ds_dq: ds,
         from_references,
         wedge_energy,
+        profile,
     }))
 }
 
-/// `∫ δ(s)² ds` of the convex polygon `v` across the direction `n` (unit): `δ(s)` is the length
-/// of its section by the line `{x : t·x = s}`, `t = e_z × n`. `δ` is linear between consecutive
-/// vertex coordinates `s_k` (a convex polygon's width function), so the integral is
-/// `Σ (s_{k+1} − s_k)(δ_k² + δ_k δ_{k+1} + δ_{k+1}²)/3` with `δ_k` the section at `s_k`
-/// (at an end where an edge is parallel to `n`, the section is that edge: the limit from
-/// inside). Coordinates closer than `tol` count as equal.
-fn thickness_square_integral(v: &[P2], n: P2, tol: f64) -> f64 {
+/// The thickness function of the convex polygon `v` across the direction `n` (unit),
+/// [`ThicknessProfile`]: its section at each vertex coordinate `s_k = t·v_k` (coordinates closer
+/// than `tol` count as one; at an end where an edge is parallel to `n`, the section is that edge,
+/// the limit from inside).
+fn thickness_profile(v: &[P2], n: P2, tol: f64) -> ThicknessProfile {
     let t = perp(n);
     let m = v.len();
     if m < 3 {
-        return 0.0;
+        return ThicknessProfile::default();
     }
     let s: Vec<f64> = v.iter().map(|p| dot(*p, t)).collect();
     let h: Vec<f64> = v.iter().map(|p| dot(*p, n)).collect();
@@ -322,13 +322,8 @@ fn thickness_square_integral(v: &[P2], n: P2, tol: f64) -> f64 {
             0.0
         }
     };
-    let widths: Vec<f64> = cuts.iter().map(|&c| section(c)).collect();
-    (0..cuts.len().saturating_sub(1))
-        .map(|k| {
-            let (a, b) = (widths[k], widths[k + 1]);
-            (cuts[k + 1] - cuts[k]) * (a * a + a * b + b * b) / 3.0
-        })
-        .sum()
+    let delta = cuts.iter().map(|&c| section(c)).collect();
+    ThicknessProfile { s: cuts, delta }
 }
 
 /// The midpoints of the two crossing sets of the outlines, walking the overlap's edge labels; `None`

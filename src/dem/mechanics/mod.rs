@@ -18,6 +18,7 @@
 //! | [`failure`]    | the failure index P, the failure mode, the λ at which P reaches 1 |
 //! | [`contact`]    | overlap, chord, normal, normal force and its linearizations |
 //! | [`friction`]   | Coulomb return map, dissipation, tangent |
+//! | [`thickness`]  | the overlap's thickness function and its integrals above a level (the Winkler layer) |
 //! | [`crushing`]   | optional compressive failure: beam crushing, bounded and softening contact pressure |
 
 pub mod beam;
@@ -27,6 +28,7 @@ pub mod error;
 pub mod failure;
 pub mod friction;
 pub mod kinematics;
+pub mod thickness;
 pub mod thresholds;
 
 pub use beam::{beam_actions, beam_forces, beam_stiffness, BeamActions, BeamGeom};
@@ -35,6 +37,7 @@ pub use crushing::{CrushUpdate, Crushing, PlasticState};
 pub use error::MechanicsError;
 pub use failure::{failure_index, failure_lambda, failure_mode, first_crossing, FailureMode};
 pub use friction::{friction_stiffness, friction_update, FrictionUpdate, SlipState};
+pub use thickness::{Clipped, ThicknessProfile};
 pub use thresholds::Thresholds;
 
 use error::{non_negative, positive};

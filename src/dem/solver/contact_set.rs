@@ -14,8 +14,11 @@
 //!
 //! **Crushing (optional, [`mechanics::crushing`]).** With `MechParams::crushing`, the normal
 //! force is bounded by the crushing return map from the committed plastic state of the pair
-//! (plastic overlap area `A_p`, accumulated plastic penetration `κ`):
-//! `F_n = k (S_r − A_p) ≤ σ_c L t_z (1 − κ/δ_u)₊`; friction then uses this `F_n`. The committed
+//! (uniform plastic depth `δ_p` of the Winkler layer, accumulated plastic penetration `κ_p`):
+//! `F_n = κ ∫ (δ(s) − δ_p)₊ ds ≤ σ_c L t_z (1 − κ_p/δ_u)₊`, acting at the centroid of that
+//! pressure (moved along the chord from the overlap centroid; its normal coordinate is kept),
+//! with the potential `½ κ ∫ (δ − δ_p)₊² ds` stored as `F_n²/(2 k_n)` plus the wedge energy;
+//! friction then uses this `F_n`. The committed
 //! history of a pair ([`ContactHistory`]: `F_t` and the plastic state) survives while the stones
 //! are apart, so a crushed joint that reopens and closes again starts from its plastic state.
 //!
@@ -218,13 +221,23 @@ pub fn evaluate_pair(
     let crush = match &params.crushing {
         Some(cr) => {
             let u = cr
-                .update(contact.overlap_area, contact.chord_length, params.e_bar, contact.l_c, params.t_z, old.plastic)
+                .update(&contact.profile, contact.chord_length, params.e_bar, contact.l_c, params.t_z, old.plastic)
                 .map_err(err)?;
-            // The crushed force acts at the overlap centroid, so the moment it carries about the
-            // chord midpoint scales with it, and with it the wedge energy, U_w = M²/(2k_φ)
-            // (k_φ = k_n L²/12 for a wedge): U_w (F_n/κS_r)². A fully crushed contact stores none.
-            let elastic = contact.f_n;
-            contact.wedge_energy *= if elastic > 0.0 { (u.f_n / elastic).powi(2) } else { 0.0 };
+            if u.plastic || u.state.depth > 0.0 {
+                // The layer above the plastic depth (module docs, "Crushing"): the force at its
+                // pressure centroid, its potential ½κ∫(δ − δ_p)₊² as F_n²/(2k_n) + U_w.
+                let k = params.e_bar * params.t_z / contact.l_c;
+                let c = contact.profile.clipped(u.state.depth);
+                if c.area > 0.0 {
+                    let t = contact.tangent();
+                    let shift = c.first / c.area - (contact.point[0] * t[0] + contact.point[1] * t[1]);
+                    contact.point = [contact.point[0] + shift * t[0], contact.point[1] + shift * t[1]];
+                    contact.arm_i = [contact.arm_i[0] + shift * t[0], contact.arm_i[1] + shift * t[1]];
+                    contact.arm_j = [contact.arm_j[0] + shift * t[0], contact.arm_j[1] + shift * t[1]];
+                }
+                let uniform = if contact.k_n > 0.0 { 0.5 * u.f_n * u.f_n / contact.k_n } else { 0.0 };
+                contact.wedge_energy = 0.5 * k * c.second - uniform;
+            }
             contact.f_n = u.f_n;
             Some(u)
         }
