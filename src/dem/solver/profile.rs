@@ -17,6 +17,9 @@ pub struct SolverProfile {
     pub gmres_solves: usize,
     /// GMRES products (each one preconditioner solve).
     pub gmres_iterations: usize,
+    /// Newton steps solved directly (sparse LU of the assembled tangent) after GMRES missed
+    /// its tolerance.
+    pub direct_solves: usize,
     /// Residual evaluations (contact detection + forces), line search included.
     pub evaluations: usize,
     /// Pairs given to the contact law in residual evaluations ([`super::contact_candidates`]).

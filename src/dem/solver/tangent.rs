@@ -283,6 +283,37 @@ impl<'m, 'a> Tangent<'m, 'a> {
     }
 }
 
+impl Tangent<'_, '_> {
+    /// Solves `K_T x = b` (equations) by a sparse LU factorization of the assembled tangent
+    /// (row pivoting; faer's supernodal LU): the direct solve that Newton's method falls back on
+    /// when GMRES does not meet its tolerance ([`super::equilibrium`]). `None` when the tangent
+    /// is numerically singular.
+    pub fn solve_direct(&self, b: &[f64]) -> Option<Vec<f64>> {
+        use faer::sparse::{SparseColMat, Triplet};
+        let eq = &self.model.map.eq;
+        let n = b.len();
+        let mut entries: Vec<Triplet<usize, usize, f64>> = (0..n).map(|e| Triplet::new(e, e, self.reg[e])).collect();
+        let beams = self.model.terms.iter().zip(self.intact).filter(|(_, &ok)| ok).map(|(t, _)| (&t.idx, &t.k));
+        let contacts = self.contacts.iter().map(|(idx, k)| (idx, k));
+        for (idx, k) in beams.chain(contacts) {
+            for a in 0..6 {
+                let Some(r) = eq[idx[a]] else { continue };
+                for c in 0..6 {
+                    if let Some(col) = eq[idx[c]] {
+                        entries.push(Triplet::new(r, col, k[(a, c)]));
+                    }
+                }
+            }
+        }
+        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries).ok()?;
+        let lu = matrix.sp_lu().ok()?;
+        let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+        faer::linalg::solvers::SolveCore::solve_in_place_with_conj(&lu, faer::Conj::No, x.as_mut());
+        let x: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+        x.iter().all(|v| v.is_finite()).then_some(x)
+    }
+}
+
 /// The part of the tangent that the factorized operator `M` does not hold,
 /// `D = K_T − M = Σ_contacts Gᵀ (J_c − k_n b₀ b₀ᵀ − k_t c₀ c₀ᵀ) G`, with `b₀`, `c₀` the directions the
 /// contact's terms entered `M` with: the beams and `ε` are in both and cancel exactly, so a
