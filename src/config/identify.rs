@@ -46,7 +46,7 @@
 //! levels = [0.25, 0.75]        # the 2⁵ factorial's levels, fractions of each interval
 //! iterations = 12
 //! batch = 2
-//! polish_iterations = 400    # Nelder-Mead from the EGO optimum (law evaluations are cheap); 0: off
+//! polish_iterations = 400    # Nelder-Mead from the best separated EGO points (law evaluations are cheap); 0: off
 //! bounds = { eps0_t = [2e-5, 4e-4], eps0_c = [5e-5, 2e-3], gf_t = [5.0, 500.0], a_c = [0.0, 1.0], b_c = [100.0, 5000.0] }
 //! #   optional sixth unknown in bounds: gf_c = [10.0, 2000.0] (compressive fracture energy, J/m²;
 //! #   needs a_c > 0 throughout)
@@ -233,7 +233,7 @@ pub struct LawIdentConfig {
     /// Points per infill iteration.
     #[serde(default = "two")]
     pub batch: usize,
-    /// Nelder–Mead iterations polishing the EGO optimum (0: none).
+    /// Nelder–Mead iterations of each polish from the best separated EGO points (0: none).
     #[serde(default = "four_hundred")]
     pub polish_iterations: u64,
     /// Search intervals.
