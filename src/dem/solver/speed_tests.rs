@@ -140,6 +140,43 @@ fn cache_jacobian(
     cache.jacobian(&p.model, a, q, c, old).unwrap()
 }
 
+/// The pair of [`Pair`] pressed into contact by 0.3 of its overlap scale with its beam broken,
+/// as the tangent tests need it: state, intact beams, regularization ε = 1e-10 of the diagonal,
+/// committed state (zero), histories (none) and the one active contact.
+struct ContactState {
+    z: Vec<f64>,
+    intact: Vec<bool>,
+    reg: Vec<f64>,
+    zc: Vec<f64>,
+    hist: contact_set::Histories,
+    contacts: Vec<contact_set::ActiveContact>,
+}
+
+impl ContactState {
+    fn new(s: &Sample, p: &Pair) -> Self {
+        let map = &p.model.map;
+        let mut z = vec![0.0; map.n_z];
+        let (idx, _) = map.particle_map(p.j);
+        let qj = p.q(0.3 * p.delta)[1];
+        for a in 0..3 {
+            z[idx[a]] = qj[a];
+        }
+        let intact: Vec<bool> = (0..s.beams.len()).map(|b| b != p.beam).collect();
+        let reg: Vec<f64> = p.model.diagonal().iter().map(|d| 1e-10 * d.max(1.0)).collect();
+        let zc = vec![0.0; map.n_z];
+        let hist = contact_set::Histories::new();
+        let contacts = contact_set::evaluate(s, map, &p.model.params, &[(p.i, p.j)], &z, &zc, &hist).unwrap();
+        assert_eq!(contacts.len(), 1);
+        ContactState { z, intact, reg, zc, hist, contacts }
+    }
+
+    /// The tangent at this state (fresh Jacobians).
+    fn tangent<'m, 'a>(&'m self, model: &'m Model<'a>) -> Tangent<'m, 'a> {
+        let mut cache = JacobianCache::default();
+        Tangent::new(model, &self.intact, &self.reg, &self.contacts, &self.z, &self.zc, &self.hist, &mut cache).unwrap()
+    }
+}
+
 #[test]
 fn tangent_difference_is_the_tangent_minus_the_factorized_operator() {
     // D = K_T − M for a pair in contact (its beam broken) with M = intact beams + ε + the
@@ -149,30 +186,17 @@ fn tangent_difference_is_the_tangent_minus_the_factorized_operator() {
     // large beam terms cancelling).
     let s = random(60, 3);
     let p = Pair::new(&s);
-    let map = &p.model.map;
-    let mut z = vec![0.0; map.n_z];
-    let (idx, _) = map.particle_map(p.j);
-    let qj = p.q(0.3 * p.delta)[1];
-    for a in 0..3 {
-        z[idx[a]] = qj[a];
-    }
-    let intact: Vec<bool> = (0..s.beams.len()).map(|b| b != p.beam).collect();
-    let reg: Vec<f64> = p.model.diagonal().iter().map(|d| 1e-10 * d.max(1.0)).collect();
-    let zc = vec![0.0; map.n_z];
-    let hist = contact_set::Histories::new();
-    let contacts = contact_set::evaluate(&s, map, &p.model.params, &[(p.i, p.j)], &z, &zc, &hist).unwrap();
-    assert_eq!(contacts.len(), 1);
-    let mut cache = JacobianCache::default();
-    let tangent = Tangent::new(&p.model, &intact, &reg, &contacts, &z, &zc, &hist, &mut cache).unwrap();
+    let c = ContactState::new(&s, &p);
+    let tangent = c.tangent(&p.model);
+    let n = p.model.map.n_eq();
     // The terms as they entered the operator, one iteration earlier (no tangential offset).
     let earlier = p.contact(p.q(0.0), [[0.0; 3]; 2], ContactHistory::default());
     let held = [
         p.model.rank_one(p.i, p.j, &earlier.contact.normal_direction(), earlier.contact.k_n),
         p.model.rank_one(p.i, p.j, &earlier.contact.tangential_direction(), earlier.k_t),
     ];
-    let diff = tangent.difference(&contacts, |_, _| held[0].k + held[1].k);
-    let upper = p.model.assemble(&intact, &reg, &held);
-    let n = map.n_eq();
+    let diff = tangent.difference(&c.contacts, |_, _| held[0].k + held[1].k);
+    let upper = p.model.assemble(&c.intact, &c.reg, &held);
     let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
     for t in &upper {
         m[(t.row, t.col)] += t.val;
@@ -201,22 +225,9 @@ fn direct_solve_inverts_the_tangent() {
     // assembly leaves a residual of order ‖b‖).
     let s = random(60, 3);
     let p = Pair::new(&s);
-    let map = &p.model.map;
-    let mut z = vec![0.0; map.n_z];
-    let (idx, _) = map.particle_map(p.j);
-    let qj = p.q(0.3 * p.delta)[1];
-    for a in 0..3 {
-        z[idx[a]] = qj[a];
-    }
-    let intact: Vec<bool> = (0..s.beams.len()).map(|b| b != p.beam).collect();
-    let reg: Vec<f64> = p.model.diagonal().iter().map(|d| 1e-10 * d.max(1.0)).collect();
-    let zc = vec![0.0; map.n_z];
-    let hist = contact_set::Histories::new();
-    let contacts = contact_set::evaluate(&s, map, &p.model.params, &[(p.i, p.j)], &z, &zc, &hist).unwrap();
-    assert_eq!(contacts.len(), 1);
-    let mut cache = JacobianCache::default();
-    let tangent = Tangent::new(&p.model, &intact, &reg, &contacts, &z, &zc, &hist, &mut cache).unwrap();
-    let n = map.n_eq();
+    let c = ContactState::new(&s, &p);
+    let tangent = c.tangent(&p.model);
+    let n = p.model.map.n_eq();
     let b: Vec<f64> = (0..n).map(|k| ((k as f64) * 0.61).cos() * 1e6).collect();
     let x = tangent.solve_direct(&b).expect("a regular tangent");
     let mut kx = vec![0.0; n];
