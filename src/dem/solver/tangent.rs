@@ -263,15 +263,20 @@ impl<'m, 'a> Tangent<'m, 'a> {
         TangentDifference { terms }
     }
 
+    /// The 6×6 terms of `K_T` with their `z` indices: the intact beams, then the contacts
+    /// (`ε` apart).
+    fn terms(&self) -> impl Iterator<Item = (&[usize; 6], &SMatrix<f64, 6, 6>)> {
+        let beams = self.model.terms.iter().zip(self.intact).filter(|(_, &ok)| ok).map(|(t, _)| (&t.idx, &t.k));
+        beams.chain(self.contacts.iter().map(|(idx, k)| (idx, k)))
+    }
+
     /// `out = K_T v` (equations).
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
         let eq = &self.model.map.eq;
         for (o, (r, x)) in out.iter_mut().zip(self.reg.iter().zip(v)) {
             *o = r * x;
         }
-        let beams = self.model.terms.iter().zip(self.intact).filter(|(_, &ok)| ok).map(|(t, _)| (&t.idx, &t.k));
-        let contacts = self.contacts.iter().map(|(idx, k)| (idx, k));
-        for (idx, k) in beams.chain(contacts) {
+        for (idx, k) in self.terms() {
             let x = V6::from_fn(|a, _| eq[idx[a]].map_or(0.0, |e| v[e]));
             let y = k * x;
             for a in 0..6 {
@@ -293,9 +298,7 @@ impl Tangent<'_, '_> {
         let eq = &self.model.map.eq;
         let n = b.len();
         let mut entries: Vec<Triplet<usize, usize, f64>> = (0..n).map(|e| Triplet::new(e, e, self.reg[e])).collect();
-        let beams = self.model.terms.iter().zip(self.intact).filter(|(_, &ok)| ok).map(|(t, _)| (&t.idx, &t.k));
-        let contacts = self.contacts.iter().map(|(idx, k)| (idx, k));
-        for (idx, k) in beams.chain(contacts) {
+        for (idx, k) in self.terms() {
             for a in 0..6 {
                 let Some(r) = eq[idx[a]] else { continue };
                 for c in 0..6 {
