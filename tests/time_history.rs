@@ -16,7 +16,9 @@
 //!
 //! and a masonry wall of damage shells shaken out of its plane: a run stopped by an injected
 //! fault and restarted ends in the state of the uninterrupted run; 1 and 2 ranks agree;
-//! * bad input: clear errors naming file, line and key.
+//! * bad input: clear errors naming file, line and key;
+//! * a slab that cannot carry its own weight: the gravity phase stops with one message naming the
+//!   cracked group, and its last equilibrium is written for ParaView.
 mod common;
 use common::*;
 use std::f64::consts::PI;
@@ -239,6 +241,21 @@ fn undamped_linear_run_keeps_the_energy_balance() {
     assert!(worst < 1e-10, "largest relative energy-balance error {worst:.3e}");
 }
 
+/// A time-history job's model part: the mesh m.msh's surface `group` as damage shells of the
+/// given thickness and layers (the masonry law of Table 1's wall, f_t = E eps0_t = 0.144 MPa),
+/// clamped along the point group `support`, under gravity.
+fn damage_shell_job(group: &str, support: &str, thickness: f64, layers: usize, eps0_c: f64) -> String {
+    format!(
+        "[analysis]\ntype = \"time_history\"\n[mesh]\nfile = \"m.msh\"\n\
+         [materials.masonry]\ntype = \"damage\"\ndensity = 2000.0\n\
+         [materials.masonry.law]\nE = 2.885e9\nnu = 0.19\neps0_t = 5.0e-5\neps0_c = {eps0_c:e}\ngf_t = 20.0\na_c = 0.9\nb_c = 2000.0\nregularization = \"hillerborg\"\n\
+         [sections.{group}]\ntype = \"shell\"\nthickness = {thickness}\nlayers = {layers}\n\
+         [[parts]]\ngroup = \"{group}\"\nsection = \"{group}\"\nmaterial = \"masonry\"\n\
+         [[supports]]\ngroup = \"{support}\"\ndofs = [\"all\"]\n\
+         [gravity]\nacceleration = [0.0, 0.0, -9.81]\n"
+    )
+}
+
 /// A masonry wall of layered damage shells, clamped at its base, shaken out of its plane:
 ///
 /// ```text
@@ -264,15 +281,9 @@ fn write_wall(dir: &Path, dt: f64, duration: f64, extra: &str) {
     })).collect();
     write_quad_mesh(&dir.join("m.msh"), &nodes, &quads, "wall", &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])]);
     write_record(&dir.join("rec.txt"), dt, duration, 5.0, 0.4, 1.0);
-    let job = format!(
-        "[analysis]\ntype = \"time_history\"\n[mesh]\nfile = \"m.msh\"\n\
-         [materials.masonry]\ntype = \"damage\"\ndensity = 2000.0\n\
-         [materials.masonry.law]\nE = 2.885e9\nnu = 0.19\neps0_t = 5.0e-5\neps0_c = 5.0e-5\ngf_t = 20.0\na_c = 0.9\nb_c = 2000.0\nregularization = \"hillerborg\"\n\
-         [sections.wall]\ntype = \"shell\"\nthickness = 0.3\nlayers = 3\n\
-         [[parts]]\ngroup = \"wall\"\nsection = \"wall\"\nmaterial = \"masonry\"\n\
-         [[supports]]\ngroup = \"base\"\ndofs = [\"all\"]\n\
-         [gravity]\nacceleration = [0.0, 0.0, -9.81]\n\
-         [dynamics]\nduration = {duration}\ndt = {dt}\nnewton = \"tangent\"\nforce_tolerance = 1e-9\noutput_every = 10\n{extra}\n\
+    let job = damage_shell_job("wall", "base", 0.3, 3, 5.0e-5)
+        + &format!(
+            "[dynamics]\nduration = {duration}\ndt = {dt}\nnewton = \"tangent\"\nforce_tolerance = 1e-9\noutput_every = 10\n{extra}\n\
          [dynamics.damping]\nfrequencies = [5.0, 30.0]\nratio = 0.03\n\
          [[dynamics.ground_motion]]\ndirection = \"y\"\nfile = \"rec.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n\
          [[dynamics.monitor]]\nname = \"top\"\ngroup = \"top\"\nnear = [1.0, 0.0, 3.0]\n\
@@ -489,4 +500,47 @@ fn bad_input_names_file_line_and_key() {
         let after = err.split("bad.toml:").nth(1).unwrap();
         assert!(after.chars().next().unwrap().is_ascii_digit(), "{what}: no line in {err}");
     }
+}
+
+#[test]
+fn a_self_weight_the_structure_cannot_carry_stops_with_its_last_equilibrium_written() {
+    // A cantilevered slab of damage shells, 2 m long and 0.3 m thick, clamped along x = 0:
+    // self-weight moment at the root ρ g t L²/2 = 2000 · 9.81 · 0.3 · 4 / 2 = 11.8 kN·m/m against a
+    // cracking moment f_t t²/6 = (2.885e9 · 5e-5) · 0.09 / 6 = 2.2 kN·m/m: the root cracks at
+    // 18 % of the weight and, as its tensile layers soften, cannot carry more than the
+    // f_t t²/2 = 3 M_cr of a no-softening tension side (a limit point under load control).
+    // The gravity phase must end with one message (the cracked group, the file), exit code 1,
+    // and the last equilibrium in gravity-failure.h5 at a load factor between those bounds,
+    // with cracked cells in it.
+    let dir = scratch("th-gravity-failure");
+    let (nx, ny, l, w) = (4usize, 1usize, 2.0, 1.0);
+    let nodes: Vec<[f64; 3]> = (0..=ny).flat_map(|j| (0..=nx).map(move |i| [l * i as f64 / nx as f64, w * j as f64 / ny as f64, 0.0])).collect();
+    let quads: Vec<[usize; 4]> = (0..ny)
+        .flat_map(|j| (0..nx).map(move |i| {
+            let a = j * (nx + 1) + i;
+            [a, a + 1, a + nx + 2, a + nx + 1]
+        }))
+        .collect();
+    let root: Vec<usize> = (0..=ny).map(|j| j * (nx + 1)).collect();
+    write_quad_mesh(&dir.join("m.msh"), &nodes, &quads, "slab", &[("root", root), ("tip", vec![nx])]);
+    write_record(&dir.join("rec.txt"), 0.01, 0.02, 5.0, 0.02, 0.0);
+    let job = damage_shell_job("slab", "root", 0.3, 5, 5.0e-4)
+        + "[dynamics]\nduration = 0.02\ndt = 0.01\nnewton = \"tangent\"\n\
+         [dynamics.damping]\nfrequencies = [5.0, 30.0]\nratio = 0.03\n\
+         [[dynamics.ground_motion]]\ndirection = \"y\"\nfile = \"rec.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n\
+         [output]\ndir = \"out\"\nexisting = \"overwrite\"\n";
+    std::fs::write(dir.join("th.toml"), job).unwrap();
+    expect_job_error(&dir.join("th.toml"), 1, &["gravity: no static equilibrium", "cells with d_t_max > 0.5: slab", "gravity-failure.xdmf"]);
+    let f = hdf5::File::open(dir.join("out/gravity-failure.h5")).expect("gravity-failure.h5");
+    let step = f.group("steps/0").expect("one step");
+    let lambda: f64 = step.attr("time").and_then(|a| a.read_scalar()).expect("time attribute");
+    // Between the cracking moment and the no-softening bound: M_cr / M = 0.184 < λ < 3 M_cr / M = 0.551.
+    let m = 2000.0 * 9.81 * 0.3 * l * l / 2.0;
+    let m_cr = 2.885e9 * 5.0e-5 * 0.3 * 0.3 / 6.0;
+    assert!(lambda > m_cr / m && lambda < 3.0 * m_cr / m, "the last equilibrium's load factor {lambda}, bounds {} and {}", m_cr / m, 3.0 * m_cr / m);
+    let d_t: Vec<f64> = f.dataset("steps/0/d_t_max").and_then(|d| d.read_raw()).expect("d_t_max");
+    assert!(d_t.iter().any(|&d| d > 0.5), "cracked cells at the last equilibrium: {d_t:?}");
+    let u: Vec<f64> = f.dataset("steps/0/displacement").and_then(|d| d.read_raw()).expect("displacement");
+    assert!(u.iter().all(|x| x.is_finite()) && u.iter().any(|&x| x < 0.0), "the slab sags: {u:?}");
+    assert!(std::fs::read_to_string(dir.join("out/gravity-failure.xdmf")).unwrap().contains("d_t_max"));
 }

@@ -423,6 +423,11 @@ impl NonlinearSystem {
     }
 }
 
+/// A relative residual beyond which Newton's iterate has diverged: the attempt ends there, before
+/// a tangent at runaway displacements is assembled and factorized (a step that cannot converge
+/// otherwise runs to residuals of 1e75 and more, with non-finite entries in the matrix next).
+pub const DIVERGED: f64 = 1e6;
+
 /// How far the force scale of the convergence test may grow within one increment: G.
 pub const REFERENCE_GROWTH: f64 = 10.0;
 

@@ -5,6 +5,7 @@
 //! ```text
 //!  setup       PetscSystem::new: partition, elements, M, K₀, static load, ι_d, M ι_d, KSP
 //!  initial     gravity::solve_gravity → State::at_rest          | checkpoint::read_latest (--restart)
+//!              (a static load the model cannot carry: gravity-failure.xdmf, the last equilibrium)
 //!  per step    Stepper::advance (Newton, substeps) → envelopes, monitors.csv, energy.csv, progress
 //!              every `output_every` steps: results.xdmf (relative and absolute u, v, a; cell outputs)
 //!              every N steps / M minutes: checkpoint
@@ -17,7 +18,7 @@ use super::checkpoint::{self, Checkpoint};
 use super::damping::Rayleigh;
 use super::diagnosis;
 use super::envelope::Envelopes;
-use super::gravity::{solve_gravity, GravitySettings};
+use super::gravity::{solve_gravity, GravityFailure, GravitySettings};
 use super::ground::GroundMotion;
 use super::monitor::{self, CsvLog};
 use super::petsc_system::PetscSystem;
@@ -157,7 +158,10 @@ pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, resta
         restore(ctx, &mut sys, c)?
     } else {
         let g = GravitySettings { steps: cfg.gravity_steps, max_iterations: cfg.max_iterations.max(10), tolerance: cfg.force_tolerance.min(1e-8), max_cuts: cfg.max_substeps };
-        let u0 = solve_gravity(&mut sys, g, log)?;
+        let u0 = match solve_gravity(&mut sys, g, log) {
+            Ok(u) => u,
+            Err(f) => return Err(gravity_failure(ctx, &mut sys, job, mesh, model, f)),
+        };
         (State::at_rest(&mut sys, u0, ground.acceleration(0.0))?, None)
     };
     let t_gravity = t0.elapsed().as_secs_f64();
@@ -420,6 +424,81 @@ fn save_checkpoint(ctx: &Context, sys: &PetscSystem, state: &State, env: &Envelo
         cell_envelope: env.cell.clone(),
     };
     checkpoint::write(ctx, dir, &c)
+}
+
+/// `d_t_max` above which the gravity failure counts a cell as cracked through.
+const CRACKED: f64 = 0.5;
+
+/// Collective. The error of a gravity phase that stopped short of the full load, printed once:
+/// where the out-of-balance force of the last attempt is largest, the groups with cells cracked
+/// through (`d_t_max` > 0.5) at the last equilibrium, and `gravity-failure.xdmf`, that
+/// equilibrium's displacements and cell outputs for ParaView.
+fn gravity_failure(ctx: &Context, sys: &mut PetscSystem, job: &Job, mesh: &Mesh, model: &StructuralModel, f: GravityFailure) -> Error {
+    let (rmax, tag, dof) = diagnosis::largest_residual(ctx, &f.r, &sys.disc.dofs, mesh);
+    let mut msg = format!("{}. Largest out-of-balance force {rmax:.4e} at node {tag}, DOF {dof}", f.message);
+    let state = (|| -> Result<(std::path::PathBuf, String), Error> {
+        let u_local = sys.local_form(&f.u)?;
+        let loads = AppliedLoads { gravity: model.gravity.map(|g| g.map(|x| f.lambda * x)).unwrap_or([0.0; 3]) };
+        let (names, values) = crate::analysis::assembly::cell_outputs(ctx, &sys.disc, mesh, model, &u_local, &loads)?;
+        let cracked = cracked_groups(ctx, sys, job, model, &names, &values);
+        let piece = MeshPiece::new(ctx, job, mesh, model, &sys.disc);
+        let mut w = agree(&ctx.comm, ResultsWriter::create(&ctx.comm, &job.output_dir, "gravity-failure", &piece.view()).map_err(Error::from), Error::exit_code)?;
+        let n = sys.disc.dofs.owned.len();
+        let written: Result<(), Error> = (|| {
+            w.begin_step(f.lambda)?;
+            w.write_node_field("displacement", 3, &node_triplets(&f.u, n, 0))?;
+            w.write_node_field("rotation", 3, &node_triplets(&f.u, n, 3))?;
+            for (name, v) in names.iter().zip(&values) {
+                w.write_cell_field(name, 1, v)?;
+            }
+            w.end_step()?;
+            Ok(())
+        })();
+        agree(&ctx.comm, written, Error::exit_code)?;
+        let path = w.xdmf_path().to_path_buf();
+        agree(&ctx.comm, w.close().map_err(Error::from), Error::exit_code)?;
+        Ok((path, cracked))
+    })();
+    match state {
+        Ok((path, cracked)) => msg.push_str(&format!(
+            ". At the last equilibrium, λ = {:.6} of the static load, {cracked}; its displacements and cell outputs (time value = λ) are in {}",
+            f.lambda,
+            path.display()
+        )),
+        Err(e) => msg.push_str(&format!(". The last equilibrium (λ = {:.6}) could not be written: {e}", f.lambda)),
+    }
+    agreed(ctx, Error::Analysis(msg))
+}
+
+/// Collective. "cells with d_t_max > 0.5: group n of m, …" over all ranks, groups in job order.
+fn cracked_groups(ctx: &Context, sys: &PetscSystem, job: &Job, model: &StructuralModel, names: &[String], values: &[Vec<f64>]) -> String {
+    use mpi::collective::SystemOperation;
+    use mpi::traits::CommunicatorCollectives;
+    let parts = &job.spec.parts;
+    let mut counts = vec![0u64; 2 * parts.len()];
+    let d_t = names.iter().position(|n| n == "d_t_max").map(|k| &values[k]);
+    for (i, &c) in sys.disc.local_cells.iter().enumerate() {
+        let part = model.cells[c].part;
+        if let Some(d) = d_t.and_then(|d| d.get(i)).filter(|d| !d.is_nan()) {
+            counts[2 * part + 1] += 1;
+            if *d > CRACKED {
+                counts[2 * part] += 1;
+            }
+        }
+    }
+    let mut all = vec![0u64; counts.len()];
+    ctx.comm.all_reduce_into(&counts[..], &mut all[..], SystemOperation::sum());
+    let listed: Vec<String> = parts
+        .iter()
+        .enumerate()
+        .filter(|(p, _)| all[2 * p] > 0)
+        .map(|(p, part)| format!("{} {} of {}", part.group, all[2 * p], all[2 * p + 1]))
+        .collect();
+    if listed.is_empty() {
+        format!("no cell has d_t_max > {CRACKED}")
+    } else {
+        format!("cells with d_t_max > {CRACKED}: {}", listed.join(", "))
+    }
 }
 
 /// Collective. An error every rank has, as an agreed one (printed once, no abort).

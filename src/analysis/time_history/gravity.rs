@@ -6,7 +6,6 @@
 //! gravity state the earthquake starts from lives in the same elements.
 use super::system::DynamicSystem;
 use crate::parallel::Log;
-use crate::run::Error;
 
 /// Settings of the gravity phase.
 #[derive(Clone, Copy, Debug)]
@@ -21,9 +20,26 @@ pub struct GravitySettings {
     pub max_cuts: usize,
 }
 
+/// A gravity phase that stopped short of the full load: the structure cannot carry its static
+/// load (a limit point under load control), or Newton cannot find the next equilibrium. The last
+/// equilibrium stays committed in the elements.
+#[derive(Clone, Debug)]
+pub struct GravityFailure {
+    /// Load factor of the last equilibrium.
+    pub lambda: f64,
+    /// Load factor of the last step tried.
+    pub target: f64,
+    /// Displacement at `lambda` (owned DOFs).
+    pub u: Vec<f64>,
+    /// Residual `target f − f_int` of the last iteration tried (owned DOFs).
+    pub r: Vec<f64>,
+    /// What happened, for the user.
+    pub message: String,
+}
+
 /// Collective. The static equilibrium under the full static load, committed in the elements.
 /// Returns the displacement (zero when there is no static load).
-pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Log) -> Result<Vec<f64>, Error> {
+pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Log) -> Result<Vec<f64>, GravityFailure> {
     let n = sys.len();
     let f = sys.static_load().to_vec();
     let f_norm = sys.dot(&f, &f).sqrt();
@@ -57,6 +73,10 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
                 reason = "the residual is not finite".into();
                 break;
             }
+            if rel > crate::analysis::newton::DIVERGED {
+                reason = format!("iteration {it}: the iterate diverged");
+                break;
+            }
             if rel <= s.tolerance {
                 converged = true;
                 break;
@@ -83,10 +103,11 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
             sys.revert();
             cuts += 1;
             if cuts > s.max_cuts {
-                return Err(Error::Analysis(format!(
-                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6} after {} halvings in a row (relative residual {rel:.3e})",
+                let message = format!(
+                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6} after {} halvings in a row (relative residual {rel:.3e}: {reason})",
                     s.max_cuts
-                )));
+                );
+                return Err(GravityFailure { lambda, target, u, r, message });
             }
             dl /= 2.0;
             log.info(format!("gravity: step towards λ = {target:.4} failed after {its} iteration(s) (residual {rel:.2e}: {reason}); Δλ = {dl:.4e}"));

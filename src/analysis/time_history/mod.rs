@@ -46,7 +46,7 @@ pub use checkpoint::Checkpoint;
 pub use damping::Rayleigh;
 pub use driver::{ground_motion, integrate, run, Integration, TimeHistorySummary};
 pub use envelope::Envelopes;
-pub use gravity::{solve_gravity, GravitySettings};
+pub use gravity::{solve_gravity, GravityFailure, GravitySettings};
 pub use petsc_system::PetscSystem;
 pub use energy::EnergyBalance;
 pub use ground::GroundMotion;

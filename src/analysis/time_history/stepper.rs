@@ -263,6 +263,9 @@ impl Stepper {
             if !residual.is_finite() {
                 return Attempt::Failed { residual, reason: "the residual is not finite".into() };
             }
+            if residual > crate::analysis::newton::DIVERGED {
+                return Attempt::Failed { residual, reason: format!("iteration {it}: the iterate diverged") };
+            }
             if rn == 0.0 || residual <= st.tolerance {
                 return Attempt::Converged { iterations: it, residual };
             }
