@@ -5,6 +5,7 @@ pub mod assessment;
 pub mod curve_plot;
 pub mod dem;
 pub mod identify;
+pub mod increment;
 mod discretization;
 pub mod line_search;
 pub mod linear_static;

@@ -14,7 +14,8 @@
 //! elastic stiffness: positive definite, slower but robust through softening). An increment that
 //! still does not converge is abandoned (elements revert to their committed state) and retried
 //! with half the size, up to `max_cuts` halvings in a row and never below the nominal size /
-//! 2^max_cuts; after a success the size grows back by 1.5× up to the nominal one. When the last
+//! 2^max_cuts; after a success the size grows back by 1.5× up to the nominal one
+//! ([`IncrementControl`], which also bounds the attempts). When the last
 //! halving fails too, the run stops with a diagnosis: where it stopped, the largest out-of-balance force (node tag and DOF), and the
 //! elements whose damage grew in the failed increment (count, and the five largest increases with
 //! their element tags). Every converged increment is written to `results.xdmf` before, so a run
@@ -39,6 +40,7 @@
 use std::io::Write;
 
 use super::assembly;
+use super::increment::{IncrementControl, IncrementStop};
 use super::line_search::LineSearchSettings;
 use super::newton::{global_sum, Increment, NewtonSettings, NonlinearSystem};
 use super::output::{global_max_with_tag, node_triplets, MeshPiece};
@@ -163,10 +165,10 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
     let mut reports = Vec::new();
     let (mut cuts_total, mut ls_total) = (0, 0);
     for stage in &stages {
-        let nominal = 1.0 / stage.steps as f64;
-        let (mut t, mut dt, mut cuts_in_row) = (0.0f64, nominal, 0);
+        let mut control = IncrementControl::new(stage.steps, cfg.max_cuts);
+        let mut t = 0.0f64;
         while t < 1.0 - 1e-12 {
-            let target = (t + dt).min(1.0);
+            let target = (t + control.size()).min(1.0);
             let inc = (stage.at)(target);
             if cfg.damage_relaxation_time.is_some() {
                 for e in disc.elements.iter_mut() {
@@ -193,30 +195,37 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
                     stage.name, t, out.iterations, out.residual, report.control_displacement, report.control_force, report.dissipated_energy
                 ));
                 reports.push(report);
-                cuts_in_row = 0;
-                dt = (dt * 1.5).min(nominal);
+                control.converged();
+                if t < 1.0 - 1e-12 && control.exhausted() {
+                    draw_curve(ctx, job, model, &reports, overlay.as_ref())?;
+                    return Err(Error::Analysis(format!(
+                        "static_nonlinear: stage '{}' stopped at {t:.6} of the stage: {}; results up to the last converged increment are in {}",
+                        stage.name,
+                        IncrementStop::Budget.describe(&control),
+                        job.output_dir.join("results.xdmf").display()
+                    )));
+                }
             } else {
                 let diagnosis = diagnose(ctx, &disc, mesh, model, &sys, &inc)?;
                 sys.revert(&mut disc);
-                // Stop after max_cuts halvings in a row, or when the increment would fall below
-                // the nominal one / 2^max_cuts (successes in between do not make it shrink forever).
-                if cuts_in_row >= cfg.max_cuts || dt * 0.5 < nominal / f64::powi(2.0, cfg.max_cuts as i32) {
+                // Stop at the floor, after max_cuts halvings in a row, or when the attempts are
+                // spent (successes in between do not make it shrink forever: `increment.rs`).
+                if let Err(stop) = control.failed() {
                     draw_curve(ctx, job, model, &reports, overlay.as_ref())?;
                     return Err(Error::Analysis(format!(
                         "static_nonlinear: stage '{}' stopped at {:.6} of the stage: the increment towards {:.6} failed ({}, relative residual {:.3e}) \
-                         after {} halvings; {diagnosis}; results up to the last converged increment are in {}",
+                         and {}; {diagnosis}; results up to the last converged increment are in {}",
                         stage.name,
                         t,
                         target,
                         out.reason,
                         out.residual,
-                        cfg.max_cuts,
+                        stop.describe(&control),
                         job.output_dir.join("results.xdmf").display()
                     )));
                 }
-                cuts_in_row += 1;
                 cuts_total += 1;
-                dt *= 0.5;
+                let dt = control.size();
                 log.info(format!("{} towards {target:.4} failed ({}); halving the increment to {dt:.4e}; {diagnosis}", stage.name, out.reason));
             }
         }

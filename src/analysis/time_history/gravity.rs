@@ -1,10 +1,13 @@
 //! The static step before the earthquake: the static loads (self-weight, nodal loads) applied by
 //! a load factor λ from 0 to 1 in `steps` steps, full Newton in each on
-//! `r(u) = λ f_static − f_int(u)`; a failing step is halved, up to `max_cuts` times in a row, and
-//! after each converged step Δλ doubles again up to its initial `1/steps`. It uses the same
+//! `r(u) = λ f_static − f_int(u)`; the steps' sizes follow [`IncrementControl`]: a failing step
+//! is halved, a converged one lets the next grow by 1.5 up to `1/steps`, and a load the structure
+//! cannot carry (a limit point) ends at the floor `1/steps / 2^max_cuts`, after `max_cuts`
+//! halvings in a row, or when the attempt budget is spent, with its last equilibrium. It uses the same
 //! [`DynamicSystem`] as the time history (with `c_m = c_c = 0` the Jacobian is the tangent), so the
 //! gravity state the earthquake starts from lives in the same elements.
 use super::system::DynamicSystem;
+use crate::analysis::increment::{IncrementControl, IncrementStop};
 use crate::parallel::Log;
 
 /// Settings of the gravity phase.
@@ -16,7 +19,7 @@ pub struct GravitySettings {
     pub max_iterations: usize,
     /// Relative tolerance on ‖r‖ / ‖λ f‖.
     pub tolerance: f64,
-    /// Halvings of a failing step.
+    /// Halvings of a failing step in a row; also sets the floor `1/steps / 2^max_cuts`.
     pub max_cuts: usize,
 }
 
@@ -50,10 +53,9 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
     }
     let (mut fi, mut r, mut du) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut lambda = 0.0f64;
-    let mut dl = 1.0 / s.steps as f64;
-    let mut cuts = 0;
+    let mut control = IncrementControl::new(s.steps, s.max_cuts);
     while lambda < 1.0 - 1e-12 {
-        let target = (lambda + dl).min(1.0);
+        let target = (lambda + control.size()).min(1.0);
         let mut trial = u.clone();
         let mut converged = false;
         let mut rel = f64::INFINITY;
@@ -96,21 +98,26 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
             sys.commit();
             u = trial;
             lambda = target;
-            cuts = 0;
-            dl = (2.0 * dl).min(1.0 / s.steps as f64);
+            control.converged();
             log.info(format!("gravity: λ = {lambda:.4}, {its} iteration(s), relative residual {rel:.2e}"));
+            if lambda < 1.0 - 1e-12 && control.exhausted() {
+                let message = format!("gravity: stopped at λ = {lambda:.6}: {}", IncrementStop::Budget.describe(&control));
+                return Err(GravityFailure { lambda, target: lambda, u, r: r.clone(), message });
+            }
         } else {
             sys.revert();
-            cuts += 1;
-            if cuts > s.max_cuts {
+            if let Err(stop) = control.failed() {
                 let message = format!(
-                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6} after {} halvings in a row (relative residual {rel:.3e}: {reason})",
-                    s.max_cuts
+                    "gravity: no static equilibrium from λ = {lambda:.6} towards {target:.6}: {} after {} attempts (last relative residual {rel:.3e}: {reason})",
+                    stop.describe(&control),
+                    control.attempts()
                 );
                 return Err(GravityFailure { lambda, target, u, r, message });
             }
-            dl /= 2.0;
-            log.info(format!("gravity: step towards λ = {target:.4} failed after {its} iteration(s) (residual {rel:.2e}: {reason}); Δλ = {dl:.4e}"));
+            log.info(format!(
+                "gravity: step towards λ = {target:.4} failed after {its} iteration(s) (residual {rel:.2e}: {reason}); Δλ = {:.4e}",
+                control.size()
+            ));
         }
     }
     Ok(u)
