@@ -3,7 +3,7 @@
 use crate::config::{Job, MaterialConfig, SectionConfig};
 use crate::element::{
     ElasticFrame3d, Element, FiberBeam3d, FiberSection, FrameSection, ShellError, ShellMaterial, ShellQuad4, ShellSection,
-    ShellTri3,
+    ShellTri3, Tie, TieSection,
 };
 use crate::mesh::CellKind;
 use crate::mesh::Mesh;
@@ -129,12 +129,30 @@ fn build_elements(
                     message: source.to_string(),
                 })?)
             }
-            (SectionConfig::Frame(_), MaterialConfig::Damage(_)) => {
+            (SectionConfig::Tie(t), MaterialConfig::Elastic(mat)) => {
+                let section = TieSection {
+                    e: mat.e,
+                    area: t.area,
+                    density: mat.density,
+                    pretension: t.pretension,
+                    tension_only: t.tension_only,
+                };
+                let (a, b) = (cell.nodes[0], cell.nodes[1]);
+                // An end that only ties touch is an anchor (`StructuralModel::anchors`).
+                let anchored = [a, b].map(|n| model.anchors.binary_search(&n).is_ok());
+                let tie = Tie::new(mesh.coords[a], mesh.coords[b], section).map_err(|source| Error::ElementInput {
+                    tag: cell.tag,
+                    group: part.group.clone(),
+                    message: source.to_string(),
+                })?;
+                Box::new(tie.with_anchored_ends(anchored))
+            }
+            (SectionConfig::Frame(_) | SectionConfig::Tie(_), MaterialConfig::Damage(_)) => {
                 // Rejected when the job is validated; kept as an error, not a panic.
                 return Err(Error::ElementInput {
                     tag: cell.tag,
                     group: part.group.clone(),
-                    message: "a frame section needs an elastic material".into(),
+                    message: format!("a {} section needs an elastic material", spec.sections[&part.section].type_name()),
                 });
             }
             (SectionConfig::Fiber(fs), mat) => {

@@ -26,11 +26,20 @@
 //! height = 0.8                          # [m] along local z
 //! ny = 12                               # fibers along y (>= 2)
 //! nz = 16                               # fibers along z (>= 2)
+//! [sections.nave_tie]                   # an iron tie rod (element::tie): axial force only
+//! type = "tie"
+//! area = 1.6e-3                         # [m^2]
+//! pretension = 0.0                      # [N], optional: initial axial force, tension positive
+//! tension_only = true                   # optional: slack in compression
 //! [[parts]]
 //! group = "legs"                        # a physical group of the mesh
 //! section = "leg"
 //! material = "steel"
 //! orientation = [1.0, 0.0, 0.0]         # a vector in the local x-z plane (optional)
+//! [[parts]]
+//! group = "nave_ties"                   # 2-node lines whose ends lie on shells or beams
+//! section = "nave_tie"                  # (or on supports holding ux uy uz)
+//! material = "steel"                    # elastic
 //! [[supports]]
 //! group = "base"
 //! dofs = ["all"]                        # or any of ux uy uz rx ry rz
@@ -421,6 +430,30 @@ pub enum SectionConfig {
     Shell(ShellSectionConfig),
     /// Rectangular fiber section of a 2-node beam (elastic or damage material per fiber).
     Fiber(FiberSectionConfig),
+    /// Tie rod on 2-node lines: axial force only (elastic material).
+    Tie(TieSectionConfig),
+}
+
+/// `type = "tie"`: an iron tie rod (`element::tie`) on 2-node lines, with an elastic material
+/// (E, density). Both end nodes of every tie must belong to a shell or beam, or be held by
+/// supports in ux uy uz.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TieSectionConfig {
+    /// Area [m²].
+    pub area: f64,
+    /// Pretension [N] ≥ 0, default 0: the initial axial force (lack of fit), tension positive,
+    /// applied as a static load with the self weight.
+    #[serde(default)]
+    pub pretension: f64,
+    /// Tension only (default true): a slender rod buckles at a few kN, so it carries no
+    /// compression; false: it carries both.
+    #[serde(default = "yes")]
+    pub tension_only: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// `type = "fiber"`: a rectangular section cut into `ny × nz` fibers (`element::fiber_section`),
@@ -492,6 +525,7 @@ impl SectionConfig {
             SectionConfig::Frame(_) => "frame",
             SectionConfig::Shell(_) => "shell",
             SectionConfig::Fiber(_) => "fiber",
+            SectionConfig::Tie(_) => "tie",
         }
     }
 }

@@ -36,6 +36,7 @@ pub fn refine(src: &Source, err: ConfigError) -> ConfigError {
         "sections" => variant(src, &table_path, |t, tag| match tag {
             "frame" => sub::<FrameSectionConfig>(src, t, &table_path),
             "shell" => sub::<ShellSectionConfig>(src, t, &table_path),
+            "tie" => sub::<TieSectionConfig>(src, t, &table_path),
             _ => None,
         }),
         "loads" => variant(src, &table_path, |t, tag| match tag {

@@ -40,6 +40,7 @@ fn has_mass(job: &StructuralJobFile) -> bool {
             SectionConfig::Frame(f) => f.nonstructural_mass > 0.0,
             SectionConfig::Shell(sh) => sh.nonstructural_mass > 0.0,
             SectionConfig::Fiber(f) => f.nonstructural_mass > 0.0,
+            SectionConfig::Tie(_) => false,
         })
 }
 
@@ -119,6 +120,15 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 }
                 if !(f.nonstructural_mass.is_finite() && f.nonstructural_mass >= 0.0) {
                     return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per length >= 0 [kg/m], got {}", f.nonstructural_mass)));
+                }
+            }
+            SectionConfig::Tie(TieSectionConfig { area, pretension, .. }) => {
+                positive(src, &at("area"), &format!("area [m^2] of tie section '{name}'"), *area)?;
+                if !(pretension.is_finite() && *pretension >= 0.0) {
+                    return Err(src.error_at(
+                        &at("pretension"),
+                        format!("pretension [N] of tie section '{name}' must be a finite number >= 0 (tension positive), got {pretension}"),
+                    ));
                 }
             }
             SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
@@ -213,6 +223,15 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 &at("material"),
                 format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers and fiber sections)", p.section, p.material),
             ));
+        }
+        if let (SectionConfig::Tie(_), MaterialConfig::Damage(_)) = (&job.sections[&p.section], &job.materials[&p.material]) {
+            return Err(src.error_at(
+                &at("material"),
+                format!("tie section '{}' needs an elastic material (type = \"elastic\": E, density); '{}' is a damage material", p.section, p.material),
+            ));
+        }
+        if let (SectionConfig::Tie(_), Some(_)) = (&job.sections[&p.section], &p.orientation) {
+            return Err(src.error_at(&at("orientation"), format!("tie section '{}' carries axial force only and has no local axes: remove orientation", p.section)));
         }
         if let Some(v) = &p.orientation {
             finite3(src, &at("orientation"), v)?;

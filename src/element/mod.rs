@@ -11,6 +11,7 @@
 //! | `beam_inertia.rs`  | mass matrices and self weight of 2-node beams (frame and fiber)   |
 //! | `fiber_section.rs` | [`FiberSection`]: rectangular fiber grid, Gauss points            |
 //! | `fiber_beam.rs`    | [`FiberBeam3d`]: displacement-based fiber beam, damage per fiber  |
+//! | `tie.rs`           | [`Tie`]: 2-node tie rod, axial only, pretension, tension only     |
 //!
 //! # DOF layout
 //! Every node carries [`DOFS_PER_NODE`] = 6 DOF, in the order ux uy uz rx ry rz (global axes,
@@ -52,6 +53,7 @@ mod frame_section;
 mod local_frame;
 mod output;
 mod shell;
+mod tie;
 
 use std::fmt::Debug;
 
@@ -67,6 +69,7 @@ pub use frame::ElasticFrame3d;
 pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};
 pub use output::{ElementOutput, EvalRequest};
+pub use tie::{pretension_load, tie_axis, Tie, TieSection, CELL_OUTPUT_NAMES as TIE_CELL_OUTPUT_NAMES};
 pub use shell::{
     PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3,
     ThicknessRule,

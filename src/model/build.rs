@@ -1,5 +1,6 @@
 //! Resolving a job's parts, supports and loads against the mesh.
 use crate::config::{AnalysisConfig, Job, LoadConfig, NodalLoadConfig, Seg, SectionConfig};
+use crate::element::{pretension_load, tie_axis, ElementError};
 use crate::mesh::{CellKind, Mesh};
 
 /// A mesh cell that is a structural element.
@@ -40,10 +41,12 @@ pub struct ControlSpec {
 pub struct StructuralModel {
     /// The structural cells, in mesh order.
     pub cells: Vec<ModelCell>,
-    /// Fixed-DOF bit mask per mesh node (bit d: DOF d of ux uy uz rx ry rz): the supports, and
-    /// the imposed DOFs of a displacement control without a pattern.
+    /// Fixed-DOF bit mask per mesh node (bit d: DOF d of ux uy uz rx ry rz): the supports, the
+    /// rotations of the anchors, and the imposed DOFs of a displacement control without a pattern.
     pub fixed: Vec<u8>,
-    /// Nodal loads `(mesh node, [Fx Fy Fz Mx My Mz])`, summed per node, in node order.
+    /// Nodal loads `(mesh node, [Fx Fy Fz Mx My Mz])`, summed per node, in node order: the
+    /// job's `[[loads]]` and the equivalent loads of tie pretensions, N₀ along each tie at both
+    /// ends, pulling them together (`element::tie`: the static load every driver scales).
     pub nodal_loads: Vec<(usize, [f64; 6])>,
     /// Gravitational acceleration, if self-weight is on.
     pub gravity: Option<[f64; 3]>,
@@ -52,6 +55,12 @@ pub struct StructuralModel {
     pub point_masses: Vec<(usize, [f64; 6])>,
     /// Displacement control of a nonlinear static analysis, if any.
     pub control: Option<ControlSpec>,
+    /// Per model cell: whether it is a tie (axial force only: it does not make its two nodes
+    /// one rigid piece, see [`StructuralModel::find_mechanisms`]).
+    pub is_tie: Vec<bool>,
+    /// Anchors: the nodes (mesh indices, ascending) that only ties touch. Their supports hold
+    /// ux uy uz (checked) and their rotations, which no element stiffens, are fixed here.
+    pub anchors: Vec<usize>,
 }
 
 fn key(k: &str) -> Seg {
@@ -63,11 +72,12 @@ impl StructuralModel {
     pub fn build(job: &Job, mesh: &Mesh) -> Result<StructuralModel, ModelError> {
         let spec = &job.spec;
         let mut part_of = vec![usize::MAX; mesh.cells.len()];
+        let tie_part: Vec<bool> = spec.parts.iter().map(|p| matches!(spec.sections[&p.section], SectionConfig::Tie(_))).collect();
         for (ip, p) in spec.parts.iter().enumerate() {
             let at = [key("parts"), Seg::Index(ip), key("group")];
             let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
             let want: &[CellKind] = match &spec.sections[&p.section] {
-                SectionConfig::Frame(_) | SectionConfig::Fiber(_) => &[CellKind::Line2],
+                SectionConfig::Frame(_) | SectionConfig::Fiber(_) | SectionConfig::Tie(_) => &[CellKind::Line2],
                 SectionConfig::Shell(_) => &[CellKind::Tri3, CellKind::Quad4],
             };
             let want_text = want.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ");
@@ -117,10 +127,14 @@ impl StructuralModel {
             .filter(|(_, &p)| p != usize::MAX)
             .map(|(cell, &part)| ModelCell { cell, part })
             .collect();
+        let is_tie: Vec<bool> = cells.iter().map(|c| tie_part[c.part]).collect();
         let mut active = vec![false; mesh.coords.len()];
-        for c in &cells {
+        // Nodes of a shell or beam: those whose rotations and transverse translations have stiffness.
+        let mut structural = vec![false; mesh.coords.len()];
+        for (c, &tie) in cells.iter().zip(&is_tie) {
             for &n in &mesh.cells[c.cell].nodes {
                 active[n] = true;
+                structural[n] |= !tie;
             }
         }
 
@@ -158,6 +172,11 @@ impl StructuralModel {
             }
         }
 
+        let anchors = check_ties(job, mesh, &cells, &is_tie, &structural, &fixed)?;
+        for &n in &anchors {
+            fixed[n] |= 0b111000;
+        }
+
         let sum_loads = |prefix: &[Seg], loads: &mut dyn Iterator<Item = &NodalLoadConfig>| -> Result<Vec<(usize, [f64; 6])>, ModelError> {
             let mut load = vec![[0.0f64; 6]; mesh.coords.len()];
             let mut loaded = vec![false; mesh.coords.len()];
@@ -177,6 +196,7 @@ impl StructuralModel {
         let nodal_loads = sum_loads(&[key("loads")], &mut spec.loads.iter().map(|l| match l {
             LoadConfig::Nodal(n) => n,
         }))?;
+        let nodal_loads = add_pretension_loads(job, mesh, &cells, nodal_loads)?;
 
         let mut masses = vec![[0.0f64; 6]; mesh.coords.len()];
         let mut massive = vec![false; mesh.coords.len()];
@@ -253,6 +273,8 @@ impl StructuralModel {
             gravity: spec.gravity.as_ref().map(|g| g.acceleration),
             point_masses,
             control,
+            is_tie,
+            anchors,
         })
     }
 
@@ -260,4 +282,87 @@ impl StructuralModel {
     pub fn cell_nodes<'m>(&self, mesh: &'m Mesh) -> Vec<&'m [usize]> {
         self.cells.iter().map(|c| mesh.cells[c.cell].nodes.as_slice()).collect()
     }
+}
+
+/// The message of a tie element that cannot be used: "tie element 1234 of group nave_ties: …".
+fn tie_error(job: &Job, mesh: &Mesh, c: &ModelCell, what: String) -> ModelError {
+    let part = &job.spec.parts[c.part];
+    let at = [key("parts"), Seg::Index(c.part), key("group")];
+    job.error_at(&at, format!("tie element {} of group {}: {what}", mesh.cells[c.cell].tag, part.group)).into()
+}
+
+/// Checks of the ties against the mesh and the supports: a non-zero length, and both ends
+/// attached to a shell or beam (`structural`) or held by supports in ux uy uz (`fixed`). Returns
+/// the anchors: the end nodes that only ties touch, ascending.
+fn check_ties(job: &Job, mesh: &Mesh, cells: &[ModelCell], is_tie: &[bool], structural: &[bool], fixed: &[u8]) -> Result<Vec<usize>, ModelError> {
+    const DOF: [&str; 3] = ["ux", "uy", "uz"];
+    let mut anchors = Vec::new();
+    for (c, _) in cells.iter().zip(is_tie).filter(|(_, &t)| t) {
+        let nodes = &mesh.cells[c.cell].nodes;
+        let (a, b) = (nodes[0], nodes[1]);
+        match tie_axis(mesh.coords[a], mesh.coords[b]) {
+            Ok(_) => {}
+            Err(ElementError::ZeroLength { node1: [x, y, z], length, .. }) => {
+                return Err(tie_error(
+                    job,
+                    mesh,
+                    c,
+                    format!(
+                        "its end nodes {} and {} coincide at ({x:.2}, {y:.2}, {z:.2}) (length {length:e} m): a tie joins two distinct points",
+                        mesh.node_tags[a], mesh.node_tags[b]
+                    ),
+                ))
+            }
+            Err(e) => return Err(tie_error(job, mesh, c, e.to_string())),
+        }
+        for n in [a, b] {
+            if structural[n] {
+                continue;
+            }
+            let [x, y, z] = mesh.coords[n];
+            let node = format!("its end node {} at ({x:.2}, {y:.2}, {z:.2})", mesh.node_tags[n]);
+            let free: Vec<&str> = (0..3).filter(|&d| fixed[n] & (1 << d) == 0).map(|d| DOF[d]).collect();
+            if free.len() == 3 {
+                return Err(tie_error(job, mesh, c, format!("{node} is attached to no shell or beam and to no support")));
+            }
+            if !free.is_empty() {
+                return Err(tie_error(
+                    job,
+                    mesh,
+                    c,
+                    format!(
+                        "{node} is attached to no shell or beam, and its supports leave {} free: a tie holds its end along its axis only, \
+                         so a node that only ties reach must be supported in ux, uy and uz",
+                        free.join(", ")
+                    ),
+                ));
+            }
+            anchors.push(n);
+        }
+    }
+    anchors.sort_unstable();
+    anchors.dedup();
+    Ok(anchors)
+}
+
+/// `loads` (summed per node, node order) with the pretension loads of the ties added
+/// (`element::pretension_load`: N₀ along the tie at both ends, pulling them together).
+fn add_pretension_loads(job: &Job, mesh: &Mesh, cells: &[ModelCell], loads: Vec<(usize, [f64; 6])>) -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+    let spec = &job.spec;
+    let mut by_node: std::collections::BTreeMap<usize, [f64; 6]> = loads.into_iter().collect();
+    for c in cells {
+        let SectionConfig::Tie(t) = &spec.sections[&spec.parts[c.part].section] else { continue };
+        if t.pretension == 0.0 {
+            continue;
+        }
+        let nodes = &mesh.cells[c.cell].nodes;
+        let f = pretension_load(mesh.coords[nodes[0]], mesh.coords[nodes[1]], t.pretension).map_err(|e| tie_error(job, mesh, c, e.to_string()))?;
+        for (k, &n) in nodes.iter().enumerate() {
+            let load = by_node.entry(n).or_insert([0.0; 6]);
+            for d in 0..3 {
+                load[d] += f[k][d];
+            }
+        }
+    }
+    Ok(by_node.into_iter().collect())
 }

@@ -6,4 +6,4 @@ mod build;
 mod stability;
 
 pub use build::{ControlSpec, ModelCell, ModelError, StructuralModel};
-pub use stability::{find_mechanisms, Mechanism};
+pub use stability::{find_mechanisms, find_mechanisms_with_ties, Mechanism};

@@ -12,6 +12,15 @@
 //! zero eigenvalues are the free motions, which the error names. Rigid-jointed frames and shells
 //! have no internal mechanisms, so this check finds every singular model they can make; the
 //! solver's zero-pivot report remains the fallback.
+//!
+//! # Ties
+//! A tie (axial force only) does not make its two nodes one rigid piece: pieces are connected
+//! through the other cells only, and a tie restrains the relative motion of its ends along its
+//! axis e. Once the piece at one end is held, the tie holds the other end's translation along e
+//! like a support would: `r = (e, (p − c) × e)` at that end p. Pieces are checked in rounds,
+//! each round adding the ties that reach a piece held by then, until no more pieces are held.
+//! Pieces that only hold each other (neither held first) are reported, which is conservative:
+//! a support in the right places settles it.
 use crate::mesh::Mesh;
 use nalgebra::{Matrix6, Vector3, Vector6};
 
@@ -51,11 +60,26 @@ fn find(parent: &mut [usize], mut a: usize) -> usize {
     a
 }
 
-/// Pieces of the model (cells as node lists) that the fixed-DOF masks do not hold.
+impl super::StructuralModel {
+    /// The pieces of the model that its supports (and ties, module docs) do not hold.
+    pub fn find_mechanisms(&self, mesh: &Mesh) -> Vec<Mechanism> {
+        find_mechanisms_with_ties(mesh, &self.cell_nodes(mesh), &self.is_tie, &self.fixed)
+    }
+}
+
+/// Pieces of the model (cells as node lists) that the fixed-DOF masks do not hold, every cell
+/// joining its nodes rigidly.
 pub fn find_mechanisms(mesh: &Mesh, cells: &[&[usize]], fixed: &[u8]) -> Vec<Mechanism> {
+    find_mechanisms_with_ties(mesh, cells, &[], fixed)
+}
+
+/// Pieces of the model that the fixed-DOF masks and the ties do not hold; `is_tie[c]` marks the
+/// 2-node cells that are ties (empty: none).
+pub fn find_mechanisms_with_ties(mesh: &Mesh, cells: &[&[usize]], is_tie: &[bool], fixed: &[u8]) -> Vec<Mechanism> {
+    let tie = |c: usize| is_tie.get(c).copied().unwrap_or(false);
     let n = mesh.coords.len();
     let mut parent: Vec<usize> = (0..n).collect();
-    for c in cells {
+    for (_, c) in cells.iter().enumerate().filter(|(i, _)| !tie(*i)) {
         for w in c.windows(2) {
             let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
             if a != b {
@@ -102,37 +126,83 @@ pub fn find_mechanisms(mesh: &Mesh, cells: &[&[usize]], fixed: &[u8]) -> Vec<Mec
     for p in 0..np {
         centroid[p] /= count[p] as f64;
     }
+    // A translation restrained along the unit vector e at node a of piece p: r = (e, rel × e).
+    let restraint = |a: usize, p: usize, e: Vector3<f64>| -> Vector6<f64> {
+        let size = (hi[p] - lo[p]).norm().max(f64::MIN_POSITIVE);
+        let rel = (Vector3::from(mesh.coords[a]) - centroid[p]) / size;
+        let mut r = Vector6::zeros();
+        r.fixed_rows_mut::<3>(0).copy_from(&e);
+        r.fixed_rows_mut::<3>(3).copy_from(&rel.cross(&e));
+        r
+    };
     let mut gram = vec![Matrix6::<f64>::zeros(); np];
     for a in 0..n {
         if !active[a] || fixed[a] == 0 {
             continue;
         }
         let p = piece[a];
-        let size = (hi[p] - lo[p]).norm().max(f64::MIN_POSITIVE);
-        let rel = (Vector3::from(mesh.coords[a]) - centroid[p]) / size;
         for d in 0..6 {
             if fixed[a] & (1 << d) == 0 {
                 continue;
             }
-            let mut r = Vector6::zeros();
-            if d < 3 {
-                let e = Vector3::ith(d, 1.0);
-                let m = rel.cross(&e);
-                r[d] = 1.0;
-                r.fixed_rows_mut::<3>(3).copy_from(&m);
+            let r = if d < 3 {
+                restraint(a, p, Vector3::ith(d, 1.0))
             } else {
+                let mut r = Vector6::zeros();
                 r[d] = 1.0;
-            }
+                r
+            };
             gram[p] += r * r.transpose();
         }
     }
+    let is_held = |g: &Matrix6<f64>| g.symmetric_eigen().eigenvalues.iter().all(|&l| l >= 1e-10);
+    let mut held: Vec<bool> = gram.iter().map(is_held).collect();
+    // Ties between pieces, in rounds: a tie reaching a held piece restrains the other end.
+    let mut pending: Vec<(usize, usize)> = cells
+        .iter()
+        .enumerate()
+        .filter(|(i, c)| tie(*i) && c.len() == 2 && piece[c[0]] != piece[c[1]])
+        .map(|(_, c)| (c[0], c[1]))
+        .collect();
+    loop {
+        let mut progress = false;
+        pending.retain(|&(a, b)| {
+            let (pa, pb) = (piece[a], piece[b]);
+            let (end, p) = match (held[pa], held[pb]) {
+                (true, true) => return false,
+                (true, false) => (b, pb),
+                (false, true) => (a, pa),
+                (false, false) => return true,
+            };
+            let d = Vector3::from(mesh.coords[b]) - Vector3::from(mesh.coords[a]);
+            if d.norm() > 0.0 {
+                let r = restraint(end, p, d.normalize());
+                gram[p] += r * r.transpose();
+            }
+            progress = true;
+            false
+        });
+        let mut newly = false;
+        for p in 0..np {
+            if !held[p] && is_held(&gram[p]) {
+                held[p] = true;
+                newly = true;
+            }
+        }
+        if !progress && !newly {
+            break;
+        }
+    }
     let mut n_cells = vec![0usize; np];
-    for c in cells {
+    for (_, c) in cells.iter().enumerate().filter(|(i, _)| !tie(*i)) {
         n_cells[piece[c[0]]] += 1;
     }
     let names = ["translation along x", "translation along y", "translation along z", "rotation about x", "rotation about y", "rotation about z"];
     let mut out = Vec::new();
     for p in 0..np {
+        if held[p] {
+            continue;
+        }
         let eig = gram[p].symmetric_eigen();
         let mut free = Vec::new();
         for k in 0..6 {
@@ -184,6 +254,60 @@ mod tests {
         assert_eq!(mech[0].free_motions.len(), 6);
         fixed[3] = 0b111111;
         assert!(find_mechanisms(&m, &cells, &fixed).is_empty());
+    }
+
+    /// A clamped column 0–1, a column 2–3 pinned at its foot 2, a tie 1–3 along x between their
+    /// tops, and node 4 at (2, −1, 1), which only the tie 4–3 (along y) reaches.
+    fn tied_mesh() -> Mesh {
+        Mesh {
+            coords: vec![[0., 0., 0.], [0., 0., 1.], [2., 0., 0.], [2., 0., 1.], [2., -1., 1.]],
+            node_tags: vec![1, 2, 3, 4, 5],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn a_tie_holds_its_far_end_along_its_axis_only() {
+        let m = tied_mesh();
+        let cells: Vec<&[usize]> = vec![&[0, 1], &[2, 3], &[1, 3]];
+        let mut fixed = vec![0u8; 5];
+        fixed[0] = 0b111111;
+        fixed[2] = 0b000111; // pinned: rotations about the foot free
+        // Taken as a rigid link, the tie would make one held piece.
+        assert!(find_mechanisms(&m, &cells, &fixed).is_empty());
+        // As a tie it holds the top of column 2–3 along x: the rotation about y is held, those
+        // about x (the top moves along y) and about z (the column's own axis) are free.
+        let mech = find_mechanisms_with_ties(&m, &cells, &[false, false, true], &fixed);
+        assert_eq!(mech.len(), 1, "{mech:?}");
+        assert_eq!(mech[0].node_tag, 3);
+        assert_eq!(mech[0].n_cells, 1);
+        assert_eq!(mech[0].free_motions.len(), 2, "{mech:?}");
+        assert!(mech[0].free_motions.iter().all(|f| !f.contains("rotation about y")), "{mech:?}");
+        // Clamped at its foot, the column is held by itself.
+        fixed[2] = 0b111111;
+        assert!(find_mechanisms_with_ties(&m, &cells, &[false, false, true], &fixed).is_empty());
+    }
+
+    #[test]
+    fn ties_to_held_pieces_hold_a_piece_in_rounds() {
+        let m = tied_mesh();
+        // Column 2–3 held at its foot in translation and torsion only; the tie 1–3 (along x, to
+        // the clamped column) holds the rotation about y, the tie 4–3 (along y, to the fully
+        // supported node 4) the rotation about x.
+        let cells: Vec<&[usize]> = vec![&[0, 1], &[2, 3], &[1, 3], &[4, 3]];
+        let ties = [false, false, true, true];
+        let mut fixed = vec![0u8; 5];
+        fixed[0] = 0b111111;
+        fixed[2] = 0b100111;
+        fixed[4] = 0b111111;
+        assert!(find_mechanisms_with_ties(&m, &cells, &ties, &fixed).is_empty());
+        // Without the anchor's support, node 4 and the column hold each other through a tie only:
+        // node 4 is free, and the column keeps its rotation about x.
+        fixed[4] = 0;
+        let mech = find_mechanisms_with_ties(&m, &cells, &ties, &fixed);
+        assert_eq!(mech.len(), 2, "{mech:?}");
+        assert_eq!(mech[0].free_motions.len(), 1, "{mech:?}");
+        assert_eq!(mech[1].node_tag, 5);
     }
 
     #[test]

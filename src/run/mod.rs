@@ -10,7 +10,7 @@ pub use output_dir::{backup_path, prepare_output_dir};
 use crate::analysis::linear_static;
 use crate::config::{load_job, AnalysisConfig, AnyJob, Job, MaterialPointJob};
 use crate::mesh::{read_msh, Mesh};
-use crate::model::{find_mechanisms, StructuralModel};
+use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::Petsc;
 use std::path::Path;
@@ -85,7 +85,7 @@ pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> 
         mesh.group_names().join(", ")
     ));
     let model = agree(&ctx.comm, StructuralModel::build(&job, &mesh).map_err(Error::from), Error::exit_code)?;
-    let mech = find_mechanisms(&mesh, &model.cell_nodes(&mesh), &model.fixed);
+    let mech = model.find_mechanisms(&mesh);
     if let Some(m) = mech.first() {
         let more = if mech.len() > 1 { format!(" ({} such pieces in all)", mech.len()) } else { String::new() };
         return Err(Error::Mechanism(format!("{m}{more}")));

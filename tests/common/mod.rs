@@ -300,3 +300,23 @@ pub fn write_mixed_mesh(
     s += "$EndElements\n";
     std::fs::write(path, s).expect("write mesh");
 }
+
+/// Cell field `name` of the last step of `<dir>/results.h5`, keyed by Gmsh element tag (the
+/// components of each cell; one for a scalar field).
+pub fn cell_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec<f64>> {
+    let f = hdf5::File::open(dir.join("results.h5")).expect("open results.h5");
+    let ids: Vec<u64> = f.dataset("mesh/cell_ids").expect("cell_ids").read_raw().expect("read cell_ids");
+    let steps = f.group("steps").expect("steps group");
+    let steps: Vec<usize> =
+        steps.member_names().expect("step names").iter().filter_map(|s| s.parse().ok()).collect();
+    let last = steps.iter().max().expect("a step");
+    let v: Vec<f64> = f.dataset(&format!("steps/{last}/{name}")).expect("cell field dataset").read_raw().expect("read field");
+    let nc = v.len() / ids.len();
+    ids.iter().enumerate().map(|(i, &id)| (id, v[i * nc..(i + 1) * nc].to_vec())).collect()
+}
+
+/// `<dir>/summary.json`.
+pub fn summary(dir: &Path) -> serde_json::Value {
+    let p = dir.join("summary.json");
+    serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).expect("summary.json")
+}
