@@ -223,15 +223,6 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
             ego: EgoSettings { iterations: l.iterations, batch: l.batch, seed: seed.wrapping_add(1000), log_transform: true, target: None },
             polish_iterations: l.polish_iterations,
         };
-        // The no-elastic regularization's size limit, when E was not known at load.
-        if let crate::material::Regularization::HillerborgNoElastic = l.regularization {
-            let mut x = vec![b.eps0_t[1], b.eps0_c[1], b.gf_t[0], b.a_c[1], b.b_c[1]];
-            x.extend(b.gf_c.map(|g| g[1]));
-            let corner = fit.params_at(&x);
-            corner.for_element(h).map_err(|err| {
-                Error::Analysis(format!("{}: law.bounds.gf_t: at the corner gf_t = {}, eps0_t = {}: {err}", path.display(), b.gf_t[0], b.eps0_t[1]))
-            })?;
-        }
         let result = agree(&ctx.comm, identify(ctx, &fit).map_err(analysis_err), Error::exit_code)?;
         let written = match &result {
             Some(r) => write_law(ctx, path, job, &fit, r, &summary, sample_curves.as_ref()).map(Some),
@@ -376,10 +367,12 @@ fn write_law(
     let dir = &job.output_dir;
     let p = &r.params;
     ctx.log.info(format!(
-        "identified law: eps0_t = {:.4e}, eps0_c = {:.4e}, gf_t = {:.4} J/m², a_c = {:.4}, b_c = {:.4}{} (E = {:.4e} Pa, nu = {:.3}, h = {} m)",
+        "identified law: eps0_t = {:.4e}, eps0_c = {:.4e}, gf_t = {:.4} J/m² ({}; softening energy f_t h/B_t {:.4} J/m²), a_c = {:.4}, b_c = {:.4}{} (E = {:.4e} Pa, nu = {:.3}, h = {} m)",
         p.eps0_t,
         p.eps0_c,
         p.gf_t,
+        p.regularization.name(),
+        fit.softening_energy(p),
         p.a_c,
         p.b_c,
         p.gf_c.map_or(String::new(), |g| format!(", gf_c = {g:.4} J/m²")),
@@ -403,9 +396,10 @@ fn write_law(
         let parts = |e: &Option<crate::identify::CurveError>| {
             e.and_then(|e| e.parts).map_or(String::new(), |p| {
                 format!(
-                    " [envelope {:.4}, peak {:+.4}, post-peak energy {}: DEM {:.4e}, law {:.4e} J/m³]",
+                    " [envelope {:.4}, peak {:+.4}, peak strain {:+.4}, post-peak energy {}: DEM {:.4e}, law {:.4e} J/m³]",
                     p.envelope,
                     p.peak,
+                    p.peak_strain,
                     p.energy.map_or("-".into(), |x| format!("{x:+.4}")),
                     p.reference_energy,
                     p.model_energy
@@ -473,23 +467,7 @@ fn write_law(
         chart = chart.series(mean_name, pts(dem), SeriesStyle::Markers).series("damage law", pts(law), SeriesStyle::Line);
         plot(chart, file)?;
     }
-    let provenance = Provenance {
-        job: path.display().to_string(),
-        method: format!(
-            "2^{} factorial + EGO (kriging, q-EI) + Nelder-Mead on the {} error between the law (plane-stress material point, uniaxial stress) and the DEM's mean tension and compression curves ({} mean of samples)",
-            fit.space.dim(),
-            fit.measure.name(),
-            match job.spec.law.as_ref().map(|l| l.mean) {
-                Some(crate::identify::curves::MeanKind::Pointwise) => "pointwise",
-                _ => "peak-aligned",
-            }
-        ),
-        element_size: fit.element_size,
-        error_tension: r.fit.tension.value,
-        error_compression: r.fit.compression.value,
-        error_measure: fit.measure.name().to_string(),
-        dem: if job.dem_curves.is_some() { None } else { Some(summary.calibration.as_ref().map_or(job.dem, |c| c.parameters)) },
-    };
+    let provenance = provenance(path, job, fit, r, summary);
     let f = dir.join("material.toml");
     write_material_file(&f, p, &provenance).map_err(Error::Analysis)?;
     if let Some(copy) = &job.material_copy {
@@ -504,3 +482,98 @@ fn write_law(
     Ok(f.display().to_string())
 }
 
+/// The material file's provenance (identify::material_file) from the job and its results.
+fn provenance(path: &Path, job: &IdentifyJob, fit: &LawFit, r: &LawResult, summary: &IdentifySummary) -> Provenance {
+    use crate::identify::material_file::{MeasureFigure, PeakFigure, TargetFigure};
+    let spec = &job.spec;
+    let law = spec.law.as_ref();
+    let from_files = job.dem_curves.is_some() || job.dem_samples.is_some();
+    let seeds = |n: usize| (0..n as u64).map(|k| spec.sample.seed.wrapping_add(k)).collect::<Vec<_>>();
+    let calibration_sample_seeds = match (&spec.calibration, &summary.calibration) {
+        (Some(c), Some(_)) => seeds(c.samples),
+        _ => Vec::new(),
+    };
+    let mean = match law.map(|l| l.mean) {
+        Some(crate::identify::curves::MeanKind::Pointwise) => "pointwise",
+        _ => "peak-aligned",
+    };
+    let test = |t: &Option<crate::dem::solver::VirtualTest>| match t {
+        Some(crate::dem::solver::VirtualTest::Tension { max_strain, steps }) => format!("tension to {max_strain:e} in {steps} steps"),
+        Some(crate::dem::solver::VirtualTest::Compression { max_strain, steps }) => format!("compression to {max_strain:e} in {steps} steps"),
+        _ => "-".to_string(),
+    };
+    let curves = match (law, &job.dem_curves, &job.dem_samples) {
+        (Some(l), Some(_), _) => l.dem_curves.as_ref().map_or(String::new(), |f| {
+            format!("mean curves from the files {} and {} (paths from the job's folder)", f.tension.display(), f.compression.display())
+        }),
+        (Some(l), None, Some(_)) => l.dem_samples.as_ref().map_or(String::new(), |f| {
+            format!(
+                "every sample's curve from the files {} and {} (paths from the job's folder), {mean} mean on about {} points",
+                f.tension.display(),
+                f.compression.display(),
+                l.points
+            )
+        }),
+        (Some(l), None, None) => format!(
+            "virtual tests of the {} DEM on the job's [sample] wall: {} and {}, {} samples each, {mean} mean on about {} points",
+            if summary.calibration.is_some() { "calibrated" } else { "given" },
+            test(&l.tension),
+            test(&l.compression),
+            l.samples,
+            l.points
+        ),
+        _ => String::new(),
+    };
+    let elastic = match law {
+        Some(l) if l.young_modulus.is_some() || l.poisson.is_some() => "E and nu given in the job's [law] table".to_string(),
+        Some(l) if l.elastic == crate::config::ElasticSource::Dem => "E and nu: the virtual compression tests' means ([law] elastic = dem)".to_string(),
+        _ => "E and nu: the job's [experiment] table".to_string(),
+    };
+    let calibration = summary.calibration.as_ref().map_or(Vec::new(), |c| {
+        let t = c.targets.as_array();
+        (0..4)
+            .map(|k| TargetFigure {
+                name: QUANTITIES[k],
+                target: t[k],
+                mean: c.stats[k].mean,
+                std: c.stats[k].std,
+                n: c.stats[k].n,
+                relative_error: c.relative_errors[k],
+            })
+            .collect()
+    });
+    let peak = |k: usize, e: f64| PeakFigure {
+        dem: r.dem_peaks[k],
+        law: r.law_peaks[k],
+        relative_error: e,
+        samples: r.dem_sample_peaks.map(|s| (s[k].mean, s[k].std, s[k].n)),
+    };
+    Provenance {
+        job: path.to_path_buf(),
+        method: format!(
+            "2^{} factorial + EGO (kriging, q-EI) + Nelder-Mead on the {} error between the law (plane-stress material point, uniaxial stress, element size h) and the DEM's mean tension and compression curves ({mean} mean of the samples)",
+            fit.space.dim(),
+            fit.measure.name(),
+        ),
+        seed: spec.analysis.seed,
+        calibration_sample_seeds,
+        law_sample_seeds: if from_files { Vec::new() } else { seeds(law.map_or(0, |l| l.samples)) },
+        curves,
+        elastic,
+        element_size: fit.element_size,
+        softening_energy: fit.softening_energy(&r.params),
+        error_tension: r.fit.tension.value,
+        error_compression: r.fit.compression.value,
+        error_measure: fit.measure.name().to_string(),
+        measures: r
+            .measures
+            .iter()
+            .map(|m| MeasureFigure { measure: m.measure, tension: m.tension.map(|e| e.value), compression: m.compression.map(|e| e.value) })
+            .collect(),
+        peaks: Some([peak(0, r.tension_peak_error), peak(1, r.compression_peak_error)]),
+        dem: if from_files { None } else { Some(summary.calibration.as_ref().map_or(job.dem, |c| c.parameters)) },
+        calibration,
+        virtual_test_failures: summary.virtual_test_failures.clone(),
+        notes: law.and_then(|l| l.material_notes.clone()),
+    }
+}

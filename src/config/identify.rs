@@ -36,7 +36,9 @@
 //! # dem_samples = { tension = "dem_tension_samples.csv", compression = "dem_compression_samples.csv" }
 //! #                            # or every sample's curve, as an earlier run wrote them (law fit only)
 //! mean = "peak_aligned"        # how sample curves are averaged, or "pointwise" (identify::curves)
-//! regularization = "hillerborg"    # or "hillerborg_no_elastic"
+//! regularization = "hillerborg"    # or "hillerborg_no_elastic" (G_f = the whole dissipation per
+//!                              # crack area; bounds.gf_t then bounds its softening part G_s =
+//!                              # G_f − f_t² h/(2E), so the whole box is admissible: identify::law_fit)
 //! # element_size = 1.2         # h of the comparison [m], default the sample height
 //! elastic = "experiment"       # E, ν of the law: "experiment" (else the DEM's means) or "dem"
 //! # young_modulus, poisson     # explicit values win over `elastic`
@@ -51,6 +53,7 @@
 //! #   optional sixth unknown in bounds: gf_c = [10.0, 2000.0] (compressive fracture energy, J/m²;
 //! #   needs a_c > 0 throughout)
 //! # material_file = "../materials/wall.toml"   # a copy beside the results' material.toml
+//! # material_notes = """..."""  # comment lines for the material file's header
 //! ```
 use super::{ExperimentConfig, MechanicsConfig, OutputConfig};
 use crate::dem::sample::SampleConfig;
@@ -167,7 +170,8 @@ pub struct LawBounds {
     pub eps0_t: [f64; 2],
     /// Compressive threshold ε₀^c.
     pub eps0_c: [f64; 2],
-    /// Fracture energy G_f [J/m²].
+    /// Softening energy G_s = f_t h / B_t [J/m²]: G_f under `hillerborg`, G_f − f_t² h/(2E)
+    /// under `hillerborg_no_elastic` (identify::law_fit).
     pub gf_t: [f64; 2],
     /// A_c ∈ [0, 1].
     pub a_c: [f64; 2],
@@ -240,6 +244,9 @@ pub struct LawIdentConfig {
     pub bounds: LawBounds,
     /// A copy of the material file (relative to the job file's folder).
     pub material_file: Option<PathBuf>,
+    /// Comment lines for the material file's header, after the generated ones: why the values
+    /// are what they are (identify::material_file).
+    pub material_notes: Option<String>,
 }
 
 /// An identification job file, as written.
@@ -420,29 +427,9 @@ impl IdentifyJob {
                     }
                 }
             }
-            // The no-elastic variant must admit h everywhere in the box: its limit 2 E G_f / f_t²
-            // is smallest at the lowest G_f and the highest ε₀^t.
-            let e = l.young_modulus.or(spec.experiment.as_ref().and_then(|x| x.young_modulus));
-            if let (Regularization::HillerborgNoElastic, Some(e)) = (l.regularization, e) {
-                let corner = crate::material::DamageParams {
-                    e,
-                    nu: l.poisson.or(spec.experiment.as_ref().and_then(|x| x.poisson)).unwrap_or(0.2),
-                    eps0_t: b.eps0_t[1],
-                    eps0_c: b.eps0_c[1],
-                    gf_t: b.gf_t[0],
-                    a_c: b.a_c[1],
-                    b_c: b.b_c[1],
-                    gf_c: None,
-                    regularization: l.regularization,
-                };
-                if let Err(err) = corner.for_element(h) {
-                    let k = if l.element_size.is_some() { at(&["law", "element_size"]) } else { at(&["law", "bounds", "gf_t"]) };
-                    return Err(source.error_at(
-                        &k,
-                        format!("at the corner gf_t = {}, eps0_t = {} of the bounds (E = {e} Pa): {err}", b.gf_t[0], b.eps0_t[1]),
-                    ));
-                }
-            }
+            // Every point of the box is admissible under either Hillerborg variant: the tensile
+            // energy unknown is the softening energy G_s > 0 (identify::law_fit), and the
+            // no-elastic variant's G_f = G_s + f_t² h/(2E) stays above its limit f_t² h/(2E).
             let from_files = l.dem_curves.is_some() || l.dem_samples.is_some();
             if from_files && l.elastic == ElasticSource::Dem && (l.young_modulus.is_none() || l.poisson.is_none()) {
                 return Err(source.error_at(
