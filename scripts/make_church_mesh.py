@@ -133,15 +133,21 @@ SACRISTY_WINDOW = (0.8, 2.5, 3.7)
 SACRISTY_DOOR = (1.0, 2.2, 2.0)   # width, height, centre y
 BELFRY_OPENING = (1.4, 18.0, 20.5)
 
+# The thrust path (see the module docs): ASSUMED
+TIE_Z = NAVE_SPRINGING            # tie rods at the springing of each transverse arch
+HAUNCH_FILL_TOP = NAVE_SPRINGING + NAVE_RISE / 2   # the haunch fill (rinfianco) up to half the rise
+
 # The gmsh version that wrote the committed meshes (another version may mesh differently).
 GMSH_VERSION = "4.15.2"
 
 COARSE_SIZE = 0.85
 FINE_SIZE = 0.22
 
-SURFACE_GROUPS = ["facade", "nave_walls", "choir_walls", "sacristy", "tower", "nave_vault", "choir_vault", "tribune"]
+SURFACE_GROUPS = ["facade", "nave_walls", "choir_walls", "sacristy", "tower", "nave_vault", "choir_vault", "tribune",
+                  "nave_haunches"]
 # The new timber groups after "supports" (physical tags of the older groups unchanged).
-CURVE_GROUPS = ["arches", "pilasters", "buttresses", "nave_purlins", "supports", "choir_purlins", "trusses", "belfry"]
+CURVE_GROUPS = ["arches", "pilasters", "buttresses", "nave_purlins", "supports", "choir_purlins", "trusses", "belfry",
+                "nave_ties"]
 
 # Derived positions
 HW = NAVE_WIDTH / 2          # nave half width (wall axes at y = ±HW)
@@ -219,22 +225,32 @@ def rect_xz(y, x0, x1, z0, z1):
     return [(x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1)]
 
 
-def vault(b, group, x0, x1, half, springing, rise, n_pieces):
-    """A segmental barrel vault over x0..x1 in n_pieces extrusions; returns the arcs' tags at
-    the piece ends (x0, ..., x1) so arches can be placed on them."""
+def vault(b, group, x0, x1, half, springing, rise, n_pieces, haunches=None):
+    """A segmental barrel vault over x0..x1 in n_pieces extrusions; returns, for each piece end
+    (x0, ..., x1), the tags of the arcs there, so arches can be placed on them. With
+    `haunches = (group, z)`, the vault's two bands below the height z (from the springings up)
+    are that group's, the crown between them `group`'s."""
     occ = b.occ
     r, zc = segmental_arc(half, springing, rise)
-    p0, c, p1 = occ.addPoint(x0, -half, springing), occ.addPoint(x0, 0, zc), occ.addPoint(x0, half, springing)
-    arc = occ.addCircleArc(p0, c, p1)
-    arcs = [arc]
+    c = occ.addPoint(x0, 0, zc)
+    if haunches is None:
+        ys, groups = [-half, half], [group]
+    else:
+        y_split = math.sqrt(r * r - (haunches[1] - zc) ** 2)
+        ys, groups = [-half, -y_split, y_split, half], [haunches[0], group, haunches[0]]
+    pts = [occ.addPoint(x0, y, zc + math.sqrt(r * r - y * y)) for y in ys]
+    station = [occ.addCircleArc(pts[i], c, pts[i + 1]) for i in range(len(groups))]
+    stations = [station]
     dx = (x1 - x0) / n_pieces
     for _ in range(n_pieces):
-        out = occ.extrude([(1, arc)], dx, 0, 0)
-        surf = [t for d, t in out if d == 2][0]
-        arc = out[0][1]  # the top (translated) curve comes first
-        b.face(group, surf)
-        arcs.append(arc)
-    return arcs
+        nxt = []
+        for arc, g in zip(station, groups):
+            out = occ.extrude([(1, arc)], dx, 0, 0)
+            b.face(g, [t for d, t in out if d == 2][0])
+            nxt.append(out[0][1])  # the top (translated) curve comes first
+        station = nxt
+        stations.append(station)
+    return stations
 
 
 def build(occ):
@@ -268,9 +284,14 @@ def build(occ):
     hole = occ.addCurveLoop([occ.addLine(q[0], q[1]), occ.addLine(q[1], q[2]), occ.addCircleArc(q[2], qc, q[3]), occ.addLine(q[3], q[0])])
     b.face("nave_walls", occ.addPlaneSurface([east, hole]))
     # --- nave vault, four bays; transverse arches at the bay divisions
-    arcs = vault(b, "nave_vault", 0.0, NAVE_LENGTH, HW, NAVE_SPRINGING, NAVE_RISE, BAYS)
-    for a in arcs[1:-1]:
-        b.inputs.append((1, a, "arches"))
+    stations = vault(b, "nave_vault", 0.0, NAVE_LENGTH, HW, NAVE_SPRINGING, NAVE_RISE, BAYS,
+                     haunches=("nave_haunches", HAUNCH_FILL_TOP))
+    for station in stations[1:-1]:
+        for a in station:
+            b.inputs.append((1, a, "arches"))
+    # --- iron tie rods across the nave at the springing of each transverse arch
+    for k in range(1, BAYS):
+        b.line("nave_ties", (k * bay, -HW, TIE_Z), (k * bay, HW, TIE_Z))
     # --- tribune over the first bay
     b.face("tribune", b.polygon([(0, -HW, TRIBUNE_Z), (TRIBUNE_DEPTH, -HW, TRIBUNE_Z), (TRIBUNE_DEPTH, HW, TRIBUNE_Z), (0, HW, TRIBUNE_Z)]))
     # --- choir walls: the two side walls and the wall to the sacristy (door, top = vault profile)
@@ -288,8 +309,8 @@ def build(occ):
     for d, t in out:
         b.face("choir_walls", t)
     # choir vault; the triumphal arch around the opening
-    carcs = vault(b, "choir_vault", XE, XS, CW, CHOIR_SPRINGING, CHOIR_RISE, 1)
-    b.inputs.append((1, carcs[0], "arches"))
+    cstations = vault(b, "choir_vault", XE, XS, CW, CHOIR_SPRINGING, CHOIR_RISE, 1)
+    b.inputs.append((1, cstations[0][0], "arches"))
     # --- sacristy: side walls, east wall with gable, its vault
     xw, xs_, xh = SACRISTY_WINDOW
     for side in (-1, 1):
@@ -405,7 +426,7 @@ def generate(size, path, binary, glue=True):
                      ("Mesh.SaveAll", 0)]:
             gmsh.option.setNumber(k, v)
         for (d, t), g in sorted(owner.items()):
-            if d == 2 and g in ("nave_vault", "choir_vault", "sacristy") and _is_vault(gmsh, t):
+            if d == 2 and g in ("nave_vault", "nave_haunches", "choir_vault", "sacristy") and _is_vault(gmsh, t):
                 bnd = gmsh.model.getBoundary([(2, t)], oriented=False)
                 if len(bnd) != 4:
                     continue
@@ -413,6 +434,10 @@ def generate(size, path, binary, glue=True):
                     n = max(1, round(_curve_length(gmsh, c) / size))
                     mesh.setTransfiniteCurve(c, n + 1)
                 mesh.setTransfiniteSurface(t)
+        # a tie rod is one 2-node element from anchor to anchor (its inner nodes would be free)
+        for (d, t), g in sorted(owner.items()):
+            if d == 1 and g == "nave_ties":
+                mesh.setTransfiniteCurve(t, 2)
         mesh.generate(2)
         mesh.renumberNodes()
         mesh.renumberElements()
