@@ -7,26 +7,31 @@
 #   3. scripts/post_church.sh results/church: the pictures (results/church/pictures/)
 #   4. scripts/chain_summary.py: results/chain/summary.md and summary.json, each stage's numbers
 #      side by side (calibration against Table 1, the law's peaks against the DEM's, frequencies,
-#      gravity, damage per substructure), with the stages' wall times.
+#      gravity, damage per substructure after gravity and at the end), with the stages' wall times.
+#   With --compare, then scripts/compare_laws.sh: the church on the assumed law
+#      (materials/rubble-masonry.toml), its damage beside the identified law's
+#      (results/church-comparison/damage-side-by-side.png, comparison.csv; about 4 min more).
 # Stages 1-3 run through scripts/run.sh (setup, release build, env, mpirun; run.sh draws the
 # church's pictures itself). Logs: results/chain/identify.log, church.log.
 #
-# Usage: scripts/chain.sh [--skip-identify] [--skip-church]
+# Usage: scripts/chain.sh [--skip-identify] [--skip-church] [--compare]
 #   NP=4 scripts/chain.sh     ranks (default 2)
 #   --skip-identify           keep results/identify-wall and the material file as they are
 #   --skip-church             stop after the identification (summary of what exists)
+#   --compare                 the assumed law's run beside the identified law's (above)
 # Reproducible: the identification from its seeds writes materials/rubble-identified.toml and the
 # sample curves again byte for byte; the summary says whether they equal the committed files.
 # Time on 2 shared cores (measured): identification 5-8 min, church and pictures about 4 min.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; }
 
-skip_identify=0 skip_church=0
+skip_identify=0 skip_church=0 compare=0
 for a in "$@"; do
   case "$a" in
     --skip-identify) skip_identify=1 ;;
     --skip-church) skip_church=1 ;;
+    --compare) compare=1 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "chain.sh: unknown option '$a'" >&2; usage >&2; exit 2 ;;
   esac
@@ -94,6 +99,12 @@ if [ "$skip_church" = 0 ]; then
   fi
 else
   say "2/4 and 3/4 church skipped (--skip-church)"
+fi
+
+if [ "$compare" = 1 ] && [ "$skip_church" = 0 ] && [ "$church_rc" -eq 0 ]; then
+  say "the assumed law's run beside the identified law's: scripts/compare_laws.sh (log $out/compare.log)"
+  run_logged "$out/compare.log" bash scripts/compare_laws.sh
+  record "assumed-law comparison" "$([ "$rc" -eq 0 ] && echo ok || echo "failed (exit $rc)")" "$secs"
 fi
 
 say "4/4 summary"

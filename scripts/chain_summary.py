@@ -14,7 +14,8 @@ Writes <out>/summary.md and <out>/summary.json:
                                    the moduli it changed, modes of the updated model
   4. gravity                       <church>/summary.json (its gravity entry, when it has one), else
                                    the church log's gravity lines: load factor reached, iterations
-  5. damage per substructure       <church>/pictures/damage-by-substructure.csv, at the end
+  5. damage per substructure       <church>/pictures/damage-by-substructure.csv, after gravity
+                                   and at the end of the record
   6. wall times                    <timings> (written by chain.sh)
 A missing input is reported in its section ("not available: ...") rather than stopping the
 summary: the chain reports how far it got. Standard library only.

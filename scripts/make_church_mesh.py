@@ -75,14 +75,26 @@ description, typical Savoyard baroque churches of this size and the site's photo
                 them per length (the two roofs' purlins carry different widths of roof, hence
                 two groups; see jobs/church.toml);
     belfry      the belfry posts and ring and the onion's ribs.
+  The thrust path of the nave vault (ASSUMED, as the usual construction of such vaults; the
+  paper describes none): the masonry alone cannot carry a 10.8 m vault's thrust of about 24 kN
+  per metre of wall (jobs/church.toml's header) by the walls' bending:
+    nave_ties   iron tie rods across the nave at the springing (TIE_Z = NAVE_SPRINGING) of the
+                three transverse arches (x = 5, 10, 15), each one 2-node element from wall axis
+                to wall axis, anchored in the walls at the arches' springing nodes (the jobs give
+                their section: 40 x 40 mm wrought iron);
+    nave_haunches  the vault's two bands from the springings up to HAUNCH_FILL_TOP =
+                NAVE_SPRINGING + NAVE_RISE / 2 = 9.0 m: the fill (rinfianco) over the haunches
+                reaches half the rise, up to the eaves; the bands are the vault (the same shell),
+                as a group of their own so that the jobs can give them the fill's mass (between
+                the extrados and the walls' inner face: 0.209 m^2 per metre per side).
   Wall thicknesses (used by the jobs, not by the mesh): facade 1.0, nave walls 0.9, choir
   walls 0.8, sacristy 0.6, tower 1.0, vaults 0.25 (nave) 0.2 (choir), tribune 0.3.
 
 Physical groups: surfaces facade, nave_walls, choir_walls, sacristy, tower, nave_vault,
-choir_vault, tribune; curves arches, pilasters, buttresses, nave_purlins, choir_purlins,
-trusses, belfry; curves "supports" (the wall bases at the foundation, z = 0 for the nave and
-tower, z = 0.5 for the choir and sacristy). The physical tags follow CURVE_GROUPS' order, which
-keeps the tags of the groups that existed before the timber was split (supports = 13).
+choir_vault, tribune, nave_haunches; curves arches, pilasters, buttresses, nave_purlins,
+choir_purlins, trusses, belfry, nave_ties; curves "supports" (the wall bases at the foundation,
+z = 0 for the nave and tower, z = 0.5 for the choir and sacristy). The physical tags number SURFACE_GROUPS, then
+CURVE_GROUPS, in their order (supports = 14); the jobs and the scripts refer to groups by name.
 
 Roof geometry the jobs need for the covering's mass (the purlins' tributary widths): nave roof
 slope length sqrt(5.4^2 + 4.5^2) = 7.03 m per side over 21.5 m (with the overhang), three
@@ -92,8 +104,8 @@ Every mesh entity is in at most one group, so a job maps each group to one part.
 
 Mesh: element size SIZE (coarse 0.85 m, fine 0.22 m); vaults structured (quads between two
 generators of the cylinder are exactly flat); walls unstructured, recombined into quads (a few
-triangles remain). The coarse mesh (3,231 nodes, 19,386 DOF) is sized for a 22 s nonlinear
-earthquake run on 2 cores; the fine one (36,637 nodes, 219,822 DOF, 2.8 MB) for clusters.
+triangles remain). The coarse mesh (3,218 nodes, 19,308 DOF) is sized for a 22 s nonlinear
+earthquake run on 2 cores; the fine one (36,688 nodes, 220,128 DOF, 2.8 MB) for clusters.
 """
 import argparse
 import math
@@ -145,7 +157,7 @@ FINE_SIZE = 0.22
 
 SURFACE_GROUPS = ["facade", "nave_walls", "choir_walls", "sacristy", "tower", "nave_vault", "choir_vault", "tribune",
                   "nave_haunches"]
-# The new timber groups after "supports" (physical tags of the older groups unchanged).
+# New groups go at the ends of the lists.
 CURVE_GROUPS = ["arches", "pilasters", "buttresses", "nave_purlins", "supports", "choir_purlins", "trusses", "belfry",
                 "nave_ties"]
 

@@ -210,7 +210,9 @@ def pick_time(src, path, mode=None, time=None):
         t = min(times, key=lambda x: abs(x - time))
     else:
         t = times[-1] if times else 0.0
-    pv.UpdatePipeline(time=t, proxy=src)
+    # The proxy's own UpdatePipeline: paraview.simple's skips a time of 0.0 (falsy) and keeps
+    # the data of the time shown before.
+    src.UpdatePipeline(t)
     return t
 
 

@@ -15,10 +15,13 @@ Writes into `<results>/pictures/` (or --out):
                            results.xdmf, colour map fixed to 0..1: from the south-west, the
                            north-east, a section on the nave axis looking north, and from below
                            (the vault soffits), like the paper's Fig. 8
-  damage-compression.png   the same for d_c_max
+  damage-tension-gravity.png  the same at the first step of results.xdmf (t = 0: the state after
+                           gravity, before the ground moves)
+  damage-compression.png   d_c_max at the last step, the same views
   envelope-drift.png       the peak drift ratio of envelopes.xdmf (when the folder has it)
-  damage-by-substructure.csv  per substructure (shells): area, area share with d_t > 0.05 and
-                           > 0.5, largest d_t, area-weighted mean d_t (printed as well)
+  damage-by-substructure.csv  per state ("gravity": the first step, "end": the last) and
+                           substructure (shells): area, area share with d_t > 0.05 and > 0.5,
+                           largest d_t, area-weighted mean d_t (printed as well)
 
 Needs modes.xdmf and results.xdmf (with their .h5) in the folder; a missing one is an error
 (exit 1) that names it. The XDMF files are read with ParaView's Xdmf3ReaderS, the reader
@@ -175,9 +178,18 @@ def main():
                              bar_title="translation")
             written.append(f)
 
-        # Damage at the end of the earthquake.
+        # Damage after gravity (the first output step) and at the end of the earthquake.
         path = os.path.join(res, "results.xdmf")
         results, _, _ = pv_church.open_input(path)
+        t0 = pv_church.pick_time(results, path, time=pv_church.times_of(results)[0])
+        assoc = pv_church.association(results, "d_t_max", path)
+        _, hi = pv_church.field_range(results, "d_t_max", assoc, 0)
+        f = os.path.join(out, "damage-tension-gravity.png")
+        pv_church.render(results, f, field="d_t_max", assoc=assoc, t=t0, views=DAMAGE_VIEWS,
+                         title=f"tensile damage d_t_max (largest over the layers) after gravity (t = {t0:g} s): max {hi:.3g}",
+                         value_range=(0.0, 1.0), size=size, bar_title="d_t_max", cut_y=a.cut_y)
+        written.append(f)
+        gravity_rows = damage_table(results, "d_t_max", names, path)
         t = pv_church.pick_time(results, path)
         for field, what, name in (("d_t_max", "tensile", "damage-tension.png"),
                                   ("d_c_max", "compressive", "damage-compression.png")):
@@ -192,13 +204,16 @@ def main():
         f = os.path.join(out, "damage-by-substructure.csv")
         with open(f, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(["substructure", "area_m2", "share_dt_above_0.05", "share_dt_above_0.5", "max_dt", "mean_dt"])
-            for r in rows:
-                w.writerow([r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}", f"{r[4]:.4f}", f"{r[5]:.4f}"])
+            w.writerow(["state", "substructure", "area_m2", "share_dt_above_0.05", "share_dt_above_0.5", "max_dt", "mean_dt"])
+            for state, table in (("gravity", gravity_rows), ("end", rows)):
+                for r in table:
+                    w.writerow([state, r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}", f"{r[4]:.4f}", f"{r[5]:.4f}"])
         written.append(f)
-        print(f"tensile damage at t = {t:g} s by substructure (area share with d_t > 0.05 / > 0.5, max, area mean):")
-        for r in rows:
-            print(f"  {r[0]:<14} {r[1]:9.1f} m²  {100 * r[2]:5.1f} %  {100 * r[3]:5.1f} %  max {r[4]:.3f}  mean {r[5]:.3f}")
+        print("tensile damage by substructure (area share with d_t > 0.05 / > 0.5, max, area mean), "
+              f"after gravity (t = {t0:g} s) | at t = {t:g} s:")
+        for g, r in zip(gravity_rows, rows):
+            print(f"  {r[0]:<14} {r[1]:9.1f} m²  {100 * g[2]:5.1f} % {100 * g[3]:5.1f} % max {g[4]:.3f} mean {g[5]:.3f}"
+                  f"  |  {100 * r[2]:5.1f} % {100 * r[3]:5.1f} % max {r[4]:.3f} mean {r[5]:.3f}")
 
         path = os.path.join(res, "envelopes.xdmf")
         if os.path.isfile(path) and os.path.isfile(os.path.join(res, "envelopes.h5")):

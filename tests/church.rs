@@ -2,11 +2,15 @@
 //! few seconds of the debug build, on 1 and 2 ranks.
 //!
 //! ```text
-//!   mesh      the church of scripts/make_church_mesh.py meshed at 1.7 m (about 600 nodes)
-//!   job       jobs/church.toml as committed, with: that mesh; 4 modes; 2 gravity steps; a
-//!             0.1 s, 5 Hz base pulse of 3 m/s² across the nave (7 times the record's PGA, so
-//!             that the masonry damages) instead of the 22 s record; 5 steps of 0.02 s; output
-//!             every step
+//!   mesh      the church of scripts/make_church_mesh.py meshed at 1.4 m (1,472 nodes)
+//!   job       jobs/church.toml as committed (the identified law, 10 gravity steps), with: that
+//!             mesh; 4 modes; a 0.1 s, 5 Hz base pulse of 1.5 m/s² across the nave (3.3 times
+//!             the record's PGA, so that the masonry damages: d_c up to 0.67) instead of the 22 s
+//!             record; 5 steps of 0.02 s; output every step. (At 3 m/s² the masonry crushes,
+//!             d_c 0.997, and 1 and 2 ranks part ways by 1.6 % of the peak: a collapse is
+//!             sensitive to round-off.) At 1.7 m the mesh is too coarse for the identified law:
+//!             its gravity phase stops at λ = 0.969 above the choir opening, which the 0.85 m
+//!             mesh carries with a margin (1.37 times the self-weight, tower modulus as given).
 //!   checks    every stage ran: modes.xdmf, modes-updated.xdmf, stages.json, results.xdmf,
 //!             envelopes.xdmf, monitors.csv, energy.csv, summary.json with the four stages;
 //!             the updating reduced the frequency error, its factors lie within the bounds;
@@ -25,11 +29,11 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The coarse-coarse church mesh (1.7 m), written once per test into `dir`.
+/// The coarse-coarse church mesh (1.4 m), written once per test into `dir`.
 fn write_mesh(dir: &Path) -> PathBuf {
-    let mesh = dir.join("church-1.7.msh");
+    let mesh = dir.join("church-1.4.msh");
     let mut c = Command::new("python3");
-    c.current_dir(root()).args(["scripts/make_church_mesh.py", "--size", "1.7", "-o", mesh.to_str().unwrap()]);
+    c.current_dir(root()).args(["scripts/make_church_mesh.py", "--size", "1.4", "-o", mesh.to_str().unwrap()]);
     let o = run_with_timeout(c, std::time::Duration::from_secs(120));
     assert!(o.status.success(), "mesh script failed (python3 with gmsh: scripts/setup.sh)\n{}\n{}", stdout(&o), stderr(&o));
     mesh
@@ -66,8 +70,6 @@ fn write_job(dir: &Path, mesh: &Path) -> PathBuf {
             "duration = 0.1".to_string()
         } else if line == "modes = 12" {
             "modes = 4".to_string()
-        } else if line.starts_with("gravity_steps = ") {
-            "gravity_steps = 2".to_string()
         } else if line.starts_with("output_every = ") {
             "output_every = 1".to_string()
         } else if line.starts_with("dir = \"../results/church\"") {
@@ -75,7 +77,7 @@ fn write_job(dir: &Path, mesh: &Path) -> PathBuf {
         } else if line.starts_with("existing = ") {
             "existing = \"overwrite\"".to_string()
         } else if line.starts_with("law_file = ") {
-            format!("law_file = \"{}\"", root().join("materials/rubble-masonry.toml").display())
+            line.replace("\"../materials/", &format!("\"{}/materials/", root().display()))
         } else {
             line.to_string()
         };
@@ -85,7 +87,7 @@ fn write_job(dir: &Path, mesh: &Path) -> PathBuf {
     out += "\n[[dynamics.ground_motion]]\ndirection = \"y\"\nfile = \"pulse.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n";
     let job = dir.join("church.toml");
     std::fs::write(&job, out).unwrap();
-    write_pulse(&dir.join("pulse.txt"), 0.01, 0.2, 0.1, 3.0);
+    write_pulse(&dir.join("pulse.txt"), 0.01, 0.2, 0.1, 1.5);
     job
 }
 
@@ -169,7 +171,7 @@ fn church_job_checks_and_bad_updating_input_is_located() {
     let cut = text[..text.find("[dynamics]").unwrap()].to_string() + &text[text.find("[output]").unwrap()..];
     let job2 = dir.join("no-dynamics.toml");
     std::fs::write(&job2, cut.replace("\"../meshes/church.msh\"", &format!("\"{}\"", root().join("meshes/church.msh").display()))
-        .replace("\"../materials/rubble-masonry.toml\"", &format!("\"{}\"", root().join("materials/rubble-masonry.toml").display()))).unwrap();
+        .replace("\"../materials/", &format!("\"{}/materials/", root().display()))).unwrap();
     let o = run(0, &["check", job2.to_str().unwrap()]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");

@@ -95,11 +95,31 @@ fn on_path(exe: &str) -> bool {
     std::env::var_os("PATH").map(|p| std::env::split_paths(&p).any(|d| d.join(exe).is_file())).unwrap_or(false)
 }
 
+/// A mesh group that no part models and no support, load or mass names (the tie rods, their part
+/// removed from the modal job) is left out of the structure: `check` still passes (the rest
+/// stands) and warns once, naming the group and its cells; the groups in use are not named.
+#[test]
+fn a_mesh_group_left_out_of_the_model_is_named_in_a_warning() {
+    let text = std::fs::read_to_string(root().join("jobs/church-modal.toml")).unwrap();
+    let part = "[[parts]]\ngroup = \"nave_ties\"\nsection = \"nave_tie\"\nmaterial = \"wrought_iron\"\n";
+    assert!(text.contains(part), "jobs/church-modal.toml: the nave_ties part changed");
+    let job = root().join("jobs").join(format!("church-modal-no-ties-{}.toml", std::process::id()));
+    std::fs::write(&job, text.replacen(part, "", 1)).unwrap();
+    let o = run(0, &["check", job.to_str().unwrap()]);
+    let _ = std::fs::remove_file(&job);
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    let want = "mesh group 'nave_ties' (3 cells) is in no [[parts]] and no support, load or mass names it";
+    assert_eq!(e.matches(want).count(), 1, "expected one warning naming nave_ties:\n{e}");
+    assert_eq!(e.matches("mesh group '").count(), 1, "only the left-out group is named:\n{e}");
+}
+
 #[test]
 fn church_modes_on_two_ranks_and_the_paraview_picture() {
     // The committed job and mesh pass the checks (groups, sections, mechanisms) without a run.
     let o = run(0, &["check", root().join("jobs/church-modal.toml").to_str().unwrap()]);
     assert!(o.status.success(), "{}\n{}", stdout(&o), stderr(&o));
+    assert!(!stderr(&o).contains("warning"), "every group of the mesh is in the model:\n{}", stderr(&o));
     // The run itself on the same church meshed at 1.7 m (about 1300 nodes instead of 3231): the
     // debug build's element assembly would take most of a minute on the default mesh.
     gmsh_available();

@@ -5,13 +5,14 @@
 //! ```text
 //!   missing file        results.h5 removed: exit code 1, the message names results.h5
 //!   no ParaView         PVPYTHON pointing nowhere: exit code 0, the skip and its reason printed
-//!   ParaView present    mesh.png, mode-1..3.png, damage-tension.png, damage-compression.png,
-//!                       envelope-drift.png exist with the asked size and are not blank (share
-//!                       of drawn pixels, luminance spread, number of colours); damage-tension.png
-//!                       has pixels coloured by damage (and yellow to red: d_t > ~0.5) where
-//!                       damage-compression.png (same views; the fixture has no d_c) has none;
-//!                       damage-by-substructure.csv's largest
-//!                       d_t equals the one read from results.h5 with the hdf5 crate
+//!   ParaView present    mesh.png, mode-1..3.png, damage-tension.png, damage-tension-gravity.png,
+//!                       damage-compression.png, envelope-drift.png exist with the asked size and
+//!                       are not blank (share of drawn pixels, luminance spread, number of
+//!                       colours); damage-tension.png has pixels coloured by damage (and yellow
+//!                       to red: d_t > ~0.5) where damage-compression.png (same views; the
+//!                       fixture has no d_c) has none; damage-by-substructure.csv's largest d_t
+//!                       at the first and the last step equal the ones read from results.h5
+//!                       with the hdf5 crate
 //!   matplotlib present  monitors.png exists and is not blank
 //! ```
 //! Skipped parts print why (pvpython, xvfb-run or matplotlib missing: scripts/setup.sh --paraview).
@@ -127,7 +128,7 @@ fn the_church_pictures() {
     assert!(o.status.success(), "post_church.sh failed");
     println!("post_church.sh: {:.1} s", t0.elapsed().as_secs_f64());
     let pics = dir.join("pictures");
-    for f in ["mesh.png", "mode-1.png", "mode-2.png", "mode-3.png", "damage-compression.png", "envelope-drift.png"] {
+    for f in ["mesh.png", "mode-1.png", "mode-2.png", "mode-3.png", "damage-compression.png", "damage-tension-gravity.png", "envelope-drift.png"] {
         not_blank(&pics.join(f), Some((800, 600)));
     }
     // The fixture's tensile damage, read independently.
@@ -154,11 +155,19 @@ fn the_church_pictures() {
 
     // The table's largest d_t (4 decimals in the CSV) is the file's.
     let table = std::fs::read_to_string(pics.join("damage-by-substructure.csv")).unwrap();
-    let all = table.lines().find(|l| l.starts_with("all shells,")).expect("an 'all shells' row");
-    let max: f64 = all.split(',').nth(4).unwrap().parse().unwrap();
+    let all = table.lines().find(|l| l.starts_with("end,all shells,")).expect("an 'all shells' row at the end");
+    let max: f64 = all.split(',').nth(5).unwrap().parse().unwrap();
     assert!((max - d_max).abs() < 1e-4, "table max {max} vs results.h5 {d_max}");
-    for name in ["nave_vault", "nave_walls", "facade"] {
-        assert!(table.lines().any(|l| l.starts_with(&format!("{name},"))), "no row for {name}:\n{table}");
+    // The first step's rows: the fixture starts undamaged (no gravity, the pulse starts at 0).
+    let first = table.lines().find(|l| l.starts_with("gravity,all shells,")).expect("an 'all shells' row after gravity");
+    let max0: f64 = first.split(',').nth(5).unwrap().parse().unwrap();
+    let d0: Vec<f64> = h5.dataset("steps/0/d_t_max").unwrap().read_raw().unwrap();
+    let d0_max = d0.iter().copied().filter(|x| x.is_finite()).fold(0.0, f64::max);
+    assert!((max0 - d0_max).abs() < 1e-4, "table max after gravity {max0} vs results.h5 step 0 {d0_max}");
+    for state in ["gravity", "end"] {
+        for name in ["nave_vault", "nave_walls", "facade"] {
+            assert!(table.lines().any(|l| l.starts_with(&format!("{state},{name},"))), "no {state} row for {name}:\n{table}");
+        }
     }
 
     if has_matplotlib() {

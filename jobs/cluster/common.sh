@@ -57,7 +57,7 @@ fi
 blas=$(ldd target/release/masonry-hpc 2>/dev/null | awk '/libblas|libopenblas|mkl_core|libblis/ {print $3; exit}')
 echo "BLAS: ${blas:+$(readlink -f "$blas")}"
 
-# 4. The fine mesh: meshes/church-fine.msh is committed (36,637 nodes, 219,822 DOF);
+# 4. The fine mesh: meshes/church-fine.msh is committed (36,688 nodes, 220,128 DOF);
 #    regenerate it if it is missing (needs `pip install --user gmsh`).
 [ -f meshes/church-fine.msh ] || python3 scripts/make_church_mesh.py --fine
 

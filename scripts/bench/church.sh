@@ -3,7 +3,7 @@
 #   church-coarse-full     the whole job on the coarse mesh (19,386 DOF): modal, updating, gravity,
 #                          22 s of record; on 1 and 2 ranks: wall-clock seconds, seconds per time
 #                          step, the speedup of 2 ranks over 1, peak memory per rank (VmHWM)
-#   church-fine-segment    the fine mesh (meshes/church-fine.msh, 219,822 DOF) without updating,
+#   church-fine-segment    the fine mesh (meshes/church-fine.msh, 220,128 DOF) without updating,
 #                          gravity then STEPS time steps (default 5), on 2 ranks: seconds per step,
 #                          peak memory per rank
 # Every line carries the load average at the start and end of the case (`uptime`): the machine

@@ -282,6 +282,31 @@ impl StructuralModel {
     pub fn cell_nodes<'m>(&self, mesh: &'m Mesh) -> Vec<&'m [usize]> {
         self.cells.iter().map(|c| mesh.cells[c.cell].nodes.as_slice()).collect()
     }
+
+    /// The mesh's curve and surface groups whose cells the model leaves out: no part models any
+    /// of them and no support, load or point mass names the group. (name, cells), in file order.
+    /// A group added to a mesh and forgotten in its jobs is such a hole in the structure.
+    pub fn unmodelled_groups(&self, job: &Job, mesh: &Mesh) -> Vec<(String, usize)> {
+        let spec = &job.spec;
+        let mut named: Vec<&str> = spec.supports.iter().map(|s| s.group.as_str()).collect();
+        named.extend(spec.loads.iter().map(|l| match l {
+            LoadConfig::Nodal(NodalLoadConfig { group, .. }) => group.as_str(),
+        }));
+        named.extend(spec.masses.iter().filter_map(|m| m.group.as_deref()));
+        let mut modelled = vec![false; mesh.cells.len()];
+        for c in &self.cells {
+            modelled[c.cell] = true;
+        }
+        mesh.groups
+            .iter()
+            .filter(|g| (g.dim == 1 || g.dim == 2) && !named.contains(&g.name.as_str()))
+            .filter_map(|g| {
+                let cells: Vec<usize> = mesh.cells_in_group(g).collect();
+                let name = if g.name.is_empty() { format!("#{}", g.tag) } else { g.name.clone() };
+                (!cells.is_empty() && cells.iter().all(|&c| !modelled[c])).then_some((name, cells.len()))
+            })
+            .collect()
+    }
 }
 
 /// The message of a tie element that cannot be used: "tie element 1234 of group nave_ties: …".

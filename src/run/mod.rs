@@ -85,6 +85,12 @@ pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> 
         mesh.group_names().join(", ")
     ));
     let model = agree(&ctx.comm, StructuralModel::build(&job, &mesh).map_err(Error::from), Error::exit_code)?;
+    for (group, n) in model.unmodelled_groups(&job, &mesh) {
+        ctx.log.warn(format!(
+            "{}: mesh group '{group}' ({n} cells) is in no [[parts]] and no support, load or mass names it: its cells are not in the model",
+            path.display()
+        ));
+    }
     let mech = model.find_mechanisms(&mesh);
     if let Some(m) = mech.first() {
         let more = if mech.len() > 1 { format!(" ({} such pieces in all)", mech.len()) } else { String::new() };
