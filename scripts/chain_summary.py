@@ -4,7 +4,8 @@
     python3 scripts/chain_summary.py [--identify results/identify-wall] [--church results/church]
                                      [--material materials/rubble-identified.toml]
                                      [--timings results/chain/timings.json]
-                                     [--church-log results/chain/church.log] [--out results/chain]
+                                     [--church-log results/chain/church.log]
+                                     [--comparison results/church-comparison] [--out results/chain]
 
 Writes <out>/summary.md and <out>/summary.json:
   1. calibration against Table 1   <identify>/calibration.json: target, DEM mean +- std (n), error
@@ -16,7 +17,8 @@ Writes <out>/summary.md and <out>/summary.json:
                                    the church log's gravity lines: load factor reached, iterations
   5. damage per substructure       <church>/pictures/damage-by-substructure.csv, after gravity
                                    and at the end of the record
-  6. wall times                    <timings> (written by chain.sh)
+  6. the assumed law beside it    <comparison>/comparison.csv (scripts/compare_laws.sh), if run
+  7. wall times                    <timings> (written by chain.sh)
 A missing input is reported in its section ("not available: ...") rather than stopping the
 summary: the chain reports how far it got. Standard library only.
 """
@@ -255,6 +257,21 @@ def damage_section(church_dir):
     return data, table(header, body)
 
 
+def comparison_section(folder):
+    """The identified and the assumed law's damage side by side (compare_laws.sh), when run."""
+    f = os.path.join(folder, "comparison.csv")
+    if not os.path.isfile(f):
+        return None, ""
+    with open(f, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows:
+        return None, ""
+    header, body = rows[0], rows[1:]
+    picture = os.path.join(folder, "damage-side-by-side.png")
+    md = table(header, body) + (f"\n\nPicture: `{picture}`" if os.path.isfile(picture) else "")
+    return [dict(zip(header, r)) for r in body], md
+
+
 def time_history_line(church_dir):
     s, _ = load_json(os.path.join(church_dir, "summary.json"))
     th = s.get("time_history") if isinstance(s, dict) else None
@@ -276,6 +293,7 @@ def main():
     ap.add_argument("--material", default="materials/rubble-identified.toml")
     ap.add_argument("--timings", default="results/chain/timings.json")
     ap.add_argument("--church-log", default="results/chain/church.log")
+    ap.add_argument("--comparison", default="results/church-comparison")
     ap.add_argument("--out", default="results/chain")
     a = ap.parse_args()
 
@@ -311,12 +329,17 @@ def main():
 
     th, th_md = time_history_line(a.church)
     dm, dm_md = damage_section(a.church)
-    md += ["## 5. Damage per substructure at the end", ""]
+    md += ["## 5. Damage per substructure after gravity and at the end", ""]
     if th_md:
         md += [th_md, ""]
     md += [dm_md, ""]
     summary["time_history"] = th
     summary["damage"] = dm
+
+    cmp_data, cmp_md = comparison_section(a.comparison)
+    if cmp_data is not None:
+        md += ["## 6. The same church on the assumed law (scripts/compare_laws.sh)", "", cmp_md, ""]
+        summary["comparison"] = cmp_data
 
     with open(os.path.join(a.out, "summary.md"), "w") as f:
         f.write("\n".join(md))
