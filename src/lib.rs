@@ -1,25 +1,24 @@
 //! masonry-hpc: an MPI-parallel solver for the seismic assessment of historical masonry buildings.
 //!
-//! Read `ARCHITECTURE.md` first. The crate follows the physics and the numerics:
+//! Read `ARCHITECTURE.md` first. The modules form layers; each imports only from the layers
+//! below it (no import cycle between modules):
 //!
-//! | module      | concept                                                                  |
-//! |-------------|--------------------------------------------------------------------------|
-//! | [`config`]  | typed job files (TOML), validated once at load                          |
-//! | [`dem`]     | the 2D discrete-element virtual testing lab                              |
-//! | [`parallel`]| MPI context, rank-aware logging, METIS partition, DOF numbering, ghosts |
-//! | [`petsc`]   | the project's own PETSc/SLEPc binding and its safe RAII layer           |
-//! | [`mesh`]    | Gmsh MSH 4.1 input and the in-memory mesh                                |
-//! | [`element`] | finite elements (3D frame beam, later shells and fiber beams)           |
-//! | [`model`]   | the structural model: mesh + sections + supports + loads                |
-//! | [`analysis`]| drivers: setup, assemble, solve, output                                  |
-//! | [`io`]      | parallel HDF5 + XDMF results                                             |
-//! | [`run`]     | a whole job: input checks agreed across ranks, PETSc start, dispatch     |
+//! | layer              | modules                                                                  |
+//! |--------------------|--------------------------------------------------------------------------|
+//! | jobs               | [`run`]: input agreed across ranks, dispatch, the non-FE job drivers     |
+//! | FE analyses        | [`analysis`]: static, modal, updating, time history, seismic assessment, and their machinery (discretization, assembly, Newton) |
+//! | model and input    | [`model`] (mesh + parts + supports + loads), [`config`] (typed job files) |
+//! | domain             | [`element`], [`material`], [`dem`], [`identify`], [`seismic`]            |
+//! | platform           | [`petsc`], [`mesh`], [`io`], [`parallel`], [`plot`]                      |
+//! | leaves             | [`error`] (the run's error and its exit codes), [`fault`] (fault injection for tests) |
 #![warn(missing_docs)]
 
 pub mod analysis;
 pub mod config;
 pub mod dem;
 pub mod element;
+pub mod error;
+pub mod fault;
 pub mod identify;
 pub mod io;
 pub mod material;

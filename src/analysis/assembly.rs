@@ -14,7 +14,7 @@ use crate::element::{AppliedLoads, ElementOutput, EvalRequest};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::petsc::{Matrix, Vector};
-use crate::run::Error;
+use crate::error::Error;
 
 /// Which equations an assembled vector fills.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

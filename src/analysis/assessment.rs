@@ -23,7 +23,7 @@ use crate::config::{AssessmentConfig, Job, MaterialConfig, Source};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::run::Error;
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;

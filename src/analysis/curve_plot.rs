@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::config::CurveOverlayConfig;
 use crate::plot::{LineChart, SeriesStyle};
-use crate::run::Error;
+use crate::error::Error;
 
 /// Reads the overlay curve: columns `x` and `y` of a CSV file with a header line, scaled.
 /// Lines whose two fields do not parse as numbers are skipped; no point at all is an error.

@@ -9,7 +9,7 @@ use crate::mesh::CellKind;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, partition_cells, Context, DofMap};
-use crate::run::Error;
+use crate::error::Error;
 
 /// The discrete system of one rank.
 pub struct Discretization {

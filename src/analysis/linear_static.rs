@@ -11,7 +11,7 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Petsc, Vector};
-use crate::run::Error;
+use crate::error::Error;
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 use std::time::Instant;
@@ -100,7 +100,7 @@ pub fn run(
     ));
 
     // Assemble.
-    crate::run::fault::inject("assembly", ctx.rank)?;
+    crate::fault::inject("assembly", ctx.rank)?;
     let t0 = Instant::now();
     assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k)?;
     assembly::assemble_loads(&disc, mesh, model, Rows::Free, &mut f)?;

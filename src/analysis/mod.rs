@@ -1,21 +1,19 @@
-//! Analysis drivers. Each reads as phases — setup, assemble, solve, check, output — each timed,
-//! and takes what it needs (context, job, mesh, model) as arguments.
+//! The finite-element analyses and their machinery. Each analysis reads as phases — setup,
+//! assemble, solve, check, output — and takes what it needs (context, job, mesh, model) as
+//! arguments. The job drivers that use no FE machinery (the DEM lab, the identification, the
+//! spectrum and the material point) are in [`crate::run`], beside the dispatch.
 pub mod assembly;
 pub mod assessment;
 pub mod curve_plot;
-pub mod dem;
-pub mod identify;
 pub mod increment;
 mod discretization;
 pub mod line_search;
 pub mod linear_static;
-pub mod material_point;
 pub mod modal;
 pub mod modal_updating;
 pub mod newton;
 pub mod nonlocal;
 pub mod output;
-pub mod spectrum;
 pub mod static_nonlinear;
 pub mod time_history;
 mod rigid_modes;

@@ -16,7 +16,7 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Eps, Matrix, Vector};
-use crate::run::Error;
+use crate::error::Error;
 use std::time::Instant;
 
 /// One mode.

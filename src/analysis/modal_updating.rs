@@ -25,7 +25,7 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
 use crate::petsc::{Matrix, Vector};
-use crate::run::Error;
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
 

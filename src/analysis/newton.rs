@@ -32,7 +32,7 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Matrix, Vector};
-use crate::run::Error;
+use crate::error::Error;
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 

@@ -35,7 +35,7 @@ use crate::material::nonlocal::bell;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
-use crate::run::Error;
+use crate::error::Error;
 
 /// The averaging operator of one run (module docs).
 #[derive(Debug)]

@@ -7,7 +7,7 @@ use crate::io::{OutputMesh, ResultsWriter};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
-use crate::run::Error;
+use crate::error::Error;
 use mpi::traits::{Communicator, CommunicatorCollectives};
 
 /// Collective. The largest `value` over ranks and the tag that goes with it (ties: lowest rank).

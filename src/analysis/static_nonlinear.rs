@@ -51,7 +51,7 @@ use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::run::Error;
+use crate::error::Error;
 
 /// One converged increment.
 #[derive(Debug, Clone, serde::Serialize)]

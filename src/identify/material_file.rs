@@ -169,7 +169,7 @@ pub fn relative_path(from: &Path, to: &Path) -> PathBuf {
     let abs = |p: &Path| {
         let p = if p.is_absolute() { p.to_path_buf() } else { std::env::current_dir().unwrap_or_default().join(p) };
         let p = std::fs::canonicalize(&p).unwrap_or(p);
-        crate::config::normalize(&p)
+        crate::io::normalize(&p)
     };
     let (f, t) = (abs(from), abs(to));
     let fc: Vec<Component> = f.components().collect();

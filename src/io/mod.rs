@@ -9,6 +9,7 @@
 //! | `collective.rs`    | agreeing on arguments across ranks before a collective call |
 //! | `xdmf.rs`          | the XDMF index text and its atomic replacement              |
 //! | `error.rs`         | [`IoError`]                                                 |
+//! | `paths.rs`         | [`normalize`]: paths as the user reads them in messages      |
 //!
 //! Use: `ResultsWriter::create` once (writes the mesh), then per output step `begin_step(t)`,
 //! any number of `write_node_field` / `write_cell_field`, `end_step()`. After every `end_step`
@@ -18,9 +19,11 @@ mod collective;
 mod error;
 mod hyperslab;
 mod output_mesh;
+mod paths;
 mod results;
 mod xdmf;
 
 pub use error::IoError;
 pub use output_mesh::OutputMesh;
+pub use paths::normalize;
 pub use results::ResultsWriter;

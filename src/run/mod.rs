@@ -1,10 +1,22 @@
 //! Running a job: load and check the input on every rank (errors agreed collectively), start
 //! PETSc with the job's options under the command line's, run the analysis, write the summary.
-mod error;
-pub mod fault;
+//! The top layer of the crate, under `main`: it dispatches the structural jobs to
+//! [`crate::analysis`], and holds the drivers of the jobs that use no FE machinery:
+//!
+//! | file                | job                                                              |
+//! |---------------------|------------------------------------------------------------------|
+//! | `dem.rs`            | `[analysis] type = "dem"`: virtual tests of the DEM lab, batched over ranks |
+//! | `identify.rs`       | `"identification"`: calibration, virtual tests, law fit, material file |
+//! | `spectrum.rs`       | `"spectrum"`: a record's response spectra against Eurocode 8     |
+//! | `material_point.rs` | `"material_point"`: one integration point along a strain path   |
+//! | `output_dir.rs`     | the results folder: backup, overwrite or refuse                  |
+pub mod dem;
+pub mod identify;
+pub mod material_point;
 mod output_dir;
+pub mod spectrum;
 
-pub use error::Error;
+pub use crate::error::Error;
 pub use output_dir::{backup_path, prepare_output_dir};
 
 use crate::analysis::linear_static;
@@ -120,14 +132,14 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
         AnyJob::Identify(job) => {
             ctx.log.info(format!("job {}{}", path.display(), job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()));
             prepare(ctx, &job.output_dir, job.spec.output.existing)?;
-            let summary = crate::analysis::identify::run(ctx, path, &job)?;
+            let summary = identify::run(ctx, path, &job)?;
             ctx.log.info(format!("results: {}", job.output_dir.display()));
             write_summary(ctx, &job.output_dir, &summary)
         }
         AnyJob::Spectrum(job) => {
             ctx.log.info(format!("job {}", path.display()));
             prepare(ctx, &job.output_dir, job.spec.output.existing)?;
-            let summary = crate::analysis::spectrum::run(ctx, &job)?;
+            let summary = spectrum::run(ctx, &job)?;
             ctx.log.info(format!("results: {}", job.output_dir.display()));
             write_summary(ctx, &job.output_dir, &summary)
         }
@@ -159,7 +171,7 @@ fn run_material_point(ctx: &Context, path: &Path, job: &MaterialPointJob) -> Res
         job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
     ));
     prepare(ctx, &job.output_dir, job.spec.output.existing)?;
-    let summary = crate::analysis::material_point::run(ctx, job)?;
+    let summary = material_point::run(ctx, job)?;
     ctx.log.info(format!("results: {}", job.output_dir.display()));
     write_summary(ctx, &job.output_dir, &summary)
 }
@@ -171,7 +183,7 @@ fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob) -> Result<()
         job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
     ));
     prepare(ctx, &job.output_dir, job.spec.output.existing)?;
-    let summary = crate::analysis::dem::run(ctx, job)?;
+    let summary = dem::run(ctx, job)?;
     ctx.log.info(format!("results: {}", job.output_dir.display()));
     write_summary(ctx, &job.output_dir, &summary)
 }

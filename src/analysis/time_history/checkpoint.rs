@@ -18,7 +18,7 @@
 //! (the partition, hence the owned DOFs and elements, depends on it).
 use crate::element::Element;
 use crate::parallel::Context;
-use crate::run::Error;
+use crate::error::Error;
 use mpi::traits::CommunicatorCollectives;
 use std::path::{Path, PathBuf};
 

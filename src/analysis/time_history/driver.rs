@@ -34,7 +34,7 @@ use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::run::Error;
+use crate::error::Error;
 use mpi::traits::{Communicator, Root};
 use std::time::Instant;
 
@@ -290,7 +290,7 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
     let factorizations0 = sys.factorizations;
     log.info(format!("time history: {n_steps} step(s) of {dt} s from step {} (t = {} s)", state.step, state.t));
     while state.step < n_steps {
-        crate::run::fault::inject(&format!("time_step_{}", state.step + 1), ctx.rank)?;
+        crate::fault::inject(&format!("time_step_{}", state.step + 1), ctx.rank)?;
         let target = ((state.step + 1) as f64 * dt).min(cfg.duration);
         let report = match stepper.advance(sys, &ground, &mut state, target, dt) {
             Ok(r) => r,

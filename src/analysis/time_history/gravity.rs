@@ -148,14 +148,14 @@ fn line_search_step<S: DynamicSystem>(
     du: &[f64],
     r: &[f64],
     fi: &mut [f64],
-) -> Result<bool, crate::run::Error> {
+) -> Result<bool, crate::error::Error> {
     let n = trial.len();
     let s0 = sys.dot(du, r);
     let base = trial.to_vec();
     for i in 0..n {
         trial[i] = base[i] + du[i];
     }
-    let residual_along = |sys: &mut S, x: &[f64], fi: &mut [f64]| -> Result<f64, crate::run::Error> {
+    let residual_along = |sys: &mut S, x: &[f64], fi: &mut [f64]| -> Result<f64, crate::error::Error> {
         sys.internal_force(x, fi)?;
         let r1: Vec<f64> = (0..n).map(|i| target * f[i] - fi[i]).collect();
         Ok(sys.dot(du, &r1))
@@ -176,7 +176,7 @@ fn line_search_step<S: DynamicSystem>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::Error;
+    use crate::error::Error;
 
     /// One DOF under a static load F with f_int(u) = ∛(u − a) + ∛a: monotone, f_int(0) = 0, and
     /// the root of F = ∛a at u = a. Full Newton on a cube root diverges from any start:

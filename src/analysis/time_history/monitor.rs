@@ -8,7 +8,7 @@
 use crate::config::MonitorConfig;
 use crate::mesh::Mesh;
 use crate::parallel::{Context, DofMap};
-use crate::run::Error;
+use crate::error::Error;
 use mpi::traits::CommunicatorCollectives;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -25,7 +25,7 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Matrix, Vector};
-use crate::run::Error;
+use crate::error::Error;
 use mpi::traits::CommunicatorCollectives;
 use std::collections::HashMap;
 use std::time::Instant;

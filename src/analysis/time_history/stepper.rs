@@ -65,7 +65,7 @@ pub struct State {
 impl State {
     /// At rest at `u0` (a static equilibrium under `f_static`) when the ground starts moving with
     /// `a_g(0)`: `v = 0` and `M a = −Σ M ι_d a_g,d(0)`, so `a = −Σ ι_d a_g,d(0)`.
-    pub fn at_rest<S: DynamicSystem>(sys: &mut S, u0: Vec<f64>, ag0: [f64; 3]) -> Result<State, crate::run::Error> {
+    pub fn at_rest<S: DynamicSystem>(sys: &mut S, u0: Vec<f64>, ag0: [f64; 3]) -> Result<State, crate::error::Error> {
         let n = sys.len();
         let mut a = vec![0.0; n];
         for d in 0..3 {
@@ -77,7 +77,7 @@ impl State {
     }
 
     /// From given `u`, `v`, `a` (the caller ensures that `a` satisfies the equation of motion).
-    pub fn new<S: DynamicSystem>(sys: &mut S, u: Vec<f64>, v: Vec<f64>, a: Vec<f64>) -> Result<State, crate::run::Error> {
+    pub fn new<S: DynamicSystem>(sys: &mut S, u: Vec<f64>, v: Vec<f64>, a: Vec<f64>) -> Result<State, crate::error::Error> {
         let n = sys.len();
         let mut f_int = vec![0.0; n];
         sys.internal_force(&u, &mut f_int)?;

@@ -5,7 +5,7 @@
 //! Vectors are the rank's **owned** entries of the global vectors (the whole vector on one
 //! rank); [`DynamicSystem::dot`] reduces over ranks. Fixed DOFs stay in the vectors with the
 //! value 0 in every residual and every load, so they never move relative to the ground.
-use crate::run::Error;
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 
 /// A semi-discrete structure `M ü + C u̇ + f_int(u) = f(t)`.

@@ -227,10 +227,10 @@ impl DynamicSystem for Duffing {
     fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
         a[0] * b[0]
     }
-    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::run::Error> {
+    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
         self.lin.mass_mult(x, y)
     }
-    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::run::Error> {
+    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
         self.lin.damping_mult(x, y)
     }
     fn mass_influence(&self, d: usize) -> &[f64] {
@@ -242,16 +242,16 @@ impl DynamicSystem for Duffing {
     fn static_load(&self) -> &[f64] {
         self.lin.static_load()
     }
-    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), crate::run::Error> {
+    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), crate::error::Error> {
         f[0] = self.lin.k[(0, 0)] * u[0] + self.k3 * u[0].powi(3);
         Ok(())
     }
-    fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), crate::run::Error> {
+    fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), crate::error::Error> {
         let u = tangent_at.map_or(0.0, |u| u[0]);
         self.lu = self.lin.k[(0, 0)] + 3.0 * self.k3 * u * u + c_m * self.lin.m[(0, 0)] + c_c * self.lin.c[(0, 0)];
         Ok(())
     }
-    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), crate::run::Error> {
+    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), crate::error::Error> {
         x[0] = r[0] / self.lu;
         Ok(())
     }

@@ -13,7 +13,7 @@ use crate::config::{Kinematics, MaterialPointJob, PathConfig};
 use crate::material::{run_path, LoadPath, NewtonSettings, PathError, PathRecord, PlaneStress, StressState, ThreeD, Uniaxial};
 use crate::parallel::Context;
 use crate::plot::{LineChart, SeriesStyle};
-use crate::run::Error;
+use crate::error::Error;
 use std::fmt::Write as _;
 use std::path::Path;
 

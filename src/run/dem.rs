@@ -23,7 +23,7 @@ use crate::dem::output::write_particle_states;
 use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
 use crate::parallel::{agree, run_batch, Context};
 use crate::plot::{LineChart, SeriesStyle};
-use crate::run::Error;
+use crate::error::Error;
 use std::fmt::Write as _;
 use std::path::Path;
 

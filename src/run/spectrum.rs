@@ -6,7 +6,7 @@
 //! record's intensity measures (PGA, PGV, PGD, Arias intensity, D5–95) and peak Sa.
 use crate::config::SpectrumJob;
 use crate::parallel::{agree, Context};
-use crate::run::Error;
+use crate::error::Error;
 use crate::seismic::{intensity, log_periods, record_png, response_spectrum, spectrum_png, Ec8Spectrum, Ec8Type};
 use std::fmt::Write as _;
 

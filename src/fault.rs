@@ -4,7 +4,7 @@
 //! phase (e.g. `assembly@1`), while the other ranks go on into the phase's collective calls.
 //! Without the abort in `main` they would wait forever; with it, the run ends with the failing
 //! rank's message. The variable is read once per phase; it is unset in normal use.
-use super::Error;
+use crate::error::Error;
 
 /// The environment variable that injects a fault.
 pub const FAULT_VAR: &str = "MASONRY_HPC_INJECT_FAULT";

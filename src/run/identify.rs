@@ -21,7 +21,7 @@ use crate::identify::virtual_tests::run_virtual_tests;
 use crate::identify::{calibrate, identify, Calibration, EgoSettings, IdentifyError, LawFit, LawResult, Space};
 use crate::parallel::{agree, Context};
 use crate::plot::{LineChart, SeriesStyle};
-use crate::run::Error;
+use crate::error::Error;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;

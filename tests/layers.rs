@@ -1,0 +1,138 @@
+//! The crate's layers (src/lib.rs): each top-level module of `src/` imports only from its own
+//! layer or the layers below, and no two modules import each other, directly or through others.
+//!
+//! ```text
+//!   6  run                                   jobs: dispatch, the non-FE job drivers
+//!   5  analysis, error, fault                FE analyses and machinery; the run's error
+//!   4  model, config                         the structural model, typed job files
+//!   3  element, material, dem, identify, seismic
+//!   2  petsc, mesh, io, parallel, plot       platform
+//! ```
+//! An import is any `crate::<module>` path in code (comments and doc links excluded): a
+//! `use crate::x::…`, a `crate::x::f(…)` call, or a name inside `use crate::{…}`.
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+const LAYERS: [(&str, u32); 17] = [
+    ("run", 6),
+    ("analysis", 5),
+    ("error", 5),
+    ("fault", 5),
+    ("model", 4),
+    ("config", 4),
+    ("element", 3),
+    ("material", 3),
+    ("dem", 3),
+    ("identify", 3),
+    ("seismic", 3),
+    ("petsc", 2),
+    ("mesh", 2),
+    ("io", 2),
+    ("parallel", 2),
+    ("plot", 2),
+    ("lib", 7),
+];
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The top-level module a file belongs to (`src/analysis/x.rs` → analysis, `src/error.rs` → error).
+fn module_of(src: &Path, file: &Path) -> String {
+    let rel = file.strip_prefix(src).unwrap();
+    let first = rel.components().next().unwrap().as_os_str().to_string_lossy().into_owned();
+    first.trim_end_matches(".rs").to_string()
+}
+
+/// The modules a file's code names through `crate::`.
+fn imports(text: &str, modules: &BTreeSet<String>) -> BTreeSet<String> {
+    let code: String = text.lines().filter(|l| !l.trim_start().starts_with("//")).collect::<Vec<_>>().join("\n");
+    let mut found = BTreeSet::new();
+    let mut rest = code.as_str();
+    while let Some(i) = rest.find("crate::") {
+        rest = &rest[i + "crate::".len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            // use crate::{a::X, b, c::{…}}: every name at the group's top level.
+            let end = group.find('}').unwrap_or(group.len());
+            for part in group[..end].split(',') {
+                let name: String = part.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+                if modules.contains(&name) {
+                    found.insert(name);
+                }
+            }
+        } else {
+            let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            if modules.contains(&name) {
+                found.insert(name);
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn modules_import_downwards_only_and_without_cycles() {
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src");
+    let layer: BTreeMap<String, u32> = LAYERS.iter().map(|(m, l)| (m.to_string(), *l)).collect();
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut modules: BTreeSet<String> = files.iter().map(|f| module_of(&src, f)).collect();
+    modules.remove("main");
+    for m in &modules {
+        assert!(layer.contains_key(m), "src/{m}: a new top-level module: give it a layer in tests/layers.rs and src/lib.rs");
+    }
+    let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut wrong = Vec::new();
+    for f in &files {
+        let from = module_of(&src, f);
+        if from == "main" || from == "lib" {
+            continue;
+        }
+        for to in imports(&std::fs::read_to_string(f).unwrap(), &modules) {
+            if to == from {
+                continue;
+            }
+            if layer[&to] > layer[&from] {
+                wrong.push(format!("{} ({from}, layer {}) imports {to} (layer {})", f.display(), layer[&from], layer[&to]));
+            }
+            edges.entry(from.clone()).or_default().insert(to);
+        }
+    }
+    assert!(wrong.is_empty(), "imports that point up:\n{}", wrong.join("\n"));
+    // No cycle: a depth-first search finds no module on its own path.
+    fn visit(m: &str, edges: &BTreeMap<String, BTreeSet<String>>, path: &mut Vec<String>, done: &mut BTreeSet<String>) -> Option<Vec<String>> {
+        if let Some(i) = path.iter().position(|p| p == m) {
+            let mut cycle = path[i..].to_vec();
+            cycle.push(m.to_string());
+            return Some(cycle);
+        }
+        if done.contains(m) {
+            return None;
+        }
+        path.push(m.to_string());
+        for n in edges.get(m).into_iter().flatten() {
+            if let Some(c) = visit(n, edges, path, done) {
+                return Some(c);
+            }
+        }
+        path.pop();
+        done.insert(m.to_string());
+        None
+    }
+    let mut done = BTreeSet::new();
+    for m in edges.keys() {
+        if let Some(c) = visit(m, &edges, &mut Vec::new(), &mut done) {
+            panic!("an import cycle between modules: {}", c.join(" → "));
+        }
+    }
+    // The check can fail: a planted upward import is found.
+    let planted = imports("use crate::run::Error;\nfn f() { crate::analysis::x(); }\n// crate::dem in a comment\n", &modules);
+    assert_eq!(planted, ["analysis", "run"].iter().map(|s| s.to_string()).collect());
+}
