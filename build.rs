@@ -54,12 +54,8 @@ fn main() {
         .merge_extern_blocks(true)
         .raw_line("use mpi::ffi::*;")
         .parse_callbacks(Box::new(bindgen::CargoCallbacks::new()));
-    let bindings = builder
-        .generate()
-        .unwrap_or_else(|e| panic!("bindgen failed on {WRAPPER}: {e}"));
+    let bindings = builder.generate().unwrap_or_else(|e| panic!("bindgen failed on {WRAPPER}: {e}"));
 
     let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("petsc_bindings.rs");
-    bindings
-        .write_to_file(&out)
-        .unwrap_or_else(|e| panic!("cannot write {}: {e}", out.display()));
+    bindings.write_to_file(&out).unwrap_or_else(|e| panic!("cannot write {}: {e}", out.display()));
 }

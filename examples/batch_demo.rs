@@ -48,7 +48,10 @@ fn main() {
                     Err(e) => errors.push(serde_json::json!([k, e])),
                 }
             }
-            println!("{}", serde_json::json!({ "n": results.len(), "tasks": tasks, "errors": errors, "per_rank": per_rank }));
+            println!(
+                "{}",
+                serde_json::json!({ "n": results.len(), "tasks": tasks, "errors": errors, "per_rank": per_rank })
+            );
         }
         Ok(None) => {}
         Err(e) => {

@@ -40,15 +40,8 @@ use mpi::traits::Communicator;
 
 /// All nodes of the demo mesh, in output order.
 fn coords() -> Vec<[f64; 3]> {
-    let mut c: Vec<[f64; 3]> = (0..9)
-        .map(|i| [(i % 3) as f64, (i / 3) as f64, 0.0])
-        .collect();
-    c.extend([
-        [3.0, 0.0, 0.0],
-        [3.0, 1.0, 0.0],
-        [0.0, 0.0, -1.0],
-        [2.0, 0.0, -1.0],
-    ]);
+    let mut c: Vec<[f64; 3]> = (0..9).map(|i| [(i % 3) as f64, (i / 3) as f64, 0.0]).collect();
+    c.extend([[3.0, 0.0, 0.0], [3.0, 1.0, 0.0], [0.0, 0.0, -1.0], [2.0, 0.0, -1.0]]);
     c
 }
 
@@ -73,29 +66,19 @@ fn block(n: usize, parts: usize, r: usize) -> std::ops::Range<usize> {
     (r * n / parts)..((r + 1) * n / parts)
 }
 
-fn run(
-    world: &mpi::topology::SimpleCommunicator,
-    dir: &std::path::Path,
-    abort: Option<&str>,
-) -> Result<(), IoError> {
+fn run(world: &mpi::topology::SimpleCommunicator, dir: &std::path::Path, abort: Option<&str>) -> Result<(), IoError> {
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let all_coords = coords();
     let all_cells = cells();
     let nodes = block(all_coords.len(), size, rank);
     let cell_parts = if size > 1 { size - 1 } else { 1 };
-    let my_cells = if rank < cell_parts {
-        block(all_cells.len(), cell_parts, rank)
-    } else {
-        all_cells.len()..all_cells.len()
-    };
+    let my_cells =
+        if rank < cell_parts { block(all_cells.len(), cell_parts, rank) } else { all_cells.len()..all_cells.len() };
 
     let coords = &all_coords[nodes.clone()];
     let node_ids: Vec<u64> = nodes.clone().map(|i| 100 + i as u64).collect();
     let kinds: Vec<CellKind> = all_cells[my_cells.clone()].iter().map(|c| c.0).collect();
-    let cell_nodes: Vec<usize> = all_cells[my_cells.clone()]
-        .iter()
-        .flat_map(|c| c.1.clone())
-        .collect();
+    let cell_nodes: Vec<usize> = all_cells[my_cells.clone()].iter().flat_map(|c| c.1.clone()).collect();
     let cell_ids: Vec<u64> = my_cells.clone().map(|i| 1000 + i as u64).collect();
     let groups: Vec<i32> = all_cells[my_cells.clone()].iter().map(|c| c.2).collect();
     let mesh = OutputMesh {
@@ -118,20 +101,11 @@ fn run(
 
     for (k, t) in [0.1, 0.2, 0.1 + 0.2].into_iter().enumerate() {
         out.begin_step(t)?;
-        let disp: Vec<f64> = coords
-            .iter()
-            .flat_map(|x| [x[0] * t, x[1] * t, 0.5 * t])
-            .collect();
+        let disp: Vec<f64> = coords.iter().flat_map(|x| [x[0] * t, x[1] * t, 0.5 * t]).collect();
         out.write_node_field("displacement", 3, &disp)?;
-        let temp: Vec<f64> = coords
-            .iter()
-            .map(|x| x[0] + 10.0 * x[1] + 100.0 * t)
-            .collect();
+        let temp: Vec<f64> = coords.iter().map(|x| x[0] + 10.0 * x[1] + 100.0 * t).collect();
         out.write_node_field("temperature", 1, &temp)?;
-        let urot: Vec<f64> = coords
-            .iter()
-            .flat_map(|x| [x[0], x[1], x[2], t, 2.0 * t, 3.0 * t])
-            .collect();
+        let urot: Vec<f64> = coords.iter().flat_map(|x| [x[0], x[1], x[2], t, 2.0 * t, 3.0 * t]).collect();
         out.write_node_field("u_rot", 6, &urot)?;
         let damage: Vec<f64> = my_cells.clone().map(|c| c as f64 * t).collect();
         out.write_cell_field("damage", 1, &damage)?;
@@ -155,10 +129,7 @@ fn run(
         }
         out.end_step()?;
         if rank == 0 {
-            println!(
-                "step {k}: t = {t:?} written to {}",
-                out.xdmf_path().display()
-            );
+            println!("step {k}: t = {t:?} written to {}", out.xdmf_path().display());
         }
     }
     if abort == Some("--abort-in-step") {
@@ -179,10 +150,7 @@ fn main() {
         std::process::exit(1);
     };
     let world = universe.world();
-    let dir = std::env::args()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("io_demo_out"));
+    let dir = std::env::args().nth(1).map(PathBuf::from).unwrap_or_else(|| PathBuf::from("io_demo_out"));
     let abort = std::env::args().nth(2);
     if let Err(e) = run(&world, &dir, abort.as_deref()) {
         eprintln!("rank {}: {e}", world.rank());

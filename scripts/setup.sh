@@ -52,4 +52,10 @@ if [ "${#py_missing[@]}" -gt 0 ]; then
   echo "setup: installing Python packages: ${py_missing[*]}"
   python3 -m pip install -q --disable-pip-version-check --root-user-action=ignore "${py_missing[@]}"
 fi
+# rustfmt and clippy, which the test command runs (scripts/test.sh), when rustup manages Rust.
+if command -v rustup >/dev/null 2>&1; then
+  for c in rustfmt clippy; do
+    rustup component list --installed 2>/dev/null | grep -q "^$c" || { echo "setup: rustup component add $c"; rustup component add "$c" >/dev/null; }
+  done
+fi
 exit 0

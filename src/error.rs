@@ -5,8 +5,8 @@ use crate::element::ElementError;
 use crate::io::IoError;
 use crate::mesh::MshError;
 use crate::model::ModelError;
-use crate::parallel::PartitionError;
 use crate::parallel::Agreed;
+use crate::parallel::PartitionError;
 use crate::petsc::{PetscError, SolverError};
 
 /// Anything that stops a run.

@@ -35,7 +35,12 @@ fn the_valid_case_runs() {
 
 #[test]
 fn malformed_toml() {
-    expect_error("malformed", |d| edit(d, "job.toml", "[mesh]", "[mesh"), 2, &["job.toml:3:6", "unclosed table, expected `]`"]);
+    expect_error(
+        "malformed",
+        |d| edit(d, "job.toml", "[mesh]", "[mesh"),
+        2,
+        &["job.toml:3:6", "unclosed table, expected `]`"],
+    );
 }
 
 #[test]

@@ -14,8 +14,15 @@ use std::path::{Path, PathBuf};
 
 /// Writes the valid model in `dir`; returns the job path.
 fn valid_case(dir: &Path) -> PathBuf {
-    let nodes: [[f64; 3]; 7] =
-        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+    let nodes: [[f64; 3]; 7] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [2.0, 0.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
     write_mesh(dir, &nodes);
     let job = "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"m.msh\"\n\
         [materials.m]\ntype = \"elastic\"\nE = 3.0e9\nnu = 0.2\n\
@@ -71,8 +78,15 @@ fn expect_error(name: &str, break_it: impl Fn(&Path), code: i32, needles: &[&str
 
 /// Moves node `n` (1-based) of the valid mesh to `x`.
 fn move_node(dir: &Path, n: usize, x: [f64; 3]) {
-    let mut nodes: [[f64; 3]; 7] =
-        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+    let mut nodes: [[f64; 3]; 7] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [2.0, 0.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
     nodes[n - 1] = x;
     write_mesh(dir, &nodes);
 }
@@ -90,7 +104,12 @@ fn the_valid_shell_and_beam_case_runs() {
 #[test]
 fn zero_length_beam() {
     // Node 7 onto node 4: the beam 4–7 has zero length.
-    expect_error("bad-el-zero-length", |d| move_node(d, 7, [0.0, 0.0, 1.0]), 2, &["element 6 (group 'beam')", "zero-length"]);
+    expect_error(
+        "bad-el-zero-length",
+        |d| move_node(d, 7, [0.0, 0.0, 1.0]),
+        2,
+        &["element 6 (group 'beam')", "zero-length"],
+    );
 }
 
 #[test]
@@ -113,7 +132,12 @@ fn warped_quadrilateral_beyond_the_limit() {
 #[test]
 fn degenerate_triangle() {
     // Node 6 onto the line 2–3 extended: the triangle 2-3-6 has zero area.
-    expect_error("bad-el-degenerate-tri", |d| move_node(d, 6, [3.0, 0.0, 0.0]), 2, &["element 8 (group 'tris')", "degenerate"]);
+    expect_error(
+        "bad-el-degenerate-tri",
+        |d| move_node(d, 6, [3.0, 0.0, 0.0]),
+        2,
+        &["element 8 (group 'tris')", "degenerate"],
+    );
 }
 
 #[test]
@@ -134,7 +158,12 @@ fn non_positive_thickness() {
 
 #[test]
 fn zero_layers() {
-    expect_error("bad-el-layers", |d| edit(d, "job.toml", "layers = 3", "layers = 0"), 2, &["job.toml:12:1", "sections.wall.layers", "expected 1 to 99 layers, got 0"]);
+    expect_error(
+        "bad-el-layers",
+        |d| edit(d, "job.toml", "layers = 3", "layers = 0"),
+        2,
+        &["job.toml:12:1", "sections.wall.layers", "expected 1 to 99 layers, got 0"],
+    );
 }
 
 /// A tied portal: two piers (frames 1–2 and 3–4, clamped at nodes 1 and 3) whose tops are
@@ -151,7 +180,13 @@ fn tie_case(name: &str, ties: &[[usize; 2]], node5: [f64; 3]) -> PathBuf {
     let nodes = [[0.0, 0.0, 0.0], [0.0, 0.0, 6.0], [8.0, 0.0, 0.0], [8.0, 0.0, 6.0], node5];
     let mut lines = vec![[0, 1], [2, 3]];
     lines.extend_from_slice(ties);
-    write_line_mesh_groups(&dir.join("m.msh"), &nodes, &lines, &[("piers", vec![0, 1]), ("nave_ties", (2..lines.len()).collect())], &[("base", &[0, 2])]);
+    write_line_mesh_groups(
+        &dir.join("m.msh"),
+        &nodes,
+        &lines,
+        &[("piers", vec![0, 1]), ("nave_ties", (2..lines.len()).collect())],
+        &[("base", &[0, 2])],
+    );
     let job = "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"m.msh\"\n\
         [materials.masonry]\ntype = \"elastic\"\nE = 3.0e9\nnu = 0.2\n\
         [materials.wrought_iron]\ntype = \"elastic\"\nE = 190.0e9\nnu = 0.3\ndensity = 7700.0\n\
@@ -180,7 +215,15 @@ fn the_valid_tie_case_runs() {
 fn tie_with_zero_area() {
     let job = tie_case("bad-tie-zero-area", &[[1, 3]], NODE5);
     edit(job.parent().unwrap(), "job.toml", "area = 1.6e-3", "area = 0.0");
-    expect_job_error(&job, 2, &["job.toml:22:1", "sections.nave_tie.area", "area [m^2] of tie section 'nave_tie' must be a finite number > 0, got 0"]);
+    expect_job_error(
+        &job,
+        2,
+        &[
+            "job.toml:22:1",
+            "sections.nave_tie.area",
+            "area [m^2] of tie section 'nave_tie' must be a finite number > 0, got 0",
+        ],
+    );
 }
 
 #[test]
@@ -194,7 +237,11 @@ fn tie_with_negative_area() {
 fn tie_with_negative_pretension() {
     let job = tie_case("bad-tie-pretension", &[[1, 3]], NODE5);
     edit(job.parent().unwrap(), "job.toml", "pretension = 2.0e4", "pretension = -2.0e4");
-    expect_job_error(&job, 2, &["job.toml:23:1", "sections.nave_tie.pretension", "must be a finite number >= 0", "got -20000"]);
+    expect_job_error(
+        &job,
+        2,
+        &["job.toml:23:1", "sections.nave_tie.pretension", "must be a finite number >= 0", "got -20000"],
+    );
 }
 
 #[test]
@@ -215,16 +262,30 @@ fn tie_end_held_in_one_direction_only() {
     let dir = job.parent().unwrap();
     let nodes = [[0.0, 0.0, 0.0], [0.0, 0.0, 6.0], [8.0, 0.0, 0.0], [8.0, 0.0, 6.0], NODE5];
     let lines = [[0, 1], [2, 3], [1, 3], [3, 4]];
-    write_line_mesh_groups(&dir.join("m.msh"), &nodes, &lines, &[("piers", vec![0, 1]), ("nave_ties", vec![2, 3])], &[("base", &[0, 2]), ("anchor", &[4])]);
+    write_line_mesh_groups(
+        &dir.join("m.msh"),
+        &nodes,
+        &lines,
+        &[("piers", vec![0, 1]), ("nave_ties", vec![2, 3])],
+        &[("base", &[0, 2]), ("anchor", &[4])],
+    );
     edit(dir, "job.toml", "[output]", "[[supports]]\ngroup = \"anchor\"\ndofs = [\"uz\"]\n[output]");
-    expect_job_error(&job, 2, &["tie element 7 of group nave_ties", "end node 5 at (5.00, 5.40, 7.50)", "leave ux, uy free"]);
+    expect_job_error(
+        &job,
+        2,
+        &["tie element 7 of group nave_ties", "end node 5 at (5.00, 5.40, 7.50)", "leave ux, uy free"],
+    );
 }
 
 #[test]
 fn tie_of_zero_length() {
     // Node 5 onto node 4: the tie 4–5 has zero length.
     let job = tie_case("bad-tie-zero-length", &[[1, 3], [3, 4]], [8.0, 0.0, 6.0]);
-    expect_job_error(&job, 2, &["tie element 6 of group nave_ties", "its end nodes 4 and 5 coincide at (8.00, 0.00, 6.00)"]);
+    expect_job_error(
+        &job,
+        2,
+        &["tie element 6 of group nave_ties", "its end nodes 4 and 5 coincide at (8.00, 0.00, 6.00)"],
+    );
 }
 
 #[test]
@@ -239,7 +300,15 @@ fn tie_with_a_damage_material() {
         "[materials.rubble]\ntype = \"damage\"\n[materials.rubble.law]\nE = 3.0e9\nnu = 0.2\neps0_t = 1.0e-4\neps0_c = 2.0e-4\n\
          gf_t = 50.0\na_c = 0.8\nb_c = 800.0\nregularization = \"hillerborg_no_elastic\"\n[output]",
     );
-    expect_job_error(&job, 2, &["key 'parts[1].material'", "tie section 'nave_tie' needs an elastic material", "'rubble' is a damage material"]);
+    expect_job_error(
+        &job,
+        2,
+        &[
+            "key 'parts[1].material'",
+            "tie section 'nave_tie' needs an elastic material",
+            "'rubble' is a damage material",
+        ],
+    );
 }
 
 #[test]
@@ -251,7 +320,11 @@ fn tie_section_on_a_surface_group() {
             edit(d, "job.toml", "[[parts]]", "[sections.tie]\ntype = \"tie\"\narea = 1.6e-3\n[[parts]]");
         },
         2,
-        &["key 'parts[0].group'", "group 'quad' holds a 4-node quadrangle (element 7)", "section 'tie' of type 'tie' needs 2-node line cells"],
+        &[
+            "key 'parts[0].group'",
+            "group 'quad' holds a 4-node quadrangle (element 7)",
+            "section 'tie' of type 'tie' needs 2-node line cells",
+        ],
     );
 }
 
@@ -259,5 +332,13 @@ fn tie_section_on_a_surface_group() {
 fn tie_with_a_misspelt_key() {
     let job = tie_case("bad-tie-misspelt", &[[1, 3]], NODE5);
     edit(job.parent().unwrap(), "job.toml", "pretension = 2.0e4", "pretention = 2.0e4");
-    expect_job_error(&job, 2, &["job.toml:23:1", "sections.nave_tie.pretention", "unknown field `pretention`, expected one of `area`, `pretension`, `tension_only`"]);
+    expect_job_error(
+        &job,
+        2,
+        &[
+            "job.toml:23:1",
+            "sections.nave_tie.pretention",
+            "unknown field `pretention`, expected one of `area`, `pretension`, `tension_only`",
+        ],
+    );
 }

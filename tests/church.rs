@@ -35,7 +35,12 @@ fn write_mesh(dir: &Path) -> PathBuf {
     let mut c = Command::new("python3");
     c.current_dir(root()).args(["scripts/make_church_mesh.py", "--size", "1.4", "-o", mesh.to_str().unwrap()]);
     let o = run_with_timeout(c, std::time::Duration::from_secs(120));
-    assert!(o.status.success(), "mesh script failed (python3 with gmsh: scripts/setup.sh)\n{}\n{}", stdout(&o), stderr(&o));
+    assert!(
+        o.status.success(),
+        "mesh script failed (python3 with gmsh: scripts/setup.sh)\n{}\n{}",
+        stdout(&o),
+        stderr(&o)
+    );
     mesh
 }
 
@@ -115,7 +120,16 @@ fn church_job_short_segment_agrees_on_one_and_two_ranks() {
         let o = run(np, &[job.to_str().unwrap()]);
         assert!(o.status.success(), "np = {np}\n{}\n{}", stdout(&o), stderr(&o));
         let out = dir.join("out");
-        for f in ["modes.xdmf", "modes-updated.xdmf", "stages.json", "results.xdmf", "envelopes.xdmf", "monitors.csv", "energy.csv", "summary.json"] {
+        for f in [
+            "modes.xdmf",
+            "modes-updated.xdmf",
+            "stages.json",
+            "results.xdmf",
+            "envelopes.xdmf",
+            "monitors.csv",
+            "energy.csv",
+            "summary.json",
+        ] {
             assert!(out.join(f).is_file(), "np = {np}: {f} missing");
         }
         let s = json(&out.join("summary.json"));
@@ -133,7 +147,12 @@ fn church_job_short_segment_agrees_on_one_and_two_ranks() {
         runs.push((s, out));
     }
     let factors = |s: &serde_json::Value| -> Vec<f64> {
-        s["stages"]["updating"]["parameters"].as_array().unwrap().iter().map(|p| p["factor"].as_f64().unwrap()).collect()
+        s["stages"]["updating"]["parameters"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["factor"].as_f64().unwrap())
+            .collect()
     };
     for (a, b) in factors(&runs[0].0).iter().zip(factors(&runs[1].0)) {
         assert!((a - b).abs() <= 1e-6 * a.abs(), "updating factors {a} vs {b}");
@@ -166,12 +185,21 @@ fn church_job_checks_and_bad_updating_input_is_located() {
     let _ = std::fs::remove_file(&job);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(e.contains(&format!(":{line}:")) && e.contains("analysis.updating.parameters[0].group") && e.contains("not one of the job's parts"), "{e}");
+    assert!(
+        e.contains(&format!(":{line}:"))
+            && e.contains("analysis.updating.parameters[0].group")
+            && e.contains("not one of the job's parts"),
+        "{e}"
+    );
     // A seismic assessment without [dynamics].
     let cut = text[..text.find("[dynamics]").unwrap()].to_string() + &text[text.find("[output]").unwrap()..];
     let job2 = dir.join("no-dynamics.toml");
-    std::fs::write(&job2, cut.replace("\"../meshes/church.msh\"", &format!("\"{}\"", root().join("meshes/church.msh").display()))
-        .replace("\"../materials/", &format!("\"{}/materials/", root().display()))).unwrap();
+    std::fs::write(
+        &job2,
+        cut.replace("\"../meshes/church.msh\"", &format!("\"{}\"", root().join("meshes/church.msh").display()))
+            .replace("\"../materials/", &format!("\"{}/materials/", root().display())),
+    )
+    .unwrap();
     let o = run(0, &["check", job2.to_str().unwrap()]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");

@@ -202,8 +202,13 @@ fn read_gravity(out: &Path, names: &BTreeMap<i64, String>) -> Gravity {
             let (lo, hi) = (5.0 * k as f64 - 2.5, 5.0 * k as f64 + 2.5);
             // Two vault cells per x station (either side of the crown): their mean times the
             // station's width; the rib's two crown elements: their mean.
-            let shell: f64 = crown.iter().filter(|c| !c.3 && c.0 >= lo - 1e-9 && c.1 <= hi + 1e-9).map(|c| c.2 * (c.1 - c.0) / 2.0).sum();
-            let ribs: Vec<f64> = crown.iter().filter(|c| c.3 && (c.0 - 5.0 * k as f64).abs() < 0.5).map(|c| c.2).collect();
+            let shell: f64 = crown
+                .iter()
+                .filter(|c| !c.3 && c.0 >= lo - 1e-9 && c.1 <= hi + 1e-9)
+                .map(|c| c.2 * (c.1 - c.0) / 2.0)
+                .sum();
+            let ribs: Vec<f64> =
+                crown.iter().filter(|c| c.3 && (c.0 - 5.0 * k as f64).abs() < 0.5).map(|c| c.2).collect();
             assert_eq!(ribs.len(), 2, "bay {k}: the transverse arch's two crown elements");
             shell + ribs.iter().sum::<f64>() / 2.0
         })
@@ -246,10 +251,21 @@ fn church_carries_its_weight_on_the_identified_law_with_the_thrust_of_a_hingeles
     assert_eq!(get(&["sections", "nave_haunches", "thickness"]), get(&["sections", "nave_vault", "thickness"]));
     let w_fill = get(&["sections", "nave_haunches", "nonstructural_mass"]) * G;
     let w_rib = get(&["sections", "arch", "area"]) * get(&["materials", "elastic_masonry", "density"]) * G;
-    let h_vault = hingeless_arch_thrust(&circular_arch(20_000, |z| if z < FILL_TOP - SPRINGING { w_vault + w_fill } else { w_vault }));
+    let h_vault = hingeless_arch_thrust(&circular_arch(20_000, |z| {
+        if z < FILL_TOP - SPRINGING {
+            w_vault + w_fill
+        } else {
+            w_vault
+        }
+    }));
     let h_rib = hingeless_arch_thrust(&circular_arch(20_000, |_| w_rib));
     let hand = 5.0 * h_vault + h_rib;
-    eprintln!("hand: vault with fill H = {:.2} kN/m, transverse arch {:.2} kN; per bay {:.1} kN", h_vault / 1e3, h_rib / 1e3, hand / 1e3);
+    eprintln!(
+        "hand: vault with fill H = {:.2} kN/m, transverse arch {:.2} kN; per bay {:.1} kN",
+        h_vault / 1e3,
+        h_rib / 1e3,
+        hand / 1e3
+    );
 
     let base = scratch("church-gravity");
     let names = physical_names(&root().join("meshes/church.msh"));
@@ -272,7 +288,10 @@ fn church_carries_its_weight_on_the_identified_law_with_the_thrust_of_a_hingeles
                 100.0 * n / bay
             );
             assert!(*n > 0.0, "np = {np}: the tie at x = {x} is not in tension: {n} N");
-            assert!((bay / hand - 1.0).abs() < 0.10, "np = {np}: bay at x = {x}: thrust {bay:.0} N against {hand:.0} N by hand");
+            assert!(
+                (bay / hand - 1.0).abs() < 0.10,
+                "np = {np}: bay at x = {x}: thrust {bay:.0} N against {hand:.0} N by hand"
+            );
         }
         runs.push(g);
     }

@@ -61,7 +61,10 @@ fn church_mesh_regenerates_identically_and_passes_its_checks() {
         assert!((a - b).abs() <= 0.05 * b, "{a} nodes now, {b} in meshes/church.msh");
         return;
     }
-    assert!(fresh == committed, "meshes/church.msh differs from what scripts/make_church_mesh.py writes now: regenerate it");
+    assert!(
+        fresh == committed,
+        "meshes/church.msh differs from what scripts/make_church_mesh.py writes now: regenerate it"
+    );
 }
 
 #[test]
@@ -151,7 +154,12 @@ fn church_modes_on_two_ranks_and_the_paraview_picture() {
         let (imax, _) = (0..u.len() / 3)
             .map(|i| (i, (u[3 * i].powi(2) + u[3 * i + 1].powi(2) + u[3 * i + 2].powi(2)).sqrt()))
             .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
-        assert!(xyz[3 * imax + 2] > 9.0, "mode {}: largest translation at z = {} (not the tower)", k + 1, xyz[3 * imax + 2]);
+        assert!(
+            xyz[3 * imax + 2] > 9.0,
+            "mode {}: largest translation at z = {} (not the tower)",
+            k + 1,
+            xyz[3 * imax + 2]
+        );
         let m: Vec<f64> = modes[k]["effective_mass"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
         dirs.push(if m[0] > m[1] { 0 } else { 1 });
     }

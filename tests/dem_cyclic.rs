@@ -95,7 +95,8 @@ fn cyclic_shear_job_writes_loops_and_particle_states() {
     let o = run(2, &[job.to_str().unwrap()]);
     assert!(o.status.success(), "{}\n{}", stdout(&o), stderr(&o));
     let out = dir.join("out");
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert!(summary["poisson"].is_null(), "ν of a shear test: {}", summary["poisson"]);
     assert!(summary["peak_stress"]["n"].as_u64().unwrap() >= 1);
     for k in 0..2 {
@@ -142,7 +143,8 @@ fn cyclic_shear_job_writes_loops_and_particle_states() {
     assert_eq!(v["stones"], 15);
     assert_eq!(v["polygon_cells"], 15);
     assert_eq!(v["cracks"].as_u64().unwrap(), broken);
-    for a in ["displacement"] {
+    {
+        let a = "displacement";
         assert!(v["point_arrays"].as_array().unwrap().iter().any(|x| x == a), "{v}");
     }
     for a in ["particle_displacement", "rotation", "crack", "particle", "beam"] {

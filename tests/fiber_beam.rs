@@ -91,7 +91,7 @@ fn cantilever_frequencies_match_euler_bernoulli() {
     let j = a * c.powi(3) * (1.0 / 3.0 - 0.21 * (c / a) * (1.0 - c.powi(4) / (12.0 * a.powi(4))));
     let g = E / 2.4;
     let torsion = (g * j / (RHO * B * H * (B * B + H * H) / 12.0)).sqrt() / (4.0 * L);
-    let mut want = vec![eb(1.875104, iz), eb(1.875104, iy), eb(4.694091, iz), eb(4.694091, iy), torsion];
+    let mut want = [eb(1.875104, iz), eb(1.875104, iy), eb(4.694091, iz), eb(4.694091, iy), torsion];
     want.sort_by(f64::total_cmp);
     for (k, w) in want.iter().enumerate() {
         let rel = (f[k] - w) / w;

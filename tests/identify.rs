@@ -27,7 +27,9 @@ const H: f64 = 1.2;
 /// Writes the law's uniaxial curve (ε_xx, σ_xx), tension positive, as `strain,stress` CSV.
 fn write_law_curve(file: &Path, p: &DamageParams, max: f64, tension: bool) {
     let law = p.for_element(H).unwrap();
-    let path = if tension { LoadPath::<3>::uniaxial_tension(max, 300) } else { LoadPath::<3>::uniaxial_compression(max, 300) }.unwrap();
+    let path =
+        if tension { LoadPath::<3>::uniaxial_tension(max, 300) } else { LoadPath::<3>::uniaxial_compression(max, 300) }
+            .unwrap();
     let rec = run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap();
     let mut s = String::from("strain,stress\n");
     for r in rec {
@@ -88,12 +90,11 @@ fn law_identification_recovers_the_law_that_made_the_curves() {
     let hist = std::fs::read_to_string(dir.join("out/law.csv")).unwrap();
     assert!(hist.lines().count() > 1 + 32, "{hist}");
     // A structural job reads the material file by path.
-    let job = format!(
-        "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"none.msh\"\n\
+    let job = "[analysis]\ntype = \"linear_static\"\n[mesh]\nfile = \"none.msh\"\n\
          [materials.masonry]\ntype = \"damage\"\nlaw_file = \"out/material.toml\"\n\
          [sections.s]\ntype = \"shell\"\nthickness = 0.5\n\
          [[parts]]\ngroup = \"wall\"\nsection = \"s\"\nmaterial = \"masonry\"\n"
-    );
+        .to_string();
     std::fs::write(dir.join("structure.toml"), job).unwrap();
     let j = masonry_hpc::config::Job::load(&dir.join("structure.toml")).unwrap();
     let m = &j.spec.materials["masonry"];
@@ -109,7 +110,12 @@ fn write_law_samples(file: &Path, laws: &[DamageParams], max: f64, tension: bool
     let sign = if tension { 1.0 } else { -1.0 };
     for (k, p) in laws.iter().enumerate() {
         let law = p.for_element(H).unwrap();
-        let path = if tension { LoadPath::<3>::uniaxial_tension(max, 300) } else { LoadPath::<3>::uniaxial_compression(max, 300) }.unwrap();
+        let path = if tension {
+            LoadPath::<3>::uniaxial_tension(max, 300)
+        } else {
+            LoadPath::<3>::uniaxial_compression(max, 300)
+        }
+        .unwrap();
         for r in run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap() {
             s.push_str(&format!("{k},{:e},{:e},0\n", sign * r.strain[0], sign * r.stress[0]));
         }
@@ -175,7 +181,9 @@ fn dem_samples_and_gf_c_bounds_are_checked() {
     expect_error(&dir, &f, &["key 'law.dem_samples'", "not both"], &[0]);
     // A bad row in a samples file names the file and line.
     std::fs::write(dir.join("s.csv"), "sample,strain,stress,loss_of_load\n0,0,0,0\n0,1e-4,2e5,yes\n").unwrap();
-    let text = std::fs::read_to_string(&f).unwrap().replace("dem_curves = { tension = \"t.csv\", compression = \"c.csv\" }\n", "");
+    let text = std::fs::read_to_string(&f)
+        .unwrap()
+        .replace("dem_curves = { tension = \"t.csv\", compression = \"c.csv\" }\n", "");
     std::fs::write(&f, text).unwrap();
     expect_error(&dir, &f, &["key 'law.dem_samples.tension'", "s.csv:3:", "expected 0 or 1"], &[0]);
 }
@@ -264,7 +272,12 @@ fn no_elastic_identification_admits_the_whole_box_and_fits_the_same_curve() {
     assert!((sa - sb).abs() <= 1e-12 * sa, "softening energies {sa} and {sb}");
     assert_eq!(num(a, "gf_t"), a["softening_energy"].as_f64().unwrap());
     let elastic = 0.5 * 2.885e9 * num(b, "eps0_t").powi(2) * 1.2;
-    assert!((num(b, "gf_t") - (num(a, "gf_t") + elastic)).abs() < 1e-12 * num(b, "gf_t"), "{} vs {} + {elastic}", num(b, "gf_t"), num(a, "gf_t"));
+    assert!(
+        (num(b, "gf_t") - (num(a, "gf_t") + elastic)).abs() < 1e-12 * num(b, "gf_t"),
+        "{} vs {} + {elastic}",
+        num(b, "gf_t"),
+        num(a, "gf_t")
+    );
 }
 
 #[test]
@@ -298,7 +311,8 @@ fn dem_job(dir: &Path, name: &str, alpha: f64, mech: &str) -> PathBuf {
 /// every sample that ran (a sample stopped at its peak without equilibrium still has valid
 /// states before it), the peak over the counted samples only.
 fn dem_means(dir: &Path, name: &str) -> [f64; 4] {
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{name}-out/summary.json"))).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{name}-out/summary.json"))).unwrap()).unwrap();
     let samples = s["samples"].as_array().unwrap();
     let mean = |k: &str, counted_only: bool| {
         let v: Vec<f64> = samples
@@ -340,10 +354,20 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
         std::fs::write(&f, job.replace("OUT", &format!("out-{np}"))).unwrap();
         let out = run(np, &[f.to_str().unwrap()]);
         assert!(out.status.success(), "np={np}: {}\n{}", stdout(&out), stderr(&out));
-        for file in ["calibration.png", "calibration.csv", "calibration.json", "dem_tension.csv", "dem_compression.csv", "law_tension.png", "material.toml"] {
+        for file in [
+            "calibration.png",
+            "calibration.csv",
+            "calibration.json",
+            "dem_tension.csv",
+            "dem_compression.csv",
+            "law_tension.png",
+            "material.toml",
+        ] {
             assert!(dir.join(format!("out-{np}")).join(file).is_file(), "np={np}: {file} missing");
         }
-        let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join(format!("out-{np}/summary.json"))).unwrap()).unwrap();
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(format!("out-{np}/summary.json"))).unwrap())
+                .unwrap();
         summaries.push(s);
     }
     // The seeded design and its evaluation do not depend on the rank count: the batch returns
@@ -421,12 +445,18 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
     std::fs::write(&f, format!("{joint}[output]\ndir = \"out-joint\"\nexisting = \"overwrite\"\n")).unwrap();
     let out = run(0, &[f.to_str().unwrap()]);
     assert!(out.status.success(), "joint: {}\n{}", stdout(&out), stderr(&out));
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out-joint/summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out-joint/summary.json")).unwrap()).unwrap();
     let cal = &s["calibration"];
     assert_eq!(cal["strategy"], "joint");
     assert!(cal["elastic"].is_null());
-    let best = cal["history"].as_array().unwrap().iter().filter_map(|h| h[2]["Ok"].as_f64()).fold(f64::INFINITY, f64::min);
-    assert!((cal["objective"].as_f64().unwrap() - best).abs() <= 1e-12 * best, "J {} vs best of the history {best}", cal["objective"]);
+    let best =
+        cal["history"].as_array().unwrap().iter().filter_map(|h| h[2]["Ok"].as_f64()).fold(f64::INFINITY, f64::min);
+    assert!(
+        (cal["objective"].as_f64().unwrap() - best).abs() <= 1e-12 * best,
+        "J {} vs best of the history {best}",
+        cal["objective"]
+    );
 }
 
 /// The law the chain commits, `materials/rubble-identified.toml` (written by
@@ -456,7 +486,10 @@ fn committed_wall_law_is_refitted_from_its_saved_sample_curves() {
     let data = root.join("tests/data/identify-wall");
     let mut files = toml::Table::new();
     for side in ["tension", "compression"] {
-        files.insert(side.into(), toml::Value::String(data.join(format!("dem_{side}_samples.csv")).display().to_string()));
+        files.insert(
+            side.into(),
+            toml::Value::String(data.join(format!("dem_{side}_samples.csv")).display().to_string()),
+        );
     }
     l.insert("dem_samples".into(), toml::Value::Table(files));
     l.insert("young_modulus".into(), law["E"].clone());

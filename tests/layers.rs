@@ -86,7 +86,10 @@ fn modules_import_downwards_only_and_without_cycles() {
     let mut modules: BTreeSet<String> = files.iter().map(|f| module_of(&src, f)).collect();
     modules.remove("main");
     for m in &modules {
-        assert!(layer.contains_key(m), "src/{m}: a new top-level module: give it a layer in tests/layers.rs and src/lib.rs");
+        assert!(
+            layer.contains_key(m),
+            "src/{m}: a new top-level module: give it a layer in tests/layers.rs and src/lib.rs"
+        );
     }
     let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     let mut wrong = Vec::new();
@@ -100,14 +103,24 @@ fn modules_import_downwards_only_and_without_cycles() {
                 continue;
             }
             if layer[&to] > layer[&from] {
-                wrong.push(format!("{} ({from}, layer {}) imports {to} (layer {})", f.display(), layer[&from], layer[&to]));
+                wrong.push(format!(
+                    "{} ({from}, layer {}) imports {to} (layer {})",
+                    f.display(),
+                    layer[&from],
+                    layer[&to]
+                ));
             }
             edges.entry(from.clone()).or_default().insert(to);
         }
     }
     assert!(wrong.is_empty(), "imports that point up:\n{}", wrong.join("\n"));
     // No cycle: a depth-first search finds no module on its own path.
-    fn visit(m: &str, edges: &BTreeMap<String, BTreeSet<String>>, path: &mut Vec<String>, done: &mut BTreeSet<String>) -> Option<Vec<String>> {
+    fn visit(
+        m: &str,
+        edges: &BTreeMap<String, BTreeSet<String>>,
+        path: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
         if let Some(i) = path.iter().position(|p| p == m) {
             let mut cycle = path[i..].to_vec();
             cycle.push(m.to_string());
@@ -133,6 +146,7 @@ fn modules_import_downwards_only_and_without_cycles() {
         }
     }
     // The check can fail: a planted upward import is found.
-    let planted = imports("use crate::run::Error;\nfn f() { crate::analysis::x(); }\n// crate::dem in a comment\n", &modules);
+    let planted =
+        imports("use crate::run::Error;\nfn f() { crate::analysis::x(); }\n// crate::dem in a comment\n", &modules);
     assert_eq!(planted, ["analysis", "run"].iter().map(|s| s.to_string()).collect());
 }

@@ -42,7 +42,8 @@ fn uniaxial_tension_follows_the_closed_form() {
         let out = run(np, &[f.to_str().unwrap()]);
         assert!(out.status.success(), "np={np}: {}", stderr(&out));
         let (head, rows) = read_csv(&dir.join("out/curve.csv"));
-        let (ie, is) = (head.iter().position(|h| h == "strain_xx").unwrap(), head.iter().position(|h| h == "stress_xx").unwrap());
+        let (ie, is) =
+            (head.iter().position(|h| h == "strain_xx").unwrap(), head.iter().position(|h| h == "stress_xx").unwrap());
         let ft = E * EPS0_T;
         let bt = ft * H / GF;
         for r in &rows {
@@ -50,7 +51,8 @@ fn uniaxial_tension_follows_the_closed_form() {
             let want = if eps <= EPS0_T { E * eps } else { ft * (-bt * (eps - EPS0_T)).exp() };
             assert!((sig - want).abs() <= 1e-9 * ft, "np={np}: ε = {eps}: σ = {sig}, closed form {want}");
         }
-        let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
         assert!((s["peak_stress"].as_f64().unwrap() - ft).abs() < 1e-9 * ft, "{s}");
         for png in ["stress_strain.png", "damage.png"] {
             let b = std::fs::read(dir.join("out").join(png)).unwrap();
@@ -59,7 +61,15 @@ fn uniaxial_tension_follows_the_closed_form() {
     }
 }
 
-fn expect_error(name: &str, material_extra: &str, path: &str, regularization: &str, h: f64, code: i32, needles: &[&str]) {
+fn expect_error(
+    name: &str,
+    material_extra: &str,
+    path: &str,
+    regularization: &str,
+    h: f64,
+    code: i32,
+    needles: &[&str],
+) {
     let dir = scratch(name);
     let f = job(&dir, material_extra, path, regularization, h);
     for np in [0, 2] {

@@ -40,7 +40,7 @@ fn cantilever_frequencies_match_euler_bernoulli() {
     let f: Vec<f64> = s["modes"].as_array().unwrap().iter().map(|m| m["frequency"].as_f64().unwrap()).collect();
     let eb = |beta_l: f64, i: f64| beta_l * beta_l / (2.0 * PI * l * l) * (E * i / (RHO * SEC[0])).sqrt();
     // Lowest four: bending about local y (the smaller I: motion along z) then about z, modes 1 and 2.
-    let mut want = vec![eb(1.875104, SEC[1]), eb(1.875104, SEC[2]), eb(4.694091, SEC[1]), eb(4.694091, SEC[2])];
+    let mut want = [eb(1.875104, SEC[1]), eb(1.875104, SEC[2]), eb(4.694091, SEC[1]), eb(4.694091, SEC[2])];
     want.sort_by(f64::total_cmp);
     for (k, w) in want.iter().enumerate() {
         assert!((f[k] - w).abs() / w < 5e-3, "mode {}: {} Hz vs Euler–Bernoulli {} Hz", k + 1, f[k], w);
@@ -95,14 +95,18 @@ fn zoned_cantilever(dir: &std::path::Path, factors: [f64; 3], analysis: &str) ->
     let (l, n) = (6.0, 30);
     let nodes: Vec<[f64; 3]> = (0..=n).map(|i| [l * i as f64 / n as f64, 0.0, 0.0]).collect();
     let lines: Vec<[usize; 2]> = (0..n).map(|i| [i, i + 1]).collect();
-    let zones: Vec<(&str, Vec<usize>)> = (0..3).map(|z| (["z1", "z2", "z3"][z], (10 * z..10 * z + 10).collect())).collect();
+    let zones: Vec<(&str, Vec<usize>)> =
+        (0..3).map(|z| (["z1", "z2", "z3"][z], (10 * z..10 * z + 10).collect())).collect();
     write_line_mesh_groups(&dir.join("m.msh"), &nodes, &lines, &zones, &[("base", &[0])]);
     let mut job = format!("[analysis]\n{analysis}\n[mesh]\nfile = \"m.msh\"\n");
     for (z, f) in factors.iter().enumerate() {
         // ν = 0.25 gives G = E / 2.5 = 8e10 Pa at f = 1; the updating factor scales E and G together.
         job += &format!("[materials.m{z}]\ntype = \"elastic\"\nE = {:e}\nnu = 0.25\ndensity = {RHO:e}\n", E * f);
     }
-    job += &format!("[sections.s]\ntype = \"frame\"\narea = {:e}\niy = {:e}\niz = {:e}\nj = {:e}\n", SEC[0], SEC[1], SEC[2], SEC[3]);
+    job += &format!(
+        "[sections.s]\ntype = \"frame\"\narea = {:e}\niy = {:e}\niz = {:e}\nj = {:e}\n",
+        SEC[0], SEC[1], SEC[2], SEC[3]
+    );
     for z in 0..3 {
         job += &format!("[[parts]]\ngroup = \"z{}\"\nsection = \"s\"\nmaterial = \"m{z}\"\n", z + 1);
     }
@@ -123,9 +127,14 @@ fn modal_updating_recovers_known_moduli_of_three_zones() {
     assert!(out.status.success(), "{}", stderr(&out));
     let s = summary(&d1);
     let shapes = d1.join("out/modes.h5");
-    let mut analysis = format!("type = \"modal_updating\"\nmodes = 8\ntarget_shapes = {:?}\n", shapes.to_str().unwrap());
+    let mut analysis =
+        format!("type = \"modal_updating\"\nmodes = 8\ntarget_shapes = {:?}\n", shapes.to_str().unwrap());
     for m in s["modes"].as_array().unwrap() {
-        analysis += &format!("[[analysis.targets]]\nmode = {}\nfrequency = {:e}\n", m["mode"], m["frequency"].as_f64().unwrap());
+        analysis += &format!(
+            "[[analysis.targets]]\nmode = {}\nfrequency = {:e}\n",
+            m["mode"],
+            m["frequency"].as_f64().unwrap()
+        );
     }
     for z in 1..=3 {
         analysis += &format!("[[analysis.parameters]]\ngroup = \"z{z}\"\nmin = 0.5\nmax = 2.0\n");
@@ -154,7 +163,10 @@ fn inverted_updating_bounds_are_rejected_with_their_key() {
         let out = run(np, &[job.to_str().unwrap()]);
         let err = stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{err}");
-        assert!(err.contains("key 'analysis.parameters[0].max'") && err.contains("expected max > min = 2"), "np={np}: {err}");
+        assert!(
+            err.contains("key 'analysis.parameters[0].max'") && err.contains("expected max > min = 2"),
+            "np={np}: {err}"
+        );
         assert_eq!(err.matches("error:").count(), 1, "{err}");
     }
 }

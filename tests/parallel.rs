@@ -70,7 +70,22 @@ fn iterative_solver_and_baij_give_the_direct_solution() {
     let j2 = demo_job(&d2, "[solver]\nmatrix = \"baij\"\n");
     let o1 = run(2, &[j1.to_str().unwrap()]);
     assert!(o1.status.success(), "{}", stderr(&o1));
-    let o2 = run(2, &[j2.to_str().unwrap(), "-ksp_type", "cg", "-pc_type", "bjacobi", "-sub_pc_type", "icc", "-ksp_rtol", "1e-13", "-ksp_max_it", "20000"]);
+    let o2 = run(
+        2,
+        &[
+            j2.to_str().unwrap(),
+            "-ksp_type",
+            "cg",
+            "-pc_type",
+            "bjacobi",
+            "-sub_pc_type",
+            "icc",
+            "-ksp_rtol",
+            "1e-13",
+            "-ksp_max_it",
+            "20000",
+        ],
+    );
     assert!(o2.status.success(), "{}", stderr(&o2));
     assert!(stdout(&o2).contains("ksp=cg"), "the command line must win over the job: {}", stdout(&o2));
     let diff = max_rel_diff(&node_field(&d1.join("out"), "displacement"), &node_field(&d2.join("out"), "displacement"));
@@ -126,7 +141,9 @@ fn nonlinear_static_of_an_elastic_model_equals_linear_static() {
     let d2 = scratch("nl-nonlinear");
     let j1 = demo_job(&d1, "");
     let j2 = demo_job(&d2, "");
-    let t = std::fs::read_to_string(&j2).unwrap().replace("type = \"linear_static\"", "type = \"static_nonlinear\"\nsteps = 3");
+    let t = std::fs::read_to_string(&j2)
+        .unwrap()
+        .replace("type = \"linear_static\"", "type = \"static_nonlinear\"\nsteps = 3");
     std::fs::write(&j2, t).unwrap();
     let o1 = run(2, &[j1.to_str().unwrap()]);
     assert!(o1.status.success(), "{}", stderr(&o1));

@@ -14,6 +14,7 @@
 //!   (Leissa, "The free vibration of rectangular plates", J. Sound Vib. 31(3), 1973, Table for
 //!   C-F-F-F, a/b = 1; the same values, to four digits, in Barton, J. Appl. Mech. 18, 1951, as
 //!   quoted by code_aster's validation case SDLS01).
+//!
 //! Tolerance 1% (the issue's).
 mod common;
 use common::*;

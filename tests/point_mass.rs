@@ -20,9 +20,10 @@ fn cantilever(dir: &std::path::Path, analysis: &str, density: f64, extra: &str) 
     let nodes: Vec<[f64; 3]> = (0..=N).map(|i| [L * i as f64 / N as f64, 0.0, 0.0]).collect();
     let lines: Vec<[usize; 2]> = (0..N).map(|i| [i, i + 1]).collect();
     write_line_mesh(&dir.join("m.msh"), &nodes, &lines, &[("base", &[0]), ("tip", &[N]), ("middle", &[N / 2])]);
-    let job = frame_job("m.msh", E, G, SEC, None, &format!("[[supports]]\ngroup = \"base\"\ndofs = [\"all\"]\n{extra}"))
-        .replace("type = \"linear_static\"", analysis)
-        .replace("density = 0.0", &format!("density = {density:e}"));
+    let job =
+        frame_job("m.msh", E, G, SEC, None, &format!("[[supports]]\ngroup = \"base\"\ndofs = [\"all\"]\n{extra}"))
+            .replace("type = \"linear_static\"", analysis)
+            .replace("density = 0.0", &format!("density = {density:e}"));
     std::fs::write(dir.join("job.toml"), job).unwrap();
     dir.join("job.toml")
 }
@@ -44,7 +45,8 @@ fn point_masses_weigh_under_gravity() {
     let job = cantilever(&dir, "type = \"linear_static\"", 0.0, &extra);
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
     let fz = s["applied_sum"][2].as_f64().unwrap();
     assert!((fz + 1.5 * m * g).abs() < 1e-12 * m * g, "applied {fz}");
     let u = node_field(&dir.join("out"), "displacement");
@@ -64,10 +66,12 @@ fn point_masses_weigh_under_gravity() {
 fn tip_mass_lowers_the_cantilever_frequency_as_the_closed_form() {
     let dir = scratch("point-mass-modal");
     let mb = RHO * SEC[0] * L;
-    let job = cantilever(&dir, "type = \"modal\"\nmodes = 2", RHO, &format!("[[masses]]\ngroup = \"tip\"\nmass = {mb}\n"));
+    let job =
+        cantilever(&dir, "type = \"modal\"\nmodes = 2", RHO, &format!("[[masses]]\ngroup = \"tip\"\nmass = {mb}\n"));
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
     let f1 = s["modes"][0]["frequency"].as_f64().unwrap();
     let r = 1.0; // M / m
     let eq = |b: f64| 1.0 + b.cos() * b.cosh() + r * b * (b.cos() * b.sinh() - b.sin() * b.cosh());

@@ -30,7 +30,16 @@ fn fixture_copy(name: &str) -> PathBuf {
     let src = root().join("tests/data/post_church");
     let dir = scratch(name).join("church");
     std::fs::create_dir_all(&dir).unwrap();
-    for f in ["modes.xdmf", "modes.h5", "results.xdmf", "results.h5", "envelopes.xdmf", "envelopes.h5", "monitors.csv", "summary.json"] {
+    for f in [
+        "modes.xdmf",
+        "modes.h5",
+        "results.xdmf",
+        "results.h5",
+        "envelopes.xdmf",
+        "envelopes.h5",
+        "monitors.csv",
+        "summary.json",
+    ] {
         std::fs::copy(src.join(f), dir.join(f)).unwrap_or_else(|e| panic!("fixture {f}: {e}"));
     }
     dir
@@ -50,9 +59,9 @@ fn on_path(exe: &str) -> bool {
 }
 
 fn has_matplotlib() -> bool {
-    ["python3", "/usr/bin/python3"]
-        .iter()
-        .any(|p| Command::new(p).args(["-c", "import matplotlib"]).output().map(|o| o.status.success()).unwrap_or(false))
+    ["python3", "/usr/bin/python3"].iter().any(|p| {
+        Command::new(p).args(["-c", "import matplotlib"]).output().map(|o| o.status.success()).unwrap_or(false)
+    })
 }
 
 /// Share of drawn (non-white) pixels, luminance standard deviation, number of distinct colours.
@@ -63,7 +72,8 @@ fn not_blank(png: &Path, size: Option<(u32, u32)>) -> image::RgbImage {
     }
     let n = (img.width() * img.height()) as f64;
     let drawn = img.pixels().filter(|p| p.0.iter().any(|&c| c < 235)).count() as f64 / n;
-    let lum: Vec<f64> = img.pixels().map(|p| 0.299 * p.0[0] as f64 + 0.587 * p.0[1] as f64 + 0.114 * p.0[2] as f64).collect();
+    let lum: Vec<f64> =
+        img.pixels().map(|p| 0.299 * p.0[0] as f64 + 0.587 * p.0[1] as f64 + 0.114 * p.0[2] as f64).collect();
     let mean = lum.iter().sum::<f64>() / n;
     let sd = (lum.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / n).sqrt();
     let colours: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
@@ -111,7 +121,11 @@ fn without_paraview_the_pictures_are_skipped_with_the_reason() {
     let dir = fixture_copy("post-noparaview");
     let o = post(&dir, Some("/nonexistent/pvpython"));
     assert!(o.status.success(), "{}\n{}", stdout(&o), stderr(&o));
-    assert!(stdout(&o).contains("skipped the ParaView pictures (/nonexistent/pvpython is not installed"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("skipped the ParaView pictures (/nonexistent/pvpython is not installed"),
+        "{}",
+        stdout(&o)
+    );
     assert!(!dir.join("pictures/damage-tension.png").exists());
 }
 
@@ -128,7 +142,15 @@ fn the_church_pictures() {
     assert!(o.status.success(), "post_church.sh failed");
     println!("post_church.sh: {:.1} s", t0.elapsed().as_secs_f64());
     let pics = dir.join("pictures");
-    for f in ["mesh.png", "mode-1.png", "mode-2.png", "mode-3.png", "damage-compression.png", "damage-tension-gravity.png", "envelope-drift.png"] {
+    for f in [
+        "mesh.png",
+        "mode-1.png",
+        "mode-2.png",
+        "mode-3.png",
+        "damage-compression.png",
+        "damage-tension-gravity.png",
+        "envelope-drift.png",
+    ] {
         not_blank(&pics.join(f), Some((800, 600)));
     }
     // The fixture's tensile damage, read independently.
@@ -146,7 +168,9 @@ fn the_church_pictures() {
     assert!(dc_max < 0.05, "the fixture was expected without compressive damage (max d_c {dc_max})");
     let reference = not_blank(&pics.join("damage-compression.png"), Some((800, 600)));
     let (coloured, strong) = damage_pixels(&tension, &reference);
-    println!("damage-tension.png: {coloured} pixels coloured by damage, {strong} of them yellow to red; max d_t {d_max:.3}");
+    println!(
+        "damage-tension.png: {coloured} pixels coloured by damage, {strong} of them yellow to red; max d_t {d_max:.3}"
+    );
     // 12 damaged cells of about 3 m x 3 m, a few of them seen in each of four 400 x 278 views.
     assert!(coloured > 400, "too few damage colours in damage-tension.png ({coloured} pixels)");
     assert!(strong > 50, "no damage above 0.5 drawn in damage-tension.png ({strong} pixels)");
@@ -159,14 +183,18 @@ fn the_church_pictures() {
     let max: f64 = all.split(',').nth(5).unwrap().parse().unwrap();
     assert!((max - d_max).abs() < 1e-4, "table max {max} vs results.h5 {d_max}");
     // The first step's rows: the fixture starts undamaged (no gravity, the pulse starts at 0).
-    let first = table.lines().find(|l| l.starts_with("gravity,all shells,")).expect("an 'all shells' row after gravity");
+    let first =
+        table.lines().find(|l| l.starts_with("gravity,all shells,")).expect("an 'all shells' row after gravity");
     let max0: f64 = first.split(',').nth(5).unwrap().parse().unwrap();
     let d0: Vec<f64> = h5.dataset("steps/0/d_t_max").unwrap().read_raw().unwrap();
     let d0_max = d0.iter().copied().filter(|x| x.is_finite()).fold(0.0, f64::max);
     assert!((max0 - d0_max).abs() < 1e-4, "table max after gravity {max0} vs results.h5 step 0 {d0_max}");
     for state in ["gravity", "end"] {
         for name in ["nave_vault", "nave_walls", "facade"] {
-            assert!(table.lines().any(|l| l.starts_with(&format!("{state},{name},"))), "no {state} row for {name}:\n{table}");
+            assert!(
+                table.lines().any(|l| l.starts_with(&format!("{state},{name},"))),
+                "no {state} row for {name}:\n{table}"
+            );
         }
     }
 

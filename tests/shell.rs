@@ -65,7 +65,10 @@ fn scordelis_lo_roof_on_one_and_two_ranks() {
         let u = node_field(&dir.join("out"), "displacement");
         let tag = ((n + 1) * (n + 1)) as u64; // idx(n, n) + 1
         let uz = u[&tag][2];
-        assert!((uz.abs() - 0.3024).abs() < 0.02 * 0.3024, "np={np}: u_z at the free edge midspan = {uz}, reference −0.3024");
+        assert!(
+            (uz.abs() - 0.3024).abs() < 0.02 * 0.3024,
+            "np={np}: u_z at the free edge midspan = {uz}, reference −0.3024"
+        );
         assert!(uz < 0.0, "the roof sags");
         results.push(u);
     }
@@ -198,7 +201,8 @@ fn cook_mixed_mesh(path: &std::path::Path, n: usize) {
         s += &format!("0 {} \"{name}\"\n", g + 3);
     }
     s += "$EndPhysicalNames\n$Entities\n";
-    let pts: Vec<(usize, usize)> = points.iter().enumerate().flat_map(|(g, (_, v))| v.iter().map(move |&k| (g, k))).collect();
+    let pts: Vec<(usize, usize)> =
+        points.iter().enumerate().flat_map(|(g, (_, v))| v.iter().map(move |&k| (g, k))).collect();
     s += &format!("{} 0 2 0\n", pts.len());
     for (k, (g, node)) in pts.iter().enumerate() {
         let x = nodes[*node];

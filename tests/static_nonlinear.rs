@@ -103,7 +103,10 @@ fn dissipated_energy_per_crack_area_is_the_same_for_three_element_sizes() {
 #[test]
 fn tension_bar_softens_through_the_peak_with_energy_gf_area() {
     let dir = scratch("snl-tension-bar");
-    let job = bar(&dir, "type = \"static_nonlinear\"\n[analysis.control]\ngroup = \"tip\"\ndof = \"ux\"\ntarget = 3e-3\nsteps = 100");
+    let job = bar(
+        &dir,
+        "type = \"static_nonlinear\"\n[analysis.control]\ngroup = \"tip\"\ndof = \"ux\"\ntarget = 3e-3\nsteps = 100",
+    );
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
     let c = curve(&dir);
@@ -140,7 +143,8 @@ fn tension_bar_softens_through_the_peak_with_energy_gf_area() {
 fn load_control_beyond_the_peak_stops_with_a_diagnosis() {
     let dir = scratch("snl-beyond-peak");
     let job = bar(&dir, "type = \"static_nonlinear\"\nsteps = 4\nmax_cuts = 3");
-    let text = std::fs::read_to_string(&job).unwrap() + "[[loads]]\ntype = \"nodal\"\ngroup = \"tip\"\nforce = [4000.0, 0.0, 0.0]\n";
+    let text = std::fs::read_to_string(&job).unwrap()
+        + "[[loads]]\ntype = \"nodal\"\ngroup = \"tip\"\nforce = [4000.0, 0.0, 0.0]\n";
     std::fs::write(&job, text).unwrap();
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(!out.status.success(), "must fail: {}", stdout(&out));

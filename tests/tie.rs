@@ -97,7 +97,11 @@ fn run_portal(np: usize, job: &Path) -> (f64, f64, f64, f64) {
     let n = cell_field(&dir, "axial_force");
     let eps = cell_field(&dir, "strain");
     for tag in [LEFT_TOP, RIGHT_TOP] {
-        assert!(u[&tag][1].abs() < 1e-14 && u[&tag][2].abs() < 1e-12, "np={np}: top {tag} moves out of the x direction: {:?}", u[&tag]);
+        assert!(
+            u[&tag][1].abs() < 1e-14 && u[&tag][2].abs() < 1e-12,
+            "np={np}: top {tag} moves out of the x direction: {:?}",
+            u[&tag]
+        );
     }
     (u[&LEFT_TOP][0], u[&RIGHT_TOP][0], n[&TIE_TAG][0], eps[&TIE_TAG][0])
 }
@@ -133,7 +137,12 @@ fn tied_portal_under_a_horizontal_load() {
         assert!(residual < 1e-10, "np={np}: equilibrium residual {residual:e}");
         let rx = s["reaction_sum"][0].as_f64().unwrap();
         assert!(rel(rx, p) < TOL, "np={np}: base shear {rx} vs {p}");
-        eprintln!("np={np}: u1 = {u1:.9e} m, u2 = {u2:.9e} m, N = {n:.9e} N; relative errors {:.1e} {:.1e} {:.1e}", rel(u1, want_u1), rel(u2, want_u2), rel(n, want_n));
+        eprintln!(
+            "np={np}: u1 = {u1:.9e} m, u2 = {u2:.9e} m, N = {n:.9e} N; relative errors {:.1e} {:.1e} {:.1e}",
+            rel(u1, want_u1),
+            rel(u2, want_u2),
+            rel(n, want_n)
+        );
     }
 }
 
@@ -165,13 +174,20 @@ fn pretension_pulls_the_tops_together() {
         let job = portal(&dir, &analysis, &tie, extra);
         let (u1, u2, n, eps) = run_portal(np, &job);
         assert!(rel(n, want_n) < TOL, "{name} np={np}: N = {n:e} vs {want_n:e}");
-        assert!(rel(u1, want_u) < TOL && rel(u2, -want_u) < TOL, "{name} np={np}: u1 = {u1:e}, u2 = {u2:e} vs ±{want_u:e}");
+        assert!(
+            rel(u1, want_u) < TOL && rel(u2, -want_u) < TOL,
+            "{name} np={np}: u1 = {u1:e}, u2 = {u2:e} vs ±{want_u:e}"
+        );
         assert!(rel(eps, (want_n - n0) / (E_TIE * A_TIE)) < TOL, "{name} np={np}: strain {eps:e}");
         if name == "linear" {
             let r = node_field(&dir.join("out"), "reaction_force");
             assert!(rel(r[&1][0], -want_n) < TOL, "{name} np={np}: left base reaction {:?}", r[&1]);
         }
-        eprintln!("{name} np={np}: N = {n:.9e} N, tops inwards by {u1:.9e} m; relative errors {:.1e} {:.1e}", rel(n, want_n), rel(u1, want_u));
+        eprintln!(
+            "{name} np={np}: N = {n:.9e} N, tops inwards by {u1:.9e} m; relative errors {:.1e} {:.1e}",
+            rel(n, want_n),
+            rel(u1, want_u)
+        );
     }
 }
 
@@ -192,22 +208,43 @@ fn tension_only_tie_carries_no_compression() {
         ("apart", String::new(), -p, 0, -p / (kc + 2.0 * kt), 2.0 * kt * p / (kc + 2.0 * kt)),
         ("together", String::new(), p, 0, p / kc, 0.0),
         ("together", String::new(), p, 2, p / kc, 0.0),
-        ("together-both-ways", "tension_only = false".into(), p, 0, p / (kc + 2.0 * kt), -2.0 * kt * p / (kc + 2.0 * kt)),
-        ("together-pretensioned-taut", format!("pretension = {n0:e}"), 1.0e3, 0, (1.0e3 + n0) / (kc + 2.0 * kt), (n0 * kc - 2.0 * kt * 1.0e3) / (kc + 2.0 * kt)),
+        (
+            "together-both-ways",
+            "tension_only = false".into(),
+            p,
+            0,
+            p / (kc + 2.0 * kt),
+            -2.0 * kt * p / (kc + 2.0 * kt),
+        ),
+        (
+            "together-pretensioned-taut",
+            format!("pretension = {n0:e}"),
+            1.0e3,
+            0,
+            (1.0e3 + n0) / (kc + 2.0 * kt),
+            (n0 * kc - 2.0 * kt * 1.0e3) / (kc + 2.0 * kt),
+        ),
         ("together-pretensioned-slack", format!("pretension = {n0:e}"), p, 0, p / kc, 0.0),
     ];
     for (name, tie, load, np, want_u1, want_n) in cases {
         let dir = scratch(&format!("tie-tension-only-{name}-{np}"));
         let job = portal(&dir, &static_nonlinear(2), &tie, &top_loads(load, -load));
         let (u1, u2, n, eps) = run_portal(np, &job);
-        assert!(rel(u1, want_u1) < TOL && rel(u2, -want_u1) < TOL, "{name} np={np}: u1 = {u1:e}, u2 = {u2:e} vs ±{want_u1:e}");
+        assert!(
+            rel(u1, want_u1) < TOL && rel(u2, -want_u1) < TOL,
+            "{name} np={np}: u1 = {u1:e}, u2 = {u2:e} vs ±{want_u1:e}"
+        );
         if want_n == 0.0 {
             assert_eq!(n, 0.0, "{name} np={np}: a slack tie carries nothing");
         } else {
             assert!(rel(n, want_n) < TOL, "{name} np={np}: N = {n:e} vs {want_n:e}");
         }
         assert!(rel(eps, -2.0 * want_u1 / S) < TOL, "{name} np={np}: strain {eps:e}");
-        eprintln!("{name} np={np}: u1 = {u1:.9e} m, N = {n:.9e} N; relative errors {:.1e} {:.1e}", rel(u1, want_u1), if want_n == 0.0 { n.abs() } else { rel(n, want_n) });
+        eprintln!(
+            "{name} np={np}: u1 = {u1:.9e} m, N = {n:.9e} N; relative errors {:.1e} {:.1e}",
+            rel(u1, want_u1),
+            if want_n == 0.0 { n.abs() } else { rel(n, want_n) }
+        );
     }
 }
 
@@ -282,7 +319,15 @@ fn tie_anchored_to_a_support() {
     assert!(rel(f(0), want_y) < TOL && rel(f(1), want_x) < TOL, "modes {} {} Hz vs {want_y} {want_x} Hz", f(0), f(1));
 
     let dir = scratch("tie-anchored-shaken");
-    let record: String = (0..=200).map(|i| format!("{:.4} {:.10e}\n", i as f64 * 0.005, 5.0 * (2.0 * std::f64::consts::PI * 4.0 * i as f64 * 0.005).sin())).collect();
+    let record: String = (0..=200)
+        .map(|i| {
+            format!(
+                "{:.4} {:.10e}\n",
+                i as f64 * 0.005,
+                5.0 * (2.0 * std::f64::consts::PI * 4.0 * i as f64 * 0.005).sin()
+            )
+        })
+        .collect();
     std::fs::write(dir.join("shake.txt"), record).unwrap();
     let dynamics = format!(
         "[[masses]]\ngroup = \"top\"\nmass = {m:e}\n\

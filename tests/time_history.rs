@@ -102,13 +102,19 @@ fn direct_integration_matches_modal_superposition() {
     write_cantilever(&dir);
     let dt = 5e-4;
     let a = write_record(&dir.join("rec.txt"), dt, 0.6, 12.0, 0.3, 3.0);
-    std::fs::write(dir.join("modal.toml"), structure("modal").replace("type = \"modal\"", "type = \"modal\"\nmodes = 10") + "[output]\ndir = \"modal\"\nexisting = \"overwrite\"\n").unwrap();
+    std::fs::write(
+        dir.join("modal.toml"),
+        structure("modal").replace("type = \"modal\"", "type = \"modal\"\nmodes = 10")
+            + "[output]\ndir = \"modal\"\nexisting = \"overwrite\"\n",
+    )
+    .unwrap();
     run_ok(0, &[dir.join("modal.toml").to_str().unwrap()]);
     let damping = "alpha = 2.0\nbeta = 2.0e-5";
     std::fs::write(dir.join("th.toml"), structure("time_history") + &dynamics(0.6, dt, damping, "")).unwrap();
     run_ok(0, &[dir.join("th.toml").to_str().unwrap()]);
 
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("modal/summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("modal/summary.json")).unwrap()).unwrap();
     let f = hdf5::File::open(dir.join("modal/modes.h5")).unwrap();
     let ids: Vec<u64> = f.dataset("mesh/node_ids").unwrap().read_raw().unwrap();
     let tip = ids.iter().position(|&t| t == (N_EL + 1) as u64).expect("tip node");
@@ -127,7 +133,10 @@ fn direct_integration_matches_modal_superposition() {
     assert_eq!(direct.len(), reference.len());
     let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let (pd, pr) = (peak(&direct), peak(&reference));
-    eprintln!("peak tip displacement: direct {pd:.6e} m, modal superposition {pr:.6e} m, relative difference {:.2e}", (pd - pr).abs() / pr);
+    eprintln!(
+        "peak tip displacement: direct {pd:.6e} m, modal superposition {pr:.6e} m, relative difference {:.2e}",
+        (pd - pr).abs() / pr
+    );
     assert!(pr > 1e-4, "the pulse should move the tip: {pr}");
     assert!((pd - pr).abs() < 0.01 * pr, "peak tip displacement: direct {pd:.6e} vs modal {pr:.6e}");
     // The whole history, too: RMS difference within 2 % of the peak.
@@ -196,7 +205,8 @@ fn direct_integration_of_a_shell_model_matches_modal_superposition() {
     std::fs::write(dir.join("th.toml"), th).unwrap();
     run_ok(0, &[dir.join("th.toml").to_str().unwrap()]);
 
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("modal/summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("modal/summary.json")).unwrap()).unwrap();
     let f = hdf5::File::open(dir.join("modal/modes.h5")).unwrap();
     let ids: Vec<u64> = f.dataset("mesh/node_ids").unwrap().read_raw().unwrap();
     // Gmsh tags are node index + 1; the tip is the middle node of the top row, index 16·3 + 1.
@@ -229,7 +239,8 @@ fn undamped_linear_run_keeps_the_energy_balance() {
     write_cantilever(&dir);
     let dt = 1e-3;
     write_record(&dir.join("rec.txt"), dt, 0.3, 10.0, 0.2, 2.0);
-    std::fs::write(dir.join("th.toml"), structure("time_history") + &dynamics(0.3, dt, "", "force_tolerance = 1e-11")).unwrap();
+    std::fs::write(dir.join("th.toml"), structure("time_history") + &dynamics(0.3, dt, "", "force_tolerance = 1e-11"))
+        .unwrap();
     run_ok(0, &[dir.join("th.toml").to_str().unwrap()]);
     let err = csv_column(&dir.join("out/energy.csv"), "relative_error");
     let input = csv_column(&dir.join("out/energy.csv"), "input");
@@ -274,12 +285,24 @@ fn damage_shell_job(group: &str, support: &str, thickness: f64, layers: usize, e
 /// gravity compression, 59 kPa · t²/6 ≈ 0.9 kN·m/m): the base layers crack, the run is nonlinear.
 fn write_wall(dir: &Path, dt: f64, duration: f64, extra: &str) {
     let (nx, nz, w, h) = (2usize, 3usize, 2.0, 3.0);
-    let nodes: Vec<[f64; 3]> = (0..=nz).flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, 0.0, h * j as f64 / nz as f64])).collect();
-    let quads: Vec<[usize; 4]> = (0..nz).flat_map(|j| (0..nx).map(move |i| {
-        let a = j * (nx + 1) + i;
-        [a, a + 1, a + nx + 2, a + nx + 1]
-    })).collect();
-    write_quad_mesh(&dir.join("m.msh"), &nodes, &quads, "wall", &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])]);
+    let nodes: Vec<[f64; 3]> = (0..=nz)
+        .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, 0.0, h * j as f64 / nz as f64]))
+        .collect();
+    let quads: Vec<[usize; 4]> = (0..nz)
+        .flat_map(|j| {
+            (0..nx).map(move |i| {
+                let a = j * (nx + 1) + i;
+                [a, a + 1, a + nx + 2, a + nx + 1]
+            })
+        })
+        .collect();
+    write_quad_mesh(
+        &dir.join("m.msh"),
+        &nodes,
+        &quads,
+        "wall",
+        &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])],
+    );
     write_record(&dir.join("rec.txt"), dt, duration, 5.0, 0.4, 1.0);
     let job = damage_shell_job("wall", "base", 0.3, 3, 5.0e-5)
         + &format!(
@@ -303,7 +326,9 @@ fn checkpoint_values(file: &Path) -> (usize, Vec<f64>, Vec<f64>) {
     assert_eq!(&b[..8], b"MHPCCKP2");
     let u64_at = |at: usize| u64::from_le_bytes(b[at..at + 8].try_into().unwrap()) as usize;
     let (n, step, n_el) = (u64_at(8 + 16), u64_at(8 + 24), u64_at(8 + 32));
-    let f64s = |at: usize, k: usize| -> Vec<f64> { b[at..at + 8 * k].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect() };
+    let f64s = |at: usize, k: usize| -> Vec<f64> {
+        b[at..at + 8 * k].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect()
+    };
     let start = 8 + 7 * 8 + 8 + 8 * 8;
     let motion = f64s(start, 3 * n);
     let lens_at = start + 5 * n * 8;
@@ -380,7 +405,8 @@ fn the_damage_column_is_the_laws_dissipation_under_cyclic_shaking() {
     run_ok(0, &[dir.join("th.toml").to_str().unwrap()]);
     let csv = dir.join("out/energy.csv");
     let d = csv_column(&csv, "dissipated_damage");
-    let (strain, uni, w_int) = (csv_column(&csv, "strain"), csv_column(&csv, "unilateral"), csv_column(&csv, "internal_work"));
+    let (strain, uni, w_int) =
+        (csv_column(&csv, "strain"), csv_column(&csv, "unilateral"), csv_column(&csv, "internal_work"));
     let top = csv_column(&dir.join("out/monitors.csv"), "top:uy");
     let reversals = top.windows(2).filter(|w| w[0] * w[1] < 0.0).count();
     assert!(reversals >= 3, "the top should swing both ways: {reversals} sign changes");
@@ -461,7 +487,11 @@ fn one_and_two_ranks_agree() {
         write_cantilever(&dir);
         let dt = 1e-3;
         write_record(&dir.join("rec.txt"), dt, 0.1, 10.0, 0.1, 2.0);
-        std::fs::write(dir.join("th.toml"), structure("time_history") + &dynamics(0.1, dt, "frequencies = [5.0, 50.0]\nratio = 0.05", "")).unwrap();
+        std::fs::write(
+            dir.join("th.toml"),
+            structure("time_history") + &dynamics(0.1, dt, "frequencies = [5.0, 50.0]\nratio = 0.05", ""),
+        )
+        .unwrap();
         run_ok(np, &[dir.join("th.toml").to_str().unwrap()]);
         tips.push(csv_column(&dir.join("out/monitors.csv"), "tip:ux"));
     }
@@ -483,9 +513,19 @@ fn bad_input_names_file_line_and_key() {
         ("missing record", "file = \"rec.txt\"", "file = \"nope.txt\"", "key 'dynamics.ground_motion[0].file'"),
         ("beta out of range", "newton = \"initial\"", "newton = \"initial\"\nbeta = 0.1", "key 'dynamics.beta'"),
         ("gamma below 1/2", "newton = \"initial\"", "newton = \"initial\"\ngamma = 0.4", "key 'dynamics.gamma'"),
-        ("record shorter than the duration", "duration = 0.1", "duration = 0.5", "key 'dynamics.ground_motion[0].file'"),
+        (
+            "record shorter than the duration",
+            "duration = 0.1",
+            "duration = 0.5",
+            "key 'dynamics.ground_motion[0].file'",
+        ),
         ("unknown key", "newton = \"initial\"", "newton = \"initial\"\nnewmark = 1", "key 'dynamics.newmark'"),
-        ("empty Krylov subspace", "newton = \"initial\"", "newton = \"krylov\"\nkrylov_dimension = 0", "key 'dynamics.krylov_dimension'"),
+        (
+            "empty Krylov subspace",
+            "newton = \"initial\"",
+            "newton = \"krylov\"\nkrylov_dimension = 0",
+            "key 'dynamics.krylov_dimension'",
+        ),
     ];
     for (what, from, to, key) in cases {
         let text = good.replacen(from, to, 1);
@@ -514,12 +554,16 @@ fn a_self_weight_the_structure_cannot_carry_stops_with_its_last_equilibrium_writ
     // with cracked cells in it.
     let dir = scratch("th-gravity-failure");
     let (nx, ny, l, w) = (4usize, 1usize, 2.0, 1.0);
-    let nodes: Vec<[f64; 3]> = (0..=ny).flat_map(|j| (0..=nx).map(move |i| [l * i as f64 / nx as f64, w * j as f64 / ny as f64, 0.0])).collect();
+    let nodes: Vec<[f64; 3]> = (0..=ny)
+        .flat_map(|j| (0..=nx).map(move |i| [l * i as f64 / nx as f64, w * j as f64 / ny as f64, 0.0]))
+        .collect();
     let quads: Vec<[usize; 4]> = (0..ny)
-        .flat_map(|j| (0..nx).map(move |i| {
-            let a = j * (nx + 1) + i;
-            [a, a + 1, a + nx + 2, a + nx + 1]
-        }))
+        .flat_map(|j| {
+            (0..nx).map(move |i| {
+                let a = j * (nx + 1) + i;
+                [a, a + 1, a + nx + 2, a + nx + 1]
+            })
+        })
         .collect();
     let root: Vec<usize> = (0..=ny).map(|j| j * (nx + 1)).collect();
     write_quad_mesh(&dir.join("m.msh"), &nodes, &quads, "slab", &[("root", root), ("tip", vec![nx])]);
@@ -530,14 +574,23 @@ fn a_self_weight_the_structure_cannot_carry_stops_with_its_last_equilibrium_writ
          [[dynamics.ground_motion]]\ndirection = \"y\"\nfile = \"rec.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n\
          [output]\ndir = \"out\"\nexisting = \"overwrite\"\n";
     std::fs::write(dir.join("th.toml"), job).unwrap();
-    expect_job_error(&dir.join("th.toml"), 1, &["gravity: no static equilibrium", "cells with d_t_max > 0.5: slab", "gravity-failure.xdmf"]);
+    expect_job_error(
+        &dir.join("th.toml"),
+        1,
+        &["gravity: no static equilibrium", "cells with d_t_max > 0.5: slab", "gravity-failure.xdmf"],
+    );
     let f = hdf5::File::open(dir.join("out/gravity-failure.h5")).expect("gravity-failure.h5");
     let step = f.group("steps/0").expect("one step");
     let lambda: f64 = step.attr("time").and_then(|a| a.read_scalar()).expect("time attribute");
     // Between the cracking moment and the no-softening bound: M_cr / M = 0.184 < λ < 3 M_cr / M = 0.551.
     let m = 2000.0 * 9.81 * 0.3 * l * l / 2.0;
     let m_cr = 2.885e9 * 5.0e-5 * 0.3 * 0.3 / 6.0;
-    assert!(lambda > m_cr / m && lambda < 3.0 * m_cr / m, "the last equilibrium's load factor {lambda}, bounds {} and {}", m_cr / m, 3.0 * m_cr / m);
+    assert!(
+        lambda > m_cr / m && lambda < 3.0 * m_cr / m,
+        "the last equilibrium's load factor {lambda}, bounds {} and {}",
+        m_cr / m,
+        3.0 * m_cr / m
+    );
     let d_t: Vec<f64> = f.dataset("steps/0/d_t_max").and_then(|d| d.read_raw()).expect("d_t_max");
     assert!(d_t.iter().any(|&d| d > 0.5), "cracked cells at the last equilibrium: {d_t:?}");
     let u: Vec<f64> = f.dataset("steps/0/displacement").and_then(|d| d.read_raw()).expect("displacement");

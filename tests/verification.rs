@@ -106,7 +106,8 @@ fn fixed_fixed_beam_under_self_weight() {
     let (l, rho, g) = (6.0, 7850.0, 9.81);
     let nodes = [[0.0, 0.0, 0.0], [l / 2.0, 0.0, 0.0], [l, 0.0, 0.0]];
     write_line_mesh(&dir.join("m.msh"), &nodes, &[[0, 1], [1, 2]], &[("ends", &[0, 2])]);
-    let extra = format!("[[supports]]\ngroup = \"ends\"\ndofs = [\"all\"]\n[gravity]\nacceleration = [0.0, 0.0, {:e}]\n", -g);
+    let extra =
+        format!("[[supports]]\ngroup = \"ends\"\ndofs = [\"all\"]\n[gravity]\nacceleration = [0.0, 0.0, {:e}]\n", -g);
     let job = frame_job("m.msh", E, G, SEC, None, &extra).replace("density = 0.0", &format!("density = {rho:e}"));
     std::fs::write(dir.join("job.toml"), job).unwrap();
     let out = run(0, &[dir.join("job.toml").to_str().unwrap()]);

@@ -99,9 +99,13 @@ fn wall_shear_passes_its_peak_and_softens() {
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
     let c = curve(&dir);
-    let (k, peak) = c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
+    let (k, peak) =
+        c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
     let last = c.last().unwrap();
-    println!("peak {peak:.4e} N at {:.3e} m; final {:.4e} N at {:.3e} m; dissipated {:.4e} J", c[k].0, last.1, last.0, last.2);
+    println!(
+        "peak {peak:.4e} N at {:.3e} m; final {:.4e} N at {:.3e} m; dissipated {:.4e} J",
+        c[k].0, last.1, last.0, last.2
+    );
     assert!((last.0 - 2.8e-3).abs() < 1e-9, "the run reached the target");
     assert!(k + 1 < c.len(), "the force still rises at the end");
     assert!(last.1 < 0.995 * peak, "no softening after the peak: {} vs {peak}", last.1);
@@ -112,8 +116,10 @@ fn wall_shear_passes_its_peak_and_softens() {
     // the height row by row and by more than 0.25 m over the four rows (a vertical band would not
     // move; the diagonal's own run over the four rows is 4 × 0.2 × W/H = 0.67 m).
     let f = hdf5::File::open(dir.join("out/results.h5")).unwrap();
-    let steps: Vec<usize> = f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
-    let dc: Vec<f64> = f.dataset(&format!("steps/{}/d_c_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
+    let steps: Vec<usize> =
+        f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
+    let dc: Vec<f64> =
+        f.dataset(&format!("steps/{}/d_c_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
     let dc: Vec<f64> = dc.into_iter().filter(|x| x.is_finite()).collect(); // the quads (the platen has none)
     assert_eq!(dc.len(), 30);
     let centroid = |k: usize| {
@@ -136,7 +142,10 @@ fn wall_shear_passes_its_peak_and_softens() {
 fn wall_shear_elastic_branch_and_first_damage() {
     let dir = scratch("wall-shear-elastic");
     let job = wall(&dir, 5, 6, 40);
-    let text = std::fs::read_to_string(&job).unwrap().replace("target = 2e-3", "target = 6e-4").replace("steps = 40", "steps = 6");
+    let text = std::fs::read_to_string(&job)
+        .unwrap()
+        .replace("target = 2e-3", "target = 6e-4")
+        .replace("steps = 40", "steps = 6");
     std::fs::write(&job, text).unwrap();
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
@@ -172,7 +181,10 @@ fn viscous_damage_tends_to_the_rate_independent_wall() {
             .replace("target = 2e-3", "target = 2.8e-3")
             .replace("a_c = 0.8\n", "a_c = 0.3\ngf_c = 264.6\n");
         if let Some(t) = tau {
-            text = text.replace("steps = 2\n[analysis.control]", &format!("steps = 2\ndamage_relaxation_time = {t}\n[analysis.control]"));
+            text = text.replace(
+                "steps = 2\n[analysis.control]",
+                &format!("steps = 2\ndamage_relaxation_time = {t}\n[analysis.control]"),
+            );
             assert!(text.contains("damage_relaxation_time"));
         }
         std::fs::write(&job, text).unwrap();
@@ -186,7 +198,10 @@ fn viscous_damage_tends_to_the_rate_independent_wall() {
         results.push((peak, last.2));
     }
     let [(p0, e0), (p1, e1), (p2, e2)] = [results[0], results[1], results[2]];
-    assert!(p1 >= p2 * (1.0 - 1e-9) && p2 >= p0 * (1.0 - 1e-9), "peaks {p1} (τ = 0.002), {p2} (0.0005), {p0} (rate independent)");
+    assert!(
+        p1 >= p2 * (1.0 - 1e-9) && p2 >= p0 * (1.0 - 1e-9),
+        "peaks {p1} (τ = 0.002), {p2} (0.0005), {p0} (rate independent)"
+    );
     assert!((e2 - e0).abs() < (e1 - e0).abs(), "energies {e1} (τ = 0.002), {e2} (0.0005), {e0} (rate independent)");
 }
 
@@ -200,11 +215,20 @@ fn acceptance_law(text: &str) -> String {
 /// from the base (x fastest), and the cells' centroids.
 fn compression_damage(dir: &std::path::Path, nx: usize, nz: usize) -> (Vec<f64>, Vec<[f64; 2]>) {
     let f = hdf5::File::open(dir.join("out/results.h5")).unwrap();
-    let steps: Vec<usize> = f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
-    let dc: Vec<f64> = f.dataset(&format!("steps/{}/d_c_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
+    let steps: Vec<usize> =
+        f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
+    let dc: Vec<f64> =
+        f.dataset(&format!("steps/{}/d_c_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
     let dc: Vec<f64> = dc.into_iter().filter(|x| x.is_finite()).collect(); // the quads (points and the platen have none)
     assert_eq!(dc.len(), nx * nz);
-    let centroids = (0..nx * nz).map(|c| [(c % nx) as f64 * W / nx as f64 + 0.5 * W / nx as f64, (c / nx) as f64 * H / nz as f64 + 0.5 * H / nz as f64]).collect();
+    let centroids = (0..nx * nz)
+        .map(|c| {
+            [
+                (c % nx) as f64 * W / nx as f64 + 0.5 * W / nx as f64,
+                (c / nx) as f64 * H / nz as f64 + 0.5 * H / nz as f64,
+            ]
+        })
+        .collect();
     (dc, centroids)
 }
 
@@ -215,7 +239,9 @@ fn weighted_xz_correlation(d: &[f64], c: &[[f64; 2]]) -> f64 {
     let w: f64 = d.iter().sum();
     let mean = |k: usize| d.iter().zip(c).map(|(d, c)| d * c[k]).sum::<f64>() / w;
     let (mx, mz) = (mean(0), mean(1));
-    let cov = |a: usize, ma: f64, b: usize, mb: f64| d.iter().zip(c).map(|(d, c)| d * (c[a] - ma) * (c[b] - mb)).sum::<f64>() / w;
+    let cov = |a: usize, ma: f64, b: usize, mb: f64| {
+        d.iter().zip(c).map(|(d, c)| d * (c[a] - ma) * (c[b] - mb)).sum::<f64>() / w
+    };
     cov(0, mx, 1, mz) / (cov(0, mx, 0, mx) * cov(1, mz, 1, mz)).sqrt()
 }
 
@@ -256,15 +282,26 @@ fn acceptance_run(test: &str, nx: usize, nz: usize, tau: f64) -> Acceptance {
             "steps = 2\n[analysis.control]",
             &format!("steps = 2\nforce_tolerance = 1e-4\nenergy_tolerance = 1e-10\ndamage_relaxation_time = {tau}\nnonlocal_radius = {NONLOCAL_RADIUS}\n[analysis.control]"),
         );
-    assert!(text.contains("damage_relaxation_time") && text.contains("nonlocal_radius") && text.contains("gf_c = 264.6") && text.contains("target = 4e-3"));
+    assert!(
+        text.contains("damage_relaxation_time")
+            && text.contains("nonlocal_radius")
+            && text.contains("gf_c = 264.6")
+            && text.contains("target = 4e-3")
+    );
     std::fs::write(&job, text).unwrap();
     let out = run(0, &[job.to_str().unwrap()]);
     assert!(out.status.success(), "{nx} x {nz}: {}\n{}", stdout(&out), stderr(&out));
     let c = curve(&dir);
     let last = *c.last().unwrap();
     assert!((last.0 - 4e-3).abs() < 1e-9, "{nx} x {nz}: stopped at {}", last.0);
-    let (k, peak) = c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
-    assert!(k + 1 < c.len() && last.1 < 0.9 * peak, "{nx} x {nz}: no softening: peak {peak} at {}, final {}", c[k].0, last.1);
+    let (k, peak) =
+        c.iter().enumerate().map(|(k, x)| (k, x.1)).fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
+    assert!(
+        k + 1 < c.len() && last.1 < 0.9 * peak,
+        "{nx} x {nz}: no softening: peak {peak} at {}, final {}",
+        c[k].0,
+        last.1
+    );
     // The rows under the platen and above the base crush over most of the width (bonded
     // ends): the diagonal is judged on the rows between them.
     let (dc, centroids) = compression_damage(&dir, nx, nz);
@@ -277,7 +314,10 @@ fn acceptance_run(test: &str, nx: usize, nz: usize, tau: f64) -> Acceptance {
     let a = Acceptance { peak, peak_at: c[k].0, last: last.1, energy: last.2, corr_c, longest_column };
     println!("{nx} x {nz}, tau {tau}: {a:?}");
     assert!(corr_c < -0.5, "{nx} x {nz}: compression damage not on the loaded diagonal (correlation {corr_c})");
-    assert!(longest_column < 0.9, "{nx} x {nz}: a vertical splitting crack (d_t > 0.9 over {longest_column} of a column)");
+    assert!(
+        longest_column < 0.9,
+        "{nx} x {nz}: a vertical splitting crack (d_t > 0.9 over {longest_column} of a column)"
+    );
     a
 }
 
@@ -285,8 +325,10 @@ fn acceptance_run(test: &str, nx: usize, nz: usize, tau: f64) -> Acceptance {
 /// from the base (x fastest).
 fn tension_damage(dir: &std::path::Path, nx: usize, nz: usize) -> Vec<f64> {
     let f = hdf5::File::open(dir.join("out/results.h5")).unwrap();
-    let steps: Vec<usize> = f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
-    let dt: Vec<f64> = f.dataset(&format!("steps/{}/d_t_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
+    let steps: Vec<usize> =
+        f.group("steps").unwrap().member_names().unwrap().iter().filter_map(|s| s.parse().ok()).collect();
+    let dt: Vec<f64> =
+        f.dataset(&format!("steps/{}/d_t_max", steps.iter().max().unwrap())).unwrap().read_raw().unwrap();
     let dt: Vec<f64> = dt.into_iter().filter(|x| x.is_finite()).collect();
     assert_eq!(dt.len(), nx * nz);
     dt
@@ -323,12 +365,16 @@ fn tension_damage(dir: &std::path::Path, nx: usize, nz: usize) -> Vec<f64> {
 #[test]
 fn wall_shear_dissipated_energy_agrees_across_three_meshes() {
     let runs: Vec<Acceptance> = std::thread::scope(|s| {
-        let handles: Vec<_> = [(15, 18), (20, 24), (25, 30)].map(|(nx, nz)| s.spawn(move || acceptance_run("meshes", nx, nz, 0.002))).into_iter().collect();
+        let handles: Vec<_> = [(15, 18), (20, 24), (25, 30)]
+            .map(|(nx, nz)| s.spawn(move || acceptance_run("meshes", nx, nz, 0.002)))
+            .into_iter()
+            .collect();
         handles.into_iter().map(|h| h.join().expect("the run panicked: its message is above")).collect()
     });
     let energies: Vec<f64> = runs.iter().map(|a| a.energy).collect();
     let mean = energies.iter().sum::<f64>() / 3.0;
-    let spread = (energies.iter().cloned().fold(f64::MIN, f64::max) - energies.iter().cloned().fold(f64::MAX, f64::min)) / mean;
+    let spread =
+        (energies.iter().cloned().fold(f64::MIN, f64::max) - energies.iter().cloned().fold(f64::MAX, f64::min)) / mean;
     println!("dissipated energies {energies:?} J, spread {spread:.4}");
     assert!(spread < 0.05, "the dissipated energy depends on the mesh: {energies:?} J, (max − min)/mean = {spread}");
 }
@@ -391,13 +437,21 @@ fn nonlocal_wall_agrees_on_one_and_two_ranks() {
 fn nonlocal_radius_bad_input_is_named() {
     let dir = scratch("wall-shear-nonlocal-bad");
     let job = wall(&dir, 2, 2, 2);
-    let text = std::fs::read_to_string(&job).unwrap().replace("steps = 2\n[analysis.control]", "steps = 2\nnonlocal_radius = -0.1\n[analysis.control]");
+    let text = std::fs::read_to_string(&job)
+        .unwrap()
+        .replace("steps = 2\n[analysis.control]", "steps = 2\nnonlocal_radius = -0.1\n[analysis.control]");
     std::fs::write(&job, &text).unwrap();
     expect_job_error(&job, 2, &["key 'analysis.nonlocal_radius'", "job.toml:4:1", "> 0, got -0.1"]);
     let elastic = text
         .replace("nonlocal_radius = -0.1", "nonlocal_radius = 0.1")
-        .replace("[materials.masonry]\ntype = \"damage\"\n[materials.masonry.law]\n", "[materials.masonry]\ntype = \"elastic\"\n")
-        .replace("eps0_t = 5.0e-5\neps0_c = 2.0e-4\ngf_t = 20.0\na_c = 0.8\nb_c = 1500.0\nregularization = \"hillerborg\"\n", "");
+        .replace(
+            "[materials.masonry]\ntype = \"damage\"\n[materials.masonry.law]\n",
+            "[materials.masonry]\ntype = \"elastic\"\n",
+        )
+        .replace(
+            "eps0_t = 5.0e-5\neps0_c = 2.0e-4\ngf_t = 20.0\na_c = 0.8\nb_c = 1500.0\nregularization = \"hillerborg\"\n",
+            "",
+        );
     assert!(elastic.contains("type = \"elastic\"\nE = 2.885e9\nnu = 0.19\n[materials.steel]"), "{elastic}");
     std::fs::write(&job, elastic).unwrap();
     expect_job_error(&job, 2, &["nonlocal_radius = 0.1", "no element of the model has a damage law"]);

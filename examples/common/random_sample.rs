@@ -4,7 +4,12 @@ use masonry_hpc::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout,
 
 pub fn random_square(n: usize) -> Result<Sample, Box<dyn std::error::Error>> {
     Ok(Sample::build(&SampleConfig {
-        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
+        layout: SampleLayout::Random(RandomLayout {
+            width: 1.0,
+            height: 1.0,
+            n_particles: n,
+            min_distance_factor: 0.7,
+        }),
         thickness: 1.0,
         seed: 7,
         alpha: 0.8,

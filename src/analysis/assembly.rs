@@ -11,10 +11,10 @@
 //! the fixed DOFs' eigenvalues to infinity, out of a shift-and-invert search.
 use super::Discretization;
 use crate::element::{AppliedLoads, ElementOutput, EvalRequest};
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::petsc::{Matrix, Vector};
-use crate::error::Error;
 
 /// Which equations an assembled vector fills.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -171,9 +171,8 @@ pub fn assemble_loads(
         if disc.dofs.owner[n] != disc.dofs.rank {
             continue;
         }
-        let idx: Vec<i32> = (0..6)
-            .map(|d| if rows == Rows::Free { disc.dofs.equation(n, d) } else { disc.dofs.dof(n, d) })
-            .collect();
+        let idx: Vec<i32> =
+            (0..6).map(|d| if rows == Rows::Free { disc.dofs.equation(n, d) } else { disc.dofs.dof(n, d) }).collect();
         f.add_values(&idx, &load)?;
     }
     if let Some(g) = model.gravity {
@@ -228,8 +227,10 @@ pub fn assemble_internal_forces_on(
         let cell = &mesh.cells[model.cells[c].cell];
         disc.element_equations(&cell.nodes, &mut s.free, &mut s.all);
         gather(&cell.nodes, Some(u_local), Some(&local), &mut s.u_e);
-        disc.elements[i].evaluate(&s.u_e, EvalRequest::Force, &mut out).map_err(|source| {
-            Error::Element { tag: cell.tag, group: String::new(), source }
+        disc.elements[i].evaluate(&s.u_e, EvalRequest::Force, &mut out).map_err(|source| Error::Element {
+            tag: cell.tag,
+            group: String::new(),
+            source,
         })?;
         let idx = if rows == Rows::Free { &s.free } else { &s.all };
         f.add_values(idx, out.f_int.as_slice())?;
@@ -259,7 +260,8 @@ pub fn cell_outputs(
         }
     }
     let names = union_across_ranks(ctx, &local_names);
-    let index: std::collections::HashMap<&str, usize> = names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
+    let index: std::collections::HashMap<&str, usize> =
+        names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
     let local = disc.dofs.local_index();
     let mut values = vec![vec![f64::NAN; disc.elements.len()]; names.len()];
     let mut u_e = Vec::new();
@@ -271,8 +273,11 @@ pub fn cell_outputs(
         let own = e.cell_output_names();
         buf.clear();
         buf.resize(own.len(), 0.0);
-        e.cell_output(&u_e, loads, &mut buf)
-            .map_err(|source| Error::Element { tag: cell.tag, group: String::new(), source })?;
+        e.cell_output(&u_e, loads, &mut buf).map_err(|source| Error::Element {
+            tag: cell.tag,
+            group: String::new(),
+            source,
+        })?;
         for (n, v) in own.iter().zip(&buf) {
             values[index[n]][i] = *v;
         }
@@ -291,11 +296,14 @@ fn union_across_ranks(ctx: &crate::parallel::Context, local: &[&str]) -> Vec<Str
     let total: u64 = lens.iter().sum();
     let mut all = vec![0u8; total as usize];
     let counts: Vec<i32> = lens.iter().map(|&l| l as i32).collect();
-    let displs: Vec<i32> = counts.iter().scan(0, |acc, &c| {
-        let d = *acc;
-        *acc += c;
-        Some(d)
-    }).collect();
+    let displs: Vec<i32> = counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let d = *acc;
+            *acc += c;
+            Some(d)
+        })
+        .collect();
     {
         let mut partition = mpi::datatype::PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
         mpi::traits::CommunicatorCollectives::all_gather_varcount_into(&ctx.comm, bytes, &mut partition);

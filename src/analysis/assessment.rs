@@ -20,10 +20,10 @@ use super::modal;
 use super::modal_updating::{self, UpdatingSummary};
 use super::time_history::{self, TimeHistorySummary};
 use crate::config::{AssessmentConfig, Job, MaterialConfig, Source};
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
@@ -81,7 +81,14 @@ pub struct AssessmentSummary {
 }
 
 /// Collective. Runs the assessment (see the module docs).
-pub fn run(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, model: &StructuralModel, restart: bool) -> Result<AssessmentSummary, Error> {
+pub fn run(
+    ctx: &Context,
+    job: &Job,
+    cfg: &AssessmentConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    restart: bool,
+) -> Result<AssessmentSummary, Error> {
     let log = &ctx.log;
     let t_start = Instant::now();
     let stages = if restart {
@@ -95,9 +102,13 @@ pub fn run(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, model:
     };
     let t_pre = t_start.elapsed().as_secs_f64();
     let updated = updated_job(job, &stages.moduli);
-    let updated_model = agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
+    let updated_model =
+        agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
 
-    log.info(format!("stage 4/4: gravity, then the ground motion on the updated model{}", if restart { " (restart)" } else { "" }));
+    log.info(format!(
+        "stage 4/4: gravity, then the ground motion on the updated model{}",
+        if restart { " (restart)" } else { "" }
+    ));
     let t0 = Instant::now();
     let th = time_history::run(ctx, &updated, mesh, &updated_model, restart)?;
     let t_th = t0.elapsed().as_secs_f64();
@@ -111,7 +122,13 @@ pub fn run(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, model:
 }
 
 /// Collective. Stages 1–3; rank 0 writes them to `stages.json`.
-fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, model: &StructuralModel) -> Result<PreStages, Error> {
+fn pre_stages(
+    ctx: &Context,
+    job: &Job,
+    cfg: &AssessmentConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+) -> Result<PreStages, Error> {
     let log = &ctx.log;
     log.info(format!("stage 1/4: modal analysis of the model as given, {} mode(s)", cfg.modes));
     let t0 = Instant::now();
@@ -121,7 +138,11 @@ fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, mod
     let t0 = Instant::now();
     let updating = match &cfg.updating {
         Some(u) => {
-            log.info(format!("stage 2/4: modal updating of {} group modulus(es) to {} target frequency(ies)", u.parameters.len(), u.targets.len()));
+            log.info(format!(
+                "stage 2/4: modal updating of {} group modulus(es) to {} target frequency(ies)",
+                u.parameters.len(),
+                u.targets.len()
+            ));
             // Without measured shapes, the targets are stage 1's modes: each target keeps the
             // computed mode most like its stage-1 shape (MAC), so a reordering of close modes as
             // the moduli move does not pair a target with another mode.
@@ -140,9 +161,10 @@ fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, mod
     let t_updating = t0.elapsed().as_secs_f64();
     let moduli = modulus_changes(job, updating.as_ref());
     log.info("moduli of the time history: group, material, factor, E before -> after [Pa], f_t before -> after [Pa]");
+    let (wg, wm) = moduli.iter().fold((12, 16), |(g, w), m| (g.max(m.group.len()), w.max(m.material.len())));
     for m in &moduli {
         log.info(format!(
-            "  {:12} {:16} {:8.5}  {:11.4e} -> {:11.4e}{}",
+            "  {:wg$} {:wm$} {:8.5}  {:11.4e} -> {:11.4e}{}",
             m.group,
             m.material,
             m.factor,
@@ -155,15 +177,19 @@ fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, mod
     log.info("stage 3/4: modal analysis of the updated model");
     let t0 = Instant::now();
     let updated = updated_job(job, &moduli);
-    let updated_model = agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
+    let updated_model =
+        agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
     let modal_updated = modal::run_to(ctx, &updated, &cfg.modal(), mesh, &updated_model, "modes-updated")?;
     let t_modal_updated = t0.elapsed().as_secs_f64();
 
     let stages = PreStages {
-        modal: to_value(&modal),
-        updating: updating.as_ref().map_or(serde_json::Value::Null, to_value),
+        modal: to_value(&modal)?,
+        updating: match updating.as_ref() {
+            Some(u) => to_value(u)?,
+            None => serde_json::Value::Null,
+        },
         moduli,
-        modal_updated: to_value(&modal_updated),
+        modal_updated: to_value(&modal_updated)?,
         seconds: [t_modal, t_updating, t_modal_updated],
     };
     let written = if ctx.rank == 0 { write_stages(&job.output_dir.join(STAGES_FILE), &stages) } else { Ok(()) };
@@ -171,8 +197,8 @@ fn pre_stages(ctx: &Context, job: &Job, cfg: &AssessmentConfig, mesh: &Mesh, mod
     Ok(stages)
 }
 
-fn to_value<T: Serialize>(v: &T) -> serde_json::Value {
-    serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
+fn to_value<T: Serialize>(v: &T) -> Result<serde_json::Value, Error> {
+    serde_json::to_value(v).map_err(|e| Error::Analysis(format!("a stage's summary cannot be written as JSON: {e}")))
 }
 
 fn write_stages(file: &Path, stages: &PreStages) -> Result<(), Error> {
@@ -182,14 +208,19 @@ fn write_stages(file: &Path, stages: &PreStages) -> Result<(), Error> {
 
 fn read_stages(file: &Path) -> Result<PreStages, Error> {
     let text = std::fs::read_to_string(file).map_err(|e| {
-        Error::Analysis(format!("--restart needs {} from the first run of this job (the updated moduli): {e}", file.display()))
+        Error::Analysis(format!(
+            "--restart needs {} from the first run of this job (the updated moduli): {e}",
+            file.display()
+        ))
     })?;
-    serde_json::from_str(&text).map_err(|e| Error::Analysis(format!("{}: not a stages file of a seismic assessment: {e}", file.display())))
+    serde_json::from_str(&text)
+        .map_err(|e| Error::Analysis(format!("{}: not a stages file of a seismic assessment: {e}", file.display())))
 }
 
 /// The modulus of every part's group: the updating's factor (1 for groups it does not update).
 pub fn modulus_changes(job: &Job, updating: Option<&UpdatingSummary>) -> Vec<ModulusChange> {
-    let factor_of = |group: &str| updating.and_then(|u| u.parameters.iter().find(|p| p.group == group)).map(|p| p.factor);
+    let factor_of =
+        |group: &str| updating.and_then(|u| u.parameters.iter().find(|p| p.group == group)).map(|p| p.factor);
     job.spec
         .parts
         .iter()
@@ -205,7 +236,11 @@ pub fn modulus_changes(job: &Job, updating: Option<&UpdatingSummary>) -> Vec<Mod
             ModulusChange {
                 group: part.group.clone(),
                 material: part.material.clone(),
-                material_used: if factor.is_some() { format!("{}@{}", part.material, part.group) } else { part.material.clone() },
+                material_used: if factor.is_some() {
+                    format!("{}@{}", part.material, part.group)
+                } else {
+                    part.material.clone()
+                },
                 factor: s,
                 e_before: e,
                 e_after: s * e,

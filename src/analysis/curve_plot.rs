@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use crate::config::CurveOverlayConfig;
-use crate::plot::{LineChart, SeriesStyle};
 use crate::error::Error;
+use crate::plot::{LineChart, SeriesStyle};
 
 /// Reads the overlay curve: columns `x` and `y` of a CSV file with a header line, scaled.
 /// Lines whose two fields do not parse as numbers are skipped; no point at all is an error.
@@ -15,7 +15,10 @@ pub fn read_overlay(o: &CurveOverlayConfig) -> Result<Vec<(f64, f64)>, Error> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').map(str::trim).collect();
     let col = |name: &str| {
-        header.iter().position(|h| *h == name).ok_or_else(|| err(format!("no column '{name}' (columns: {})", header.join(", "))))
+        header
+            .iter()
+            .position(|h| *h == name)
+            .ok_or_else(|| err(format!("no column '{name}' (columns: {})", header.join(", "))))
     };
     let (ix, iy) = (col(&o.x)?, col(&o.y)?);
     let points: Vec<(f64, f64)> = lines
@@ -34,7 +37,12 @@ pub fn read_overlay(o: &CurveOverlayConfig) -> Result<Vec<(f64, f64)>, Error> {
 
 /// Draws `curve.png`: the computed control force against the control displacement, and the
 /// overlay if given.
-pub fn plot_curve(path: &Path, dof: &str, points: &[(f64, f64)], overlay: Option<(&str, &[(f64, f64)])>) -> Result<(), Error> {
+pub fn plot_curve(
+    path: &Path,
+    dof: &str,
+    points: &[(f64, f64)],
+    overlay: Option<(&str, &[(f64, f64)])>,
+) -> Result<(), Error> {
     let mut chart = LineChart::new(
         "Force at the control against its displacement",
         &format!("control displacement {dof} [m]"),

@@ -2,14 +2,14 @@
 //! element objects of the cells this rank owns.
 use crate::config::{Job, MaterialConfig, SectionConfig};
 use crate::element::{
-    ElasticFrame3d, Element, FiberBeam3d, FiberSection, FrameSection, ShellError, ShellMaterial, ShellQuad4, ShellSection,
-    ShellTri3, Tie, TieSection,
+    ElasticFrame3d, Element, FiberBeam3d, FiberSection, FrameSection, ShellError, ShellMaterial, ShellQuad4,
+    ShellSection, ShellTri3, Tie, TieSection,
 };
+use crate::error::Error;
 use crate::mesh::CellKind;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, partition_cells, Context, DofMap};
-use crate::error::Error;
 
 /// The discrete system of one rank.
 pub struct Discretization {
@@ -88,7 +88,7 @@ fn point_material(mat: &MaterialConfig) -> Result<(ShellMaterial, f64), String> 
             Ok((ShellMaterial::Elastic { e: m.e, nu }, m.density))
         }
         MaterialConfig::Damage(d) => match &d.law {
-            Some(law) => Ok((ShellMaterial::Damage(law.clone()), d.density)),
+            Some(law) => Ok((ShellMaterial::Damage(*law), d.density)),
             None => Err("the damage material's law was not loaded".into()),
         },
     }
@@ -107,108 +107,114 @@ fn build_elements(
         let cell = &mesh.cells[mc.cell];
         let part = &spec.parts[mc.part];
         let material = &spec.materials[&part.material];
-        let element: Box<dyn Element> = match (&spec.sections[&part.section], material) {
-            (SectionConfig::Frame(s), MaterialConfig::Elastic(mat)) => {
-                let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
-                let section = FrameSection {
-                    e: mat.e,
-                    g: mat.shear_modulus(),
-                    area: s.area,
-                    iy: s.iy,
-                    iz: s.iz,
-                    j: s.j,
-                    density: mat.density,
-                    nonstructural_mass: s.nonstructural_mass,
-                };
-                let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
-                // Bad geometry or orientation is an input error (exit code 2), as for the other
-                // element kinds.
-                Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::ElementInput {
-                    tag: cell.tag,
-                    group: part.group.clone(),
-                    message: source.to_string(),
-                })?)
-            }
-            (SectionConfig::Tie(t), MaterialConfig::Elastic(mat)) => {
-                let section = TieSection {
-                    e: mat.e,
-                    area: t.area,
-                    density: mat.density,
-                    pretension: t.pretension,
-                    tension_only: t.tension_only,
-                };
-                let (a, b) = (cell.nodes[0], cell.nodes[1]);
-                // An end that only ties touch is an anchor (`StructuralModel::anchors`).
-                let anchored = [a, b].map(|n| model.anchors.binary_search(&n).is_ok());
-                let tie = Tie::new(mesh.coords[a], mesh.coords[b], section).map_err(|source| Error::ElementInput {
-                    tag: cell.tag,
-                    group: part.group.clone(),
-                    message: source.to_string(),
-                })?;
-                Box::new(tie.with_anchored_ends(anchored))
-            }
-            (SectionConfig::Frame(_) | SectionConfig::Tie(_), MaterialConfig::Damage(_)) => {
-                // Rejected when the job is validated; kept as an error, not a panic.
-                return Err(Error::ElementInput {
-                    tag: cell.tag,
-                    group: part.group.clone(),
-                    message: format!("a {} section needs an elastic material", spec.sections[&part.section].type_name()),
-                });
-            }
-            (SectionConfig::Fiber(fs), mat) => {
-                let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
-                    tag: cell.tag,
-                    group: part.group.clone(),
-                    message,
-                })?;
-                let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
-                let section = FiberSection {
-                    width: fs.width,
-                    height: fs.height,
-                    ny: fs.ny,
-                    nz: fs.nz,
-                    integration_points: fs.integration_points,
-                    material,
-                    density,
-                    nonstructural_mass: fs.nonstructural_mass,
-                    torsion_constant: fs.torsion_constant,
-                };
-                let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
-                // A fiber beam that cannot be built is bad input (exit code 2).
-                Box::new(FiberBeam3d::new(x1, x2, v, section).map_err(|e| Error::ElementInput {
-                    tag: cell.tag,
-                    group: part.group.clone(),
-                    message: e.to_string(),
-                })?)
-            }
-            (SectionConfig::Shell(sh), mat) => {
-                let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
-                    tag: cell.tag,
-                    group: part.group.clone(),
-                    message,
-                })?;
-                let section = ShellSection {
-                    thickness: sh.thickness,
-                    layers: sh.layers,
-                    material,
-                    density,
-                    nonstructural_mass_per_area: sh.nonstructural_mass,
-                };
-                let err = |e: ShellError| Error::ElementInput { tag: cell.tag, group: part.group.clone(), message: e.to_string() };
-                let x = |k: usize| mesh.coords[cell.nodes[k]];
-                match cell.kind {
-                    CellKind::Quad4 => Box::new(ShellQuad4::new([x(0), x(1), x(2), x(3)], &section).map_err(err)?),
-                    CellKind::Tri3 => Box::new(ShellTri3::new([x(0), x(1), x(2)], &section).map_err(err)?),
-                    other => {
-                        return Err(Error::ElementInput {
-                            tag: cell.tag,
-                            group: part.group.clone(),
-                            message: format!("a shell section needs triangles or quadrangles, not a {other}"),
-                        })
+        let element: Box<dyn Element> =
+            match (&spec.sections[&part.section], material) {
+                (SectionConfig::Frame(s), MaterialConfig::Elastic(mat)) => {
+                    let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
+                    let section = FrameSection {
+                        e: mat.e,
+                        g: mat.shear_modulus(),
+                        area: s.area,
+                        iy: s.iy,
+                        iz: s.iz,
+                        j: s.j,
+                        density: mat.density,
+                        nonstructural_mass: s.nonstructural_mass,
+                    };
+                    let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
+                    // Bad geometry or orientation is an input error (exit code 2), as for the other
+                    // element kinds.
+                    Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::ElementInput {
+                        tag: cell.tag,
+                        group: part.group.clone(),
+                        message: source.to_string(),
+                    })?)
+                }
+                (SectionConfig::Tie(t), MaterialConfig::Elastic(mat)) => {
+                    let section = TieSection {
+                        e: mat.e,
+                        area: t.area,
+                        density: mat.density,
+                        pretension: t.pretension,
+                        tension_only: t.tension_only,
+                    };
+                    let (a, b) = (cell.nodes[0], cell.nodes[1]);
+                    // An end that only ties touch is an anchor (`StructuralModel::anchors`).
+                    let anchored = [a, b].map(|n| model.anchors.binary_search(&n).is_ok());
+                    let tie = Tie::new(mesh.coords[a], mesh.coords[b], section).map_err(|source| {
+                        Error::ElementInput { tag: cell.tag, group: part.group.clone(), message: source.to_string() }
+                    })?;
+                    Box::new(tie.with_anchored_ends(anchored))
+                }
+                (SectionConfig::Frame(_) | SectionConfig::Tie(_), MaterialConfig::Damage(_)) => {
+                    // Rejected when the job is validated; kept as an error, not a panic.
+                    return Err(Error::ElementInput {
+                        tag: cell.tag,
+                        group: part.group.clone(),
+                        message: format!(
+                            "a {} section needs an elastic material",
+                            spec.sections[&part.section].type_name()
+                        ),
+                    });
+                }
+                (SectionConfig::Fiber(fs), mat) => {
+                    let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
+                        tag: cell.tag,
+                        group: part.group.clone(),
+                        message,
+                    })?;
+                    let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
+                    let section = FiberSection {
+                        width: fs.width,
+                        height: fs.height,
+                        ny: fs.ny,
+                        nz: fs.nz,
+                        integration_points: fs.integration_points,
+                        material,
+                        density,
+                        nonstructural_mass: fs.nonstructural_mass,
+                        torsion_constant: fs.torsion_constant,
+                    };
+                    let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
+                    // A fiber beam that cannot be built is bad input (exit code 2).
+                    Box::new(FiberBeam3d::new(x1, x2, v, section).map_err(|e| Error::ElementInput {
+                        tag: cell.tag,
+                        group: part.group.clone(),
+                        message: e.to_string(),
+                    })?)
+                }
+                (SectionConfig::Shell(sh), mat) => {
+                    let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
+                        tag: cell.tag,
+                        group: part.group.clone(),
+                        message,
+                    })?;
+                    let section = ShellSection {
+                        thickness: sh.thickness,
+                        layers: sh.layers,
+                        material,
+                        density,
+                        nonstructural_mass_per_area: sh.nonstructural_mass,
+                    };
+                    let err = |e: ShellError| Error::ElementInput {
+                        tag: cell.tag,
+                        group: part.group.clone(),
+                        message: e.to_string(),
+                    };
+                    let x = |k: usize| mesh.coords[cell.nodes[k]];
+                    match cell.kind {
+                        CellKind::Quad4 => Box::new(ShellQuad4::new([x(0), x(1), x(2), x(3)], &section).map_err(err)?),
+                        CellKind::Tri3 => Box::new(ShellTri3::new([x(0), x(1), x(2)], &section).map_err(err)?),
+                        other => {
+                            return Err(Error::ElementInput {
+                                tag: cell.tag,
+                                group: part.group.clone(),
+                                message: format!("a shell section needs triangles or quadrangles, not a {other}"),
+                            })
+                        }
                     }
                 }
-            }
-        };
+            };
         out.push(element);
     }
     Ok(out)

@@ -32,7 +32,9 @@ impl IncrementStop {
     /// A phrase for messages ("the load increment reached its floor 1.2e-5").
     pub fn describe(self, control: &IncrementControl) -> String {
         match self {
-            IncrementStop::Floor => format!("the increment reached its floor {:.3e} (1/steps / 2^{})", control.floor(), control.max_cuts),
+            IncrementStop::Floor => {
+                format!("the increment reached its floor {:.3e} (1/steps / 2^{})", control.floor(), control.max_cuts)
+            }
             IncrementStop::HalvingsInRow => format!("{} halvings in a row", control.max_cuts),
             IncrementStop::Budget => format!("the budget of {} attempts is spent", control.max_attempts),
         }
@@ -55,7 +57,14 @@ impl IncrementControl {
     pub fn new(steps: usize, max_cuts: usize) -> IncrementControl {
         let steps = steps.max(1);
         let nominal = 1.0 / steps as f64;
-        IncrementControl { nominal, size: nominal, max_cuts, cuts_in_row: 0, attempts: 0, max_attempts: 10 * (steps + max_cuts) }
+        IncrementControl {
+            nominal,
+            size: nominal,
+            max_cuts,
+            cuts_in_row: 0,
+            attempts: 0,
+            max_attempts: 10 * (steps + max_cuts),
+        }
     }
 
     /// The size of the next increment (a fraction of the stage).

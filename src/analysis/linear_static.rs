@@ -7,11 +7,11 @@ use super::assembly::{self, Rows};
 use super::output;
 use super::Discretization;
 use crate::config::Job;
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Petsc, Vector};
-use crate::error::Error;
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 use std::time::Instant;
@@ -155,10 +155,7 @@ pub fn run(
     let applied_sum: [f64; 6] = total[8..14].try_into().unwrap_or_default();
     t.check = t0.elapsed().as_secs_f64();
     log.info(format!("equilibrium: relative residual {residual:.3e}"));
-    log.info(format!(
-        "applied loads  F = ({:.6e}, {:.6e}, {:.6e}) N",
-        applied_sum[0], applied_sum[1], applied_sum[2]
-    ));
+    log.info(format!("applied loads  F = ({:.6e}, {:.6e}, {:.6e}) N", applied_sum[0], applied_sum[1], applied_sum[2]));
     log.info(format!(
         "reactions      R = ({:.6e}, {:.6e}, {:.6e}) N",
         reaction_sum[0], reaction_sum[1], reaction_sum[2]
@@ -188,8 +185,7 @@ pub fn run(
     let mut tmax = [t.setup, t.assemble, t.solve, t.check, t.output];
     let local_t = tmax;
     ctx.comm.all_reduce_into(&local_t[..], &mut tmax[..], SystemOperation::max());
-    let seconds =
-        Timings { setup: tmax[0], assemble: tmax[1], solve: tmax[2], check: tmax[3], output: tmax[4] };
+    let seconds = Timings { setup: tmax[0], assemble: tmax[1], solve: tmax[2], check: tmax[3], output: tmax[4] };
     Ok(LinearStaticSummary {
         ranks: ctx.size,
         nodes: disc.dofs.n_global_nodes,

@@ -5,8 +5,8 @@
 pub mod assembly;
 pub mod assessment;
 pub mod curve_plot;
-pub mod increment;
 mod discretization;
+pub mod increment;
 pub mod line_search;
 pub mod linear_static;
 pub mod modal;
@@ -14,9 +14,9 @@ pub mod modal_updating;
 pub mod newton;
 pub mod nonlocal;
 pub mod output;
+mod rigid_modes;
 pub mod static_nonlinear;
 pub mod time_history;
-mod rigid_modes;
 
 pub use discretization::{default_orientation, Discretization};
 pub use rigid_modes::rigid_body_modes;

@@ -11,12 +11,12 @@ use super::assembly;
 use super::output::{node_triplets, MeshPiece};
 use super::Discretization;
 use crate::config::{Job, ModalConfig};
+use crate::error::Error;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Eps, Matrix, Vector};
-use crate::error::Error;
 use std::time::Instant;
 
 /// One mode.
@@ -88,13 +88,26 @@ pub fn lowest_modes(ctx: &Context, k: &Matrix, m: &Matrix, n: usize) -> Result<V
 }
 
 /// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
-pub fn run(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &StructuralModel) -> Result<ModalSummary, Error> {
+pub fn run(
+    ctx: &Context,
+    job: &Job,
+    cfg: &ModalConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+) -> Result<ModalSummary, Error> {
     run_to(ctx, job, cfg, mesh, model, "modes")
 }
 
 /// Collective. As [`run`], with the mode shapes in `<stem>.xdmf` + `<stem>.h5` of the job's
 /// results folder.
-pub fn run_to(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &StructuralModel, stem: &str) -> Result<ModalSummary, Error> {
+pub fn run_to(
+    ctx: &Context,
+    job: &Job,
+    cfg: &ModalConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    stem: &str,
+) -> Result<ModalSummary, Error> {
     let log = &ctx.log;
     let t0 = Instant::now();
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
@@ -159,7 +172,10 @@ pub fn run_to(ctx: &Context, job: &Job, cfg: &ModalConfig, mesh: &Mesh, model: &
         });
         shapes.push(phi.owned_values()?);
     }
-    log.info(format!("eigensolve: {t_solve:.3} s; total mass (x, y, z) = ({:.4e}, {:.4e}, {:.4e}) kg", total_mass[0], total_mass[1], total_mass[2]));
+    log.info(format!(
+        "eigensolve: {t_solve:.3} s; total mass (x, y, z) = ({:.4e}, {:.4e}, {:.4e}) kg",
+        total_mass[0], total_mass[1], total_mass[2]
+    ));
     log.info("mode  frequency [Hz]   period [s]   eff. mass ratio x     y      z   (cumulative)");
     for md in &modes {
         log.info(format!(

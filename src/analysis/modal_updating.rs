@@ -21,11 +21,11 @@ use super::assembly;
 use super::modal::lowest_modes;
 use super::Discretization;
 use crate::config::{Job, MaterialConfig, ModalUpdatingConfig};
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
 use crate::petsc::{Matrix, Vector};
-use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
 
@@ -98,10 +98,16 @@ struct TargetShape {
 }
 
 /// Reads the target shapes (every rank reads the same file) onto the owned DOFs.
-fn load_target_shapes(file: &std::path::Path, cfg: &ModalUpdatingConfig, mesh: &Mesh, disc: &Discretization) -> Result<Vec<TargetShape>, Error> {
+fn load_target_shapes(
+    file: &std::path::Path,
+    cfg: &ModalUpdatingConfig,
+    mesh: &Mesh,
+    disc: &Discretization,
+) -> Result<Vec<TargetShape>, Error> {
     let err = |what: String| Error::Analysis(format!("target shapes {}: {what}", file.display()));
     let f = hdf5::File::open(file).map_err(|e| err(e.to_string()))?;
-    let ids: Vec<u64> = f.dataset("mesh/node_ids").and_then(|d| d.read_raw()).map_err(|e| err(format!("mesh/node_ids: {e}")))?;
+    let ids: Vec<u64> =
+        f.dataset("mesh/node_ids").and_then(|d| d.read_raw()).map_err(|e| err(format!("mesh/node_ids: {e}")))?;
     let row: std::collections::HashMap<u64, usize> = ids.iter().enumerate().map(|(i, &t)| (t, i)).collect();
     let n_owned = disc.dofs.n_owned_dofs();
     let mut out = Vec::with_capacity(cfg.targets.len());
@@ -113,7 +119,8 @@ fn load_target_shapes(file: &std::path::Path, cfg: &ModalUpdatingConfig, mesh: &
         }
         // Rotations too, when the file has them (a computed mode does; measured shapes rarely).
         let rot_name = format!("steps/{}/mode_rotation", t.mode - 1);
-        let rot: Option<Vec<f64>> = f.dataset(&rot_name).and_then(|d| d.read_raw()).ok().filter(|r: &Vec<f64>| r.len() == v.len());
+        let rot: Option<Vec<f64>> =
+            f.dataset(&rot_name).and_then(|d| d.read_raw()).ok().filter(|r: &Vec<f64>| r.len() == v.len());
         let mut shape = TargetShape { values: vec![0.0; n_owned], given: vec![false; n_owned] };
         for (i, &n) in disc.dofs.owned.iter().enumerate() {
             if let Some(&r) = row.get(&mesh.node_tags[n]) {
@@ -156,7 +163,13 @@ fn mac_matrix(ctx: &Context, shapes: &[TargetShape], modes: &[Vec<f64>]) -> Vec<
 }
 
 /// Collective. Runs the updating and reports before/after.
-pub fn run(ctx: &Context, job: &Job, cfg: &ModalUpdatingConfig, mesh: &Mesh, model: &StructuralModel) -> Result<UpdatingSummary, Error> {
+pub fn run(
+    ctx: &Context,
+    job: &Job,
+    cfg: &ModalUpdatingConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+) -> Result<UpdatingSummary, Error> {
     let log = &ctx.log;
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
     let format = job.spec.solver.matrix;
@@ -178,7 +191,9 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalUpdatingConfig, mesh: &Mesh, mod
     assembly::assemble_mass(&disc, mesh, model, cfg.mass, &mut m)?;
 
     let shapes = match &cfg.target_shapes {
-        Some(file) => Some(crate::parallel::agree(&ctx.comm, load_target_shapes(file, cfg, mesh, &disc), Error::exit_code)?),
+        Some(file) => {
+            Some(crate::parallel::agree(&ctx.comm, load_target_shapes(file, cfg, mesh, &disc), Error::exit_code)?)
+        }
         None => None,
     };
     let lo: Vec<f64> = cfg.parameters.iter().map(|p| p.min).collect();
@@ -245,7 +260,12 @@ pub fn run(ctx: &Context, job: &Job, cfg: &ModalUpdatingConfig, mesh: &Mesh, mod
     let mut ev = evaluate(&s, &mut k)?;
     let before: Vec<f64> = ev.paired.iter().map(|&(j, _)| ev.freqs[j]).collect();
     let rms_before = rms(&ev.residual);
-    log.info(format!("modal updating: {} parameter(s), {} target(s); RMS relative error {:.4e}", s.len(), cfg.targets.len(), rms_before));
+    log.info(format!(
+        "modal updating: {} parameter(s), {} target(s); RMS relative error {:.4e}",
+        s.len(),
+        cfg.targets.len(),
+        rms_before
+    ));
     let mut mu = 1e-3;
     let mut history = vec![rms_before];
     let mut iterations = 0;

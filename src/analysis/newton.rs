@@ -28,11 +28,11 @@ use super::assembly::{self, Rows};
 use super::line_search::{self, LineSearchSettings};
 use super::Discretization;
 use crate::element::EvalRequest;
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Matrix, Vector};
-use crate::error::Error;
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 
@@ -139,7 +139,13 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 impl NonlinearSystem {
     /// Collective. Vectors, matrix and solver for `disc`; loads assembled; u = 0.
-    pub fn new(ctx: &Context, mesh: &Mesh, model: &StructuralModel, disc: &Discretization, matrix: crate::config::MatrixFormat) -> Result<Self, Error> {
+    pub fn new(
+        ctx: &Context,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        disc: &Discretization,
+        matrix: crate::config::MatrixFormat,
+    ) -> Result<Self, Error> {
         let n_owned = disc.dofs.n_owned_dofs();
         let first = 6 * disc.dofs.node_offset();
         let mut k = disc.new_matrix(ctx, mesh, model, matrix)?;
@@ -153,7 +159,12 @@ impl NonlinearSystem {
         let (mut imposed, mut control) = (Vec::new(), None);
         if let Some(ctl) = &model.control {
             if !ctl.pattern.is_empty() {
-                let pattern_model = StructuralModel { nodal_loads: ctl.pattern.clone(), gravity: None, point_masses: Vec::new(), ..model.clone() };
+                let pattern_model = StructuralModel {
+                    nodal_loads: ctl.pattern.clone(),
+                    gravity: None,
+                    point_masses: Vec::new(),
+                    ..model.clone()
+                };
                 assembly::assemble_loads(disc, mesh, &pattern_model, Rows::Free, &mut f)?;
                 f_pattern = f.owned_values()?;
             }
@@ -168,7 +179,13 @@ impl NonlinearSystem {
                 }
             }
         }
-        let free: Vec<bool> = disc.dofs.owned.iter().flat_map(|&n| (0..6).map(move |d| (n, d))).map(|(n, d)| disc.dofs.equation(n, d) >= 0).collect();
+        let free: Vec<bool> = disc
+            .dofs
+            .owned
+            .iter()
+            .flat_map(|&n| (0..6).map(move |d| (n, d)))
+            .map(|(n, d)| disc.dofs.equation(n, d) >= 0)
+            .collect();
         let ksp = new_solver(ctx)?;
         Ok(NonlinearSystem {
             n_owned,
@@ -206,14 +223,28 @@ impl NonlinearSystem {
 
     /// Collective. Switch the damage shells to nonlocal driving strains averaged within
     /// `radius` (analysis::nonlocal); every later evaluation refreshes the averages first.
-    pub fn enable_nonlocal(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, radius: f64) -> Result<(), Error> {
+    pub fn enable_nonlocal(
+        &mut self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        radius: f64,
+    ) -> Result<(), Error> {
         self.nonlocal = Some(super::nonlocal::NonlocalAveraging::setup(ctx, disc, mesh, model, radius)?);
         Ok(())
     }
 
     /// Collective. The averaged driving strains at the displacement of `local` (no-op for the
     /// local law).
-    fn refresh_nonlocal(&self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, local: &[f64]) -> Result<(), Error> {
+    fn refresh_nonlocal(
+        &self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        local: &[f64],
+    ) -> Result<(), Error> {
         match &self.nonlocal {
             Some(nl) => nl.update(ctx, disc, mesh, model, local),
             None => Ok(()),
@@ -221,7 +252,14 @@ impl NonlinearSystem {
     }
 
     /// Collective. f_int at `u` (all rows, owned) into `self.f_int`; elements' trial state at `u`.
-    fn internal_force_at(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64]) -> Result<(), Error> {
+    fn internal_force_at(
+        &mut self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        u: &[f64],
+    ) -> Result<(), Error> {
         let local = self.local_form(u)?;
         self.refresh_nonlocal(ctx, disc, mesh, model, &local)?;
         assembly::assemble_internal_forces_on(disc, mesh, model, &local, Rows::All, &mut self.fint_vec)?;
@@ -243,7 +281,16 @@ impl NonlinearSystem {
 
     /// Collective. Tangent at `u`, factored; solves K x = b for each b.
     #[allow(clippy::too_many_arguments)]
-    fn solve(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u: &[f64], rhs: &[&[f64]], secant: bool) -> Result<Vec<Vec<f64>>, Error> {
+    fn solve(
+        &mut self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        u: &[f64],
+        rhs: &[&[f64]],
+        secant: bool,
+    ) -> Result<Vec<Vec<f64>>, Error> {
         let local = self.local_form(u)?;
         self.refresh_nonlocal(ctx, disc, mesh, model, &local)?;
         self.k.zero_entries()?;
@@ -260,7 +307,9 @@ impl NonlinearSystem {
         for b in rhs {
             self.rhs.set_values(&idx, b)?;
             self.rhs.assemble()?;
-            if let Err(e) = agree(&ctx.comm, self.ksp.solve(&self.rhs, &mut self.sol).map_err(Error::from), Error::exit_code) {
+            if let Err(e) =
+                agree(&ctx.comm, self.ksp.solve(&self.rhs, &mut self.sol).map_err(Error::from), Error::exit_code)
+            {
                 // A failed factorization poisons the solver: PETSc's MUMPS interface skips every
                 // later numeric factorization once one has failed, so every retry of a cut
                 // increment would fail at its first solve. A fresh solver starts clean.
@@ -286,9 +335,23 @@ impl NonlinearSystem {
     }
 
     /// Collective. Newton's method for one increment (module docs), from the committed state.
-    pub fn solve_increment(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, inc: &Increment, set: &NewtonSettings) -> Result<NewtonOutcome, Error> {
+    pub fn solve_increment(
+        &mut self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        inc: &Increment,
+        set: &NewtonSettings,
+    ) -> Result<NewtonOutcome, Error> {
         self.start(inc);
-        let mut outcome = NewtonOutcome { converged: false, iterations: 0, residual: f64::INFINITY, line_search_evaluations: 0, reason: String::new() };
+        let mut outcome = NewtonOutcome {
+            converged: false,
+            iterations: 0,
+            residual: f64::INFINITY,
+            line_search_evaluations: 0,
+            reason: String::new(),
+        };
         let mut energy0 = 0.0f64;
         let mut reference0 = 0.0f64;
         for it in 0..set.max_iterations {
@@ -299,8 +362,10 @@ impl NonlinearSystem {
             }
             let r = self.residual(inc.lambda, self.mu);
             let rn = global_sum(ctx, dot(&r, &r)).sqrt();
-            let ext: Vec<f64> = (0..self.n_owned).map(|i| inc.lambda * self.f_loads[i] + self.mu * self.f_pattern[i]).collect();
-            let current = global_sum(ctx, dot(&ext, &ext)).sqrt().max(global_sum(ctx, dot(&self.f_int, &self.f_int)).sqrt());
+            let ext: Vec<f64> =
+                (0..self.n_owned).map(|i| inc.lambda * self.f_loads[i] + self.mu * self.f_pattern[i]).collect();
+            let current =
+                global_sum(ctx, dot(&ext, &ext)).sqrt().max(global_sum(ctx, dot(&self.f_int, &self.f_int)).sqrt());
             if it == 0 {
                 reference0 = current;
             }
@@ -311,7 +376,8 @@ impl NonlinearSystem {
                 return Ok(outcome);
             }
             // The control constraint holds after the first iteration (to round-off).
-            let gap_ok = inc.control_target.is_none_or(|t| (t - self.control_value(ctx, &self.u)).abs() <= 1e-12 * t.abs());
+            let gap_ok =
+                inc.control_target.is_none_or(|t| (t - self.control_value(ctx, &self.u)).abs() <= 1e-12 * t.abs());
             if gap_ok && (rn == 0.0 || outcome.residual <= set.force_tolerance) {
                 outcome.converged = true;
                 return Ok(outcome);
@@ -386,7 +452,13 @@ impl NonlinearSystem {
     }
 
     /// Collective. Accept the current state: trial state brought to u, then committed.
-    pub fn commit(&mut self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel) -> Result<(), Error> {
+    pub fn commit(
+        &mut self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+    ) -> Result<(), Error> {
         if !self.fresh {
             let u = self.u.clone();
             self.internal_force_at(ctx, disc, mesh, model, &u)?;
@@ -443,7 +515,6 @@ pub fn bounded_reference(current: f64, start: f64) -> f64 {
         current
     }
 }
-
 
 #[cfg(test)]
 mod tests {

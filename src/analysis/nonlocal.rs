@@ -31,11 +31,11 @@ use mpi::traits::CommunicatorCollectives;
 
 use super::assembly;
 use super::Discretization;
+use crate::error::Error;
 use crate::material::nonlocal::bell;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
-use crate::error::Error;
 
 /// The averaging operator of one run (module docs).
 #[derive(Debug)]
@@ -57,7 +57,13 @@ impl NonlocalAveraging {
     /// Collective. Switches every owned element to its nonlocal law with the regularization
     /// length `radius` and builds the averaging operator. Errors: an element whose law cannot
     /// be built for that length (named by its tag), and no element on any rank taking part.
-    pub fn setup(ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, radius: f64) -> Result<Self, Error> {
+    pub fn setup(
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        radius: f64,
+    ) -> Result<Self, Error> {
         let mut mine = Vec::new(); // x, y, z, V, layer per point
         let mut per_element = Vec::with_capacity(disc.elements.len());
         let mut failure = None;
@@ -74,7 +80,9 @@ impl NonlocalAveraging {
                     failure = Some(Error::ElementInput {
                         tag: cell.tag,
                         group: String::new(),
-                        message: format!("nonlocal_radius = {radius} m used as the regularization length of the damage law: {e}"),
+                        message: format!(
+                            "nonlocal_radius = {radius} m used as the regularization length of the damage law: {e}"
+                        ),
                     });
                     break;
                 }
@@ -83,11 +91,14 @@ impl NonlocalAveraging {
         crate::parallel::agree(&ctx.comm, failure.map_or(Ok(()), Err), Error::exit_code)?;
         let all = all_gather(ctx, &mine);
         let counts: Vec<usize> = all.1.iter().map(|n| n / 5).collect();
-        let offsets: Vec<usize> = counts.iter().scan(0, |acc, &n| {
-            let o = *acc;
-            *acc += n;
-            Some(o)
-        }).collect();
+        let offsets: Vec<usize> = counts
+            .iter()
+            .scan(0, |acc, &n| {
+                let o = *acc;
+                *acc += n;
+                Some(o)
+            })
+            .collect();
         let pts: Vec<&[f64]> = all.0.chunks_exact(5).collect();
         if pts.is_empty() {
             // The same on every rank (the list is global): an agreed input error.
@@ -100,7 +111,9 @@ impl NonlocalAveraging {
             }));
         }
         // Bucket grid of cell size R.
-        let key = |p: &[f64]| ((p[0] / radius).floor() as i64, (p[1] / radius).floor() as i64, (p[2] / radius).floor() as i64);
+        let key = |p: &[f64]| {
+            ((p[0] / radius).floor() as i64, (p[1] / radius).floor() as i64, (p[2] / radius).floor() as i64)
+        };
         let mut grid: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();
         for (j, p) in pts.iter().enumerate() {
             grid.entry(key(p)).or_default().push(j as u32);
@@ -153,7 +166,14 @@ impl NonlocalAveraging {
 
     /// Collective. The averaged driving strains at the displacement `u_local` (local form of the
     /// ghosted vector) handed to the owned elements (module docs, steps 1–3).
-    pub fn update(&self, ctx: &Context, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel, u_local: &[f64]) -> Result<(), Error> {
+    pub fn update(
+        &self,
+        ctx: &Context,
+        disc: &mut Discretization,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        u_local: &[f64],
+    ) -> Result<(), Error> {
         let local = disc.dofs.local_index();
         let mut values = Vec::with_capacity(2 * self.self_share.len());
         let mut u_e = Vec::new();
@@ -163,9 +183,11 @@ impl NonlocalAveraging {
             }
             let cell = &mesh.cells[model.cells[c].cell];
             assembly::gather(&cell.nodes, Some(u_local), Some(&local), &mut u_e);
-            disc.elements[i]
-                .local_driving_strains(&u_e, &mut values)
-                .map_err(|source| Error::Element { tag: cell.tag, group: String::new(), source })?;
+            disc.elements[i].local_driving_strains(&u_e, &mut values).map_err(|source| Error::Element {
+                tag: cell.tag,
+                group: String::new(),
+                source,
+            })?;
         }
         debug_assert_eq!(values.len(), 2 * self.self_share.len());
         let (all, _) = all_gather(ctx, &values);
@@ -199,11 +221,14 @@ fn all_gather(ctx: &Context, values: &[f64]) -> (Vec<f64>, Vec<usize>) {
     let mut lens = vec![0u64; ctx.size];
     ctx.comm.all_gather_into(&(values.len() as u64), &mut lens[..]);
     let counts: Vec<i32> = lens.iter().map(|&l| l as i32).collect();
-    let displs: Vec<i32> = counts.iter().scan(0, |acc, &c| {
-        let d = *acc;
-        *acc += c;
-        Some(d)
-    }).collect();
+    let displs: Vec<i32> = counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let d = *acc;
+            *acc += c;
+            Some(d)
+        })
+        .collect();
     let mut all = vec![0.0; lens.iter().sum::<u64>() as usize];
     {
         let mut partition = mpi::datatype::PartitionMut::new(&mut all[..], &counts[..], &displs[..]);

@@ -3,11 +3,11 @@
 use super::Discretization;
 use crate::config::Job;
 use crate::element::AppliedLoads;
+use crate::error::Error;
 use crate::io::{OutputMesh, ResultsWriter};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
-use crate::error::Error;
 use mpi::traits::{Communicator, CommunicatorCollectives};
 
 /// Collective. The largest `value` over ranks and the tag that goes with it (ties: lowest rank).

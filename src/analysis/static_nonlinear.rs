@@ -47,11 +47,11 @@ use super::output::{global_max_with_tag, node_triplets, MeshPiece};
 use super::Discretization;
 use crate::config::{IterationMatrix, Job, LineSearchKind, StaticNonlinearConfig};
 use crate::element::AppliedLoads;
+use crate::error::Error;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::error::Error;
 
 /// One converged increment.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -95,7 +95,13 @@ struct Stage {
 }
 
 /// Collective. Runs the analysis.
-pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, model: &StructuralModel) -> Result<StaticNonlinearSummary, Error> {
+pub fn run(
+    ctx: &Context,
+    job: &Job,
+    cfg: &StaticNonlinearConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+) -> Result<StaticNonlinearSummary, Error> {
     let log = &ctx.log;
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
     let mut sys = NonlinearSystem::new(ctx, mesh, model, &disc, job.spec.solver.matrix)?;
@@ -116,7 +122,11 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
     let secant_settings = NewtonSettings { secant: true, max_iterations: 4 * cfg.max_iterations, ..settings };
     let settings = if settings.secant { secant_settings } else { settings };
     let piece = MeshPiece::new(ctx, job, mesh, model, &disc);
-    let mut writer = agree(&ctx.comm, ResultsWriter::create(&ctx.comm, &job.output_dir, "results", &piece.view()).map_err(Error::from), Error::exit_code)?;
+    let mut writer = agree(
+        &ctx.comm,
+        ResultsWriter::create(&ctx.comm, &job.output_dir, "results", &piece.view()).map_err(Error::from),
+        Error::exit_code,
+    )?;
     let curve_path = job.output_dir.join("curve.csv");
     if ctx.rank == 0 {
         let header = "stage,lambda,control_displacement,control_force,dissipated_energy,iterations,residual\n";
@@ -180,7 +190,10 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
             if !out.converged && !settings.secant {
                 // The tangent failed (softening, a change of branch): secant iterations next.
                 sys.revert(&mut disc);
-                log.info(format!("{} towards {target:.4}: tangent iterations failed ({}); retrying with the secant stiffness", stage.name, out.reason));
+                log.info(format!(
+                    "{} towards {target:.4}: tangent iterations failed ({}); retrying with the secant stiffness",
+                    stage.name, out.reason
+                ));
                 let tangent_iterations = out.iterations;
                 out = sys.solve_increment(ctx, &mut disc, mesh, model, &inc, &secant_settings)?;
                 out.iterations += tangent_iterations;
@@ -189,10 +202,30 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
             if out.converged {
                 sys.commit(ctx, &mut disc, mesh, model)?;
                 t = target;
-                let report = write_step(ctx, &disc, mesh, model, &mut sys, &mut writer, &curve_path, stage, &inc, (stage.time)(t), pattern_resultant, out.iterations, out.residual)?;
+                let report = write_step(
+                    ctx,
+                    &disc,
+                    mesh,
+                    model,
+                    &mut sys,
+                    &mut writer,
+                    &curve_path,
+                    stage,
+                    &inc,
+                    (stage.time)(t),
+                    pattern_resultant,
+                    out.iterations,
+                    out.residual,
+                )?;
                 log.info(format!(
                     "{} {:.4}: {} iteration(s), residual {:.2e}, control {:.4e} / force {:.4e}, dissipated {:.4e} J",
-                    stage.name, t, out.iterations, out.residual, report.control_displacement, report.control_force, report.dissipated_energy
+                    stage.name,
+                    t,
+                    out.iterations,
+                    out.residual,
+                    report.control_displacement,
+                    report.control_force,
+                    report.dissipated_energy
                 ));
                 reports.push(report);
                 control.converged();
@@ -226,7 +259,10 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
                 }
                 cuts_total += 1;
                 let dt = control.size();
-                log.info(format!("{} towards {target:.4} failed ({}); halving the increment to {dt:.4e}; {diagnosis}", stage.name, out.reason));
+                log.info(format!(
+                    "{} towards {target:.4} failed ({}); halving the increment to {dt:.4e}; {diagnosis}",
+                    stage.name, out.reason
+                ));
             }
         }
     }
@@ -235,13 +271,25 @@ pub fn run(ctx: &Context, job: &Job, cfg: &StaticNonlinearConfig, mesh: &Mesh, m
 }
 
 /// Collective. `curve.png` of the control stage (rank 0 draws; all agree on the outcome).
-fn draw_curve(ctx: &Context, job: &Job, model: &StructuralModel, reports: &[StepReport], overlay: Option<&(String, Vec<(f64, f64)>)>) -> Result<(), Error> {
+fn draw_curve(
+    ctx: &Context,
+    job: &Job,
+    model: &StructuralModel,
+    reports: &[StepReport],
+    overlay: Option<&(String, Vec<(f64, f64)>)>,
+) -> Result<(), Error> {
     let Some(ctl) = &model.control else { return Ok(()) };
     let drawn = if ctx.rank == 0 {
         let mut points = vec![(0.0, 0.0)];
-        points.extend(reports.iter().filter(|r| r.stage == "control").map(|r| (r.control_displacement, r.control_force)));
+        points
+            .extend(reports.iter().filter(|r| r.stage == "control").map(|r| (r.control_displacement, r.control_force)));
         let dof = ["ux", "uy", "uz", "rx", "ry", "rz"][ctl.dof];
-        super::curve_plot::plot_curve(&job.output_dir.join("curve.png"), dof, &points, overlay.map(|(l, p)| (l.as_str(), p.as_slice())))
+        super::curve_plot::plot_curve(
+            &job.output_dir.join("curve.png"),
+            dof,
+            &points,
+            overlay.map(|(l, p)| (l.as_str(), p.as_slice())),
+        )
     } else {
         Ok(())
     };
@@ -252,7 +300,11 @@ fn draw_curve(ctx: &Context, job: &Job, model: &StructuralModel, reports: &[Step
 /// Collective. The committed value of the control DOF (the first control node's).
 fn control_start(ctx: &Context, sys: &NonlinearSystem, disc: &Discretization, ctl: &crate::model::ControlSpec) -> f64 {
     let n = ctl.nodes[0];
-    let v = if disc.dofs.owner[n] == disc.dofs.rank { sys.u_committed[disc.dofs.dof(n, ctl.dof) as usize - sys.first] } else { 0.0 };
+    let v = if disc.dofs.owner[n] == disc.dofs.rank {
+        sys.u_committed[disc.dofs.dof(n, ctl.dof) as usize - sys.first]
+    } else {
+        0.0
+    };
     global_sum(ctx, v)
 }
 
@@ -281,7 +333,9 @@ fn write_step(
     }
     let (umax, _) = global_max_with_tag(&ctx.comm, umax, 0);
     let lambda = inc.lambda;
-    let loads = AppliedLoads { gravity: model.gravity.map(|g| [g[0] * lambda, g[1] * lambda, g[2] * lambda]).unwrap_or([0.0; 3]) };
+    let loads = AppliedLoads {
+        gravity: model.gravity.map(|g| [g[0] * lambda, g[1] * lambda, g[2] * lambda]).unwrap_or([0.0; 3]),
+    };
     let (names, values) = assembly::cell_outputs(ctx, disc, mesh, model, &u_local, &loads)?;
     let dissipated = names
         .iter()
@@ -303,9 +357,16 @@ fn write_step(
         }
         writer.end_step()?;
         if ctx.rank == 0 {
-            let mut f = std::fs::OpenOptions::new().append(true).open(curve).map_err(|e| Error::Analysis(format!("{}: {e}", curve.display())))?;
-            writeln!(f, "{},{:.12e},{:.12e},{:.12e},{:.12e},{},{:.3e}", stage.name, lambda, control_displacement, control_force, dissipated, iterations, residual)
+            let mut f = std::fs::OpenOptions::new()
+                .append(true)
+                .open(curve)
                 .map_err(|e| Error::Analysis(format!("{}: {e}", curve.display())))?;
+            writeln!(
+                f,
+                "{},{:.12e},{:.12e},{:.12e},{:.12e},{},{:.3e}",
+                stage.name, lambda, control_displacement, control_force, dissipated, iterations, residual
+            )
+            .map_err(|e| Error::Analysis(format!("{}: {e}", curve.display())))?;
         }
         Ok(())
     })();
@@ -324,7 +385,14 @@ fn write_step(
 
 /// Collective. Where a failed increment went wrong: the largest out-of-balance force (node tag,
 /// DOF) at the last iterate, and the elements whose damage grew from the committed state.
-fn diagnose(ctx: &Context, disc: &Discretization, mesh: &Mesh, model: &StructuralModel, sys: &NonlinearSystem, inc: &Increment) -> Result<String, Error> {
+fn diagnose(
+    ctx: &Context,
+    disc: &Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    sys: &NonlinearSystem,
+    inc: &Increment,
+) -> Result<String, Error> {
     let r = sys.current_residual(inc.lambda);
     let (mut worst, mut at) = (0.0f64, 0u64);
     for (i, x) in r.iter().enumerate() {
@@ -356,7 +424,8 @@ fn diagnose(ctx: &Context, disc: &Discretization, mesh: &Mesh, model: &Structura
     let count = global_sum(ctx, growth.len() as f64) as usize;
     let mut top = Vec::new();
     for _ in 0..5 {
-        let (v, tag) = global_max_with_tag(&ctx.comm, growth.first().map_or(0.0, |g| g.0), growth.first().map_or(0, |g| g.1));
+        let (v, tag) =
+            global_max_with_tag(&ctx.comm, growth.first().map_or(0.0, |g| g.0), growth.first().map_or(0, |g| g.1));
         if v <= 0.0 {
             break;
         }

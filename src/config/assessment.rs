@@ -62,13 +62,20 @@ impl AssessmentConfig {
 
 /// Checks of an assessment that need no mesh: at least one mode, and the updating's targets
 /// and parameters (as for `modal_updating`, located under `analysis.updating`).
-pub(super) fn validate_assessment(src: &Source, job: &StructuralJobFile, a: &AssessmentConfig) -> Result<(), ConfigError> {
+pub(super) fn validate_assessment(
+    src: &Source,
+    job: &StructuralJobFile,
+    a: &AssessmentConfig,
+) -> Result<(), ConfigError> {
     let key = |k: &str| Seg::Key(k.to_string());
     if a.modes == 0 {
         return Err(src.error_at(&[key("analysis"), key("modes")], "expected at least 1 mode"));
     }
     if job.dynamics.is_none() {
-        return Err(src.error_at(&[key("analysis"), key("type")], "a seismic assessment needs a [dynamics] table (the earthquake stage)"));
+        return Err(src.error_at(
+            &[key("analysis"), key("type")],
+            "a seismic assessment needs a [dynamics] table (the earthquake stage)",
+        ));
     }
     if let Some(u) = &a.updating {
         super::validate::validate_updating(src, job, u, &[key("analysis"), key("updating")])?;

@@ -84,8 +84,14 @@ impl Default for MechanicsConfig {
 impl MechanicsConfig {
     /// The solver's parameters for a sample of out-of-plane thickness `t_z`, checked; an invalid
     /// value is reported at its `[mechanics]` key in `source`.
-    pub fn validated_params(&self, t_z: f64, source: &super::Source) -> Result<crate::dem::mechanics::MechParams, super::ConfigError> {
-        let at = |key: &str, msg: String| source.error_at(&[super::Seg::Key("mechanics".into()), super::Seg::Key(key.into())], msg);
+    pub fn validated_params(
+        &self,
+        t_z: f64,
+        source: &super::Source,
+    ) -> Result<crate::dem::mechanics::MechParams, super::ConfigError> {
+        let at = |key: &str, msg: String| {
+            source.error_at(&[super::Seg::Key("mechanics".into()), super::Seg::Key(key.into())], msg)
+        };
         let crushing = match (self.crushing_stress, self.crushing_energy) {
             (None, None) => None,
             (Some(stress), Some(energy)) => Some(crate::dem::mechanics::Crushing { stress, energy }),

@@ -273,17 +273,24 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     if !(beta.is_finite() && beta >= beta_min - 1e-12 && beta <= 0.5) {
         return Err(src.error_at(
             &at("beta"),
-            format!("expected beta in [(gamma + 1/2)^2/4, 1/2] = [{beta_min}, 0.5] (unconditional stability), got {beta}"),
+            format!(
+                "expected beta in [(gamma + 1/2)^2/4, 1/2] = [{beta_min}, 0.5] (unconditional stability), got {beta}"
+            ),
         ));
     }
     if d.max_iterations == 0 {
         return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
     }
     if !(1..=50).contains(&d.krylov_dimension) {
-        return Err(src.error_at(&at("krylov_dimension"), format!("expected 1 to 50 subspace vectors, got {}", d.krylov_dimension)));
+        return Err(src.error_at(
+            &at("krylov_dimension"),
+            format!("expected 1 to 50 subspace vectors, got {}", d.krylov_dimension),
+        ));
     }
     if !(d.force_tolerance.is_finite() && d.force_tolerance > 0.0 && d.force_tolerance < 1.0) {
-        return Err(src.error_at(&at("force_tolerance"), format!("expected a tolerance in (0, 1), got {}", d.force_tolerance)));
+        return Err(
+            src.error_at(&at("force_tolerance"), format!("expected a tolerance in (0, 1), got {}", d.force_tolerance))
+        );
     }
     if d.max_substeps > 20 {
         return Err(src.error_at(&at("max_substeps"), format!("expected at most 20 halvings, got {}", d.max_substeps)));
@@ -308,7 +315,9 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         }
         (Some(f), Some(z), None, None) => {
             if !(f[0].is_finite() && f[0] > 0.0 && f[1].is_finite() && f[1] > f[0]) {
-                return Err(src.error_at(&dat("frequencies"), format!("expected two frequencies 0 < f1 < f2 [Hz], got {f:?}")));
+                return Err(
+                    src.error_at(&dat("frequencies"), format!("expected two frequencies 0 < f1 < f2 [Hz], got {f:?}"))
+                );
             }
             if !(z.is_finite() && (0.0..1.0).contains(&z)) {
                 return Err(src.error_at(&dat("ratio"), format!("expected a damping ratio in [0, 1), got {z}")));
@@ -325,7 +334,9 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         return Err(src.error_at(&[key("dynamics")], "a time history needs at least one [[dynamics.ground_motion]]"));
     }
     if d.ground_motion.len() > 3 {
-        return Err(src.error_at(&[key("dynamics"), key("ground_motion"), Seg::Index(3)], "at most three components (x, y, z)"));
+        return Err(
+            src.error_at(&[key("dynamics"), key("ground_motion"), Seg::Index(3)], "at most three components (x, y, z)")
+        );
     }
     let duration = d.duration;
     for i in 0..d.ground_motion.len() {
@@ -335,7 +346,9 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
             return Err(src.error_at(&at("direction"), format!("direction {dir:?} is given twice")));
         }
         let record = read_component(src, folder, &d.ground_motion[i], &at)?;
-        record.require_duration(duration).map_err(|e| src.error_at(&at("file"), format!("{e} (dynamics.duration = {duration} s)")))?;
+        record
+            .require_duration(duration)
+            .map_err(|e| src.error_at(&at("file"), format!("{e} (dynamics.duration = {duration} s)")))?;
         d.ground_motion[i].record = Some(record);
     }
     for (i, m) in d.monitor.iter().enumerate() {
@@ -348,7 +361,12 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         }
         match (m.node, &m.group, m.near) {
             (Some(_), None, None) | (None, Some(_), Some(_)) => {}
-            _ => return Err(src.error_at(&[key("dynamics"), key("monitor"), Seg::Index(i)], "give node = <Gmsh tag>, or group with near = [x, y, z]")),
+            _ => {
+                return Err(src.error_at(
+                    &[key("dynamics"), key("monitor"), Seg::Index(i)],
+                    "give node = <Gmsh tag>, or group with near = [x, y, z]",
+                ))
+            }
         }
     }
     let c = &d.checkpoint;
@@ -359,7 +377,19 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
 }
 
 /// Reads one component's record (file or synthetic), scaled.
-fn read_component(src: &Source, folder: &Path, g: &GroundMotionConfig, at: &dyn Fn(&str) -> Vec<Seg>) -> Result<Record, ConfigError> {
-    let r = RecordConfig { file: g.file.clone(), format: g.format, units: g.units.clone(), dt: g.dt, synthetic: g.synthetic.clone(), scale: g.scale };
+fn read_component(
+    src: &Source,
+    folder: &Path,
+    g: &GroundMotionConfig,
+    at: &dyn Fn(&str) -> Vec<Seg>,
+) -> Result<Record, ConfigError> {
+    let r = RecordConfig {
+        file: g.file.clone(),
+        format: g.format,
+        units: g.units.clone(),
+        dt: g.dt,
+        synthetic: g.synthetic.clone(),
+        scale: g.scale,
+    };
     super::record::read_record(src, folder, &r, at)
 }

@@ -294,7 +294,10 @@ pub struct IdentifyJob {
 }
 
 impl IdentifyJob {
-    pub(super) fn from_source(source: super::Source, path: &std::path::Path) -> Result<IdentifyJob, super::ConfigError> {
+    pub(super) fn from_source(
+        source: super::Source,
+        path: &std::path::Path,
+    ) -> Result<IdentifyJob, super::ConfigError> {
         use super::Seg;
         let spec: IdentifyJobFile = source.deserialize().map_err(|e| super::tagged::refine(&source, e))?;
         let key = |k: &str| Seg::Key(k.to_string());
@@ -317,7 +320,10 @@ impl IdentifyJob {
         let interval = |keys: &[&str], b: [f64; 2], positive: bool, what: &str| -> Result<(), super::ConfigError> {
             let [lo, hi] = b;
             if !(lo.is_finite() && hi.is_finite()) || lo >= hi {
-                return Err(source.error_at(&at(keys), format!("expected bounds [lower, upper] with lower < upper, got [{lo}, {hi}]")));
+                return Err(source.error_at(
+                    &at(keys),
+                    format!("expected bounds [lower, upper] with lower < upper, got [{lo}, {hi}]"),
+                ));
             }
             if positive && lo <= 0.0 {
                 return Err(source.error_at(&at(keys), format!("{what} must be > 0: the lower bound is {lo}")));
@@ -340,7 +346,10 @@ impl IdentifyJob {
             count(&["calibration", "batch"], c.batch, 1)?;
             c.test.validate().map_err(|e| source.error_at(&at(&["calibration", "test"]), e.to_string()))?;
             if !matches!(c.test, VirtualTest::Compression { .. } | VirtualTest::Tension { .. }) {
-                return Err(source.error_at(&at(&["calibration", "test"]), "the calibration fits a compression (or tension) test, not shear"));
+                return Err(source.error_at(
+                    &at(&["calibration", "test"]),
+                    "the calibration fits a compression (or tension) test, not shear",
+                ));
             }
             let b = &c.bounds;
             interval(&["calibration", "bounds", "alpha"], b.alpha, true, "alpha")?;
@@ -357,7 +366,8 @@ impl IdentifyJob {
                 }
             }
             if c.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) || c.weights.iter().all(|w| *w == 0.0) {
-                return Err(source.error_at(&at(&["calibration", "weights"]), "expected four finite weights >= 0, not all zero"));
+                return Err(source
+                    .error_at(&at(&["calibration", "weights"]), "expected four finite weights >= 0, not all zero"));
             }
             if c.strategy == crate::identify::Strategy::Staged && c.weights[2] == 0.0 && c.weights[3] == 0.0 {
                 return Err(source.error_at(
@@ -406,14 +416,22 @@ impl IdentifyJob {
                 }
             }
             if b.a_c[0] < 0.0 || b.a_c[1] > 1.0 {
-                return Err(source.error_at(&at(&["law", "bounds", "a_c"]), format!("a_c must lie in [0, 1], got bounds [{}, {}]", b.a_c[0], b.a_c[1])));
+                return Err(source.error_at(
+                    &at(&["law", "bounds", "a_c"]),
+                    format!("a_c must lie in [0, 1], got bounds [{}, {}]", b.a_c[0], b.a_c[1]),
+                ));
             }
             let [lv0, lv1] = l.levels;
             if !(0.0..=1.0).contains(&lv0) || !(0.0..=1.0).contains(&lv1) || lv0 >= lv1 {
-                return Err(source.error_at(&at(&["law", "levels"]), format!("expected 0 <= a < b <= 1, got [{lv0}, {lv1}]")));
+                return Err(
+                    source.error_at(&at(&["law", "levels"]), format!("expected 0 <= a < b <= 1, got [{lv0}, {lv1}]"))
+                );
             }
             if let Regularization::Unregularized { .. } = l.regularization {
-                return Err(source.error_at(&at(&["law", "regularization"]), "the identification fits G_f: use \"hillerborg\" or \"hillerborg_no_elastic\", not none"));
+                return Err(source.error_at(
+                    &at(&["law", "regularization"]),
+                    "the identification fits G_f: use \"hillerborg\" or \"hillerborg_no_elastic\", not none",
+                ));
             }
             let h = l.element_size.unwrap_or(spec.sample.layout.domain().1);
             if !(h.is_finite() && h > 0.0) {
@@ -421,7 +439,8 @@ impl IdentifyJob {
             }
             for (k, v) in [("young_modulus", l.young_modulus), ("poisson", l.poisson)] {
                 if let Some(x) = v {
-                    let ok = if k == "poisson" { x.is_finite() && x > -1.0 && x < 0.5 } else { x.is_finite() && x > 0.0 };
+                    let ok =
+                        if k == "poisson" { x.is_finite() && x > -1.0 && x < 0.5 } else { x.is_finite() && x > 0.0 };
                     if !ok {
                         return Err(source.error_at(&at(&["law", k]), format!("invalid {k} {x}")));
                     }
@@ -438,30 +457,38 @@ impl IdentifyJob {
                 ));
             }
             if l.dem_curves.is_some() && l.dem_samples.is_some() {
-                return Err(source.error_at(&at(&["law", "dem_samples"]), "give dem_curves (mean curves) or dem_samples (every sample's curve), not both"));
+                return Err(source.error_at(
+                    &at(&["law", "dem_samples"]),
+                    "give dem_curves (mean curves) or dem_samples (every sample's curve), not both",
+                ));
             }
             if let Some(files) = &l.dem_samples {
-                let read = |name: &str, p: &std::path::Path| -> Result<Vec<crate::identify::Curve>, super::ConfigError> {
-                    let file = super::resolve(&folder, p);
-                    let curves = crate::identify::curves::read_sample_curves_csv(&file).map_err(|m| source.error_at(&at(&["law", "dem_samples", name]), m))?;
-                    for (k, c) in curves.iter().enumerate() {
-                        c.check(&format!("DEM {name} curve of sample {k} in {}", file.display()))
-                            .map_err(|e| source.error_at(&at(&["law", "dem_samples", name]), e.to_string()))?;
-                    }
-                    Ok(curves)
-                };
+                let read =
+                    |name: &str, p: &std::path::Path| -> Result<Vec<crate::identify::Curve>, super::ConfigError> {
+                        let file = super::resolve(&folder, p);
+                        let curves = crate::identify::curves::read_sample_curves_csv(&file)
+                            .map_err(|m| source.error_at(&at(&["law", "dem_samples", name]), m))?;
+                        for (k, c) in curves.iter().enumerate() {
+                            c.check(&format!("DEM {name} curve of sample {k} in {}", file.display()))
+                                .map_err(|e| source.error_at(&at(&["law", "dem_samples", name]), e.to_string()))?;
+                        }
+                        Ok(curves)
+                    };
                 dem_samples = Some((read("tension", &files.tension)?, read("compression", &files.compression)?));
             }
             match &l.dem_curves {
                 _ if l.dem_samples.is_some() => {}
                 Some(files) => {
-                    let read = |name: &str, p: &std::path::Path| -> Result<crate::identify::Curve, super::ConfigError> {
-                        let file = super::resolve(&folder, p);
-                        let what = format!("DEM {name} curve {}", file.display());
-                        let c = crate::identify::curves::read_curve_csv(&file).map_err(|m| source.error_at(&at(&["law", "dem_curves", name]), m))?;
-                        c.check(&what).map_err(|e| source.error_at(&at(&["law", "dem_curves", name]), e.to_string()))?;
-                        Ok(c)
-                    };
+                    let read =
+                        |name: &str, p: &std::path::Path| -> Result<crate::identify::Curve, super::ConfigError> {
+                            let file = super::resolve(&folder, p);
+                            let what = format!("DEM {name} curve {}", file.display());
+                            let c = crate::identify::curves::read_curve_csv(&file)
+                                .map_err(|m| source.error_at(&at(&["law", "dem_curves", name]), m))?;
+                            c.check(&what)
+                                .map_err(|e| source.error_at(&at(&["law", "dem_curves", name]), e.to_string()))?;
+                            Ok(c)
+                        };
                     dem_curves = Some((read("tension", &files.tension)?, read("compression", &files.compression)?));
                 }
                 None => {
@@ -470,7 +497,11 @@ impl IdentifyJob {
                             return Err(source.error_at(&at(&["law"]), format!("[law] needs {k} = {{ type = \"{k}\", max_strain = ..., steps = ... }}, or dem_curves, or dem_samples")));
                         };
                         t.validate().map_err(|e| source.error_at(&at(&["law", k]), e.to_string()))?;
-                        let right = if tension { matches!(t, VirtualTest::Tension { .. }) } else { matches!(t, VirtualTest::Compression { .. }) };
+                        let right = if tension {
+                            matches!(t, VirtualTest::Tension { .. })
+                        } else {
+                            matches!(t, VirtualTest::Compression { .. })
+                        };
                         if !right {
                             return Err(source.error_at(&at(&["law", k]), format!("expected type = \"{k}\"")));
                         }

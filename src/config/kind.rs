@@ -20,28 +20,29 @@ pub enum JobKind {
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
-pub const ANALYSIS_TYPES: &[(&str, JobKind)] =
-    &[
-        ("linear_static", JobKind::Structural),
-        ("modal", JobKind::Structural),
-        ("modal_updating", JobKind::Structural),
-        ("static_nonlinear", JobKind::Structural),
-        ("time_history", JobKind::Structural),
-        ("seismic_assessment", JobKind::Structural),
-        ("material_point", JobKind::MaterialPoint),
-        ("dem", JobKind::Dem),
-        ("spectrum", JobKind::Spectrum),
-        ("identification", JobKind::Identify),
-    ];
+pub const ANALYSIS_TYPES: &[(&str, JobKind)] = &[
+    ("linear_static", JobKind::Structural),
+    ("modal", JobKind::Structural),
+    ("modal_updating", JobKind::Structural),
+    ("static_nonlinear", JobKind::Structural),
+    ("time_history", JobKind::Structural),
+    ("seismic_assessment", JobKind::Structural),
+    ("material_point", JobKind::MaterialPoint),
+    ("dem", JobKind::Dem),
+    ("spectrum", JobKind::Spectrum),
+    ("identification", JobKind::Identify),
+];
 
 /// The kind of the job in `src`.
 pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {
     let names = || ANALYSIS_TYPES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ");
-    let root = DeTable::parse(&src.text)
-        .map_err(|e| src.error_at_span(e.span(), &[], e.message().trim().to_string()))?;
+    let root =
+        DeTable::parse(&src.text).map_err(|e| src.error_at_span(e.span(), &[], e.message().trim().to_string()))?;
     let analysis = root.get_ref().iter().find(|(k, _)| k.get_ref().as_ref() == "analysis");
     let Some((_, analysis)) = analysis else {
-        return Err(src.error_at(&[], format!("the job has no [analysis] table; add one with type = one of: {}", names())));
+        return Err(
+            src.error_at(&[], format!("the job has no [analysis] table; add one with type = one of: {}", names()))
+        );
     };
     let DeValue::Table(t) = analysis.get_ref() else {
         return Err(src.error_at(&[Seg::Key("analysis".into())], "expected a table [analysis]"));
@@ -49,15 +50,14 @@ pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {
     let ty = t.iter().find(|(k, _)| k.get_ref().as_ref() == "type").map(|(_, v)| v.get_ref());
     let path = [Seg::Key("analysis".into()), Seg::Key("type".into())];
     match ty {
-        Some(DeValue::String(s)) => ANALYSIS_TYPES
-            .iter()
-            .find(|(n, _)| *n == s.as_ref())
-            .map(|(_, k)| *k)
-            .ok_or_else(|| src.error_at(&path, format!("unknown analysis type '{s}', expected one of: {}", names()))),
+        Some(DeValue::String(s)) => {
+            ANALYSIS_TYPES.iter().find(|(n, _)| *n == s.as_ref()).map(|(_, k)| *k).ok_or_else(|| {
+                src.error_at(&path, format!("unknown analysis type '{s}', expected one of: {}", names()))
+            })
+        }
         Some(_) => Err(src.error_at(&path, format!("expected a string, one of: {}", names()))),
-        None => Err(src.error_at(
-            &[Seg::Key("analysis".into())],
-            format!("[analysis] needs type = one of: {}", names()),
-        )),
+        None => {
+            Err(src.error_at(&[Seg::Key("analysis".into())], format!("[analysis] needs type = one of: {}", names())))
+        }
     }
 }

@@ -16,14 +16,14 @@ mod spectrum;
 mod tagged;
 mod validate;
 
-pub use error::{ConfigError, Location};
 pub use assessment::*;
 pub use dem::*;
 pub use dynamics::*;
+pub use error::{ConfigError, Location};
 pub use identify::*;
 pub use job::*;
-pub use material_point::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
+pub use material_point::*;
 pub use source::{format_path, Seg, Source};
 pub use spectrum::*;
 
@@ -49,10 +49,22 @@ impl Job {
     pub fn load(path: &Path) -> Result<Job, ConfigError> {
         match load_job(path)? {
             AnyJob::Structural(job) => Ok(job),
-            AnyJob::MaterialPoint(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
-            AnyJob::Spectrum(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
-            AnyJob::Dem(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
-            AnyJob::Identify(j) => Err(j.source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "expected a structural analysis here")),
+            AnyJob::MaterialPoint(j) => Err(j.source.error_at(
+                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
+                "expected a structural analysis here",
+            )),
+            AnyJob::Spectrum(j) => Err(j.source.error_at(
+                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
+                "expected a structural analysis here",
+            )),
+            AnyJob::Dem(j) => Err(j.source.error_at(
+                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
+                "expected a structural analysis here",
+            )),
+            AnyJob::Identify(j) => Err(j.source.error_at(
+                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
+                "expected a structural analysis here",
+            )),
         }
     }
 
@@ -77,7 +89,12 @@ impl Job {
                 let file = resolve(&folder, &o.file);
                 if !file.is_file() {
                     return Err(source.error_at(
-                        &[Seg::Key("analysis".into()), Seg::Key("control".into()), Seg::Key("overlay".into()), Seg::Key("file".into())],
+                        &[
+                            Seg::Key("analysis".into()),
+                            Seg::Key("control".into()),
+                            Seg::Key("overlay".into()),
+                            Seg::Key("file".into()),
+                        ],
                         format!("overlay curve file {} does not exist", file.display()),
                     ));
                 }
@@ -86,7 +103,9 @@ impl Job {
         }
         let updating = match &mut spec.analysis {
             AnalysisConfig::ModalUpdating(u) => Some((u, vec![Seg::Key("analysis".into())])),
-            AnalysisConfig::SeismicAssessment(a) => a.updating.as_mut().map(|u| (u, vec![Seg::Key("analysis".into()), Seg::Key("updating".into())])),
+            AnalysisConfig::SeismicAssessment(a) => {
+                a.updating.as_mut().map(|u| (u, vec![Seg::Key("analysis".into()), Seg::Key("updating".into())]))
+            }
             _ => None,
         };
         if let Some((u, base)) = updating {
@@ -102,11 +121,21 @@ impl Job {
             }
         }
         match (&spec.analysis, &mut spec.dynamics) {
-            (AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_), Some(d)) => dynamics::load_dynamics(&source, &folder, d)?,
-            (AnalysisConfig::TimeHistory, None) => {
-                return Err(source.error_at(&[Seg::Key("analysis".into()), Seg::Key("type".into())], "a time history needs a [dynamics] table"))
+            (AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_), Some(d)) => {
+                dynamics::load_dynamics(&source, &folder, d)?
             }
-            (_, Some(_)) => return Err(source.error_at(&[Seg::Key("dynamics".into())], "[dynamics] is read only by [analysis] type = \"time_history\" or \"seismic_assessment\"")),
+            (AnalysisConfig::TimeHistory, None) => {
+                return Err(source.error_at(
+                    &[Seg::Key("analysis".into()), Seg::Key("type".into())],
+                    "a time history needs a [dynamics] table",
+                ))
+            }
+            (_, Some(_)) => {
+                return Err(source.error_at(
+                    &[Seg::Key("dynamics".into())],
+                    "[dynamics] is read only by [analysis] type = \"time_history\" or \"seismic_assessment\"",
+                ))
+            }
             _ => {}
         }
         let output_dir = output_dir(path, &spec.output);
@@ -131,7 +160,8 @@ impl Job {
     }
 }
 
-/// Any job, by kind.
+/// Any job, by kind. (One value per run: the variants' sizes do not matter.)
+#[allow(clippy::large_enum_variant)]
 pub enum AnyJob {
     /// A structural finite-element job.
     Structural(Job),
@@ -163,7 +193,10 @@ impl SpectrumJob {
         let key = |k: &str| Seg::Key(k.to_string());
         let a = &spec.analysis;
         if !(a.damping.is_finite() && a.damping >= 0.0 && a.damping < 1.0) {
-            return Err(source.error_at(&[key("analysis"), key("damping")], format!("expected a damping ratio in [0, 1), got {}", a.damping)));
+            return Err(source.error_at(
+                &[key("analysis"), key("damping")],
+                format!("expected a damping ratio in [0, 1), got {}", a.damping),
+            ));
         }
         let p = &a.periods;
         if !(p.min > 0.0 && p.max > p.min && p.count >= 2) {
@@ -175,7 +208,9 @@ impl SpectrumJob {
         let record = record::read_record(&source, &folder, r, &at)?;
         if let Some(e) = &spec.ec8 {
             if !(e.ag.is_finite() && e.ag > 0.0) {
-                return Err(source.error_at(&[key("ec8"), key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag)));
+                return Err(
+                    source.error_at(&[key("ec8"), key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag))
+                );
             }
         }
         let output_dir = output_dir(path, &spec.output);

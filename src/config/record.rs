@@ -7,7 +7,12 @@ use std::path::Path;
 
 /// Reads the record `r` describes (a file relative to `folder`, or a built-in synthetic one)
 /// and scales it; `at(key)` is the key path of one of the record's keys, for error locations.
-pub(super) fn read_record(src: &Source, folder: &Path, r: &RecordConfig, at: &dyn Fn(&str) -> Vec<Seg>) -> Result<Record, ConfigError> {
+pub(super) fn read_record(
+    src: &Source,
+    folder: &Path,
+    r: &RecordConfig,
+    at: &dyn Fn(&str) -> Vec<Seg>,
+) -> Result<Record, ConfigError> {
     let record = match (&r.file, &r.synthetic) {
         (Some(_), Some(_)) | (None, None) => {
             let mut p = at("file");
@@ -16,7 +21,12 @@ pub(super) fn read_record(src: &Source, folder: &Path, r: &RecordConfig, at: &dy
         }
         (None, Some(name)) => match name.as_str() {
             "vallorcine_like" => sm::vallorcine_like_synthetic(),
-            other => return Err(src.error_at(&at("synthetic"), format!("unknown synthetic record '{other}', expected vallorcine_like"))),
+            other => {
+                return Err(src.error_at(
+                    &at("synthetic"),
+                    format!("unknown synthetic record '{other}', expected vallorcine_like"),
+                ))
+            }
         },
         (Some(f), None) => {
             let file = super::resolve(folder, f);
@@ -24,8 +34,12 @@ pub(super) fn read_record(src: &Source, folder: &Path, r: &RecordConfig, at: &dy
                 return Err(src.error_at(&at("file"), format!("record file {} does not exist", file.display())));
             }
             let units = || -> Result<sm::AccelUnit, ConfigError> {
-                let u = r.units.as_deref().ok_or_else(|| src.error_at(&at("units"), "a column file needs units = \"g\", \"m/s2\" or \"cm/s2\""))?;
-                sm::AccelUnit::parse(u).ok_or_else(|| src.error_at(&at("units"), format!("unknown units '{u}', expected g, m/s2 or cm/s2")))
+                let u = r.units.as_deref().ok_or_else(|| {
+                    src.error_at(&at("units"), "a column file needs units = \"g\", \"m/s2\" or \"cm/s2\"")
+                })?;
+                sm::AccelUnit::parse(u).ok_or_else(|| {
+                    src.error_at(&at("units"), format!("unknown units '{u}', expected g, m/s2 or cm/s2"))
+                })
             };
             let read = match r.format {
                 None => return Err(src.error_at(&at("file"), "give the format: at2, esm, two_column or one_column")),

@@ -41,8 +41,8 @@ pub struct Source {
 impl Source {
     /// Reads `file`.
     pub fn read(file: &Path) -> Result<Source, ConfigError> {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| ConfigError::Read { path: file.to_path_buf(), source: e })?;
+        let text =
+            std::fs::read_to_string(file).map_err(|e| ConfigError::Read { path: file.to_path_buf(), source: e })?;
         Ok(Source { file: file.to_path_buf(), text })
     }
 
@@ -105,10 +105,7 @@ impl Source {
             None => (None, None),
         };
         let key = (!path.is_empty()).then(|| format_path(path));
-        ConfigError::Invalid {
-            at: Location { file: self.file.clone(), line, column, key },
-            message: message.into(),
-        }
+        ConfigError::Invalid { at: Location { file: self.file.clone(), line, column, key }, message: message.into() }
     }
 
     /// An `Invalid` error at a byte span, with an optional key path.

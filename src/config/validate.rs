@@ -52,9 +52,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             MaterialConfig::Elastic(ElasticMaterial { e, nu, g, density }) => {
                 positive(src, &at("E"), "Young's modulus E [Pa]", *e)?;
                 match (nu, g) {
-                    (Some(_), Some(_)) => {
-                        return Err(src.error_at(&at("G"), "give either nu or G, not both"))
-                    }
+                    (Some(_), Some(_)) => return Err(src.error_at(&at("G"), "give either nu or G, not both")),
                     (None, None) => {
                         return Err(src.error_at(
                             &[key("materials"), key(name)],
@@ -63,10 +61,9 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                     }
                     (Some(nu), None) => {
                         if !(nu.is_finite() && *nu > -1.0 && *nu < 0.5) {
-                            return Err(src.error_at(
-                                &at("nu"),
-                                format!("Poisson ratio nu must lie in (-1, 0.5), got {nu}"),
-                            ));
+                            return Err(
+                                src.error_at(&at("nu"), format!("Poisson ratio nu must lie in (-1, 0.5), got {nu}"))
+                            );
                         }
                     }
                     (None, Some(g)) => positive(src, &at("G"), "shear modulus G [Pa]", *g)?,
@@ -80,11 +77,21 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             }
             MaterialConfig::Damage(d) => {
                 if !(d.density.is_finite() && d.density >= 0.0) {
-                    return Err(src.error_at(&at("density"), format!("density [kg/m^3] must be a finite number >= 0, got {}", d.density)));
+                    return Err(src.error_at(
+                        &at("density"),
+                        format!("density [kg/m^3] must be a finite number >= 0, got {}", d.density),
+                    ));
                 }
                 match (&d.law, &d.law_file) {
-                    (Some(_), Some(_)) => return Err(src.error_at(&at("law_file"), "give either [law] or law_file, not both")),
-                    (None, None) => return Err(src.error_at(&[key("materials"), key(name)], "a damage material needs its [law] table or a law_file")),
+                    (Some(_), Some(_)) => {
+                        return Err(src.error_at(&at("law_file"), "give either [law] or law_file, not both"))
+                    }
+                    (None, None) => {
+                        return Err(src.error_at(
+                            &[key("materials"), key(name)],
+                            "a damage material needs its [law] table or a law_file",
+                        ))
+                    }
                     (Some(law), None) => law.validate().map_err(|e| src.error_at(&at("law"), e.to_string()))?,
                     (None, Some(_)) => {} // read and validated when the job is loaded
                 }
@@ -100,7 +107,10 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
                 positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
                 if !(nonstructural_mass.is_finite() && *nonstructural_mass >= 0.0) {
-                    return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per length >= 0 [kg/m], got {nonstructural_mass}")));
+                    return Err(src.error_at(
+                        &at("nonstructural_mass"),
+                        format!("expected a finite mass per length >= 0 [kg/m], got {nonstructural_mass}"),
+                    ));
                 }
             }
             SectionConfig::Fiber(f) => {
@@ -113,13 +123,19 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                     }
                 }
                 if !(2..=5).contains(&f.integration_points) {
-                    return Err(src.error_at(&at("integration_points"), format!("expected 2 to 5 Gauss points, got {}", f.integration_points)));
+                    return Err(src.error_at(
+                        &at("integration_points"),
+                        format!("expected 2 to 5 Gauss points, got {}", f.integration_points),
+                    ));
                 }
                 if let Some(j) = f.torsion_constant {
                     positive(src, &at("torsion_constant"), "torsion constant [m^4]", j)?;
                 }
                 if !(f.nonstructural_mass.is_finite() && f.nonstructural_mass >= 0.0) {
-                    return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per length >= 0 [kg/m], got {}", f.nonstructural_mass)));
+                    return Err(src.error_at(
+                        &at("nonstructural_mass"),
+                        format!("expected a finite mass per length >= 0 [kg/m], got {}", f.nonstructural_mass),
+                    ));
                 }
             }
             SectionConfig::Tie(TieSectionConfig { area, pretension, .. }) => {
@@ -137,7 +153,10 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                     return Err(src.error_at(&at("layers"), format!("expected 1 to 99 layers, got {layers}")));
                 }
                 if !(nonstructural_mass.is_finite() && *nonstructural_mass >= 0.0) {
-                    return Err(src.error_at(&at("nonstructural_mass"), format!("expected a finite mass per area >= 0 [kg/m^2], got {nonstructural_mass}")));
+                    return Err(src.error_at(
+                        &at("nonstructural_mass"),
+                        format!("expected a finite mass per area >= 0 [kg/m^2], got {nonstructural_mass}"),
+                    ));
                 }
             }
         }
@@ -173,14 +192,21 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             let at = |k: &str| vec![key("analysis"), key("control"), key(k)];
             match (&ctl.group, &ctl.node) {
                 (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
-                (None, None) => return Err(src.error_at(&[key("analysis"), key("control")], "the control needs a group or a node (Gmsh node tag)")),
+                (None, None) => {
+                    return Err(src.error_at(
+                        &[key("analysis"), key("control")],
+                        "the control needs a group or a node (Gmsh node tag)",
+                    ))
+                }
                 _ => {}
             }
             if matches!(ctl.dof, DofName::All) {
                 return Err(src.error_at(&at("dof"), "expected one DOF: ux, uy, uz, rx, ry or rz"));
             }
             if !(ctl.target.is_finite() && ctl.target != 0.0) {
-                return Err(src.error_at(&at("target"), format!("expected a finite, non-zero target, got {}", ctl.target)));
+                return Err(
+                    src.error_at(&at("target"), format!("expected a finite, non-zero target, got {}", ctl.target))
+                );
             }
             if ctl.steps == 0 {
                 return Err(src.error_at(&at("steps"), "expected at least 1 step"));
@@ -199,39 +225,45 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         super::assessment::validate_assessment(src, job, a)?;
     }
     if job.parts.is_empty() {
-        return Err(src.error_at(
-            &[],
-            "the job has no [[parts]]: map at least one physical group to a section and a material",
-        ));
+        return Err(
+            src.error_at(&[], "the job has no [[parts]]: map at least one physical group to a section and a material")
+        );
     }
     for (i, p) in job.parts.iter().enumerate() {
         let at = |k: &str| vec![key("parts"), Seg::Index(i), key(k)];
         if !job.sections.contains_key(&p.section) {
-            return Err(src.error_at(
-                &at("section"),
-                format!("no section named '{}' ({})", p.section, names(&job.sections)),
-            ));
+            return Err(
+                src.error_at(&at("section"), format!("no section named '{}' ({})", p.section, names(&job.sections)))
+            );
         }
         if !job.materials.contains_key(&p.material) {
-            return Err(src.error_at(
-                &at("material"),
-                format!("no material named '{}' ({})", p.material, names(&job.materials)),
-            ));
+            return Err(src
+                .error_at(&at("material"), format!("no material named '{}' ({})", p.material, names(&job.materials))));
         }
-        if let (SectionConfig::Frame(_), MaterialConfig::Damage(_)) = (&job.sections[&p.section], &job.materials[&p.material]) {
+        if let (SectionConfig::Frame(_), MaterialConfig::Damage(_)) =
+            (&job.sections[&p.section], &job.materials[&p.material])
+        {
             return Err(src.error_at(
                 &at("material"),
                 format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers and fiber sections)", p.section, p.material),
             ));
         }
-        if let (SectionConfig::Tie(_), MaterialConfig::Damage(_)) = (&job.sections[&p.section], &job.materials[&p.material]) {
+        if let (SectionConfig::Tie(_), MaterialConfig::Damage(_)) =
+            (&job.sections[&p.section], &job.materials[&p.material])
+        {
             return Err(src.error_at(
                 &at("material"),
                 format!("tie section '{}' needs an elastic material (type = \"elastic\": E, density); '{}' is a damage material", p.section, p.material),
             ));
         }
         if let (SectionConfig::Tie(_), Some(_)) = (&job.sections[&p.section], &p.orientation) {
-            return Err(src.error_at(&at("orientation"), format!("tie section '{}' carries axial force only and has no local axes: remove orientation", p.section)));
+            return Err(src.error_at(
+                &at("orientation"),
+                format!(
+                    "tie section '{}' carries axial force only and has no local axes: remove orientation",
+                    p.section
+                ),
+            ));
         }
         if let Some(v) = &p.orientation {
             finite3(src, &at("orientation"), v)?;
@@ -260,14 +292,20 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         let at = |k: &str| vec![key("masses"), Seg::Index(i), key(k)];
         match (&m.group, &m.node) {
             (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
-            (None, None) => return Err(src.error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node (Gmsh node tag)")),
+            (None, None) => {
+                return Err(src
+                    .error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node (Gmsh node tag)"))
+            }
             _ => {}
         }
         if !(m.mass.is_finite() && m.mass >= 0.0) {
             return Err(src.error_at(&at("mass"), format!("expected a finite mass >= 0 [kg], got {}", m.mass)));
         }
         if m.rotary_inertia.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
-            return Err(src.error_at(&at("rotary_inertia"), format!("expected three finite inertias >= 0 [kg m^2], got {:?}", m.rotary_inertia)));
+            return Err(src.error_at(
+                &at("rotary_inertia"),
+                format!("expected three finite inertias >= 0 [kg m^2], got {:?}", m.rotary_inertia),
+            ));
         }
     }
     if let Some(g) = &job.gravity {
@@ -286,7 +324,12 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
 
 /// Checks of a modal updating's targets and parameters; `base` is where its keys are (`analysis`,
 /// or `analysis.updating` in a seismic assessment).
-pub(super) fn validate_updating(src: &Source, job: &StructuralJobFile, u: &ModalUpdatingConfig, base: &[Seg]) -> Result<(), ConfigError> {
+pub(super) fn validate_updating(
+    src: &Source,
+    job: &StructuralJobFile,
+    u: &ModalUpdatingConfig,
+    base: &[Seg],
+) -> Result<(), ConfigError> {
     let at = |k: &str, i: usize, f: &str| {
         let mut p = base.to_vec();
         p.extend([key(k), Seg::Index(i), key(f)]);
@@ -298,24 +341,34 @@ pub(super) fn validate_updating(src: &Source, job: &StructuralJobFile, u: &Modal
     }
     for (i, t) in u.targets.iter().enumerate() {
         if t.mode == 0 || t.mode > u.modes {
-            return Err(src.error_at(&at("targets", i, "mode"), format!("expected a mode number in 1..={} (modes)", u.modes)));
+            return Err(
+                src.error_at(&at("targets", i, "mode"), format!("expected a mode number in 1..={} (modes)", u.modes))
+            );
         }
         positive(src, &at("targets", i, "frequency"), "target frequency [Hz]", t.frequency)?;
     }
     for (i, p) in u.parameters.iter().enumerate() {
         positive(src, &at("parameters", i, "min"), "lower bound of the modulus factor", p.min)?;
         if !(p.max.is_finite() && p.max > p.min) {
-            return Err(src.error_at(&at("parameters", i, "max"), format!("expected max > min = {}, got {}", p.min, p.max)));
+            return Err(
+                src.error_at(&at("parameters", i, "max"), format!("expected max > min = {}, got {}", p.min, p.max))
+            );
         }
         if !job.parts.iter().any(|q| q.group == p.group) {
             return Err(src.error_at(
                 &at("parameters", i, "group"),
-                format!("group '{}' is not one of the job's parts ({})", p.group, job.parts.iter().map(|q| q.group.as_str()).collect::<Vec<_>>().join(", ")),
+                format!(
+                    "group '{}' is not one of the job's parts ({})",
+                    p.group,
+                    job.parts.iter().map(|q| q.group.as_str()).collect::<Vec<_>>().join(", ")
+                ),
             ));
         }
     }
     if !has_mass(job) {
-        return Err(src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0"));
+        return Err(
+            src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0")
+        );
     }
     Ok(())
 }

@@ -144,11 +144,12 @@ impl Polygon {
     /// Length of the shortest edge.
     pub fn shortest_edge(&self) -> f64 {
         let v = &self.vertices;
-        (0..v.len()).map(|i| {
-            let e = sub(v[(i + 1) % v.len()], v[i]);
-            e[0].hypot(e[1])
-        })
-        .fold(f64::INFINITY, f64::min)
+        (0..v.len())
+            .map(|i| {
+                let e = sub(v[(i + 1) % v.len()], v[i]);
+                e[0].hypot(e[1])
+            })
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The polygon moved rigidly: rotated by `theta` about `about`, then translated by `u`.

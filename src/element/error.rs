@@ -25,9 +25,7 @@ pub enum ElementError {
         coords: [f64; 3],
     },
     /// The two end nodes of a line element coincide (to round-off).
-    #[error(
-        "zero-length element: node 1 at {node1:?} and node 2 at {node2:?} (length {length:e})"
-    )]
+    #[error("zero-length element: node 1 at {node1:?} and node 2 at {node2:?} (length {length:e})")]
     ZeroLength {
         /// Coordinates of the first node.
         node1: [f64; 3],
@@ -92,19 +90,11 @@ pub enum ElementError {
 }
 
 /// Check that `got == expected`, else a [`ElementError::WrongLength`] naming `what`.
-pub(crate) fn check_len(
-    what: &'static str,
-    expected: usize,
-    got: usize,
-) -> Result<(), ElementError> {
+pub(crate) fn check_len(what: &'static str, expected: usize, got: usize) -> Result<(), ElementError> {
     if expected == got {
         Ok(())
     } else {
-        Err(ElementError::WrongLength {
-            what,
-            expected,
-            got,
-        })
+        Err(ElementError::WrongLength { what, expected, got })
     }
 }
 
@@ -112,9 +102,6 @@ pub(crate) fn check_len(
 pub(crate) fn check_finite_displacement(u: &[f64]) -> Result<(), ElementError> {
     match u.iter().position(|x| !x.is_finite()) {
         None => Ok(()),
-        Some(index) => Err(ElementError::NonFiniteDisplacement {
-            index,
-            value: u[index],
-        }),
+        Some(index) => Err(ElementError::NonFiniteDisplacement { index, value: u[index] }),
     }
 }

@@ -72,8 +72,24 @@ const N_DOFS: usize = 12;
 
 /// Names of the cell outputs (module docs).
 pub const CELL_OUTPUT_NAMES: [&str; 18] = [
-    "d_t_max", "d_t_mean", "d_c_max", "d_c_mean", "axial_force", "N_1", "Vy_1", "Vz_1", "T_1",
-    "My_1", "Mz_1", "N_2", "Vy_2", "Vz_2", "T_2", "My_2", "Mz_2", "dissipated_energy",
+    "d_t_max",
+    "d_t_mean",
+    "d_c_max",
+    "d_c_mean",
+    "axial_force",
+    "N_1",
+    "Vy_1",
+    "Vz_1",
+    "T_1",
+    "My_1",
+    "Mz_1",
+    "N_2",
+    "Vy_2",
+    "Vz_2",
+    "T_2",
+    "My_2",
+    "Mz_2",
+    "dissipated_energy",
 ];
 
 /// Generalized strain–displacement matrix: e = (ε₀, κz, κy) = B u_l.
@@ -118,12 +134,7 @@ fn strain_matrix(xi: f64, l: f64) -> Mat3x12 {
     let mut b = Mat3x12::zeros();
     b[(0, 0)] = -1.0 / l;
     b[(0, 6)] = 1.0 / l;
-    let row = [
-        (12.0 * xi - 6.0) / (l * l),
-        (6.0 * xi - 4.0) / l,
-        (6.0 - 12.0 * xi) / (l * l),
-        (6.0 * xi - 2.0) / l,
-    ];
+    let row = [(12.0 * xi - 6.0) / (l * l), (6.0 * xi - 4.0) / l, (6.0 - 12.0 * xi) / (l * l), (6.0 * xi - 2.0) / l];
     // κz on (v1, θz1, v2, θz2) = DOF (1, 5, 7, 11).
     for (k, d) in [1, 5, 7, 11].into_iter().enumerate() {
         b[(1, d)] = row[k];
@@ -143,32 +154,24 @@ impl FiberBeam3d {
     /// Errors: [`ElementError::InvalidSection`], [`ElementError::InvalidCount`],
     /// [`ElementError::NonFiniteCoordinates`], [`ElementError::ZeroLength`],
     /// [`ElementError::BadOrientation`], [`ElementError::Material`].
-    pub fn new(
-        x1: [f64; 3],
-        x2: [f64; 3],
-        vecxz: [f64; 3],
-        section: FiberSection,
-    ) -> Result<Self, ElementError> {
+    pub fn new(x1: [f64; 3], x2: [f64; 3], vecxz: [f64; 3], section: FiberSection) -> Result<Self, ElementError> {
         section.validate()?;
         let frame = LocalFrame::from_vecxz(x1, x2, vecxz)?;
         let l = frame.length();
         let law = match section.material {
             FiberMaterial::Elastic { e, .. } => FiberLaw::Elastic(e),
-            FiberMaterial::Damage(p) => FiberLaw::Damage(
-                p.for_element(l).map_err(|source| ElementError::Material { h: l, source })?,
-            ),
+            FiberMaterial::Damage(p) => {
+                FiberLaw::Damage(p.for_element(l).map_err(|source| ElementError::Material { h: l, source })?)
+            }
         };
         let fibers = section.fibers();
-        let points: Vec<(f64, Mat3x12)> = gauss_points(section.integration_points)
-            .into_iter()
-            .map(|(xi, w)| (w, strain_matrix(xi, l)))
-            .collect();
+        let points: Vec<(f64, Mat3x12)> =
+            gauss_points(section.integration_points).into_iter().map(|(xi, w)| (w, strain_matrix(xi, l))).collect();
         let n_states = match law {
             FiberLaw::Elastic(_) => 0,
             FiberLaw::Damage(_) => points.len() * fibers.len(),
         };
-        let torsion_stiffness =
-            section.material.shear_modulus() * section.torsion_constant() / l;
+        let torsion_stiffness = section.material.shear_modulus() * section.torsion_constant() / l;
         Ok(Self {
             coords: [x1, x2],
             frame,
@@ -278,12 +281,7 @@ impl FiberBeam3d {
     /// Local mass matrix of the chosen kind ([`beam_inertia`](super::beam_inertia)).
     pub fn local_mass(&self, kind: MassKind) -> Mat12 {
         let s = &self.section;
-        beam_inertia::local_mass(
-            self.frame.length(),
-            s.line_mass(),
-            s.density * s.polar_moment(),
-            kind,
-        )
+        beam_inertia::local_mass(self.frame.length(), s.line_mass(), s.density * s.polar_moment(), kind)
     }
 }
 
@@ -296,12 +294,7 @@ impl Element for FiberBeam3d {
         2
     }
 
-    fn evaluate(
-        &mut self,
-        u_e: &[f64],
-        request: EvalRequest,
-        out: &mut ElementOutput,
-    ) -> Result<(), ElementError> {
+    fn evaluate(&mut self, u_e: &[f64], request: EvalRequest, out: &mut ElementOutput) -> Result<(), ElementError> {
         let u_l = self.local_displacement(u_e)?;
         out.prepare(N_DOFS);
         let want_k = request.wants_tangent();
@@ -342,12 +335,7 @@ impl Element for FiberBeam3d {
         &CELL_OUTPUT_NAMES
     }
 
-    fn cell_output(
-        &self,
-        u_e: &[f64],
-        loads: &AppliedLoads,
-        values: &mut [f64],
-    ) -> Result<(), ElementError> {
+    fn cell_output(&self, u_e: &[f64], loads: &AppliedLoads, values: &mut [f64]) -> Result<(), ElementError> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let u_l = self.local_displacement(u_e)?;
         let mut scratch = self.committed.clone();
@@ -366,11 +354,7 @@ impl Element for FiberBeam3d {
                 }
             }
         }
-        let fq = beam_inertia::local_gravity_load(
-            &self.frame,
-            self.section.line_mass(),
-            loads.gravity,
-        );
+        let fq = beam_inertia::local_gravity_load(&self.frame, self.section.line_mass(), loads.gravity);
         let end = r.f - fq;
         values[0] = dt_max;
         values[1] = dt_mean;

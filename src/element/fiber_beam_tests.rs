@@ -29,10 +29,8 @@ fn damage_section(reg: Regularization) -> FiberSection {
 
 /// Elements along a few axes, with seeded oblique ones (64-bit LCG, Knuth's MMIX constants).
 fn geometries() -> Vec<([f64; 3], [f64; 3], [f64; 3])> {
-    let mut out = vec![
-        ([0.0; 3], [1.5, 0.0, 0.0], [0.0, 0.0, 1.0]),
-        ([1.0, 2.0, 0.0], [1.0, 2.0, 1.2], [1.0, 0.0, 0.0]),
-    ];
+    let mut out =
+        vec![([0.0; 3], [1.5, 0.0, 0.0], [0.0, 0.0, 1.0]), ([1.0, 2.0, 0.0], [1.0, 2.0, 1.2], [1.0, 0.0, 0.0])];
     let mut s = 11u64;
     let mut next = || {
         s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -88,11 +86,7 @@ fn elastic_fibers_equal_the_frame_with_closed_form_ea_ei() {
                 );
                 // Mass: the frame's with the continuum section (Ip = b h (b² + h²)/12).
                 let (b, h) = (s.width, s.height);
-                let continuum = FrameSection {
-                    iy: b * h * h * h / 12.0,
-                    iz: h * b * b * b / 12.0,
-                    ..*frame.section()
-                };
+                let continuum = FrameSection { iy: b * h * h * h / 12.0, iz: h * b * b * b / 12.0, ..*frame.section() };
                 let frame = ElasticFrame3d::new(x1, x2, v, continuum).unwrap();
                 for kind in [MassKind::Consistent, MassKind::Lumped] {
                     let (mf, me) = (fib.local_mass(kind), frame.local_mass(kind));

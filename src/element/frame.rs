@@ -54,10 +54,8 @@ const N_DOFS: usize = 12;
 /// `(N_2 − N_1)/2`, which differs from either end only by the axial part of a distributed
 /// load), then the twelve end forces in local axes as the element applies them to its nodes
 /// (OpenSees `localForce`: `N_1 < 0` in tension).
-const CELL_OUTPUT_NAMES: [&str; 13] = [
-    "axial_force", "N_1", "Vy_1", "Vz_1", "T_1", "My_1", "Mz_1", "N_2", "Vy_2", "Vz_2", "T_2", "My_2",
-    "Mz_2",
-];
+const CELL_OUTPUT_NAMES: [&str; 13] =
+    ["axial_force", "N_1", "Vy_1", "Vz_1", "T_1", "My_1", "Mz_1", "N_2", "Vy_2", "Vz_2", "T_2", "My_2", "Mz_2"];
 
 /// A 2-node, 12-DOF linear elastic 3D frame element (Euler–Bernoulli). See the module docs for the
 /// matrices and sign conventions. Stateless: `commit`/`revert` do nothing and `n_state() == 0`.
@@ -93,19 +91,10 @@ impl ElasticFrame3d {
     ///
     /// Errors: [`ElementError::InvalidSection`], [`ElementError::NonFiniteCoordinates`],
     /// [`ElementError::ZeroLength`], [`ElementError::BadOrientation`].
-    pub fn new(
-        x1: [f64; 3],
-        x2: [f64; 3],
-        vecxz: [f64; 3],
-        section: FrameSection,
-    ) -> Result<Self, ElementError> {
+    pub fn new(x1: [f64; 3], x2: [f64; 3], vecxz: [f64; 3], section: FrameSection) -> Result<Self, ElementError> {
         section.validate()?;
         let frame = LocalFrame::from_vecxz(x1, x2, vecxz)?;
-        Ok(Self {
-            coords: [x1, x2],
-            frame,
-            section,
-        })
+        Ok(Self { coords: [x1, x2], frame, section })
     }
 
     /// Node coordinates the element was built from.
@@ -179,12 +168,7 @@ impl Element for ElasticFrame3d {
     }
 
     /// f_int = K u_e (linear), K_t = K.
-    fn evaluate(
-        &mut self,
-        u_e: &[f64],
-        request: EvalRequest,
-        out: &mut ElementOutput,
-    ) -> Result<(), ElementError> {
+    fn evaluate(&mut self, u_e: &[f64], request: EvalRequest, out: &mut ElementOutput) -> Result<(), ElementError> {
         check_len("u_e", N_DOFS, u_e.len())?;
         check_finite_displacement(u_e)?;
         out.prepare(N_DOFS);
@@ -215,12 +199,7 @@ impl Element for ElasticFrame3d {
         &CELL_OUTPUT_NAMES
     }
 
-    fn cell_output(
-        &self,
-        u_e: &[f64],
-        loads: &AppliedLoads,
-        values: &mut [f64],
-    ) -> Result<(), ElementError> {
+    fn cell_output(&self, u_e: &[f64], loads: &AppliedLoads, values: &mut [f64]) -> Result<(), ElementError> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let f = self.end_forces(u_e, loads)?;
         values[0] = 0.5 * (f[6] - f[0]);
@@ -266,18 +245,11 @@ mod tests {
     struct Lcg(u64);
     impl Lcg {
         fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         }
         fn vec3(&mut self, scale: f64) -> [f64; 3] {
-            [
-                self.next() * scale,
-                self.next() * scale,
-                self.next() * scale,
-            ]
+            [self.next() * scale, self.next() * scale, self.next() * scale]
         }
     }
 
@@ -285,8 +257,7 @@ mod tests {
     fn elements() -> Vec<ElasticFrame3d> {
         let mut out = vec![
             ElasticFrame3d::new([0.0; 3], [3.0, 0.0, 0.0], [0.0, 0.0, 1.0], section()).unwrap(),
-            ElasticFrame3d::new([1.0, 2.0, 0.0], [1.0, 2.0, 4.0], [1.0, 0.0, 0.0], section())
-                .unwrap(),
+            ElasticFrame3d::new([1.0, 2.0, 0.0], [1.0, 2.0, 4.0], [1.0, 0.0, 0.0], section()).unwrap(),
             ElasticFrame3d::new([0.0; 3], [0.0, -2.5, 0.0], [0.3, 0.0, 1.0], section()).unwrap(),
         ];
         let mut rng = Lcg(42);
@@ -325,11 +296,7 @@ mod tests {
                 let k_norm = el.global_stiffness().amax();
                 let u_norm = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
                 let rel = out.f_int.amax() / (k_norm * u_norm);
-                assert!(
-                    rel < 1e-9,
-                    "rigid motion: |f|/(|K||u|) = {rel:e} for {:?}",
-                    el.coords()
-                );
+                assert!(rel < 1e-9, "rigid motion: |f|/(|K||u|) = {rel:e} for {:?}", el.coords());
             }
         }
     }
@@ -358,33 +325,17 @@ mod tests {
     /// local axes.
     fn cantilever_tip(el: &ElasticFrame3d, f_tip_local: [f64; 6]) -> (Vector3<f64>, Vector3<f64>) {
         let fr = el.local_frame();
-        let f = fr.to_global(&Vector3::new(
-            f_tip_local[0],
-            f_tip_local[1],
-            f_tip_local[2],
-        ));
-        let m = fr.to_global(&Vector3::new(
-            f_tip_local[3],
-            f_tip_local[4],
-            f_tip_local[5],
-        ));
+        let f = fr.to_global(&Vector3::new(f_tip_local[0], f_tip_local[1], f_tip_local[2]));
+        let m = fr.to_global(&Vector3::new(f_tip_local[3], f_tip_local[4], f_tip_local[5]));
         let k = dmat(&el.global_stiffness());
         let kff = k.view((6, 6), (6, 6)).into_owned();
         let rhs = DVector::from_column_slice(&[f.x, f.y, f.z, m.x, m.y, m.z]);
-        let u = Cholesky::new(kff)
-            .expect("K_ff of a cantilever is SPD")
-            .solve(&rhs);
-        (
-            fr.to_local(&Vector3::new(u[0], u[1], u[2])),
-            fr.to_local(&Vector3::new(u[3], u[4], u[5])),
-        )
+        let u = Cholesky::new(kff).expect("K_ff of a cantilever is SPD").solve(&rhs);
+        (fr.to_local(&Vector3::new(u[0], u[1], u[2])), fr.to_local(&Vector3::new(u[3], u[4], u[5])))
     }
 
     fn assert_rel(got: f64, want: f64, tol: f64, what: &str) {
-        assert!(
-            ((got - want) / want).abs() < tol,
-            "{what}: got {got:e}, want {want:e}"
-        );
+        assert!(((got - want) / want).abs() < tol, "{what}: got {got:e}, want {want:e}");
     }
 
     /// One-element cantilever, exact for Euler–Bernoulli (cubic shape functions reproduce the exact
@@ -399,9 +350,7 @@ mod tests {
         for el in elements() {
             let l = el.local_frame().length();
             let small = |v: &Vector3<f64>, keep: usize, scale: f64| {
-                (0..3)
-                    .filter(|&i| i != keep)
-                    .all(|i| v[i].abs() < 1e-10 * scale.abs())
+                (0..3).filter(|&i| i != keep).all(|i| v[i].abs() < 1e-10 * scale.abs())
             };
             // P along local y: bending in x-y plane, Iz.
             let (u, r) = cantilever_tip(&el, [0.0, p, 0.0, 0.0, 0.0, 0.0]);
@@ -444,8 +393,7 @@ mod tests {
             ue[6..9].copy_from_slice(ug.as_slice());
             ue[9..12].copy_from_slice(rg.as_slice());
             let mut vals = [0.0; 13];
-            el.cell_output(&ue, &AppliedLoads::default(), &mut vals)
-                .unwrap();
+            el.cell_output(&ue, &AppliedLoads::default(), &mut vals).unwrap();
             let want = [0.0, -p, 0.0, 0.0, 0.0, -p * l, 0.0, p, 0.0, 0.0, 0.0, 0.0];
             assert!(vals[0].abs() < 1e-9 * p, "no axial force under a transverse load");
             for i in 0..12 {
@@ -474,38 +422,15 @@ mod tests {
         let w = s.density * s.area * 9.81;
         let mut f = DVector::zeros(0);
         el.gravity_load(g, &mut f);
-        let want = [
-            0.0,
-            0.0,
-            -w * l / 2.0,
-            0.0,
-            w * l * l / 12.0,
-            0.0,
-            0.0,
-            0.0,
-            -w * l / 2.0,
-            0.0,
-            -w * l * l / 12.0,
-            0.0,
-        ];
+        let want =
+            [0.0, 0.0, -w * l / 2.0, 0.0, w * l * l / 12.0, 0.0, 0.0, 0.0, -w * l / 2.0, 0.0, -w * l * l / 12.0, 0.0];
         for i in 0..12 {
-            assert!(
-                (f[i] - want[i]).abs() < 1e-12 * w * l * l,
-                "f[{i}] = {} vs {}",
-                f[i],
-                want[i]
-            );
+            assert!((f[i] - want[i]).abs() < 1e-12 * w * l * l, "f[{i}] = {} vs {}", f[i], want[i]);
         }
         let mut vals = [0.0; 13];
-        el.cell_output(&[0.0; 12], &AppliedLoads { gravity: g }, &mut vals)
-            .unwrap();
+        el.cell_output(&[0.0; 12], &AppliedLoads { gravity: g }, &mut vals).unwrap();
         for i in 0..12 {
-            assert!(
-                (vals[1 + i] + want[i]).abs() < 1e-12 * w * l * l,
-                "{}: {}",
-                CELL_OUTPUT_NAMES[1 + i],
-                vals[1 + i]
-            );
+            assert!((vals[1 + i] + want[i]).abs() < 1e-12 * w * l * l, "{}: {}", CELL_OUTPUT_NAMES[1 + i], vals[1 + i]);
         }
         assert!(vals[3] > 0.0 && vals[9] > 0.0, "supports push up");
     }
@@ -521,8 +446,7 @@ mod tests {
         let g = [0.0, 0.0, -9.81];
         let w = s.density * s.area * 9.81;
         let e1 = ElasticFrame3d::new([0.0; 3], [l / 2.0, 0.0, 0.0], [0.0, 0.0, 1.0], s).unwrap();
-        let e2 =
-            ElasticFrame3d::new([l / 2.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, 0.0, 1.0], s).unwrap();
+        let e2 = ElasticFrame3d::new([l / 2.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, 0.0, 1.0], s).unwrap();
         // Free DOF: the 6 of the middle node = DOF 6..12 of e1 and 0..6 of e2.
         let (k1, k2) = (dmat(&e1.global_stiffness()), dmat(&e2.global_stiffness()));
         let kff = k1.view((6, 6), (6, 6)) + k2.view((0, 0), (6, 6));
@@ -533,16 +457,11 @@ mod tests {
         let u = Cholesky::new(kff).unwrap().solve(&rhs);
         let want = -w * l.powi(4) / (384.0 * s.e * s.iy);
         assert_rel(u[2], want, 1e-10, "midspan deflection");
-        assert!(
-            u[4].abs() < 1e-10 * want.abs() / l,
-            "midspan rotation {}",
-            u[4]
-        );
+        assert!(u[4].abs() < 1e-10 * want.abs() / l, "midspan rotation {}", u[4]);
         let mut ue = [0.0; 12];
         ue[6..12].copy_from_slice(u.as_slice());
         let mut vals = [0.0; 13];
-        e1.cell_output(&ue, &AppliedLoads { gravity: g }, &mut vals)
-            .unwrap();
+        e1.cell_output(&ue, &AppliedLoads { gravity: g }, &mut vals).unwrap();
         assert_rel(vals[5].abs(), w * l * l / 12.0, 1e-10, "end moment");
         assert_rel(vals[3], w * l / 2.0, 1e-10, "end shear");
     }
@@ -561,9 +480,7 @@ mod tests {
             let sum = f.fixed_rows::<3>(0) + f.fixed_rows::<3>(6);
             assert!((sum - weight).amax() < 1e-12 * weight.norm());
             let arm = el.local_frame().axis(0) * l;
-            let moment = arm.cross(&f.fixed_rows::<3>(6).into_owned())
-                + f.fixed_rows::<3>(3)
-                + f.fixed_rows::<3>(9);
+            let moment = arm.cross(&f.fixed_rows::<3>(6).into_owned()) + f.fixed_rows::<3>(3) + f.fixed_rows::<3>(9);
             let want = (el.local_frame().axis(0) * (l / 2.0)).cross(&weight);
             assert!((moment - want).amax() < 1e-12 * weight.norm() * l);
         }
@@ -595,16 +512,8 @@ mod tests {
                     r.fixed_rows_mut::<3>(6 * n + 3).copy_from(&ex);
                 }
                 let rot = (r.transpose() * &m * &r)[0];
-                assert_rel(
-                    rot,
-                    s.density * s.polar_moment() * l,
-                    1e-12,
-                    "torsional inertia",
-                );
-                assert!(
-                    Cholesky::new(m).is_some(),
-                    "{kind:?} mass not positive definite"
-                );
+                assert_rel(rot, s.density * s.polar_moment() * l, 1e-12, "torsional inertia");
+                assert!(Cholesky::new(m).is_some(), "{kind:?} mass not positive definite");
             }
         }
     }
@@ -620,11 +529,7 @@ mod tests {
                 for j in 0..12 {
                     let same_block = i / 3 == j / 3;
                     if !same_block {
-                        assert!(
-                            m[(i, j)].abs() < 1e-12 * m.amax(),
-                            "M[{i},{j}] = {}",
-                            m[(i, j)]
-                        );
+                        assert!(m[(i, j)].abs() < 1e-12 * m.amax(), "M[{i},{j}] = {}", m[(i, j)]);
                     }
                 }
             }
@@ -679,22 +584,9 @@ mod tests {
         let w_y = beta2 * (s.e * s.iy / (s.density * s.area * len.powi(4))).sqrt();
         for (kind, tol) in [(MassKind::Consistent, 1e-5), (MassKind::Lumped, 5e-3)] {
             let w = cantilever_frequencies(16, len, kind);
-            let (f1, f2) = (
-                w[0] / (2.0 * std::f64::consts::PI),
-                w[1] / (2.0 * std::f64::consts::PI),
-            );
-            assert_rel(
-                f1,
-                w_z / (2.0 * std::f64::consts::PI),
-                tol,
-                &format!("{kind:?} f1"),
-            );
-            assert_rel(
-                f2,
-                w_y / (2.0 * std::f64::consts::PI),
-                tol,
-                &format!("{kind:?} f2"),
-            );
+            let (f1, f2) = (w[0] / (2.0 * std::f64::consts::PI), w[1] / (2.0 * std::f64::consts::PI));
+            assert_rel(f1, w_z / (2.0 * std::f64::consts::PI), tol, &format!("{kind:?} f1"));
+            assert_rel(f2, w_y / (2.0 * std::f64::consts::PI), tol, &format!("{kind:?} f2"));
         }
     }
 
@@ -702,47 +594,18 @@ mod tests {
     fn bad_input_is_an_error_not_a_panic() {
         let mut el = elements().remove(3);
         let mut out = ElementOutput::new(0);
-        let e = el
-            .evaluate(&[0.0; 11], EvalRequest::Force, &mut out)
-            .unwrap_err();
-        assert_eq!(
-            e,
-            ElementError::WrongLength {
-                what: "u_e",
-                expected: 12,
-                got: 11
-            }
-        );
+        let e = el.evaluate(&[0.0; 11], EvalRequest::Force, &mut out).unwrap_err();
+        assert_eq!(e, ElementError::WrongLength { what: "u_e", expected: 12, got: 11 });
         let mut u = [0.0; 12];
         u[7] = f64::NAN;
         let e = el.evaluate(&u, EvalRequest::Force, &mut out).unwrap_err();
-        assert!(matches!(
-            e,
-            ElementError::NonFiniteDisplacement { index: 7, .. }
-        ));
-        let e = el
-            .cell_output(&[0.0; 12], &AppliedLoads::default(), &mut [0.0; 6])
-            .unwrap_err();
-        assert!(matches!(
-            e,
-            ElementError::WrongLength {
-                what: "cell output",
-                ..
-            }
-        ));
+        assert!(matches!(e, ElementError::NonFiniteDisplacement { index: 7, .. }));
+        let e = el.cell_output(&[0.0; 12], &AppliedLoads::default(), &mut [0.0; 6]).unwrap_err();
+        assert!(matches!(e, ElementError::WrongLength { what: "cell output", .. }));
         assert!(el.load_state(&[1.0]).is_err());
-        let bad = FrameSection {
-            j: 0.0,
-            ..section()
-        };
+        let bad = FrameSection { j: 0.0, ..section() };
         let e = ElasticFrame3d::new([0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], bad).unwrap_err();
-        assert_eq!(
-            e,
-            ElementError::InvalidSection {
-                quantity: "j",
-                value: 0.0
-            }
-        );
+        assert_eq!(e, ElementError::InvalidSection { quantity: "j", value: 0.0 });
     }
 
     /// evaluate with a tangent: f_int = K u (linear element), K_t = K, buffers resized once.
@@ -751,8 +614,7 @@ mod tests {
         let mut el = elements().remove(5);
         let mut out = ElementOutput::new(24);
         let u: Vec<f64> = (0..12).map(|i| 1e-3 * (i as f64).cos()).collect();
-        el.evaluate(&u, EvalRequest::ForceAndTangent, &mut out)
-            .unwrap();
+        el.evaluate(&u, EvalRequest::ForceAndTangent, &mut out).unwrap();
         assert!(out.has_tangent);
         assert_eq!(out.n_dofs(), 12);
         let k = dmat(&el.global_stiffness());

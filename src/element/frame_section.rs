@@ -38,14 +38,8 @@ pub struct FrameSection {
 impl FrameSection {
     /// Check that every quantity is finite and strictly positive; the error names the first that is not.
     pub fn validate(&self) -> Result<(), ElementError> {
-        let fields = [
-            ("e", self.e),
-            ("g", self.g),
-            ("area", self.area),
-            ("iy", self.iy),
-            ("iz", self.iz),
-            ("j", self.j),
-        ];
+        let fields =
+            [("e", self.e), ("g", self.g), ("area", self.area), ("iy", self.iy), ("iz", self.iz), ("j", self.j)];
         for (quantity, value) in fields {
             let positive_finite = value.is_finite() && value > 0.0; // false for NaN
             if !positive_finite {
@@ -114,13 +108,7 @@ mod tests {
                 other => panic!("{name}: expected InvalidSection, got {other:?}"),
             }
         }
-        let msg = FrameSection {
-            iz: -2e-4,
-            ..good()
-        }
-        .validate()
-        .unwrap_err()
-        .to_string();
+        let msg = FrameSection { iz: -2e-4, ..good() }.validate().unwrap_err().to_string();
         assert!(msg.contains("iz") && msg.contains("-0.0002"), "{msg}");
     }
 
@@ -129,9 +117,8 @@ mod tests {
         let ok: Result<FrameSection, _> =
             serde_json::from_str(r#"{"e":1,"g":1,"area":1,"iy":1,"iz":1,"j":1,"density":1}"#);
         assert!(ok.is_ok());
-        let bad: Result<FrameSection, _> = serde_json::from_str(
-            r#"{"e":1,"g":1,"area":1,"iy":1,"iz":1,"j":1,"density":1,"rho":1}"#,
-        );
+        let bad: Result<FrameSection, _> =
+            serde_json::from_str(r#"{"e":1,"g":1,"area":1,"iy":1,"iz":1,"j":1,"density":1,"rho":1}"#);
         assert!(bad.is_err());
     }
 }

@@ -66,27 +66,15 @@ impl LocalFrame {
         let length = d.norm();
         let scale = 1.0 + a.amax().max(b.amax());
         if length <= ZERO_LENGTH_RTOL * scale {
-            return Err(ElementError::ZeroLength {
-                node1: x1,
-                node2: x2,
-                length,
-            });
+            return Err(ElementError::ZeroLength { node1: x1, node2: x2, length });
         }
         let ex = d / length;
         let v = Vector3::from(vecxz);
         let v_norm = v.norm();
         let y = v.cross(&ex);
-        let sin_angle = if v_norm > 0.0 && v_norm.is_finite() {
-            y.norm() / v_norm
-        } else {
-            0.0
-        };
+        let sin_angle = if v_norm > 0.0 && v_norm.is_finite() { y.norm() / v_norm } else { 0.0 };
         if sin_angle.is_nan() || sin_angle < MIN_SIN_ANGLE {
-            return Err(ElementError::BadOrientation {
-                vecxz,
-                axis: ex.into(),
-                sin_angle,
-            });
+            return Err(ElementError::BadOrientation { vecxz, axis: ex.into(), sin_angle });
         }
         let ey = y.normalize();
         let ez = ex.cross(&ey);
@@ -181,18 +169,8 @@ mod tests {
 
     #[test]
     fn zero_length_is_refused_with_coordinates() {
-        let e =
-            LocalFrame::from_vecxz([1.0, 1.0, 1.0], [1.0, 1.0, 1.0], [0.0, 0.0, 1.0]).unwrap_err();
-        assert!(
-            matches!(
-                e,
-                ElementError::ZeroLength {
-                    node1: [1.0, 1.0, 1.0],
-                    ..
-                }
-            ),
-            "{e}"
-        );
+        let e = LocalFrame::from_vecxz([1.0, 1.0, 1.0], [1.0, 1.0, 1.0], [0.0, 0.0, 1.0]).unwrap_err();
+        assert!(matches!(e, ElementError::ZeroLength { node1: [1.0, 1.0, 1.0], .. }), "{e}");
         assert!(e.to_string().contains("[1.0, 1.0, 1.0]"), "{e}");
     }
 
@@ -202,15 +180,10 @@ mod tests {
         assert!(matches!(e, ElementError::BadOrientation { .. }), "{e}");
         let e = LocalFrame::from_vecxz([0.0; 3], [0.0, 0.0, 3.0], [0.0; 3]).unwrap_err();
         assert!(matches!(e, ElementError::BadOrientation { .. }), "{e}");
-        let e =
-            LocalFrame::from_vecxz([0.0; 3], [0.0, 0.0, 3.0], [f64::NAN, 0.0, 0.0]).unwrap_err();
+        let e = LocalFrame::from_vecxz([0.0; 3], [0.0, 0.0, 3.0], [f64::NAN, 0.0, 0.0]).unwrap_err();
         assert!(matches!(e, ElementError::BadOrientation { .. }), "{e}");
-        let e = LocalFrame::from_vecxz([0.0, f64::INFINITY, 0.0], [1.0; 3], [0.0, 0.0, 1.0])
-            .unwrap_err();
-        assert!(
-            matches!(e, ElementError::NonFiniteCoordinates { node: 0, .. }),
-            "{e}"
-        );
+        let e = LocalFrame::from_vecxz([0.0, f64::INFINITY, 0.0], [1.0; 3], [0.0, 0.0, 1.0]).unwrap_err();
+        assert!(matches!(e, ElementError::NonFiniteCoordinates { node: 0, .. }), "{e}");
     }
 
     /// T is orthogonal, so transforming to local and back is the identity (to 1e-14).

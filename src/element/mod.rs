@@ -62,19 +62,17 @@ use nalgebra::{DMatrix, DVector};
 pub use error::ElementError;
 pub use fiber_beam::{FiberBeam3d, CELL_OUTPUT_NAMES as FIBER_CELL_OUTPUT_NAMES};
 pub use fiber_section::{
-    gauss_points, Fiber, FiberMaterial, FiberSection, DEFAULT_INTEGRATION_POINTS,
-    MAX_FIBERS_PER_SIDE,
+    gauss_points, Fiber, FiberMaterial, FiberSection, DEFAULT_INTEGRATION_POINTS, MAX_FIBERS_PER_SIDE,
 };
 pub use frame::ElasticFrame3d;
 pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};
 pub use output::{ElementOutput, EvalRequest};
-pub use tie::{pretension_load, tie_axis, Tie, TieSection, CELL_OUTPUT_NAMES as TIE_CELL_OUTPUT_NAMES};
 pub use shell::{
-    PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3,
-    ThicknessRule,
+    PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3, ThicknessRule,
     DEFAULT_LAYERS, DRILLING_FACTOR, SHEAR_CORRECTION, SHELL_CELL_OUTPUT_NAMES, WARPING_LIMIT,
 };
+pub use tie::{pretension_load, tie_axis, Tie, TieSection, CELL_OUTPUT_NAMES as TIE_CELL_OUTPUT_NAMES};
 
 /// Degrees of freedom per node: ux uy uz rx ry rz.
 pub const DOFS_PER_NODE: usize = 6;
@@ -137,12 +135,7 @@ pub trait Element: Debug {
     ///
     /// Errors: wrong length of `u_e`, non-finite `u_e`, and for nonlinear elements a failure of the
     /// material update. On error the trial state is unspecified; the committed state is untouched.
-    fn evaluate(
-        &mut self,
-        u_e: &[f64],
-        request: EvalRequest,
-        out: &mut ElementOutput,
-    ) -> Result<(), ElementError>;
+    fn evaluate(&mut self, u_e: &[f64], request: EvalRequest, out: &mut ElementOutput) -> Result<(), ElementError>;
 
     /// Accept the trial state of the last `evaluate` as the committed state (converged step).
     fn commit(&mut self);
@@ -164,12 +157,7 @@ pub trait Element: Debug {
     /// Cell quantities (member forces, damage max/mean, stress resultants, …) at the total
     /// displacement `u_e` and the COMMITTED state, under the loads `loads` currently applied, into
     /// `values` (length `cell_output_names().len()`).
-    fn cell_output(
-        &self,
-        u_e: &[f64],
-        loads: &AppliedLoads,
-        values: &mut [f64],
-    ) -> Result<(), ElementError>;
+    fn cell_output(&self, u_e: &[f64], loads: &AppliedLoads, values: &mut [f64]) -> Result<(), ElementError>;
 
     /// Energy dissipated by the material up to the committed state (J): the law's own
     /// Σ ∫ (Y_t ḋ_t + Y_c ḋ_c) dV over the element's integration points, never negative and

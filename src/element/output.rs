@@ -45,11 +45,7 @@ pub struct ElementOutput {
 impl ElementOutput {
     /// Buffers for an element with `n_dofs` degrees of freedom, zeroed.
     pub fn new(n_dofs: usize) -> Self {
-        Self {
-            f_int: DVector::zeros(n_dofs),
-            k_t: DMatrix::zeros(n_dofs, n_dofs),
-            has_tangent: false,
-        }
+        Self { f_int: DVector::zeros(n_dofs), k_t: DMatrix::zeros(n_dofs, n_dofs), has_tangent: false }
     }
 
     /// Number of DOF the buffers are sized for.

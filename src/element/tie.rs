@@ -396,7 +396,11 @@ mod tests {
     #[test]
     fn tangent_matches_central_differences() {
         let h = 1e-7;
-        for (s, anchored) in [(section(0.0, true), [false; 2]), (section(5.0e4, true), [false, true]), (section(5.0e4, false), [true, false])] {
+        for (s, anchored) in [
+            (section(0.0, true), [false; 2]),
+            (section(5.0e4, true), [false, true]),
+            (section(5.0e4, false), [true, false]),
+        ] {
             for tie in ties(s) {
                 let mut tie = tie.with_anchored_ends(anchored);
                 let k = tie.axial_stiffness();
@@ -521,7 +525,8 @@ mod tests {
         }
         let mut both = ties(section(n0, false)).remove(2);
         let k = both.axial_stiffness();
-        let u: Vec<f64> = (0..12).map(|i| if (6..9).contains(&i) { -2.0 * n0 / k * both.axis()[i - 6] } else { 0.0 }).collect();
+        let u: Vec<f64> =
+            (0..12).map(|i| if (6..9).contains(&i) { -2.0 * n0 / k * both.axis()[i - 6] } else { 0.0 }).collect();
         let mut vals = [0.0; 2];
         both.cell_output(&u, &AppliedLoads::default(), &mut vals).unwrap();
         assert!(rel_err(vals[0], -n0) < 1e-12, "N = {}", vals[0]);
@@ -651,7 +656,10 @@ mod tests {
         ));
         let mut u = [0.0; 12];
         u[8] = f64::INFINITY;
-        assert!(matches!(tie.evaluate(&u, EvalRequest::Force, &mut out), Err(ElementError::NonFiniteDisplacement { index: 8, .. })));
+        assert!(matches!(
+            tie.evaluate(&u, EvalRequest::Force, &mut out),
+            Err(ElementError::NonFiniteDisplacement { index: 8, .. })
+        ));
         assert!(tie.cell_output(&[0.0; 12], &AppliedLoads::default(), &mut [0.0; 3]).is_err());
         assert_eq!(tie.kind_name(), "tie");
         assert_eq!(tie.n_dofs(), 12);

@@ -37,9 +37,9 @@
 //! ln(J + δ), Latin-hypercube initial design.
 use super::collective::{best_record, broadcast_json, run_ego, run_rounds, PointRecord};
 use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
-use super::elastic_fit::{ElasticFit, ElasticMeans, ElasticSearch, ElasticSettings, ELASTIC_STRAIN};
 use super::doe::latin_hypercube;
 use super::ego::EgoSettings;
+use super::elastic_fit::{ElasticFit, ElasticMeans, ElasticSearch, ElasticSettings, ELASTIC_STRAIN};
 use super::error::IdentifyError;
 use super::space::Space;
 use crate::dem::sample::SampleConfig;
@@ -95,7 +95,9 @@ impl Stat {
 /// first crack over the samples that cracked, the peak over the valid ones (a sample stopped at
 /// its peak without equilibrium has no valid peak; see the module docs).
 pub fn sample_stats(runs: &[&DemRun]) -> [Stat; 4] {
-    let col = |f: &dyn Fn(&DemRun) -> Option<f64>| Stat::of(&runs.iter().filter_map(|r| f(r)).filter(|v| v.is_finite()).collect::<Vec<_>>());
+    let col = |f: &dyn Fn(&DemRun) -> Option<f64>| {
+        Stat::of(&runs.iter().filter_map(|r| f(r)).filter(|v| v.is_finite()).collect::<Vec<_>>())
+    };
     [
         col(&|r| Some(r.young_modulus)),
         col(&|r| Some(r.poisson)),
@@ -215,7 +217,8 @@ fn calibrate_joint(ctx: &Context, c: &Calibration) -> Result<Option<CalibrationR
         run_virtual_test(&c.sample, &p, &c.test, k)
     };
     let reduce = |_: &[f64], runs: &[TaskResult<DemRun>]| objective(&c.targets, &c.weights, runs);
-    let Some(records) = run_ego(ctx, c.space.dim(), design, c.ego.clone(), c.samples, work, reduce, "calibration")? else {
+    let Some(records) = run_ego(ctx, c.space.dim(), design, c.ego.clone(), c.samples, work, reduce, "calibration")?
+    else {
         return Ok(None);
     };
     Ok(Some(summarize(c, records, |u| c.space.from_unit(u), None)?))
@@ -243,7 +246,9 @@ pub fn elastic_means(runs: &[TaskResult<DemRun>], e_bar: f64) -> Result<ElasticM
 fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<CalibrationResult>, IdentifyError> {
     let u = &c.space.unknowns;
     if u.len() < 3 || u[0].name != "alpha" || u[1].name != "e_bar" {
-        return Err(IdentifyError::Settings("the staged calibration needs the unknowns alpha, e_bar, then the strengths".into()));
+        return Err(IdentifyError::Settings(
+            "the staged calibration needs the unknowns alpha, e_bar, then the strengths".into(),
+        ));
     }
     let weights = [0.0, 0.0, c.weights[2], c.weights[3]];
     if weights.iter().all(|w| *w == 0.0) {
@@ -255,8 +260,12 @@ fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<Calibration
     let middle: Vec<f64> = c.space.from_unit(&vec![0.5; c.space.dim()]);
     let reference = parameters_at(&c.fixed, &middle);
     let test = elastic_test(&c.test);
-    let settings =
-        ElasticSettings::new([u[0].lower, u[0].upper], [u[1].lower, u[1].upper], c.targets.poisson, c.targets.young_modulus);
+    let settings = ElasticSettings::new(
+        [u[0].lower, u[0].upper],
+        [u[1].lower, u[1].upper],
+        c.targets.poisson,
+        c.targets.young_modulus,
+    );
     let mut search = ElasticSearch::new(settings)?;
     ctx.log.info(format!(
         "calibration, stage 1 (elastic): alpha from nu = {} over alpha in [{}, {}] ({} samples per alpha, one loading state to a strain of {ELASTIC_STRAIN:e}), then e_bar from E = {:e} Pa",
@@ -268,7 +277,8 @@ fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<Calibration
     };
     run_rounds(ctx, first, c.samples, work, |points, results| {
         let alphas: Vec<f64> = points.iter().map(|p| p[0]).collect();
-        let values: Vec<Result<ElasticMeans, String>> = results.iter().map(|r| elastic_means(r, reference.e_bar)).collect();
+        let values: Vec<Result<ElasticMeans, String>> =
+            results.iter().map(|r| elastic_means(r, reference.e_bar)).collect();
         for (a, v) in alphas.iter().zip(&values) {
             ctx.log.info(match v {
                 Ok(m) => format!(
@@ -282,7 +292,8 @@ fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<Calibration
         Ok(search.ask()?.map(|next| next.into_iter().map(|a| vec![a]).collect()))
     })?;
     let fit: Result<ElasticFit, String> = search.result().map_err(|e| e.to_string());
-    let agreed: Result<(f64, f64), String> = broadcast_json(ctx, Some(&fit.as_ref().map(|f| (f.alpha, f.e_bar)).map_err(Clone::clone)))?;
+    let agreed: Result<(f64, f64), String> =
+        broadcast_json(ctx, Some(&fit.as_ref().map(|f| (f.alpha, f.e_bar)).map_err(Clone::clone)))?;
     let (alpha, e_bar) = agreed.map_err(IdentifyError::Settings)?;
     if let Ok(f) = &fit {
         ctx.log.info(format!(
@@ -307,9 +318,13 @@ fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<Calibration
         c.ego.iterations,
         c.ego.batch
     ));
-    let work = |v: &[f64], k: usize| -> TaskResult<DemRun> { run_virtual_test(&c.sample, &parameters_at(&c.fixed, &full(v)), &c.test, k) };
+    let work = |v: &[f64], k: usize| -> TaskResult<DemRun> {
+        run_virtual_test(&c.sample, &parameters_at(&c.fixed, &full(v)), &c.test, k)
+    };
     let reduce = |_: &[f64], runs: &[TaskResult<DemRun>]| objective(&c.targets, &weights, runs);
-    let Some(records) = run_ego(ctx, strengths.dim(), design, c.ego.clone(), c.samples, work, reduce, "calibration, stage 2")? else {
+    let Some(records) =
+        run_ego(ctx, strengths.dim(), design, c.ego.clone(), c.samples, work, reduce, "calibration, stage 2")?
+    else {
         return Ok(None);
     };
     Ok(Some(summarize(c, records, full, fit.ok())?))
@@ -343,7 +358,10 @@ fn summarize(
             .enumerate()
             .filter_map(|(k, r)| match r {
                 Err(e) => Some(e.clone()),
-                Ok(d) if !d.valid => Some(format!("sample {k}: the solver stopped at its peak (end {}): left out of the peak statistics", d.end)),
+                Ok(d) if !d.valid => Some(format!(
+                    "sample {k}: the solver stopped at its peak (end {}): left out of the peak statistics",
+                    d.end
+                )),
                 Ok(_) => None,
             })
             .collect(),

@@ -92,7 +92,8 @@ where
             ctx.log.info(format!("  {done}/{total} runs done ({} point(s) × {m})", points.len()));
         }
     };
-    let batch = run_batch(&ctx.comm, n, |t| work(&points[t / m], t % m), progress).map_err(|e| IdentifyError::Batch(e.to_string()))?;
+    let batch = run_batch(&ctx.comm, n, |t| work(&points[t / m], t % m), progress)
+        .map_err(|e| IdentifyError::Batch(e.to_string()))?;
     Ok(batch.map(|all| {
         let mut grouped: Vec<Vec<TaskResult<R>>> = (0..points.len()).map(|_| Vec::with_capacity(m)).collect();
         for (t, r) in all.into_iter().enumerate() {
@@ -105,6 +106,7 @@ where
 /// Collective. Runs EGO: the `design` (unit cube, rank 0's is used), then infill batches, each
 /// point evaluated by `tasks_per_point` tasks of `work` and reduced to one objective value by
 /// `reduce`. Rank 0 returns every point with its tasks; the others `None`.
+#[allow(clippy::too_many_arguments)] // the search, its work and its reduction: each argument distinct
 pub fn run_ego<R, W, F>(
     ctx: &Context,
     dim: usize,
@@ -161,7 +163,13 @@ where
 /// round's points and their tasks grouped per point) gives the next round's points, or `None` to
 /// stop. An error of `next` is broadcast, so every rank returns it. The loop of [`run_ego`] for
 /// searches that are not EGO (e.g. the elastic stage of the calibration, a 1-D root).
-pub fn run_rounds<R, W, N>(ctx: &Context, first: Vec<Vec<f64>>, tasks_per_point: usize, work: W, mut next: N) -> Result<(), IdentifyError>
+pub fn run_rounds<R, W, N>(
+    ctx: &Context,
+    first: Vec<Vec<f64>>,
+    tasks_per_point: usize,
+    work: W,
+    mut next: N,
+) -> Result<(), IdentifyError>
 where
     R: Serialize + DeserializeOwned + Send,
     W: Fn(&[f64], usize) -> TaskResult<R> + Sync,

@@ -40,7 +40,10 @@ impl Curve {
     pub fn check(&self, what: &str) -> Result<(), IdentifyError> {
         let bad = |reason: String| IdentifyError::BadCurve { what: what.to_string(), reason };
         if self.x.len() < 2 || self.x.len() != self.y.len() {
-            return Err(bad(format!("needs at least two (strain, stress) points, got {}", self.x.len().min(self.y.len()))));
+            return Err(bad(format!(
+                "needs at least two (strain, stress) points, got {}",
+                self.x.len().min(self.y.len())
+            )));
         }
         if self.x.iter().chain(&self.y).any(|v| !v.is_finite()) {
             return Err(bad("has non-finite values".into()));
@@ -186,7 +189,10 @@ pub fn read_sample_curves_csv(file: &std::path::Path) -> Result<Vec<Curve>, Stri
     };
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     if cols != ["sample", "strain", "stress", "loss_of_load"] {
-        return Err(format!("{}:1: expected the header sample,strain,stress,loss_of_load, got {header}", file.display()));
+        return Err(format!(
+            "{}:1: expected the header sample,strain,stress,loss_of_load, got {header}",
+            file.display()
+        ));
     }
     let mut curves: Vec<(String, Curve)> = Vec::new();
     for (n, line) in lines {
@@ -240,6 +246,42 @@ pub fn mean_curve(curves: &[Curve], grid: &[f64], what: &str) -> Result<Curve, I
         }
     }
     Ok(Curve { x: grid.to_vec(), y, loss_of_load: curves.iter().all(|c| c.loss_of_load) })
+}
+
+/// Reads a curve from a CSV file with a header naming the columns `strain` and `stress` (other
+/// columns ignored; the DEM job's `sample-KKK/curve.csv` qualifies). Signs: the curve is turned
+/// into the test direction by the sign of its largest-magnitude stress, so tension-positive
+/// compression curves and positive-magnitude ones both work. Errors name the file and line.
+pub fn read_curve_csv(file: &std::path::Path) -> Result<Curve, String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let Some((_, header)) = lines.next() else {
+        return Err(format!("{}: empty file (expected a header with columns strain and stress)", file.display()));
+    };
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |name: &str| {
+        cols.iter()
+            .position(|c| *c == name)
+            .ok_or_else(|| format!("{}:1: no column '{name}' in the header ({header})", file.display()))
+    };
+    let (ix, iy) = (find("strain")?, find("stress")?);
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (n, line) in lines {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let get = |i: usize, name: &str| -> Result<f64, String> {
+            f.get(i)
+                .ok_or_else(|| format!("{}:{}: missing column '{name}'", file.display(), n + 1))?
+                .parse::<f64>()
+                .map_err(|e| format!("{}:{}: column '{name}': {e}", file.display(), n + 1))
+        };
+        x.push(get(ix, "strain")?);
+        y.push(get(iy, "stress")?);
+    }
+    let s = y.iter().fold(0.0f64, |m, &v| if v.abs() > m.abs() { v } else { m });
+    let sign = if s < 0.0 { -1.0 } else { 1.0 };
+    let c =
+        Curve { x: x.iter().map(|v| sign * v).collect(), y: y.iter().map(|v| sign * v).collect(), loss_of_load: false };
+    Ok(c.monotonic())
 }
 
 #[cfg(test)]
@@ -307,37 +349,4 @@ mod tests {
         let empty = Curve { x: vec![], y: vec![], loss_of_load: false };
         assert!(empty.check("DEM tension").unwrap_err().to_string().contains("at least two"));
     }
-}
-
-/// Reads a curve from a CSV file with a header naming the columns `strain` and `stress` (other
-/// columns ignored; the DEM job's `sample-KKK/curve.csv` qualifies). Signs: the curve is turned
-/// into the test direction by the sign of its largest-magnitude stress, so tension-positive
-/// compression curves and positive-magnitude ones both work. Errors name the file and line.
-pub fn read_curve_csv(file: &std::path::Path) -> Result<Curve, String> {
-    let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let Some((_, header)) = lines.next() else {
-        return Err(format!("{}: empty file (expected a header with columns strain and stress)", file.display()));
-    };
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let find = |name: &str| {
-        cols.iter().position(|c| *c == name).ok_or_else(|| format!("{}:1: no column '{name}' in the header ({header})", file.display()))
-    };
-    let (ix, iy) = (find("strain")?, find("stress")?);
-    let (mut x, mut y) = (Vec::new(), Vec::new());
-    for (n, line) in lines {
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let get = |i: usize, name: &str| -> Result<f64, String> {
-            f.get(i)
-                .ok_or_else(|| format!("{}:{}: missing column '{name}'", file.display(), n + 1))?
-                .parse::<f64>()
-                .map_err(|e| format!("{}:{}: column '{name}': {e}", file.display(), n + 1))
-        };
-        x.push(get(ix, "strain")?);
-        y.push(get(iy, "stress")?);
-    }
-    let s = y.iter().fold(0.0f64, |m, &v| if v.abs() > m.abs() { v } else { m });
-    let sign = if s < 0.0 { -1.0 } else { 1.0 };
-    let c = Curve { x: x.iter().map(|v| sign * v).collect(), y: y.iter().map(|v| sign * v).collect(), loss_of_load: false };
-    Ok(c.monotonic())
 }

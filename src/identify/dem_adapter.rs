@@ -93,7 +93,12 @@ pub fn sample_height(base: &SampleConfig) -> f64 {
 }
 
 /// Runs `test` on sample `k` of `base` with `p`. The error is a message naming the sample.
-pub fn run_virtual_test(base: &SampleConfig, p: &DemParameters, test: &VirtualTest, k: usize) -> Result<DemRun, String> {
+pub fn run_virtual_test(
+    base: &SampleConfig,
+    p: &DemParameters,
+    test: &VirtualTest,
+    k: usize,
+) -> Result<DemRun, String> {
     let cfg = sample_config(base, p.alpha, k);
     let sample = Sample::build(&cfg).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;
     let params = MechParams {
@@ -109,7 +114,12 @@ pub fn run_virtual_test(base: &SampleConfig, p: &DemParameters, test: &VirtualTe
     let r = run_test(&sample, &params, test).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;
     let sign = if matches!(test, VirtualTest::Compression { .. }) { -1.0 } else { 1.0 };
     let stride = r.curve.len().div_ceil(MAX_CURVE_POINTS).max(1);
-    let peak = r.curve.iter().enumerate().max_by(|a, b| (sign * a.1.stress).total_cmp(&(sign * b.1.stress))).map_or(0, |p| p.0);
+    let peak = r
+        .curve
+        .iter()
+        .enumerate()
+        .max_by(|a, b| (sign * a.1.stress).total_cmp(&(sign * b.1.stress)))
+        .map_or(0, |p| p.0);
     let mut x = Vec::new();
     let mut y = Vec::new();
     for (i, c) in r.curve.iter().enumerate() {

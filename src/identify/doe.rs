@@ -15,7 +15,9 @@ use rand_xoshiro::Xoshiro256Plus;
 /// `m` points of an optimized Latin hypercube in `[0, 1]^dim`, from `seed`.
 pub fn latin_hypercube(m: usize, dim: usize, seed: u64) -> Result<Vec<Vec<f64>>, IdentifyError> {
     if m == 0 || dim == 0 {
-        return Err(IdentifyError::Settings(format!("a Latin hypercube needs m ≥ 1 points in ≥ 1 dimension, got m = {m}, dim = {dim}")));
+        return Err(IdentifyError::Settings(format!(
+            "a Latin hypercube needs m ≥ 1 points in ≥ 1 dimension, got m = {m}, dim = {dim}"
+        )));
     }
     let mut limits = ndarray16::Array2::<f64>::zeros((dim, 2));
     for i in 0..dim {
@@ -61,7 +63,8 @@ mod tests {
     fn factorial_has_all_corners() {
         let x = two_level_factorial(5, [0.25, 0.75]).unwrap();
         assert_eq!(x.len(), 32);
-        let mut keys: Vec<u32> = x.iter().map(|p| p.iter().enumerate().map(|(i, &v)| ((v > 0.5) as u32) << i).sum()).collect();
+        let mut keys: Vec<u32> =
+            x.iter().map(|p| p.iter().enumerate().map(|(i, &v)| ((v > 0.5) as u32) << i).sum()).collect();
         keys.sort();
         assert_eq!(keys, (0..32).collect::<Vec<_>>());
         assert!(two_level_factorial(2, [0.7, 0.3]).is_err());

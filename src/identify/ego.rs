@@ -99,7 +99,8 @@ impl Ego {
         let ok: Vec<&Evaluation> = self.evaluations.iter().filter(|e| e.value.is_ok()).collect();
         let needed = 2.max(self.dim.min(3));
         if ok.len() < needed {
-            let first_failure = self.evaluations.iter().find_map(|e| e.value.clone().err()).unwrap_or_else(|| "none".into());
+            let first_failure =
+                self.evaluations.iter().find_map(|e| e.value.clone().err()).unwrap_or_else(|| "none".into());
             return Err(IdentifyError::TooFewPoints { needed, got: ok.len(), first_failure });
         }
         let mut x = ndarray16::Array2::<f64>::zeros((ok.len(), self.dim));
@@ -118,26 +119,33 @@ impl Ego {
         // one-thread pool: parallel sums in another order change the last bits of the kriging
         // fit, and the infill optimization amplifies them into another point; with one thread
         // the loop is reproducible bit for bit (and leaves the other core to the DEM).
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
-        let suggested = pool.install(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            let service = EgorServiceBuilder::optimize()
-                .configure(|c| {
-                    c.configure_gp(|g| {
-                        g.regression_spec(RegressionSpec::CONSTANT).correlation_spec(CorrelationSpec::SQUAREDEXPONENTIAL)
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
+        let suggested = pool.install(|| {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let service = EgorServiceBuilder::optimize()
+                    .configure(|c| {
+                        c.configure_gp(|g| {
+                            g.regression_spec(RegressionSpec::CONSTANT)
+                                .correlation_spec(CorrelationSpec::SQUAREDEXPONENTIAL)
+                        })
+                        .infill_strategy(InfillStrategy::LogEI)
+                        .configure_qei(|q| q.batch(batch).strategy(QEiStrategy::ConstantLiarMinimum))
+                        .seed(seed)
                     })
-                    .infill_strategy(InfillStrategy::LogEI)
-                    .configure_qei(|q| q.batch(batch).strategy(QEiStrategy::ConstantLiarMinimum))
-                    .seed(seed)
-                })
-                .min_within(&limits)
-                .map_err(|e| e.to_string())?;
-            Ok::<_, String>(service.suggest(&x, &y))
-        })));
+                    .min_within(&limits)
+                    .map_err(|e| e.to_string())?;
+                Ok::<_, String>(service.suggest(&x, &y))
+            }))
+        });
         let suggested = match suggested {
             Ok(Ok(s)) => s,
             Ok(Err(e)) => return Err(IdentifyError::Optimizer(e)),
             Err(p) => {
-                let msg = p.downcast_ref::<String>().cloned().or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()));
+                let msg =
+                    p.downcast_ref::<String>().cloned().or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()));
                 return Err(IdentifyError::Optimizer(msg.unwrap_or_else(|| "panicked".into())));
             }
         };
@@ -169,10 +177,9 @@ impl Ego {
 
     /// The best successful evaluation.
     pub fn best(&self) -> Option<&Evaluation> {
-        self.evaluations
-            .iter()
-            .filter(|e| e.value.is_ok())
-            .min_by(|a, b| a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY)))
+        self.evaluations.iter().filter(|e| e.value.is_ok()).min_by(|a, b| {
+            a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY))
+        })
     }
 
     /// The best value after each evaluation (NaN until the first success): the error history.
@@ -238,7 +245,8 @@ mod tests {
 
     #[test]
     fn too_few_successes_is_an_error_naming_the_failure() {
-        let mut ego = Ego::new(2, EgoSettings { iterations: 3, batch: 1, seed: 1, log_transform: false, target: None }).unwrap();
+        let mut ego =
+            Ego::new(2, EgoSettings { iterations: 3, batch: 1, seed: 1, log_transform: false, target: None }).unwrap();
         ego.tell(&[vec![0.1, 0.1], vec![0.5, 0.5]], vec![Ok(1.0), Err("sample 3 diverged".into())]);
         let e = ego.ask().unwrap_err();
         assert!(e.to_string().contains("sample 3 diverged"), "{e}");

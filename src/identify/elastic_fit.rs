@@ -119,7 +119,10 @@ impl ElasticSearch {
             }
         }
         if !(s.poisson.is_finite() && s.young_modulus.is_finite() && s.young_modulus > 0.0) {
-            return Err(IdentifyError::Settings(format!("elastic fit: invalid targets E = {}, nu = {}", s.young_modulus, s.poisson)));
+            return Err(IdentifyError::Settings(format!(
+                "elastic fit: invalid targets E = {}, nu = {}",
+                s.young_modulus, s.poisson
+            )));
         }
         Ok(ElasticSearch { s, points: Vec::new(), round: 0, done: false })
     }
@@ -135,7 +138,10 @@ impl ElasticSearch {
         for (&alpha, value) in alphas.iter().zip(values) {
             let value = match value {
                 Ok(m) if !(m.poisson.mean.is_finite() && m.e_ratio.mean.is_finite() && m.e_ratio.mean > 0.0) => {
-                    Err(format!("alpha {alpha}: no finite nu and E over the samples (nu {}, E/Ebar {})", m.poisson.mean, m.e_ratio.mean))
+                    Err(format!(
+                        "alpha {alpha}: no finite nu and E over the samples (nu {}, E/Ebar {})",
+                        m.poisson.mean, m.e_ratio.mean
+                    ))
                 }
                 v => v,
             };
@@ -146,7 +152,8 @@ impl ElasticSearch {
 
     /// The evaluated points with their means, sorted by α.
     fn ok_sorted(&self) -> Vec<(f64, ElasticMeans)> {
-        let mut v: Vec<(f64, ElasticMeans)> = self.points.iter().filter_map(|p| p.value.as_ref().ok().map(|m| (p.alpha, *m))).collect();
+        let mut v: Vec<(f64, ElasticMeans)> =
+            self.points.iter().filter_map(|p| p.value.as_ref().ok().map(|m| (p.alpha, *m))).collect();
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
         v
     }
@@ -154,7 +161,9 @@ impl ElasticSearch {
     /// The evaluated point whose ν̄ is closest to the target.
     fn closest(&self) -> Option<(f64, ElasticMeans)> {
         let t = self.s.poisson;
-        self.ok_sorted().into_iter().min_by(|a, b| (a.1.poisson.mean - t).abs().total_cmp(&(b.1.poisson.mean - t).abs()))
+        self.ok_sorted()
+            .into_iter()
+            .min_by(|a, b| (a.1.poisson.mean - t).abs().total_cmp(&(b.1.poisson.mean - t).abs()))
     }
 
     /// The next α to evaluate, or `None` when the fit is done (converged, at a bound, or out of

@@ -22,7 +22,9 @@ pub enum IdentifyError {
         reason: String,
     },
     /// Too few design points could be evaluated to build the surrogate.
-    #[error("the surrogate needs at least {needed} evaluated points, only {got} succeeded; first failure: {first_failure}")]
+    #[error(
+        "the surrogate needs at least {needed} evaluated points, only {got} succeeded; first failure: {first_failure}"
+    )]
     TooFewPoints {
         /// Needed.
         needed: usize,

@@ -240,7 +240,11 @@ mod tests {
         // (grid step 0.5). Model: the same rise to a peak 1.04 at ε = 1.04,
         // then the same drop and tail. Its peak lies between two reference points: the measure
         // sees 1.04 (+4 %), not the value at a grid point, and its strain 1.04 (+4 % on 1.0).
-        let r = Curve { x: vec![0.0, 0.5, 1.0, 1.0, 1.5, 2.0, 2.5, 3.0], y: vec![0.0, 0.5, 1.0, 0.2, 0.2, 0.2, 0.2, 0.2], loss_of_load: false };
+        let r = Curve {
+            x: vec![0.0, 0.5, 1.0, 1.0, 1.5, 2.0, 2.5, 3.0],
+            y: vec![0.0, 0.5, 1.0, 0.2, 0.2, 0.2, 0.2, 0.2],
+            loss_of_load: false,
+        };
         let grid: Vec<f64> = (0..=6).map(|i| 0.5 * i as f64).collect();
         let reference = Curve { x: grid.clone(), y: r.resample(&grid), loss_of_load: false };
         let m = Curve { x: vec![0.0, 1.04, 1.04, 3.0], y: vec![0.0, 1.04, 0.2, 0.2], loss_of_load: false };

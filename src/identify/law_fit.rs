@@ -233,8 +233,12 @@ impl LawFit {
                     strains.insert(i, critical);
                 }
             }
-            let steps = strains.iter().map(|&e| [Control::Strain(sign * e), Control::Stress(0.0), Control::Stress(0.0)]).collect();
-            let rec = run_path(PlaneStress, &law, &LoadPath::<3>::new(steps), &NewtonSettings::default()).map_err(|e| e.to_string())?;
+            let steps = strains
+                .iter()
+                .map(|&e| [Control::Strain(sign * e), Control::Stress(0.0), Control::Stress(0.0)])
+                .collect();
+            let rec = run_path(PlaneStress, &law, &LoadPath::<3>::new(steps), &NewtonSettings::default())
+                .map_err(|e| e.to_string())?;
             Ok(Curve {
                 x: rec.iter().map(|r| sign * r.strain[0]).collect(),
                 y: rec.iter().map(|r| sign * r.stress[0]).collect(),
@@ -283,19 +287,24 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
         Some(Err(m)) => Err(m.clone()),
         None => Err("no result".into()),
     };
-    let Some(records) = run_ego(ctx, fit.space.dim(), design, fit.ego.clone(), 1, work, reduce, "law identification")? else {
+    let Some(records) = run_ego(ctx, fit.space.dim(), design, fit.ego.clone(), 1, work, reduce, "law identification")?
+    else {
         return Ok(None);
     };
-    let mut history: Vec<_> = records.iter().map(|r| (r.iteration, fit.space.from_unit(&r.unit), r.value.clone())).collect();
+    let mut history: Vec<_> =
+        records.iter().map(|r| (r.iteration, fit.space.from_unit(&r.unit), r.value.clone())).collect();
     let best = best_record(&records)?;
     let mut x = fit.space.from_unit(&best.unit);
     if fit.polish_iterations > 0 {
         let f = |u: &[f64]| fit.evaluate(&fit.space.from_unit(u)).map(|e| e.total);
         let last = records.iter().map(|r| r.iteration).max().unwrap_or(0) + 1;
         let mut ranked: Vec<&PointRecord<LawEvaluation>> = records.iter().filter(|r| r.value.is_ok()).collect();
-        ranked.sort_by(|a, b| a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY)));
+        ranked.sort_by(|a, b| {
+            a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY))
+        });
         let starts = polish_starts(ranked.iter().map(|r| r.unit.as_slice()), POLISH_STARTS, POLISH_SEPARATION);
-        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS).map_err(IdentifyError::Optimizer)?;
+        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS)
+            .map_err(IdentifyError::Optimizer)?;
         ctx.log.info(format!(
             "law identification: Nelder-Mead polish from the {} best separated points, {} evaluations: objective {:.6e} -> {:.6e}",
             starts.len(),
@@ -400,7 +409,8 @@ fn polish_blocks(
         ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
         let points: Vec<Vec<f64>> = std::iter::once(own(&u)).chain(ranked.into_iter().map(|r| r.0)).collect();
         let starts = polish_starts(points.iter().map(Vec::as_slice), POLISH_STARTS, POLISH_SEPARATION);
-        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS).map_err(IdentifyError::Optimizer)?;
+        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS)
+            .map_err(IdentifyError::Optimizer)?;
         ctx.log.info(format!(
             "law identification: {} polish over its own {} unknown(s) from {} start(s), {} evaluations: error {:.6e} -> {:.6e}",
             if side == 0 { "tension" } else { "compression" },
@@ -410,7 +420,9 @@ fn polish_blocks(
             part(&here),
             p.value
         ));
-        history.extend(p.evaluations.iter().map(|(v, r)| (iteration, fit.space.from_unit(&with(v)), r.as_ref().map(|e| e + other).map_err(Clone::clone))));
+        history.extend(p.evaluations.iter().map(|(v, r)| {
+            (iteration, fit.space.from_unit(&with(v)), r.as_ref().map(|e| e + other).map_err(Clone::clone))
+        }));
         if p.value < part(&here) {
             u = with(&p.unit);
         }
@@ -445,7 +457,11 @@ mod tests {
         // G_s = 10 J/m², ε₀ᵗ = 6.5e-5, E = 2.885 GPa, h = 1.2 m: f_t = 0.1875 MPa, the elastic
         // part f_t² h/(2E) = 0.5 · 2.885e9 · (6.5e-5)² · 1.2 = 7.3134 J/m².
         use super::*;
-        let curve = |n: usize, max: f64| Curve { x: (0..=n).map(|k| max * k as f64 / n as f64).collect(), y: vec![1.0; n + 1], loss_of_load: false };
+        let curve = |n: usize, max: f64| Curve {
+            x: (0..=n).map(|k| max * k as f64 / n as f64).collect(),
+            y: vec![1.0; n + 1],
+            loss_of_load: false,
+        };
         let fit = |regularization| LawFit {
             young_modulus: 2.885e9,
             poisson: 0.19,

@@ -127,7 +127,11 @@ fn exact(x: f64) -> String {
     if x.is_nan() {
         "nan".into()
     } else if x.is_infinite() {
-        if x > 0.0 { "inf".into() } else { "-inf".into() }
+        if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        }
     } else if x == 0.0 || plain(x) {
         float_text(format!("{}", x + 0.0))
     } else {
@@ -253,7 +257,8 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
     }
     let _ = writeln!(s, "curves = {}", quoted(&p.curves));
     let _ = writeln!(s, "elastic = {}", quoted(&p.elastic));
-    let _ = writeln!(s, "element_size = {}           # h [m] of the comparison (regularization)", exact(p.element_size));
+    let _ =
+        writeln!(s, "element_size = {}           # h [m] of the comparison (regularization)", exact(p.element_size));
     let _ = writeln!(s, "softening_energy = {}    # f_t h / B_t at h [J/m2]", figure(p.softening_energy));
     let _ = writeln!(s, "error_measure = {}", quoted(&p.error_measure));
     let _ = writeln!(s, "error_tension = {}", figure(p.error_tension));
@@ -265,7 +270,14 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
 
     if let Some(d) = &p.dem {
         s.push_str("\n[provenance.dem]                       # the calibrated lattice (round-trip digits)\n");
-        for (k, v) in [("alpha", d.alpha), ("e_bar", d.e_bar), ("eps_cr", d.eps_cr), ("theta_cr", d.theta_cr), ("mu", d.mu), ("kt_over_kn", d.kt_over_kn)] {
+        for (k, v) in [
+            ("alpha", d.alpha),
+            ("e_bar", d.e_bar),
+            ("eps_cr", d.eps_cr),
+            ("theta_cr", d.theta_cr),
+            ("mu", d.mu),
+            ("kt_over_kn", d.kt_over_kn),
+        ] {
             let _ = writeln!(s, "{k} = {}", exact(v));
         }
         if let Some(v) = d.crushing_stress {
@@ -277,7 +289,9 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
     }
 
     if !p.calibration.is_empty() {
-        s.push_str("\n[provenance.calibration]               # Table 1 against the calibrated DEM: sample mean ± std (n)\n");
+        s.push_str(
+            "\n[provenance.calibration]               # Table 1 against the calibrated DEM: sample mean ± std (n)\n",
+        );
         for c in &p.calibration {
             let _ = writeln!(
                 s,
@@ -293,15 +307,20 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
     }
 
     if !p.measures.is_empty() {
-        s.push_str("\n[provenance.law_fit]                   # every measure at the law (the fitted one: error_measure)\n");
+        s.push_str(
+            "\n[provenance.law_fit]                   # every measure at the law (the fitted one: error_measure)\n",
+        );
         let opt = |v: Option<f64>| v.map_or_else(|| quoted("-"), figure);
         for m in &p.measures {
-            let _ = writeln!(s, "{} = {{ tension = {}, compression = {} }}", m.measure, opt(m.tension), opt(m.compression));
+            let _ =
+                writeln!(s, "{} = {{ tension = {}, compression = {} }}", m.measure, opt(m.tension), opt(m.compression));
         }
     }
 
     if let Some(peaks) = &p.peaks {
-        s.push_str("\n[provenance.peaks]                     # [Pa]: the law's against the DEM mean curves' (relative)\n");
+        s.push_str(
+            "\n[provenance.peaks]                     # [Pa]: the law's against the DEM mean curves' (relative)\n",
+        );
         for (name, pk) in ["tension", "compression"].iter().zip(peaks) {
             let samples = pk.samples.map_or(String::new(), |(m, sd, n)| {
                 format!(", dem_samples = {{ mean = {}, std = {}, n = {n} }}", figure(m), figure(sd))
@@ -358,7 +377,14 @@ mod tests {
                 crushing_stress: Some(2.587e6),
                 crushing_energy: Some(1e3),
             }),
-            calibration: vec![TargetFigure { name: "poisson", target: 0.19, mean: 0.18984, std: 0.00715, n: 8, relative_error: -8.4e-4 }],
+            calibration: vec![TargetFigure {
+                name: "poisson",
+                target: 0.19,
+                mean: 0.18984,
+                std: 0.00715,
+                n: 8,
+                relative_error: -8.4e-4,
+            }],
             virtual_test_failures: vec!["tension: sample 2: stopped".into()],
             notes: Some("line one\n\nline three".into()),
         }
@@ -383,7 +409,11 @@ mod tests {
             regularization: Regularization::HillerborgNoElastic,
         };
         let p = provenance();
-        for reg in [Regularization::Hillerborg, Regularization::HillerborgNoElastic, Regularization::Unregularized { b_t: 4000.0 }] {
+        for reg in [
+            Regularization::Hillerborg,
+            Regularization::HillerborgNoElastic,
+            Regularization::Unregularized { b_t: 4000.0 },
+        ] {
             for gf_c in [None, Some(104.3)] {
                 let law = DamageParams { regularization: reg, gf_c, ..law };
                 let text = material_toml(Path::new("materials/m.toml"), &law, &p).unwrap();
@@ -401,13 +431,19 @@ mod tests {
         // Figures carry FIGURE_DIGITS significant digits.
         assert!(text.contains("mean = 0.18984, std = 0.0071500, n = 8, relative_error = -0.000840"), "{text}");
         // Round-trip digits, a decimal point where Rust's text has none.
-        assert!(text.contains("E = 2.885123456789e9\n") && text.contains("gf_t = 40.0\n") && text.contains("a_c = 1.0\n"), "{text}");
+        assert!(
+            text.contains("E = 2.885123456789e9\n") && text.contains("gf_t = 40.0\n") && text.contains("a_c = 1.0\n"),
+            "{text}"
+        );
         assert!(text.contains("eps0_t = 3.6666666666666666e-5\n"), "{text}");
     }
 
     #[test]
     fn relative_paths() {
-        assert_eq!(relative_path(Path::new("/a/b/materials"), Path::new("/a/b/jobs/j.toml")), PathBuf::from("../jobs/j.toml"));
+        assert_eq!(
+            relative_path(Path::new("/a/b/materials"), Path::new("/a/b/jobs/j.toml")),
+            PathBuf::from("../jobs/j.toml")
+        );
         assert_eq!(relative_path(Path::new("/a/b"), Path::new("/a/b/j.toml")), PathBuf::from("j.toml"));
         assert_eq!(relative_path(Path::new("/a/b/c/d"), Path::new("/a/x.toml")), PathBuf::from("../../../x.toml"));
     }

@@ -25,10 +25,10 @@
 pub mod calibration;
 pub mod collective;
 pub mod curves;
-pub mod elastic_fit;
 pub mod dem_adapter;
 pub mod doe;
 pub mod ego;
+pub mod elastic_fit;
 pub mod error;
 pub mod error_measure;
 pub mod law_fit;

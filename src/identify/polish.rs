@@ -26,9 +26,12 @@ pub struct Polished {
     pub evaluations: Vec<(Vec<f64>, Result<f64, String>)>,
 }
 
+/// Every point evaluated, with its value or why it has none.
+type EvaluationLog = RefCell<Vec<(Vec<f64>, Result<f64, String>)>>;
+
 struct Cost<'a, F: Fn(&[f64]) -> Result<f64, String>> {
     f: &'a F,
-    log: &'a RefCell<Vec<(Vec<f64>, Result<f64, String>)>>,
+    log: &'a EvaluationLog,
 }
 
 impl<F: Fn(&[f64]) -> Result<f64, String>> CostFunction for Cost<'_, F> {
@@ -48,7 +51,12 @@ impl<F: Fn(&[f64]) -> Result<f64, String>> CostFunction for Cost<'_, F> {
 }
 
 /// Nelder–Mead from `start` (unit cube) on `f`, at most `max_iters` iterations.
-pub fn polish<F: Fn(&[f64]) -> Result<f64, String>>(f: &F, start: &[f64], step: f64, max_iters: u64) -> Result<Polished, String> {
+pub fn polish<F: Fn(&[f64]) -> Result<f64, String>>(
+    f: &F,
+    start: &[f64],
+    step: f64,
+    max_iters: u64,
+) -> Result<Polished, String> {
     let n = start.len();
     let mut simplex = vec![start.to_vec()];
     for i in 0..n {
@@ -59,7 +67,10 @@ pub fn polish<F: Fn(&[f64]) -> Result<f64, String>>(f: &F, start: &[f64], step: 
     }
     let log = RefCell::new(Vec::new());
     let solver = NelderMead::new(simplex).with_sd_tolerance(1e-10).map_err(|e| e.to_string())?;
-    let res = Executor::new(Cost { f, log: &log }, solver).configure(|s| s.max_iters(max_iters)).run().map_err(|e| e.to_string())?;
+    let res = Executor::new(Cost { f, log: &log }, solver)
+        .configure(|s| s.max_iters(max_iters))
+        .run()
+        .map_err(|e| e.to_string())?;
     let state = res.state();
     let best = state.get_best_param().cloned().unwrap_or_else(|| start.to_vec());
     let unit: Vec<f64> = best.iter().map(|v| v.clamp(0.0, 1.0)).collect();
@@ -110,7 +121,11 @@ mod tests {
         let c = [0.3, 0.7, 1.4];
         let f = |u: &[f64]| Ok(u.iter().zip(&c).map(|(a, b)| (a - b).powi(2)).sum::<f64>());
         let p = polish(&f, &[0.5, 0.5, 0.5], 0.1, 500).unwrap();
-        assert!((p.unit[0] - 0.3).abs() < 1e-4 && (p.unit[1] - 0.7).abs() < 1e-4 && (p.unit[2] - 1.0).abs() < 1e-4, "{:?}", p.unit);
+        assert!(
+            (p.unit[0] - 0.3).abs() < 1e-4 && (p.unit[1] - 0.7).abs() < 1e-4 && (p.unit[2] - 1.0).abs() < 1e-4,
+            "{:?}",
+            p.unit
+        );
         // At the boundary the value is (1.4 − 1)² = 0.16.
         assert!((p.value - 0.16).abs() < 1e-6);
     }

@@ -42,6 +42,7 @@ fn max_strain(t: &VirtualTest) -> f64 {
 }
 
 /// Collective. Runs both tests on `samples` samples with `p`; `points` grid points per curve.
+#[allow(clippy::too_many_arguments)] // the sample, the law's parameters, two tests and the curves' grid
 pub fn run_virtual_tests(
     ctx: &Context,
     sample: &SampleConfig,

@@ -50,9 +50,7 @@ fn verdict(all: &[u64]) -> Verdict {
 /// 64-bit FNV-1a hash of a byte string (offset basis 0xcbf29ce484222325, prime 0x100000001b3,
 /// from the FNV reference); used only to compare arguments across ranks, never stored.
 pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
-    })
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3))
 }
 
 #[cfg(test)]

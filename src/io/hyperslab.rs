@@ -11,9 +11,7 @@ use hdf5_sys::h5::{herr_t, hsize_t};
 use hdf5_sys::h5d::H5Dwrite;
 use hdf5_sys::h5i::hid_t;
 use hdf5_sys::h5p::{H5FD_mpio_xfer_t, H5Pclose, H5Pcreate, H5Pset_dxpl_mpio};
-use hdf5_sys::h5s::{
-    H5S_seloper_t, H5Sclose, H5Scopy, H5Screate_simple, H5Sselect_hyperslab, H5Sselect_none,
-};
+use hdf5_sys::h5s::{H5S_seloper_t, H5Sclose, H5Scopy, H5Screate_simple, H5Sselect_hyperslab, H5Sselect_none};
 
 /// Turns a negative HDF5 return value into the library's current error stack.
 fn check<T: Copy + Into<i64>>(ret: T) -> hdf5::Result<T> {
@@ -71,12 +69,9 @@ pub(crate) fn write_rows<T: H5Type>(
     }
     let n_rows = data.len() / row_len;
     if first_row + n_rows > shape[0] {
-        return Err(format!(
-            "rows [{first_row}, {}) outside the dataset's {} rows",
-            first_row + n_rows,
-            shape[0]
-        )
-        .into());
+        return Err(
+            format!("rows [{first_row}, {}) outside the dataset's {} rows", first_row + n_rows, shape[0]).into()
+        );
     }
     let mem_type = hdf5::Datatype::from_type::<T>()?;
     let start: Vec<hsize_t> = [first_row as hsize_t, 0][..ndim].to_vec();
@@ -101,19 +96,9 @@ pub(crate) fn write_rows<T: H5Type>(
                     std::ptr::null(),
                 ))?;
                 let n = [data.len() as hsize_t];
-                Owned(
-                    check(H5Screate_simple(1, n.as_ptr(), std::ptr::null()))?,
-                    H5Sclose,
-                )
+                Owned(check(H5Screate_simple(1, n.as_ptr(), std::ptr::null()))?, H5Sclose)
             };
-            check(H5Dwrite(
-                ds.id(),
-                mem_type.id(),
-                mem_space.0,
-                file_space.0,
-                (xfer.0).0,
-                data.as_ptr().cast(),
-            ))?;
+            check(H5Dwrite(ds.id(), mem_type.id(), mem_space.0, file_space.0, (xfer.0).0, data.as_ptr().cast()))?;
         }
         Ok(())
     })

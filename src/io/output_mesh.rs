@@ -81,23 +81,14 @@ impl OutputMesh<'_> {
     pub fn local_problem(&self) -> Option<String> {
         let n = self.coords.len();
         if self.node_ids.len() != n {
-            return Some(format!(
-                "{} node ids for {n} owned nodes",
-                self.node_ids.len()
-            ));
+            return Some(format!("{} node ids for {n} owned nodes", self.node_ids.len()));
         }
         let c = self.cell_kinds.len();
         if self.cell_ids.len() != c {
-            return Some(format!(
-                "{} cell ids for {c} owned cells",
-                self.cell_ids.len()
-            ));
+            return Some(format!("{} cell ids for {c} owned cells", self.cell_ids.len()));
         }
         if self.cell_groups.len() != c {
-            return Some(format!(
-                "{} cell groups for {c} owned cells",
-                self.cell_groups.len()
-            ));
+            return Some(format!("{} cell groups for {c} owned cells", self.cell_groups.len()));
         }
         let expected: usize = self.cell_kinds.iter().map(|k| k.n_nodes()).sum();
         if self.cell_nodes.len() != expected {
@@ -122,25 +113,14 @@ impl OutputMesh<'_> {
                 self.n_cells_global
             ));
         }
-        if let Some(pos) = self
-            .cell_nodes
-            .iter()
-            .position(|&v| v >= self.n_nodes_global)
-        {
+        if let Some(pos) = self.cell_nodes.iter().position(|&v| v >= self.n_nodes_global) {
             return Some(format!(
                 "cell node index {} (position {pos}) is not below the {} global nodes",
                 self.cell_nodes[pos], self.n_nodes_global
             ));
         }
-        if let Some(i) = self
-            .coords
-            .iter()
-            .position(|x| x.iter().any(|v| !v.is_finite()))
-        {
-            return Some(format!(
-                "node {} has non-finite coordinates",
-                self.node_offset + i
-            ));
+        if let Some(i) = self.coords.iter().position(|x| x.iter().any(|v| !v.is_finite())) {
+            return Some(format!("node {} has non-finite coordinates", self.node_offset + i));
         }
         None
     }
@@ -177,19 +157,8 @@ impl OutputMesh<'_> {
 mod tests {
     use super::*;
 
-    const COORDS: [[f64; 3]; 5] = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [1., 1., 0.],
-        [0., 1., 0.],
-        [2., 0., 0.],
-    ];
-    const KINDS: [CellKind; 4] = [
-        CellKind::Quad4,
-        CellKind::Tri3,
-        CellKind::Line2,
-        CellKind::Point1,
-    ];
+    const COORDS: [[f64; 3]; 5] = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [2., 0., 0.]];
+    const KINDS: [CellKind; 4] = [CellKind::Quad4, CellKind::Tri3, CellKind::Line2, CellKind::Point1];
     const NODES: [usize; 10] = [0, 1, 2, 3, 1, 4, 2, 0, 1, 4];
 
     fn mesh<'a>(cell_nodes: &'a [usize], node_ids: &'a [u64]) -> OutputMesh<'a> {
@@ -212,10 +181,7 @@ mod tests {
         // Expected array written out by hand from the module table (exact integers).
         let m = mesh(&NODES, &[1, 2, 3, 4, 5]);
         assert_eq!(m.local_problem(), None);
-        assert_eq!(
-            m.mixed_topology(),
-            vec![5, 0, 1, 2, 3, 4, 1, 4, 2, 2, 2, 0, 1, 2, 2, 4, 4]
-        );
+        assert_eq!(m.mixed_topology(), vec![5, 0, 1, 2, 3, 4, 1, 4, 2, 2, 2, 0, 1, 2, 2, 4, 4]);
         let len: usize = KINDS.iter().map(|&k| mixed_len(k)).sum();
         assert_eq!(len, 17);
         assert_eq!(m.gmsh_types(), vec![3, 2, 1, 15]);
@@ -223,20 +189,11 @@ mod tests {
 
     #[test]
     fn bad_pieces_are_reported() {
-        assert!(mesh(&NODES, &[1, 2, 3])
-            .local_problem()
-            .unwrap()
-            .contains("3 node ids"));
-        assert!(mesh(&NODES[..9], &[1, 2, 3, 4, 5])
-            .local_problem()
-            .unwrap()
-            .contains("9 cell node"));
+        assert!(mesh(&NODES, &[1, 2, 3]).local_problem().unwrap().contains("3 node ids"));
+        assert!(mesh(&NODES[..9], &[1, 2, 3, 4, 5]).local_problem().unwrap().contains("9 cell node"));
         let mut bad = NODES;
         bad[3] = 5;
-        assert!(mesh(&bad, &[1, 2, 3, 4, 5])
-            .local_problem()
-            .unwrap()
-            .contains("index 5"));
+        assert!(mesh(&bad, &[1, 2, 3, 4, 5]).local_problem().unwrap().contains("index 5"));
         let mut m = mesh(&NODES, &[1, 2, 3, 4, 5]);
         m.node_offset = 1;
         assert!(m.local_problem().unwrap().contains("exceed"));

@@ -70,12 +70,7 @@ pub struct ResultsWriter {
 impl ResultsWriter {
     /// Collective. Creates `<dir>/<stem>.h5` and `<dir>/<stem>.xdmf` (replacing older ones) and
     /// writes the mesh once. Creates `dir` if needed.
-    pub fn create(
-        comm: &SimpleCommunicator,
-        dir: &Path,
-        stem: &str,
-        mesh: &OutputMesh,
-    ) -> Result<Self, IoError> {
+    pub fn create(comm: &SimpleCommunicator, dir: &Path, stem: &str, mesh: &OutputMesh) -> Result<Self, IoError> {
         let h5_name = format!("{stem}.h5");
         let h5_path = dir.join(&h5_name);
         let xdmf_path = dir.join(format!("{stem}.xdmf"));
@@ -92,22 +87,14 @@ impl ResultsWriter {
                 file: xdmf_path,
                 reason: match made {
                     Err(e) => format!("cannot create directory {}: {e}", dir.display()),
-                    Ok(()) => format!(
-                        "directory {} failed on rank(s) {:?}",
-                        dir.display(),
-                        v.failed
-                    ),
+                    Ok(()) => format!("directory {} failed on rank(s) {:?}", dir.display(), v.failed),
                 },
             });
         }
         let h5err = |dataset: &str| {
             let file = h5_path.clone();
             let dataset = dataset.to_string();
-            move |source| IoError::Hdf5 {
-                file,
-                dataset,
-                source,
-            }
+            move |source| IoError::Hdf5 { file, dataset, source }
         };
         let file = hdf5::File::with_options()
             .with_fapl(|p| p.mpio(comm.as_raw(), None))
@@ -119,54 +106,32 @@ impl ResultsWriter {
         let (n, c) = (mesh.n_nodes_global, mesh.n_cells_global);
         let g = file.create_group("mesh").map_err(h5err("/mesh"))?;
         let flat: Vec<f64> = mesh.coords.iter().flatten().copied().collect();
-        let put = |path: &str,
-                   ds: hdf5::Result<Dataset>,
-                   write: &dyn Fn(&Dataset) -> hdf5::Result<()>| {
+        let put = |path: &str, ds: hdf5::Result<Dataset>, write: &dyn Fn(&Dataset) -> hdf5::Result<()>| {
             ds.and_then(|d| write(&d)).map_err(h5err(path))
         };
         let (no, co) = (mesh.node_offset, mesh.cell_offset);
-        put(
-            "/mesh/coordinates",
-            g.new_dataset::<f64>().shape([n, 3]).create("coordinates"),
-            &|d| write_rows(d, &xfer, no, 3, &flat),
-        )?;
-        put(
-            "/mesh/node_ids",
-            g.new_dataset::<u64>().shape([n]).create("node_ids"),
-            &|d| write_rows(d, &xfer, no, 1, mesh.node_ids),
-        )?;
-        put(
-            "/mesh/topology",
-            g.new_dataset::<i64>().shape([topo_len]).create("topology"),
-            &|d| write_rows(d, &xfer, topo_at, 1, &topo),
-        )?;
-        put(
-            "/mesh/cell_ids",
-            g.new_dataset::<u64>().shape([c]).create("cell_ids"),
-            &|d| write_rows(d, &xfer, co, 1, mesh.cell_ids),
-        )?;
-        put(
-            "/mesh/cell_group",
-            g.new_dataset::<i32>().shape([c]).create("cell_group"),
-            &|d| write_rows(d, &xfer, co, 1, mesh.cell_groups),
-        )?;
-        put(
-            "/mesh/cell_types",
-            g.new_dataset::<i32>().shape([c]).create("cell_types"),
-            &|d| write_rows(d, &xfer, co, 1, &mesh.gmsh_types()),
-        )?;
+        put("/mesh/coordinates", g.new_dataset::<f64>().shape([n, 3]).create("coordinates"), &|d| {
+            write_rows(d, &xfer, no, 3, &flat)
+        })?;
+        put("/mesh/node_ids", g.new_dataset::<u64>().shape([n]).create("node_ids"), &|d| {
+            write_rows(d, &xfer, no, 1, mesh.node_ids)
+        })?;
+        put("/mesh/topology", g.new_dataset::<i64>().shape([topo_len]).create("topology"), &|d| {
+            write_rows(d, &xfer, topo_at, 1, &topo)
+        })?;
+        put("/mesh/cell_ids", g.new_dataset::<u64>().shape([c]).create("cell_ids"), &|d| {
+            write_rows(d, &xfer, co, 1, mesh.cell_ids)
+        })?;
+        put("/mesh/cell_group", g.new_dataset::<i32>().shape([c]).create("cell_group"), &|d| {
+            write_rows(d, &xfer, co, 1, mesh.cell_groups)
+        })?;
+        put("/mesh/cell_types", g.new_dataset::<i32>().shape([c]).create("cell_types"), &|d| {
+            write_rows(d, &xfer, co, 1, &mesh.gmsh_types())
+        })?;
         let steps = file.create_group("steps").map_err(h5err("/steps"))?;
-        steps
-            .new_dataset::<f64>()
-            .chunk(64)
-            .shape(0..)
-            .create("times")
-            .map_err(h5err("/steps/times"))?;
+        steps.new_dataset::<f64>().chunk(64).shape(0..).create("times").map_err(h5err("/steps/times"))?;
         drop((g, steps));
-        debug_assert_eq!(
-            topo.len(),
-            mesh.cell_kinds.iter().map(|&k| mixed_len(k)).sum::<usize>()
-        );
+        debug_assert_eq!(topo.len(), mesh.cell_kinds.iter().map(|&k| mixed_len(k)).sum::<usize>());
 
         let field = |name: &str, center, number, h5_path: &str| FieldRef {
             name: name.into(),
@@ -229,40 +194,23 @@ impl ResultsWriter {
             .map_err(self.h5err(&format!("{group}@time")))?;
         let times = self.file.dataset("steps/times").and_then(|d| {
             d.resize(k + 1)?;
-            let mine: &[f64] = if self.comm.rank() == 0 {
-                std::slice::from_ref(&time)
-            } else {
-                &[]
-            };
+            let mine: &[f64] = if self.comm.rank() == 0 { std::slice::from_ref(&time) } else { &[] };
             write_rows(&d, &self.xfer, k, 1, mine)
         });
         times.map_err(self.h5err("/steps/times"))?;
-        self.current = Some(StepRef {
-            time,
-            fields: Vec::new(),
-        });
+        self.current = Some(StepRef { time, fields: Vec::new() });
         Ok(())
     }
 
     /// Collective. Node field on owned nodes, `n_comp` components per node (1 scalar, 3 vector,
     /// 6 = u+rotation...), node-major: `owned_values[i * n_comp + j]` is component `j` of owned
     /// node `i`.
-    pub fn write_node_field(
-        &mut self,
-        name: &str,
-        n_comp: usize,
-        owned_values: &[f64],
-    ) -> Result<(), IoError> {
+    pub fn write_node_field(&mut self, name: &str, n_comp: usize, owned_values: &[f64]) -> Result<(), IoError> {
         self.write_field(Center::Node, name, n_comp, owned_values)
     }
 
     /// Collective. Cell field on owned cells, cell-major like [`Self::write_node_field`].
-    pub fn write_cell_field(
-        &mut self,
-        name: &str,
-        n_comp: usize,
-        owned_values: &[f64],
-    ) -> Result<(), IoError> {
+    pub fn write_cell_field(&mut self, name: &str, n_comp: usize, owned_values: &[f64]) -> Result<(), IoError> {
         self.write_field(Center::Cell, name, n_comp, owned_values)
     }
 
@@ -272,10 +220,7 @@ impl ResultsWriter {
     pub fn end_step(&mut self) -> Result<(), IoError> {
         let k = self.index.steps.len();
         let Some(step) = self.current.take() else {
-            return Err(self.usage(
-                &format!("/steps/{k}"),
-                "end_step called without begin_step".into(),
-            ));
+            return Err(self.usage(&format!("/steps/{k}"), "end_step called without begin_step".into()));
         };
         self.index.steps.push(step);
         self.publish()
@@ -300,21 +245,11 @@ impl ResultsWriter {
     /// A step begun but not ended is left out of the XDMF index.
     pub fn close(self) -> Result<(), IoError> {
         let ResultsWriter { file, h5_path, .. } = self;
-        file.close().map_err(|source| IoError::Hdf5 {
-            file: h5_path,
-            dataset: "/".into(),
-            source,
-        })
+        file.close().map_err(|source| IoError::Hdf5 { file: h5_path, dataset: "/".into(), source })
     }
 
     /// Checks, agrees on and writes one field of the current step.
-    fn write_field(
-        &mut self,
-        center: Center,
-        name: &str,
-        n_comp: usize,
-        values: &[f64],
-    ) -> Result<(), IoError> {
+    fn write_field(&mut self, center: Center, name: &str, n_comp: usize, values: &[f64]) -> Result<(), IoError> {
         let k = self.index.steps.len();
         let dataset = format!("/steps/{k}/{name}");
         let owned = match center {
@@ -327,64 +262,34 @@ impl ResultsWriter {
         if let Some(reason) = problem {
             return Err(self.usage(&dataset, reason));
         }
-        self.check_verdict(
-            &v,
-            &format!("field '{name}' ({center:?}, {n_comp} components) of step {k}"),
-        )?;
+        self.check_verdict(&v, &format!("field '{name}' ({center:?}, {n_comp} components) of step {k}"))?;
 
         let rows = match center {
             Center::Node => self.index.n_nodes,
             Center::Cell => self.index.n_cells,
         };
         let builder = self.file.new_dataset::<f64>();
-        let ds = if n_comp == 1 {
-            builder.shape([rows])
-        } else {
-            builder.shape([rows, n_comp])
-        }
-        .create(dataset.as_str());
-        ds.and_then(|d| write_rows(&d, &self.xfer, owned.0, n_comp, values))
-            .map_err(self.h5err(&dataset))?;
+        let ds =
+            if n_comp == 1 { builder.shape([rows]) } else { builder.shape([rows, n_comp]) }.create(dataset.as_str());
+        ds.and_then(|d| write_rows(&d, &self.xfer, owned.0, n_comp, values)).map_err(self.h5err(&dataset))?;
 
-        self.n_comp_of
-            .insert((name.to_string(), center == Center::Node), n_comp);
+        self.n_comp_of.insert((name.to_string(), center == Center::Node), n_comp);
         if let Some(step) = self.current.as_mut() {
-            step.fields.push(FieldRef {
-                name: name.into(),
-                center,
-                n_comp,
-                number: Number::F64,
-                h5_path: dataset,
-            });
+            step.fields.push(FieldRef { name: name.into(), center, n_comp, number: Number::F64, h5_path: dataset });
         }
         Ok(())
     }
 
     /// What is wrong with a field call on this rank, if anything.
-    fn field_problem(
-        &self,
-        center: Center,
-        name: &str,
-        n_comp: usize,
-        len: usize,
-        owned: usize,
-    ) -> Option<String> {
+    fn field_problem(&self, center: Center, name: &str, n_comp: usize, len: usize, owned: usize) -> Option<String> {
         let Some(step) = &self.current else {
             return Some("field written outside begin_step/end_step".into());
         };
-        if name.is_empty()
-            || name == "."
-            || name.contains('/')
-            || name.chars().any(char::is_control)
-        {
-            return Some(format!(
-                "invalid field name '{name}' (empty, '.', '/' or control characters)"
-            ));
+        if name.is_empty() || name == "." || name.contains('/') || name.chars().any(char::is_control) {
+            return Some(format!("invalid field name '{name}' (empty, '.', '/' or control characters)"));
         }
         if RESERVED.contains(&name) {
-            return Some(format!(
-                "the field name '{name}' is reserved for the mesh attributes {RESERVED:?}"
-            ));
+            return Some(format!("the field name '{name}' is reserved for the mesh attributes {RESERVED:?}"));
         }
         if step.fields.iter().any(|f| f.name == name) {
             return Some(format!("field '{name}' written twice in this step"));
@@ -392,25 +297,14 @@ impl ResultsWriter {
         if n_comp == 0 {
             return Some("n_comp is 0".into());
         }
-        if let Some(&before) = self
-            .n_comp_of
-            .get(&(name.to_string(), center == Center::Node))
-        {
+        if let Some(&before) = self.n_comp_of.get(&(name.to_string(), center == Center::Node)) {
             if before != n_comp {
-                return Some(format!(
-                    "{n_comp} components, but earlier steps wrote {before}"
-                ));
+                return Some(format!("{n_comp} components, but earlier steps wrote {before}"));
             }
         }
         if len != owned * n_comp {
-            let what = if center == Center::Node {
-                "nodes"
-            } else {
-                "cells"
-            };
-            return Some(format!(
-                "{len} values for {owned} owned {what} × {n_comp} components"
-            ));
+            let what = if center == Center::Node { "nodes" } else { "cells" };
+            return Some(format!("{len} values for {owned} owned {what} × {n_comp} components"));
         }
         None
     }
@@ -428,26 +322,15 @@ impl ResultsWriter {
         let mut failed = i32::from(!failure.is_empty());
         self.comm.process_at_rank(0).broadcast_into(&mut failed);
         if failed != 0 {
-            let reason = if failure.is_empty() {
-                "failed on rank 0".into()
-            } else {
-                failure
-            };
-            return Err(IoError::Xdmf {
-                file: self.xdmf_path.clone(),
-                reason,
-            });
+            let reason = if failure.is_empty() { "failed on rank 0".into() } else { failure };
+            return Err(IoError::Xdmf { file: self.xdmf_path.clone(), reason });
         }
         Ok(())
     }
 
     /// The error for a wrong call on this rank.
     fn usage(&self, dataset: &str, reason: String) -> IoError {
-        IoError::InvalidField {
-            file: self.h5_path.clone(),
-            dataset: dataset.into(),
-            reason,
-        }
+        IoError::InvalidField { file: self.h5_path.clone(), dataset: dataset.into(), reason }
     }
 
     /// The error when another rank failed or disagreed (this rank's own checks passed).
@@ -455,27 +338,16 @@ impl ResultsWriter {
         if v.ok() {
             return Ok(());
         }
-        let (kind, ranks) = if v.failed.is_empty() {
-            ("differs from rank 0", v.differ.clone())
-        } else {
-            ("failed", v.failed.clone())
-        };
-        Err(IoError::Collective {
-            file: self.h5_path.clone(),
-            what: format!("{what} {kind}"),
-            ranks,
-        })
+        let (kind, ranks) =
+            if v.failed.is_empty() { ("differs from rank 0", v.differ.clone()) } else { ("failed", v.failed.clone()) };
+        Err(IoError::Collective { file: self.h5_path.clone(), what: format!("{what} {kind}"), ranks })
     }
 
     /// Maps an HDF5 error on `dataset` to an [`IoError`].
     fn h5err(&self, dataset: &str) -> impl FnOnce(hdf5::Error) -> IoError {
         let file = self.h5_path.clone();
         let dataset = dataset.to_string();
-        move |source| IoError::Hdf5 {
-            file,
-            dataset,
-            source,
-        }
+        move |source| IoError::Hdf5 { file, dataset, source }
     }
 }
 
@@ -493,15 +365,9 @@ fn agree_on_layout(
     let h5_path = h5_path.to_path_buf();
     let mut problem = mesh.local_problem();
     if stem.is_empty() || stem.contains(['/', '\\']) {
-        problem = Some(format!(
-            "the file stem '{stem}' is empty or contains a path separator"
-        ));
+        problem = Some(format!("the file stem '{stem}' is empty or contains a path separator"));
     }
-    let topo = if problem.is_none() {
-        mesh.mixed_topology()
-    } else {
-        Vec::new()
-    };
+    let topo = if problem.is_none() { mesh.mixed_topology() } else { Vec::new() };
     let mine = [
         u64::from(problem.is_none()),
         mesh.n_owned_nodes() as u64,
@@ -518,35 +384,20 @@ fn agree_on_layout(
     let rows: Vec<&[u64]> = all.chunks_exact(mine.len()).collect();
     if rows.iter().any(|row| row[0] == 0) {
         return Err(match problem {
-            Some(reason) => IoError::InvalidMesh {
-                file: h5_path,
-                rank,
-                reason,
-            },
+            Some(reason) => IoError::InvalidMesh { file: h5_path, rank, reason },
             None => IoError::Collective {
                 file: h5_path,
                 what: "ResultsWriter::create: output mesh".into(),
-                ranks: rows
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, w)| w[0] == 0)
-                    .map(|(q, _)| q as i32)
-                    .collect(),
+                ranks: rows.iter().enumerate().filter(|(_, w)| w[0] == 0).map(|(q, _)| q as i32).collect(),
             },
         });
     }
     let (mut node_at, mut cell_at, mut topo_at, mut topo_len) = (0u64, 0u64, 0u64, 0u64);
     for (q, row) in rows.iter().enumerate() {
         let reason = if row[4] != node_at {
-            Some(format!(
-                "node_offset {} but the lower ranks own {node_at} nodes",
-                row[4]
-            ))
+            Some(format!("node_offset {} but the lower ranks own {node_at} nodes", row[4]))
         } else if row[5] != cell_at {
-            Some(format!(
-                "cell_offset {} but the lower ranks own {cell_at} cells",
-                row[5]
-            ))
+            Some(format!("cell_offset {} but the lower ranks own {cell_at} cells", row[5]))
         } else if row[6] != rows[0][6] || row[7] != rows[0][7] {
             Some(format!(
                 "global counts {} nodes / {} cells differ from rank 0's {} / {}",
@@ -556,11 +407,7 @@ fn agree_on_layout(
             None
         };
         if let Some(reason) = reason {
-            return Err(IoError::InvalidMesh {
-                file: h5_path,
-                rank: q as i32,
-                reason,
-            });
+            return Err(IoError::InvalidMesh { file: h5_path, rank: q as i32, reason });
         }
         if q == rank as usize {
             topo_at = topo_len;

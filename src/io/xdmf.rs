@@ -119,9 +119,7 @@ impl XdmfIndex {
             self.push_mesh(&mut s, "      ");
             s.push_str("    </Grid>\n");
         } else {
-            s.push_str(
-                "    <Grid Name=\"results\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
-            );
+            s.push_str("    <Grid Name=\"results\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
             for (k, step) in self.steps.iter().enumerate() {
                 let _ = writeln!(s, "      <Grid Name=\"step_{k}\" GridType=\"Uniform\">");
                 let _ = writeln!(s, "        <Time Value=\"{:?}\"/>", step.time);
@@ -140,11 +138,7 @@ impl XdmfIndex {
     /// Topology, geometry and the mesh attributes.
     fn push_mesh(&self, s: &mut String, ind: &str) {
         let h5 = xml_escape(&self.h5_name);
-        let _ = writeln!(
-            s,
-            "{ind}<Topology TopologyType=\"Mixed\" NumberOfElements=\"{}\">",
-            self.n_cells
-        );
+        let _ = writeln!(s, "{ind}<Topology TopologyType=\"Mixed\" NumberOfElements=\"{}\">", self.n_cells);
         let _ = writeln!(
             s,
             "{ind}  <DataItem Dimensions=\"{}\" NumberType=\"Int\" Precision=\"8\" \
@@ -198,10 +192,7 @@ impl XdmfIndex {
 /// never sees a half-written index.
 pub(crate) fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
     use std::io::Write as _;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp"));
     {
         let mut f = std::fs::File::create(&tmp)?;
@@ -240,7 +231,9 @@ mod tests {
         assert!(t.contains("<Topology TopologyType=\"Mixed\" NumberOfElements=\"4\">"));
         assert!(t.contains("Dimensions=\"20\" NumberType=\"Int\" Precision=\"8\""));
         assert!(t.contains(">run.h5:/mesh/coordinates</DataItem>"));
-        assert!(t.contains("Dimensions=\"4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">run.h5:/mesh/cell_group"));
+        assert!(
+            t.contains("Dimensions=\"4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">run.h5:/mesh/cell_group")
+        );
     }
 
     #[test]
@@ -275,20 +268,12 @@ mod tests {
         assert_eq!(t.matches(":/mesh/coordinates<").count(), 3);
         assert!(t.contains("AttributeType=\"Vector\" Center=\"Node\""));
         assert!(t.contains("Dimensions=\"9 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">run.h5:/steps/2/u<"));
-        assert!(
-            t.contains("<Attribute Name=\"s&lt;6&gt;\" AttributeType=\"Matrix\" Center=\"Cell\">")
-        );
+        assert!(t.contains("<Attribute Name=\"s&lt;6&gt;\" AttributeType=\"Matrix\" Center=\"Cell\">"));
         assert!(t.contains("Dimensions=\"4 6\""));
         let parsed: Vec<f64> = t
             .split("<Time Value=\"")
             .skip(1)
-            .map(|rest| {
-                rest.split('"')
-                    .next()
-                    .unwrap_or("")
-                    .parse::<f64>()
-                    .unwrap_or(f64::NAN)
-            })
+            .map(|rest| rest.split('"').next().unwrap_or("").parse::<f64>().unwrap_or(f64::NAN))
             .collect();
         assert_eq!(parsed.len(), 3);
         for (p, e) in parsed.iter().zip(times) {

@@ -24,7 +24,17 @@ const GF: f64 = 100.0;
 const L: f64 = 1.0;
 
 fn bar_params(regularization: Regularization) -> DamageParams {
-    DamageParams { e: E, nu: 0.2, eps0_t: EPS0, eps0_c: 2e-4, gf_t: GF, a_c: 0.8, b_c: 800.0, gf_c: None, regularization }
+    DamageParams {
+        e: E,
+        nu: 0.2,
+        eps0_t: EPS0,
+        eps0_c: 2e-4,
+        gf_t: GF,
+        a_c: 0.8,
+        b_c: 800.0,
+        gf_c: None,
+        regularization,
+    }
 }
 
 /// The stiffness of the interior nodes 1..n−1 from the element stiffnesses k_e = D_e A / h.
@@ -74,10 +84,7 @@ fn run_bar(regularization: Regularization, n: usize, u_end: f64) -> (f64, PointL
         let k_prev: Vec<f64> = tangent_prev.iter().map(|d| d / h).collect();
         let mut rhs = DVector::<f64>::zeros(n - 1);
         rhs[n - 2] = k_prev[n - 1] * du_imposed;
-        let du = interior_stiffness(&k_prev)
-            .lu()
-            .solve(&rhs)
-            .unwrap_or_else(|| panic!("singular K at step {step}"));
+        let du = interior_stiffness(&k_prev).lu().solve(&rhs).unwrap_or_else(|| panic!("singular K at step {step}"));
         for i in 1..n {
             u[i] += du[i - 1];
         }
@@ -98,8 +105,7 @@ fn run_bar(regularization: Regularization, n: usize, u_end: f64) -> (f64, PointL
                 break;
             }
             let k: Vec<f64> = resp.iter().map(|x| x.tangent / h).collect();
-            let du =
-                interior_stiffness(&k).lu().solve(&r).unwrap_or_else(|| panic!("singular K at step {step}"));
+            let du = interior_stiffness(&k).lu().solve(&r).unwrap_or_else(|| panic!("singular K at step {step}"));
             // K Δu = −R.
             for i in 1..n {
                 u[i] -= du[i - 1];

@@ -154,9 +154,8 @@ mod tests {
             let fd = (tension(EPS0, 800.0, kappa + h).d - tension(EPS0, 800.0, kappa - h).d) / (2.0 * h);
             assert!((t.slope - fd).abs() <= 1e-7 * t.slope, "{} vs {fd}", t.slope);
             let c = compression(EPS0, 0.6, 700.0, kappa);
-            let fd = (compression(EPS0, 0.6, 700.0, kappa + h).d
-                - compression(EPS0, 0.6, 700.0, kappa - h).d)
-                / (2.0 * h);
+            let fd =
+                (compression(EPS0, 0.6, 700.0, kappa + h).d - compression(EPS0, 0.6, 700.0, kappa - h).d) / (2.0 * h);
             assert!((c.slope - fd).abs() <= 1e-7 * c.slope, "{} vs {fd}", c.slope);
         }
     }
@@ -166,8 +165,8 @@ mod tests {
         // F'(κ) = κ² d'(κ) (module docs); central differences, tolerance 1e-7 relative.
         for kappa in [1.5 * EPS0, 4.0 * EPS0, 30.0 * EPS0] {
             let h = 1e-6 * kappa;
-            let fd = (tension_primitive(EPS0, 800.0, kappa + h) - tension_primitive(EPS0, 800.0, kappa - h))
-                / (2.0 * h);
+            let fd =
+                (tension_primitive(EPS0, 800.0, kappa + h) - tension_primitive(EPS0, 800.0, kappa - h)) / (2.0 * h);
             let exact = kappa * kappa * tension(EPS0, 800.0, kappa).slope;
             assert!((fd - exact).abs() <= 1e-7 * exact, "{fd} vs {exact}");
             let fd = (compression_primitive(EPS0, 0.6, 700.0, kappa + h)

@@ -85,7 +85,13 @@ pub fn driving_strains(law: &PointLaw, strain: &Vector3<f64>) -> [f64; 2] {
 /// ```
 /// (d_k' only while κ_k grows.)
 #[inline]
-pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState, averaged: [f64; 2], self_share: f64) -> Response<3> {
+pub fn update(
+    law: &PointLaw,
+    strain: &Vector3<f64>,
+    committed: &DamageState,
+    averaged: [f64; 2],
+    self_share: f64,
+) -> Response<3> {
     let c0 = elastic_matrix(law);
     let sigma_tilde = c0 * strain;
     let side = Side::of_trace(sigma_tilde[0] + sigma_tilde[1]);

@@ -378,12 +378,10 @@ mod tests {
 
     #[test]
     fn deserializes_from_toml_with_each_regularization() {
-        let base =
-            "E = 2.885e9\nnu = 0.19\neps0_t = 1.4e-4\neps0_c = 2e-4\ngf_t = 60.0\na_c = 0.8\nb_c = 1500.0\n";
+        let base = "E = 2.885e9\nnu = 0.19\neps0_t = 1.4e-4\neps0_c = 2e-4\ngf_t = 60.0\na_c = 0.8\nb_c = 1500.0\n";
         let p: DamageParams = toml::from_str(&format!("{base}regularization = \"hillerborg\"\n")).unwrap();
         assert_eq!(p, good());
-        let p: DamageParams =
-            toml::from_str(&format!("{base}regularization = \"hillerborg_no_elastic\"\n")).unwrap();
+        let p: DamageParams = toml::from_str(&format!("{base}regularization = \"hillerborg_no_elastic\"\n")).unwrap();
         assert_eq!(p.regularization, Regularization::HillerborgNoElastic);
         let p: DamageParams =
             toml::from_str(&format!("{base}regularization = {{ none = {{ b_t = 400.0 }} }}\n")).unwrap();
@@ -406,14 +404,16 @@ mod tests {
         // times h must give G_c: 1e-6 relative (Simpson's error on this smooth integrand is far
         // below). The stress comes from the fiber law, so this checks the element's law. Before the
         // peak the curve must not depend on h (bitwise).
-        for (h, gf_c, a_c, b_c) in [(0.05, 3000.0, 0.8, 1500.0), (0.2, 3000.0, 0.8, 1500.0), (0.6, 500.0, 0.3, 9000.0)] {
+        for (h, gf_c, a_c, b_c) in [(0.05, 3000.0, 0.8, 1500.0), (0.2, 3000.0, 0.8, 1500.0), (0.6, 500.0, 0.3, 9000.0)]
+        {
             let p = DamageParams { gf_c: Some(gf_c), a_c, b_c, ..good() };
             let law = p.for_element(h).unwrap();
             let soft = law.compression_softening().unwrap();
             let r = p.uniaxial_compression_ratio();
             let fc = p.compressive_strength();
             assert!((fc - p.e * p.eps0_c / r).abs() <= 1e-12 * fc);
-            let stress = |eps: f64| -super::super::uniaxial::update(&law, -eps, &crate::material::DamageState::default()).stress;
+            let stress =
+                |eps: f64| -super::super::uniaxial::update(&law, -eps, &crate::material::DamageState::default()).stress;
             let eps_s = soft.kappa_s / r;
             let span = 40.0 / (r * soft.b_s);
             let n = 20_000;
@@ -453,7 +453,8 @@ mod tests {
             assert!(err.to_string().contains(&format!("`{q}`")), "{q}: {err}");
         }
         let base = "E = 2.885e9\nnu = 0.19\neps0_t = 1.4e-4\neps0_c = 2e-4\ngf_t = 60.0\na_c = 0.8\nb_c = 1500.0\n";
-        let p: DamageParams = toml::from_str(&format!("{base}gf_c = 2500.0\nregularization = \"hillerborg\"\n")).unwrap();
+        let p: DamageParams =
+            toml::from_str(&format!("{base}gf_c = 2500.0\nregularization = \"hillerborg\"\n")).unwrap();
         assert_eq!(p.gf_c, Some(2500.0));
         // Written back only when given (material files of identified laws keep their form).
         assert!(!toml::to_string(&good()).unwrap().contains("gf_c"));

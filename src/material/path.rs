@@ -186,12 +186,7 @@ impl<const N: usize> LoadPath<N> {
             )));
         }
         let mut steps = Vec::with_capacity(n_steps);
-        Self::ramp(
-            &[(0, 0.0), (1, 0.0)],
-            &[(0, max_strain_xx), (1, ratio * max_strain_xx)],
-            n_steps,
-            &mut steps,
-        );
+        Self::ramp(&[(0, 0.0), (1, 0.0)], &[(0, max_strain_xx), (1, ratio * max_strain_xx)], n_steps, &mut steps);
         Ok(LoadPath { steps })
     }
 
@@ -199,9 +194,7 @@ impl<const N: usize> LoadPath<N> {
     /// shears) zero. The kinematics `M` gives the index of γ_xy; the uniaxial one has none.
     pub fn pure_shear<M: StressState<N>>(max_gamma: f64, n_steps: usize) -> Result<Self, PathError> {
         let Some(i) = M::SHEAR_XY else {
-            return Err(invalid(
-                "a pure-shear path needs the xy shear component (not the uniaxial kinematics)",
-            ));
+            return Err(invalid("a pure-shear path needs the xy shear component (not the uniaxial kinematics)"));
         };
         check_steps(n_steps)?;
         if !max_gamma.is_finite() || max_gamma == 0.0 {
@@ -217,13 +210,17 @@ impl<const N: usize> LoadPath<N> {
 /// `None` if a pivot is zero or not finite.
 fn solve_dense<const N: usize>(mut a: SMatrix<f64, N, N>, mut b: SVector<f64, N>) -> Option<SVector<f64, N>> {
     for col in 0..N {
-        let (p, _) = (col..N).map(|i| (i, a[(i, col)].abs())).fold((col, -1.0), |best, cur| {
-            if cur.1 > best.1 {
-                cur
-            } else {
-                best
-            }
-        });
+        let (p, _) =
+            (col..N).map(|i| (i, a[(i, col)].abs())).fold(
+                (col, -1.0),
+                |best, cur| {
+                    if cur.1 > best.1 {
+                        cur
+                    } else {
+                        best
+                    }
+                },
+            );
         let pivot = a[(p, col)];
         if pivot == 0.0 || !pivot.is_finite() {
             return None;
@@ -358,9 +355,7 @@ pub fn run_path<const N: usize, M: StressState<N>>(
                 Some(delta) if delta.iter().all(|v| v.is_finite()) => eps -= delta,
                 // A singular tangent: jump to the secant iterations (singular secant: d = 1).
                 _ if iteration < max_iter => iteration = max_iter - 1,
-                _ => {
-                    return Err(PathError::NoConvergence { step, iterations: iteration, residual, tolerance })
-                }
+                _ => return Err(PathError::NoConvergence { step, iterations: iteration, residual, tolerance }),
             }
             iteration += 1;
         };
@@ -472,8 +467,7 @@ mod tests {
         // Tension to 6 ε₀^t, compression to −6 ε₀^t (below the compressive onset ε₀^c/(√2ν) ≈ 7 ε₀^t):
         // every compressive state has σ = E ε exactly (d_c = 0), the tensile damage is kept.
         let law = law();
-        let path =
-            LoadPath::<3>::cyclic_tension_compression(6.0 * law.eps0_t(), 6.0 * law.eps0_t(), 3, 20).unwrap();
+        let path = LoadPath::<3>::cyclic_tension_compression(6.0 * law.eps0_t(), 6.0 * law.eps0_t(), 3, 20).unwrap();
         assert_eq!(path.len(), 7 * 20);
         let rec = run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap();
         check_uniaxial(&rec, &law);
@@ -515,8 +509,7 @@ mod tests {
         let law = law();
         let g = 8.0 * law.eps0_t();
         let s = NewtonSettings::default();
-        let r3 =
-            run_path(PlaneStress, &law, &LoadPath::pure_shear::<PlaneStress>(g, 16).unwrap(), &s).unwrap();
+        let r3 = run_path(PlaneStress, &law, &LoadPath::pure_shear::<PlaneStress>(g, 16).unwrap(), &s).unwrap();
         let r6 = run_path(ThreeD, &law, &LoadPath::pure_shear::<ThreeD>(g, 16).unwrap(), &s).unwrap();
         let (a, b) = (r3[16], r6[16]);
         assert!((a.kappa_t - g / 2.0).abs() <= 1e-15 && (b.kappa_t - g / 2.0).abs() <= 1e-15);

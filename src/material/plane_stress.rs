@@ -185,7 +185,13 @@ pub(super) struct Blend {
 /// (`[w ε_eq, (1 − w) ε_eq]` locally; the averages with the nonlocal law, whose own share
 /// `self_share` of them enters the tangent: 1 locally). The formulas are [`update`]'s.
 #[inline]
-pub(super) fn blended(law: &PointLaw, k: &Blend, driving: [f64; 2], self_share: f64, committed: &DamageState) -> Response<3> {
+pub(super) fn blended(
+    law: &PointLaw,
+    k: &Blend,
+    driving: [f64; 2],
+    self_share: f64,
+    committed: &DamageState,
+) -> Response<3> {
     let Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw } = *k;
     let t = evolve(law, Side::Tension, driving[0], w * y, committed);
     let c = evolve(law, Side::Compression, driving[1], (1.0 - w) * y, &t.state);
@@ -250,11 +256,8 @@ mod tests {
         for k in 1..=200 {
             let eps = k as f64 * 0.1 * p.eps0_t;
             let r = update(&law, &Vector3::new(eps, -nu * eps, 0.0), &st);
-            let exact = if eps <= p.eps0_t {
-                p.e * eps
-            } else {
-                p.e * p.eps0_t * (-law.b_t() * (eps - p.eps0_t)).exp()
-            };
+            let exact =
+                if eps <= p.eps0_t { p.e * eps } else { p.e * p.eps0_t * (-law.b_t() * (eps - p.eps0_t)).exp() };
             assert!((r.stress[0] - exact).abs() <= 1e-12 * exact, "{eps}: {} vs {exact}", r.stress[0]);
             assert!(r.stress[1].abs() <= 1e-12 * p.e * eps);
             st = r.state;
@@ -366,7 +369,13 @@ mod tests {
             let (x, _) = direction(&c0, &(c0 * e));
             x < 0.0 && x > -SWITCH_BAND
         };
-        let loading = check_tangent::<3, PlaneStress>(&law, 21, 400, 1e-6, |e| if in_band(e) { 0.0 } else { equivalent_strain(&law, e).0 });
+        let loading = check_tangent::<3, PlaneStress>(&law, 21, 400, 1e-6, |e| {
+            if in_band(e) {
+                0.0
+            } else {
+                equivalent_strain(&law, e).0
+            }
+        });
         assert_eq!(loading, 200);
     }
 

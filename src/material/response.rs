@@ -60,17 +60,8 @@ pub(super) fn assemble<const N: usize>(
     let s = evo.integrity;
     let secant = c0 * s;
     let stress = sigma_tilde * s;
-    let tangent =
-        if evo.loading { secant - sigma_tilde * (grad_eq * evo.dd_deq).transpose() } else { secant };
-    Response {
-        stress,
-        secant,
-        tangent,
-        state: evo.state,
-        dissipation: evo.dissipation,
-        side,
-        loading: evo.loading,
-    }
+    let tangent = if evo.loading { secant - sigma_tilde * (grad_eq * evo.dd_deq).transpose() } else { secant };
+    Response { stress, secant, tangent, state: evo.state, dissipation: evo.dissipation, side, loading: evo.loading }
 }
 
 /// A stress state (kinematics) of the law with `N` strain components, so that drivers such as

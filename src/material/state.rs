@@ -205,7 +205,11 @@ mod tests {
         assert!((st.d_t - plain.state.d_t).abs() < 1e-12);
         // The energy dissipated at fixed strain is Y Δd with Y = y (Y = y at the end of each step
         // and d' positive: bounded by y [d(e) − 0] and positive).
-        assert!(dissipated > 0.0 && dissipated <= y * plain.state.d_t * (1.0 + 1e-12), "{dissipated} vs {}", y * plain.state.d_t);
+        assert!(
+            dissipated > 0.0 && dissipated <= y * plain.state.d_t * (1.0 + 1e-12),
+            "{dissipated} vs {}",
+            y * plain.state.d_t
+        );
     }
 
     #[test]

@@ -84,11 +84,8 @@ mod tests {
         for k in 1..=100 {
             let eps = k as f64 * 0.2 * p.eps0_t;
             let r = update(&law, &Vector6::new(eps, -nu * eps, -nu * eps, 0.0, 0.0, 0.0), &st);
-            let exact = if eps <= p.eps0_t {
-                p.e * eps
-            } else {
-                p.e * p.eps0_t * (-law.b_t() * (eps - p.eps0_t)).exp()
-            };
+            let exact =
+                if eps <= p.eps0_t { p.e * eps } else { p.e * p.eps0_t * (-law.b_t() * (eps - p.eps0_t)).exp() };
             assert!((r.stress[0] - exact).abs() <= 1e-12 * exact, "{eps}: {} vs {exact}", r.stress[0]);
             assert!(r.stress.rows(1, 5).amax() <= 1e-12 * p.e * eps);
             st = r.state;
@@ -109,9 +106,7 @@ mod tests {
         // 3D at ε_zz = −ν/(1−ν)(ε_xx + ε_yy) = plane stress (σ_zz = 0): same in-plane stress and
         // damage, tolerance 1e-12 relative (eigen solver vs closed form).
         let law = law();
-        for (exx, eyy, gxy) in
-            [(3e-4, -1e-4, 2e-4), (-2e-3, 1e-4, 5e-4), (0.0, 0.0, 8e-4), (-1e-2, -1e-2, 0.0)]
-        {
+        for (exx, eyy, gxy) in [(3e-4, -1e-4, 2e-4), (-2e-3, 1e-4, 5e-4), (0.0, 0.0, 8e-4), (-1e-2, -1e-2, 0.0)] {
             let ps_eps = Vector3::new(exx, eyy, gxy);
             let ps = plane_stress::update(&law, &ps_eps, &DamageState::default());
             let ezz = plane_stress::eps_zz(&law, &ps_eps);
@@ -121,9 +116,7 @@ mod tests {
             assert!((r.stress[1] - ps.stress[1]).abs() <= 1e-12 * scale);
             assert!((r.stress[5] - ps.stress[2]).abs() <= 1e-12 * scale);
             assert!(r.stress[2].abs() <= 1e-12 * scale);
-            assert!(
-                (r.state.d_t - ps.state.d_t).abs() <= 1e-12 && (r.state.d_c - ps.state.d_c).abs() <= 1e-12
-            );
+            assert!((r.state.d_t - ps.state.d_t).abs() <= 1e-12 && (r.state.d_c - ps.state.d_c).abs() <= 1e-12);
             assert_eq!(r.side, ps.side);
         }
     }

@@ -257,9 +257,8 @@ mod tests {
     fn consistent_tangent_matches_finite_differences() {
         // Central differences, step 1e-7 |ε|; tolerance 1e-6 relative (SPEC: consistent tangent).
         let law = law();
-        let loading = check_tangent::<1, Uniaxial>(&law, 11, 200, 1e-6, |e| {
-            equivalent_strain_ratio(&law, e[0]) * e[0].abs()
-        });
+        let loading =
+            check_tangent::<1, Uniaxial>(&law, 11, 200, 1e-6, |e| equivalent_strain_ratio(&law, e[0]) * e[0].abs());
         assert_eq!(loading, 100);
     }
 

@@ -134,10 +134,10 @@ pub enum GroupError {
 impl Mesh {
     /// The group called `name`.
     pub fn group(&self, name: &str) -> Result<&PhysicalGroup, GroupError> {
-        self.groups.iter().find(|g| g.name == name).ok_or_else(|| GroupError::Unknown {
-            name: name.to_string(),
-            available: self.group_names(),
-        })
+        self.groups
+            .iter()
+            .find(|g| g.name == name)
+            .ok_or_else(|| GroupError::Unknown { name: name.to_string(), available: self.group_names() })
     }
 
     /// The names of all physical groups, in file order, quoted where unnamed (`#tag`).
@@ -151,16 +151,14 @@ impl Mesh {
     /// Indices of the cells in group `g` (cells of the group's dimension whose entity carries it).
     pub fn cells_in_group<'a>(&'a self, g: &'a PhysicalGroup) -> impl Iterator<Item = usize> + 'a {
         self.cells.iter().enumerate().filter_map(move |(i, c)| {
-            (c.entity.0 == g.dim
-                && self.entity_groups.get(&c.entity).is_some_and(|tags| tags.contains(&g.tag)))
-            .then_some(i)
+            (c.entity.0 == g.dim && self.entity_groups.get(&c.entity).is_some_and(|tags| tags.contains(&g.tag)))
+                .then_some(i)
         })
     }
 
     /// Sorted, deduplicated node indices of the cells in group `g`.
     pub fn nodes_in_group(&self, g: &PhysicalGroup) -> Vec<usize> {
-        let mut n: Vec<usize> =
-            self.cells_in_group(g).flat_map(|c| self.cells[c].nodes.iter().copied()).collect();
+        let mut n: Vec<usize> = self.cells_in_group(g).flat_map(|c| self.cells[c].nodes.iter().copied()).collect();
         n.sort_unstable();
         n.dedup();
         n

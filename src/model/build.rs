@@ -1,5 +1,5 @@
 //! Resolving a job's parts, supports and loads against the mesh.
-use crate::config::{AnalysisConfig, Job, LoadConfig, NodalLoadConfig, Seg, SectionConfig};
+use crate::config::{AnalysisConfig, Job, LoadConfig, NodalLoadConfig, SectionConfig, Seg};
 use crate::element::{pretension_load, tie_axis, ElementError};
 use crate::mesh::{CellKind, Mesh};
 
@@ -72,7 +72,8 @@ impl StructuralModel {
     pub fn build(job: &Job, mesh: &Mesh) -> Result<StructuralModel, ModelError> {
         let spec = &job.spec;
         let mut part_of = vec![usize::MAX; mesh.cells.len()];
-        let tie_part: Vec<bool> = spec.parts.iter().map(|p| matches!(spec.sections[&p.section], SectionConfig::Tie(_))).collect();
+        let tie_part: Vec<bool> =
+            spec.parts.iter().map(|p| matches!(spec.sections[&p.section], SectionConfig::Tie(_))).collect();
         for (ip, p) in spec.parts.iter().enumerate() {
             let at = [key("parts"), Seg::Index(ip), key("group")];
             let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
@@ -177,7 +178,9 @@ impl StructuralModel {
             fixed[n] |= 0b111000;
         }
 
-        let sum_loads = |prefix: &[Seg], loads: &mut dyn Iterator<Item = &NodalLoadConfig>| -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+        let sum_loads = |prefix: &[Seg],
+                         loads: &mut dyn Iterator<Item = &NodalLoadConfig>|
+         -> Result<Vec<(usize, [f64; 6])>, ModelError> {
             let mut load = vec![[0.0f64; 6]; mesh.coords.len()];
             let mut loaded = vec![false; mesh.coords.len()];
             for (i, NodalLoadConfig { group, force, moment }) in loads.enumerate() {
@@ -193,9 +196,12 @@ impl StructuralModel {
             }
             Ok((0..mesh.coords.len()).filter(|&n| loaded[n]).map(|n| (n, load[n])).collect())
         };
-        let nodal_loads = sum_loads(&[key("loads")], &mut spec.loads.iter().map(|l| match l {
-            LoadConfig::Nodal(n) => n,
-        }))?;
+        let nodal_loads = sum_loads(
+            &[key("loads")],
+            &mut spec.loads.iter().map(|l| match l {
+                LoadConfig::Nodal(n) => n,
+            }),
+        )?;
         let nodal_loads = add_pretension_loads(job, mesh, &cells, nodal_loads)?;
 
         let mut masses = vec![[0.0f64; 6]; mesh.coords.len()];
@@ -205,16 +211,24 @@ impl StructuralModel {
                 (Some(group), _) => group_nodes(&[key("masses"), Seg::Index(i), key("group")], group)?,
                 (None, Some(tag)) => {
                     let at = [key("masses"), Seg::Index(i), key("node")];
-                    let n = mesh.node_tags.iter().position(|&t| t == tag).ok_or_else(|| {
-                        job.error_at(&at, format!("the mesh has no node with tag {tag}"))
-                    })?;
+                    let n = mesh
+                        .node_tags
+                        .iter()
+                        .position(|&t| t == tag)
+                        .ok_or_else(|| job.error_at(&at, format!("the mesh has no node with tag {tag}")))?;
                     if !active[n] {
-                        return Err(job.error_at(&at, format!("node {tag} belongs to no element of the model's parts")).into());
+                        return Err(job
+                            .error_at(&at, format!("node {tag} belongs to no element of the model's parts"))
+                            .into());
                     }
                     vec![n]
                 }
                 // Rejected by validation; kept as an error, not a panic.
-                (None, None) => return Err(job.error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node").into()),
+                (None, None) => {
+                    return Err(job
+                        .error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node")
+                        .into())
+                }
             };
             for n in nodes {
                 for k in 0..3 {
@@ -234,16 +248,23 @@ impl StructuralModel {
                         (Some(group), _) => group_nodes(&[key("analysis"), key("control"), key("group")], group)?,
                         (None, Some(tag)) => {
                             let at = [key("analysis"), key("control"), key("node")];
-                            let n = mesh.node_tags.iter().position(|&t| t == tag).ok_or_else(|| job.error_at(&at, format!("the mesh has no node with tag {tag}")))?;
+                            let n = mesh
+                                .node_tags
+                                .iter()
+                                .position(|&t| t == tag)
+                                .ok_or_else(|| job.error_at(&at, format!("the mesh has no node with tag {tag}")))?;
                             if !active[n] {
-                                return Err(job.error_at(&at, format!("node {tag} belongs to no element of the model's parts")).into());
+                                return Err(job
+                                    .error_at(&at, format!("node {tag} belongs to no element of the model's parts"))
+                                    .into());
                             }
                             vec![n]
                         }
                         (None, None) => return Err(job.error_at(&base, "the control needs a group or a node").into()),
                     };
                     let dof = ctl.dof.indices().start;
-                    let pattern = sum_loads(&[key("analysis"), key("control"), key("pattern")], &mut ctl.pattern.iter())?;
+                    let pattern =
+                        sum_loads(&[key("analysis"), key("control"), key("pattern")], &mut ctl.pattern.iter())?;
                     if !pattern.is_empty() && nodes.len() != 1 {
                         return Err(job
                             .error_at(&base, format!("with a load pattern the control is one node; the group has {} nodes (use node = <tag>)", nodes.len()))
@@ -251,7 +272,13 @@ impl StructuralModel {
                     }
                     if let Some(&n) = nodes.iter().find(|&&n| fixed[n] & (1 << dof) != 0) {
                         return Err(job
-                            .error_at(&[key("analysis"), key("control"), key("dof")], format!("DOF {:?} of control node {} is fixed by a support", ctl.dof, mesh.node_tags[n]))
+                            .error_at(
+                                &[key("analysis"), key("control"), key("dof")],
+                                format!(
+                                    "DOF {:?} of control node {} is fixed by a support",
+                                    ctl.dof, mesh.node_tags[n]
+                                ),
+                            )
                             .into());
                     }
                     Some(ControlSpec { nodes, dof, target: ctl.target, steps: ctl.steps, pattern })
@@ -319,7 +346,14 @@ fn tie_error(job: &Job, mesh: &Mesh, c: &ModelCell, what: String) -> ModelError 
 /// Checks of the ties against the mesh and the supports: a non-zero length, and both ends
 /// attached to a shell or beam (`structural`) or held by supports in ux uy uz (`fixed`). Returns
 /// the anchors: the end nodes that only ties touch, ascending.
-fn check_ties(job: &Job, mesh: &Mesh, cells: &[ModelCell], is_tie: &[bool], structural: &[bool], fixed: &[u8]) -> Result<Vec<usize>, ModelError> {
+fn check_ties(
+    job: &Job,
+    mesh: &Mesh,
+    cells: &[ModelCell],
+    is_tie: &[bool],
+    structural: &[bool],
+    fixed: &[u8],
+) -> Result<Vec<usize>, ModelError> {
     const DOF: [&str; 3] = ["ux", "uy", "uz"];
     let mut anchors = Vec::new();
     for (c, _) in cells.iter().zip(is_tie).filter(|(_, &t)| t) {
@@ -348,7 +382,12 @@ fn check_ties(job: &Job, mesh: &Mesh, cells: &[ModelCell], is_tie: &[bool], stru
             let node = format!("its end node {} at ({x:.2}, {y:.2}, {z:.2})", mesh.node_tags[n]);
             let free: Vec<&str> = (0..3).filter(|&d| fixed[n] & (1 << d) == 0).map(|d| DOF[d]).collect();
             if free.len() == 3 {
-                return Err(tie_error(job, mesh, c, format!("{node} is attached to no shell or beam and to no support")));
+                return Err(tie_error(
+                    job,
+                    mesh,
+                    c,
+                    format!("{node} is attached to no shell or beam and to no support"),
+                ));
             }
             if !free.is_empty() {
                 return Err(tie_error(
@@ -372,7 +411,12 @@ fn check_ties(job: &Job, mesh: &Mesh, cells: &[ModelCell], is_tie: &[bool], stru
 
 /// `loads` (summed per node, node order) with the pretension loads of the ties added
 /// (`element::pretension_load`: N₀ along the tie at both ends, pulling them together).
-fn add_pretension_loads(job: &Job, mesh: &Mesh, cells: &[ModelCell], loads: Vec<(usize, [f64; 6])>) -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+fn add_pretension_loads(
+    job: &Job,
+    mesh: &Mesh,
+    cells: &[ModelCell],
+    loads: Vec<(usize, [f64; 6])>,
+) -> Result<Vec<(usize, [f64; 6])>, ModelError> {
     let spec = &job.spec;
     let mut by_node: std::collections::BTreeMap<usize, [f64; 6]> = loads.into_iter().collect();
     for c in cells {
@@ -381,7 +425,8 @@ fn add_pretension_loads(job: &Job, mesh: &Mesh, cells: &[ModelCell], loads: Vec<
             continue;
         }
         let nodes = &mesh.cells[c.cell].nodes;
-        let f = pretension_load(mesh.coords[nodes[0]], mesh.coords[nodes[1]], t.pretension).map_err(|e| tie_error(job, mesh, c, e.to_string()))?;
+        let f = pretension_load(mesh.coords[nodes[0]], mesh.coords[nodes[1]], t.pretension)
+            .map_err(|e| tie_error(job, mesh, c, e.to_string()))?;
         for (k, &n) in nodes.iter().enumerate() {
             let load = by_node.entry(n).or_insert([0.0; 6]);
             for d in 0..3 {

@@ -197,7 +197,14 @@ pub fn find_mechanisms_with_ties(mesh: &Mesh, cells: &[&[usize]], is_tie: &[bool
     for (_, c) in cells.iter().enumerate().filter(|(i, _)| !tie(*i)) {
         n_cells[piece[c[0]]] += 1;
     }
-    let names = ["translation along x", "translation along y", "translation along z", "rotation about x", "rotation about y", "rotation about z"];
+    let names = [
+        "translation along x",
+        "translation along y",
+        "translation along z",
+        "rotation about x",
+        "rotation about y",
+        "rotation about z",
+    ];
     let mut out = Vec::new();
     for p in 0..np {
         if held[p] {
@@ -208,10 +215,7 @@ pub fn find_mechanisms_with_ties(mesh: &Mesh, cells: &[&[usize]], is_tie: &[bool
         for k in 0..6 {
             if eig.eigenvalues[k] < 1e-10 {
                 let v = eig.eigenvectors.column(k);
-                let parts: Vec<String> = (0..6)
-                    .filter(|&i| v[i].abs() > 0.1)
-                    .map(|i| names[i].to_string())
-                    .collect();
+                let parts: Vec<String> = (0..6).filter(|&i| v[i].abs() > 0.1).map(|i| names[i].to_string()).collect();
                 free.push(parts.join(" combined with "));
             }
         }
@@ -273,7 +277,7 @@ mod tests {
         let mut fixed = vec![0u8; 5];
         fixed[0] = 0b111111;
         fixed[2] = 0b000111; // pinned: rotations about the foot free
-        // Taken as a rigid link, the tie would make one held piece.
+                             // Taken as a rigid link, the tie would make one held piece.
         assert!(find_mechanisms(&m, &cells, &fixed).is_empty());
         // As a tie it holds the top of column 2–3 along x: the rotation about y is held, those
         // about x (the top moves along y) and about z (the column's own axis) are free.

@@ -45,11 +45,7 @@ pub fn agree<T, E: std::fmt::Display>(
     bytes.resize(len as usize, 0);
     root.broadcast_into(&mut bytes[..]);
     root.broadcast_into(&mut exit_code);
-    Err(Agreed {
-        message: String::from_utf8_lossy(&bytes).into_owned(),
-        exit_code,
-        rank: first as usize,
-    })
+    Err(Agreed { message: String::from_utf8_lossy(&bytes).into_owned(), exit_code, rank: first as usize })
 }
 
 fn unreachable_agreed() -> Agreed {

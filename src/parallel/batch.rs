@@ -46,7 +46,12 @@ pub enum BatchError {
 /// Collective. Runs tasks `0..n_tasks` with `work` over all ranks of `comm`, dynamically
 /// scheduled. Rank 0 gets `Some(results)` in task order (and `progress(done, total)` after each
 /// result arrives); other ranks get `None`.
-pub fn run_batch<R, F, P>(comm: &SimpleCommunicator, n_tasks: usize, work: F, mut progress: P) -> Result<Option<Vec<TaskResult<R>>>, BatchError>
+pub fn run_batch<R, F, P>(
+    comm: &SimpleCommunicator,
+    n_tasks: usize,
+    work: F,
+    mut progress: P,
+) -> Result<Option<Vec<TaskResult<R>>>, BatchError>
 where
     R: Serialize + DeserializeOwned + Send,
     F: Fn(usize) -> TaskResult<R> + Sync,
@@ -136,7 +141,9 @@ where
         // Remote ranks are done; the local worker finishes what it took.
     });
     outcome?;
-    let v = slots.into_inner().unwrap_or_default();
+    // A worker that panicked poisons the lock: keep the results it did store (the missing ones
+    // are reported per task below) rather than lose them all.
+    let v = slots.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner());
     Ok(Some(
         v.into_iter()
             .enumerate()

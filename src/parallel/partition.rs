@@ -25,10 +25,7 @@ pub enum PartitionError {
 ///
 /// With one rank, or fewer cells than ranks, no METIS call is made: cells are dealt out in
 /// contiguous blocks.
-pub fn partition_cells(
-    comm: &impl Communicator,
-    cells: &[&[usize]],
-) -> Result<Vec<usize>, PartitionError> {
+pub fn partition_cells(comm: &impl Communicator, cells: &[&[usize]]) -> Result<Vec<usize>, PartitionError> {
     let n_parts = comm.size() as usize;
     let n = cells.len();
     if n_parts == 1 {
@@ -76,7 +73,7 @@ fn metis_dual(cells: &[&[usize]], n_parts: usize) -> Result<Vec<i32>, String> {
     let mut npart = vec![0 as metis::Idx; compact.len()];
     let mesh = metis::Mesh::new(n_parts as metis::Idx, &eptr, &eind).map_err(|e| format!("{e:?}"))?;
     mesh.part_dual(&mut epart, &mut npart).map_err(|e| e.to_string())?;
-    Ok(epart.into_iter().map(|p| p as i32).collect())
+    Ok(epart.into_iter().collect())
 }
 
 #[cfg(test)]

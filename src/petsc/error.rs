@@ -31,11 +31,7 @@ impl PetscError {
     /// An error raised by the safe layer itself (bad arguments caught before PETSc sees them),
     /// using PETSc's code for the kind of problem (e.g. `PETSC_ERR_ARG_SIZ`).
     pub(crate) fn usage(code: u32, call: &'static str, message: impl Into<String>) -> Self {
-        PetscError {
-            code: i32::try_from(code).unwrap_or(i32::MAX),
-            call,
-            message: message.into(),
-        }
+        PetscError { code: i32::try_from(code).unwrap_or(i32::MAX), call, message: message.into() }
     }
 
     /// Builds the error for a nonzero `code` returned by `call`: PETSc's generic text for the code,

@@ -28,11 +28,7 @@ fn check_nnz(call: &'static str, rows: usize, d_nnz: &[i32], o_nnz: &[i32]) -> R
         return Err(PetscError::usage(
             sys::PETSC_ERR_ARG_SIZ,
             call,
-            format!(
-                "{rows} local (block) rows but d_nnz has {} and o_nnz {} entries",
-                d_nnz.len(),
-                o_nnz.len()
-            ),
+            format!("{rows} local (block) rows but d_nnz has {} and o_nnz {} entries", d_nnz.len(), o_nnz.len()),
         ));
     }
     if let Some(bad) = d_nnz.iter().chain(o_nnz).find(|&&n| n < 0) {
@@ -49,7 +45,12 @@ impl Matrix {
     /// Square AIJ (CSR) matrix with `n_local_rows` rows (and columns) on this rank, preallocated
     /// with `d_nnz[i]` / `o_nnz[i]` nonzeros in local row `i` inside / outside the diagonal block.
     /// Type `MATAIJ`: SeqAIJ on one rank, MPIAIJ otherwise. Collective on `comm`.
-    pub fn new_aij(comm: &impl PetscComm, n_local_rows: usize, d_nnz: &[i32], o_nnz: &[i32]) -> Result<Matrix, PetscError> {
+    pub fn new_aij(
+        comm: &impl PetscComm,
+        n_local_rows: usize,
+        d_nnz: &[i32],
+        o_nnz: &[i32],
+    ) -> Result<Matrix, PetscError> {
         const CALL: &str = "Matrix::new_aij";
         ensure_running(CALL)?;
         check_nnz(CALL, n_local_rows, d_nnz, o_nnz)?;
@@ -93,14 +94,7 @@ impl Matrix {
         petsc_call!(MatSetBlockSize(m.raw, b))?;
         petsc_call!(MatSetType(m.raw, type_name(sys::MATBAIJ)))?;
         petsc_call!(MatSeqBAIJSetPreallocation(m.raw, b, 0, d_nnz_blocks.as_ptr()))?;
-        petsc_call!(MatMPIBAIJSetPreallocation(
-            m.raw,
-            b,
-            0,
-            d_nnz_blocks.as_ptr(),
-            0,
-            o_nnz_blocks.as_ptr()
-        ))?;
+        petsc_call!(MatMPIBAIJSetPreallocation(m.raw, b, 0, d_nnz_blocks.as_ptr(), 0, o_nnz_blocks.as_ptr()))?;
         m.finish_creation()?;
         Ok(m)
     }

@@ -18,8 +18,8 @@
 //! Lifetimes: `mpi::initialize()` → [`Petsc::initialize`] → objects → drop objects → drop the
 //! [`Petsc`] guard → drop rsmpi's `Universe`.
 
-pub mod error;
 pub mod eps;
+pub mod error;
 pub mod ksp;
 pub mod matrix;
 pub mod options;
@@ -53,11 +53,7 @@ fn type_name(name: &'static [u8]) -> *const std::ffi::c_char {
 /// `n` as a `PetscInt` (32-bit here), or an out-of-range error naming `call` and `what`.
 fn to_petsc_int(n: usize, call: &'static str, what: &str) -> Result<sys::PetscInt, PetscError> {
     sys::PetscInt::try_from(n).map_err(|_| {
-        PetscError::usage(
-            sys::PETSC_ERR_ARG_OUTOFRANGE,
-            call,
-            format!("{what} = {n} does not fit a 32-bit PetscInt"),
-        )
+        PetscError::usage(sys::PETSC_ERR_ARG_OUTOFRANGE, call, format!("{what} = {n} does not fit a 32-bit PetscInt"))
     })
 }
 

@@ -24,9 +24,8 @@ pub struct Options<'a> {
 
 /// `s` as a C string, or an error naming `call` if it holds a NUL byte.
 pub(crate) fn c_string(s: &str, call: &'static str) -> Result<CString, PetscError> {
-    CString::new(s).map_err(|_| {
-        PetscError::usage(sys::PETSC_ERR_ARG_WRONG, call, format!("string {s:?} contains a NUL byte"))
-    })
+    CString::new(s)
+        .map_err(|_| PetscError::usage(sys::PETSC_ERR_ARG_WRONG, call, format!("string {s:?} contains a NUL byte")))
 }
 
 impl<'a> Options<'a> {

@@ -93,18 +93,10 @@ impl Petsc {
         // SAFETY: argc/argv point at storage owned by the returned guard (see the field comment);
         // null file and help strings are allowed.
         check(
-            unsafe {
-                sys::SlepcInitialize(&mut *argc, &mut *argv_ptr, std::ptr::null(), std::ptr::null())
-            },
+            unsafe { sys::SlepcInitialize(&mut *argc, &mut *argv_ptr, std::ptr::null(), std::ptr::null()) },
             "SlepcInitialize",
         )?;
-        let guard = Petsc {
-            _args: c_args,
-            _argv: argv,
-            _argc: argc,
-            _argv_ptr: argv_ptr,
-            _not_send: PhantomData,
-        };
+        let guard = Petsc { _args: c_args, _argv: argv, _argc: argc, _argv_ptr: argv_ptr, _not_send: PhantomData };
         // From here on, errors come back as codes with their message recorded, not as tracebacks.
         petsc_call!(PetscPushErrorHandler(Some(record_error_handler), std::ptr::null_mut()))?;
         Ok(guard)
@@ -200,8 +192,7 @@ mod tests {
         with_petsc_env(|env| {
             let opts = env.petsc.options();
             // What the user typed (same database as argv and PETSC_OPTIONS).
-            opts.insert_command_line("-prectest_ksp_type gmres -prectest_ksp_monitor_short")
-                .unwrap();
+            opts.insert_command_line("-prectest_ksp_type gmres -prectest_ksp_monitor_short").unwrap();
             let job = [
                 ("ksp_type".to_owned(), "cg".to_owned()),
                 ("-pc_type".to_owned(), "jacobi".to_owned()),

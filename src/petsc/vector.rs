@@ -27,11 +27,7 @@ pub struct Vector {
 /// Checks that index and value slices pair up.
 fn check_pairs(call: &'static str, idx: usize, vals: usize) -> Result<sys::PetscInt, PetscError> {
     if idx != vals {
-        return Err(PetscError::usage(
-            sys::PETSC_ERR_ARG_SIZ,
-            call,
-            format!("{idx} indices but {vals} values"),
-        ));
+        return Err(PetscError::usage(sys::PETSC_ERR_ARG_SIZ, call, format!("{idx} indices but {vals} values")));
     }
     to_petsc_int(idx, call, "number of entries")
 }
@@ -72,8 +68,8 @@ impl Vector {
         let mut raw: sys::Vec = std::ptr::null_mut();
         petsc_call!(VecCreate(comm.as_raw(), &mut raw))?;
         let mut v = Vector { raw, n_global: 0 }; // owns `raw` from here: destroyed on error
-        // The global size is always summed by PETSc (a collective check that works without
-        // PETSc's debug mode), then compared with the expected one.
+                                                 // The global size is always summed by PETSc (a collective check that works without
+                                                 // PETSc's debug mode), then compared with the expected one.
         petsc_call!(VecSetSizes(v.raw, n, sys::PETSC_DETERMINE))?;
         petsc_call!(VecSetType(v.raw, type_name(sys::VECSTANDARD)))?;
         v.configure()?;

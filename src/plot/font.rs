@@ -9,7 +9,6 @@ pub const FAMILY: &str = "sans-serif";
 
 /// Registers the font once per process; `false` if the font data were refused.
 pub fn ensure_registered() -> bool {
-    *REGISTERED.get_or_init(|| {
-        plotters::style::register_font(FAMILY, plotters::style::FontStyle::Normal, DEJAVU_SANS).is_ok()
-    })
+    *REGISTERED
+        .get_or_init(|| plotters::style::register_font(FAMILY, plotters::style::FontStyle::Normal, DEJAVU_SANS).is_ok())
 }

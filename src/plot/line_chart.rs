@@ -3,6 +3,9 @@ use super::font;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
+/// A closed interval of a coordinate, `(low, high)`.
+type Span = (f64, f64);
+
 /// Errors drawing a chart.
 #[derive(Debug, thiserror::Error)]
 pub enum PlotError {
@@ -89,8 +92,8 @@ impl LineChart {
         self
     }
 
-    /// The data range, padded by 5%; an error when there is no finite point.
-    fn range(&self) -> Result<((f64, f64), (f64, f64)), PlotError> {
+    /// The data range `((x0, x1), (y0, y1))`, padded by 5%; an error when there is no finite point.
+    fn range(&self) -> Result<(Span, Span), PlotError> {
         let pts = self.series.iter().flat_map(|s| s.points.iter()).filter(|p| p.0.is_finite() && p.1.is_finite());
         let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
         for &(x, y) in pts {
@@ -151,7 +154,8 @@ impl LineChart {
             .draw()
             .map_err(|e| render(&e))?;
         for (s, color) in self.series.iter().zip(self.colours()) {
-            let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+            let pts: Vec<(f64, f64)> =
+                s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
             let anno = match s.style {
                 SeriesStyle::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))),
                 SeriesStyle::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(2))),
@@ -160,9 +164,8 @@ impl LineChart {
             .map_err(|e| render(&e))?;
             // A series without a name (one of many samples) gets no legend entry.
             if !s.name.is_empty() {
-                anno.label(s.name.clone()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
-                });
+                anno.label(s.name.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3)));
             }
         }
         if self.series.iter().filter(|s| !s.name.is_empty()).count() > 1 {

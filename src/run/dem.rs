@@ -18,12 +18,12 @@
 //! Signs: the curve files keep the solver's convention (tension positive); the chart plots
 //! compression tests as shortening and compressive stress, both positive.
 use crate::config::DemJob;
-use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::output::write_particle_states;
+use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
+use crate::error::Error;
 use crate::parallel::{agree, run_batch, Context};
 use crate::plot::{LineChart, SeriesStyle};
-use crate::error::Error;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -123,12 +123,7 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
         Ok(result)
     };
     let log = &ctx.log;
-    let batch = run_batch(
-        &ctx.comm,
-        n,
-        work,
-        |done, total| log.info(format!("  {done}/{total} samples done")),
-    );
+    let batch = run_batch(&ctx.comm, n, work, |done, total| log.info(format!("  {done}/{total} samples done")));
     let results = agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)?;
     let seconds = t0.elapsed().as_secs_f64();
     let written = match results {
@@ -155,7 +150,12 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::OutputDir { path: path.to_path_buf(), source }
 }
 
-fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, String>], seconds: f64) -> Result<DemSummary, Error> {
+fn write_outputs(
+    ctx: &Context,
+    job: &DemJob,
+    results: &[Result<TestResult, String>],
+    seconds: f64,
+) -> Result<DemSummary, Error> {
     let dir = &job.output_dir;
     let compression = matches!(job.spec.test, VirtualTest::Compression { .. });
     let shear = job.spec.test.is_shear();
@@ -237,13 +237,13 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
                 }
                 pk.push(d.peak_stress);
                 sp.push(d.strain_at_peak.abs());
-
             }
         }
     }
     if e.is_empty() {
         return Err(Error::Analysis(
-            "DEM: every sample failed (see the warnings above; the curves recorded so far are in the sample folders)".into(),
+            "DEM: every sample failed (see the warnings above; the curves recorded so far are in the sample folders)"
+                .into(),
         ));
     }
     if let Some(x) = job.spec.experiment.as_ref().filter(|_| !shear) {
@@ -279,7 +279,12 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
     let line = |name: &str, st: &Option<Stat>, scale: f64, unit: &str, exp: Option<f64>| {
         let x = exp.map(|v| format!("   experiment {:.4} {unit}", v / scale)).unwrap_or_default();
         match st {
-            Some(st) => ctx.log.info(format!("{name:20} {:10.4} ± {:.4} {unit} (n = {}){x}", st.mean / scale, st.std / scale, st.n)),
+            Some(st) => ctx.log.info(format!(
+                "{name:20} {:10.4} ± {:.4} {unit} (n = {}){x}",
+                st.mean / scale,
+                st.std / scale,
+                st.n
+            )),
             None => ctx.log.info(format!("{name:20} {:>10} (no sample has it){x}", "-")),
         }
     };
@@ -295,7 +300,12 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
                 pk.mean * w * 0.5 / 1e3,
                 pk.std * w * 0.5 / 1e3
             ));
-            ctx.log.info(format!("displacement at peak {:.2} ± {:.2} mm (n = {})", sp.mean * h * 1e3, sp.std * h * 1e3, sp.n));
+            ctx.log.info(format!(
+                "displacement at peak {:.2} ± {:.2} mm (n = {})",
+                sp.mean * h * 1e3,
+                sp.std * h * 1e3,
+                sp.n
+            ));
         }
     } else {
         line("Young modulus", &s.young_modulus, 1e9, "GPa", ex.young_modulus);
@@ -304,7 +314,10 @@ fn write_outputs(ctx: &Context, job: &DemJob, results: &[Result<TestResult, Stri
     line("first-crack stress", &s.first_crack_stress, 1e6, "MPa", ex.first_crack_stress);
     line("peak stress", &s.peak_stress, 1e6, "MPa", ex.peak_stress);
     line("strain at peak", &s.strain_at_peak, 1.0, "", None);
-    ctx.log.info(format!("{events} events in {test_seconds:.2} s of test time ({:.0} events/s); batch wall time {seconds:.2} s", s.events_per_second));
+    ctx.log.info(format!(
+        "{events} events in {test_seconds:.2} s of test time ({:.0} events/s); batch wall time {seconds:.2} s",
+        s.events_per_second
+    ));
     Ok(s)
 }
 
@@ -317,8 +330,21 @@ fn write_curve(file: &Path, t: &TestResult) -> Result<(), Error> {
         let _ = writeln!(
             s,
             "{},{kind},{:e},{:e},{:e},{:e},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
-            c.state, c.displacement, c.strain, c.stress, c.lateral_strain, c.broken[0], c.broken[1], c.broken[2], c.broken[3],
-            c.external_work, c.stored, c.dissipated[0], c.dissipated[1], c.dissipated[2], c.dissipated[3]
+            c.state,
+            c.displacement,
+            c.strain,
+            c.stress,
+            c.lateral_strain,
+            c.broken[0],
+            c.broken[1],
+            c.broken[2],
+            c.broken[3],
+            c.external_work,
+            c.stored,
+            c.dissipated[0],
+            c.dissipated[1],
+            c.dissipated[2],
+            c.dissipated[3]
         );
     }
     std::fs::write(file, s).map_err(io_err(file))
@@ -327,12 +353,8 @@ fn write_curve(file: &Path, t: &TestResult) -> Result<(), Error> {
 /// Crack pictures at the first crack, at the peak and at the end (undeformed stones).
 fn write_cracks(job: &DemJob, k: usize, dir: &Path, t: &TestResult) -> Result<(), Error> {
     let sample = Sample::build(&sample_config(job, k)).map_err(|e| Error::Analysis(format!("sample {k}: {e}")))?;
-    let peak_state = t
-        .curve
-        .iter()
-        .max_by(|a, b| a.stress.abs().total_cmp(&b.stress.abs()))
-        .map(|c| c.state)
-        .unwrap_or(0);
+    let peak_state =
+        t.curve.iter().max_by(|a, b| a.stress.abs().total_cmp(&b.stress.abs())).map(|c| c.state).unwrap_or(0);
     let first_state = t.broken.first().map(|b| b.state).unwrap_or(0);
     let cat = |m: FailureModeTag| match m {
         FailureModeTag::Tension => 0u8,
@@ -340,12 +362,8 @@ fn write_cracks(job: &DemJob, k: usize, dir: &Path, t: &TestResult) -> Result<()
         FailureModeTag::Crushing => 2u8,
     };
     for (name, upto) in [("first", Some(first_state)), ("peak", Some(peak_state)), ("end", None)] {
-        let broken: Vec<(usize, u8)> = t
-            .broken
-            .iter()
-            .filter(|b| upto.is_none_or(|s| b.state <= s))
-            .map(|b| (b.beam, cat(b.mode)))
-            .collect();
+        let broken: Vec<(usize, u8)> =
+            t.broken.iter().filter(|b| upto.is_none_or(|s| b.state <= s)).map(|b| (b.beam, cat(b.mode))).collect();
         let style = SvgStyle { title: Some(format!("sample {k}: cracks at {name}")), ..SvgStyle::default() };
         let svg = draw_svg(&sample, None, &broken, &style).map_err(|e| Error::Analysis(e.to_string()))?;
         let f = dir.join(format!("cracks-{name}.svg"));

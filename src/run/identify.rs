@@ -12,16 +12,16 @@
 //! ```
 //! Rank 0 writes every file; `summary.json` gathers the numbers and the phase timings.
 use crate::config::IdentifyJob;
+use crate::error::Error;
+use crate::identify::calibration::Stat;
 use crate::identify::calibration::{CalibrationResult, QUANTITIES};
 use crate::identify::collective::broadcast_json;
-use crate::identify::calibration::Stat;
 use crate::identify::curves::{mean_of, sample_curves_csv, Curve};
 use crate::identify::material_file::{write_material_file, Provenance};
 use crate::identify::virtual_tests::run_virtual_tests;
 use crate::identify::{calibrate, identify, Calibration, EgoSettings, IdentifyError, LawFit, LawResult, Space};
 use crate::parallel::{agree, Context};
 use crate::plot::{LineChart, SeriesStyle};
-use crate::error::Error;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -117,7 +117,10 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
         // elastic constants and the samples' peaks, on rank 0.
         type Reference = (Curve, Curve, bool, f64, f64, Option<[Stat; 2]>);
         let test_max = |t: &Option<crate::dem::solver::VirtualTest>, samples: &[Curve]| match t {
-            Some(crate::dem::solver::VirtualTest::Tension { max_strain, .. } | crate::dem::solver::VirtualTest::Compression { max_strain, .. }) => *max_strain,
+            Some(
+                crate::dem::solver::VirtualTest::Tension { max_strain, .. }
+                | crate::dem::solver::VirtualTest::Compression { max_strain, .. },
+            ) => *max_strain,
             _ => samples.iter().map(|c| c.x[c.x.len() - 1]).fold(0.0, f64::max),
         };
         // The samples' curves, for the pictures (rank 0).
@@ -127,7 +130,9 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
             (None, Some((ts, cs))) if ctx.rank == 0 => {
                 let peaks = |s: &[Curve]| Stat::of(&s.iter().map(|c| c.peak().0).collect::<Vec<_>>());
                 mean_of(l.mean, ts, test_max(&l.tension, ts), l.points, "DEM tension curve")
-                    .and_then(|t| Ok((t, mean_of(l.mean, cs, test_max(&l.compression, cs), l.points, "DEM compression curve")?)))
+                    .and_then(|t| {
+                        Ok((t, mean_of(l.mean, cs, test_max(&l.compression, cs), l.points, "DEM compression curve")?))
+                    })
                     .map(|(t, c)| Some((t, c, true, f64::NAN, f64::NAN, Some([peaks(ts), peaks(cs)]))))
                     .map_err(analysis_err)
             }
@@ -136,7 +141,8 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
                 let (Some(tt), Some(ct)) = (&l.tension, &l.compression) else {
                     return Err(Error::Analysis("[law] needs tension and compression tests".into()));
                 };
-                let v = run_virtual_tests(ctx, &spec.sample, &dem, tt, ct, l.samples, l.points, l.mean).map_err(analysis_err);
+                let v = run_virtual_tests(ctx, &spec.sample, &dem, tt, ct, l.samples, l.points, l.mean)
+                    .map_err(analysis_err);
                 let v = agree(&ctx.comm, v, Error::exit_code)?;
                 let out = match v {
                     Some(v) => {
@@ -149,9 +155,21 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
                             v.young_modulus, v.poisson, v.peaks[0].mean, v.peaks[0].std, v.peaks[0].n, v.peaks[1].mean, v.peaks[1].std, v.peaks[1].n
                         ));
                         write_dem_curves(job, &v.tension_samples, &v.tension, "dem_tension.csv")
-                            .and_then(|_| write_dem_curves(job, &v.compression_samples, &v.compression, "dem_compression.csv"))
-                            .and_then(|_| write_text(&job.output_dir.join("dem_tension_samples.csv"), &sample_curves_csv(&v.tension_samples)))
-                            .and_then(|_| write_text(&job.output_dir.join("dem_compression_samples.csv"), &sample_curves_csv(&v.compression_samples)))
+                            .and_then(|_| {
+                                write_dem_curves(job, &v.compression_samples, &v.compression, "dem_compression.csv")
+                            })
+                            .and_then(|_| {
+                                write_text(
+                                    &job.output_dir.join("dem_tension_samples.csv"),
+                                    &sample_curves_csv(&v.tension_samples),
+                                )
+                            })
+                            .and_then(|_| {
+                                write_text(
+                                    &job.output_dir.join("dem_compression_samples.csv"),
+                                    &sample_curves_csv(&v.compression_samples),
+                                )
+                            })
                             .map(|_| {
                                 sample_curves = Some((v.tension_samples, v.compression_samples));
                                 Some((v.tension, v.compression, true, v.young_modulus, v.poisson, Some(v.peaks)))
@@ -203,7 +221,8 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
         let prepared = agree(&ctx.comm, prepared, Error::exit_code)?;
         let (tension, compression, e, nu) = broadcast_json(ctx, prepared.as_ref()).map_err(analysis_err)?;
         let b = &l.bounds;
-        let mut unknowns = vec![("eps0_t", b.eps0_t), ("eps0_c", b.eps0_c), ("gf_t", b.gf_t), ("a_c", b.a_c), ("b_c", b.b_c)];
+        let mut unknowns =
+            vec![("eps0_t", b.eps0_t), ("eps0_c", b.eps0_c), ("gf_t", b.gf_t), ("a_c", b.a_c), ("b_c", b.b_c)];
         if let Some(g) = b.gf_c {
             unknowns.push((crate::identify::law_fit::GF_C, g));
         }
@@ -220,7 +239,13 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
             space,
             sample_peaks,
             levels: l.levels,
-            ego: EgoSettings { iterations: l.iterations, batch: l.batch, seed: seed.wrapping_add(1000), log_transform: true, target: None },
+            ego: EgoSettings {
+                iterations: l.iterations,
+                batch: l.batch,
+                seed: seed.wrapping_add(1000),
+                log_transform: true,
+                target: None,
+            },
             polish_iterations: l.polish_iterations,
         };
         let result = agree(&ctx.comm, identify(ctx, &fit).map_err(analysis_err), Error::exit_code)?;
@@ -235,7 +260,11 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
     summary.seconds.total = t_all.elapsed().as_secs_f64();
     ctx.log.info(format!(
         "identification wall time {:.2} s (calibration {:.2} s, virtual tests {:.2} s, law {:.2} s) on {} rank(s)",
-        summary.seconds.total, summary.seconds.calibration, summary.seconds.virtual_tests, summary.seconds.law, ctx.size
+        summary.seconds.total,
+        summary.seconds.calibration,
+        summary.seconds.virtual_tests,
+        summary.seconds.law,
+        ctx.size
     ));
     Ok(summary)
 }
@@ -309,9 +338,12 @@ fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) ->
     let f = dir.join("calibration.csv");
     std::fs::write(&f, csv).map_err(io_err(&f))?;
     let f = dir.join("calibration.json");
-    std::fs::write(&f, serde_json::to_string_pretty(r).unwrap_or_default() + "\n").map_err(io_err(&f))?;
+    let text = serde_json::to_string_pretty(r)
+        .map_err(|e| Error::Analysis(format!("{}: the calibration cannot be written as JSON: {e}", f.display())))?;
+    std::fs::write(&f, text + "\n").map_err(io_err(&f))?;
     // The calibrated DEM's curves against the experimental points.
-    let mut chart = LineChart::new("Calibrated DEM against the experiment", "strain ε [-] (test direction)", "stress σ [MPa]");
+    let mut chart =
+        LineChart::new("Calibrated DEM against the experiment", "strain ε [-] (test direction)", "stress σ [MPa]");
     for (i, run) in r.best_runs.iter().enumerate() {
         let pts = run.curve.x.iter().zip(&run.curve.y).map(|(&x, &y)| (x, y / 1e6)).collect();
         chart = chart.series(if i == 0 { "DEM samples at the optimum" } else { "" }, pts, SeriesStyle::Line);
@@ -437,34 +469,48 @@ fn write_law(
     }
     let f = dir.join("law.csv");
     std::fs::write(&f, csv).map_err(io_err(&f))?;
-    let plot = |c: LineChart, name: &str| -> Result<(), Error> { c.save_png(&dir.join(name)).map_err(|e| Error::Analysis(e.to_string())) };
+    let plot = |c: LineChart, name: &str| -> Result<(), Error> {
+        c.save_png(&dir.join(name)).map_err(|e| Error::Analysis(e.to_string()))
+    };
     let evals: Vec<(f64, f64)> =
         r.history.iter().enumerate().filter_map(|(i, (_, _, v))| v.as_ref().ok().map(|v| (i as f64, *v))).collect();
-    let best: Vec<(f64, f64)> = r.best_so_far.iter().enumerate().filter(|(_, v)| v.is_finite()).map(|(i, v)| (i as f64, *v)).collect();
+    let best: Vec<(f64, f64)> =
+        r.best_so_far.iter().enumerate().filter(|(_, v)| v.is_finite()).map(|(i, v)| (i as f64, *v)).collect();
     plot(
-        LineChart::new("Damage-law identification: error history", "evaluation", &format!("error F ({:?})", fit.measure))
-            .series("each evaluation", evals, SeriesStyle::Markers)
-            .series("best so far", best, SeriesStyle::Line),
+        LineChart::new(
+            "Damage-law identification: error history",
+            "evaluation",
+            &format!("error F ({:?})", fit.measure),
+        )
+        .series("each evaluation", evals, SeriesStyle::Markers)
+        .series("best so far", best, SeriesStyle::Line),
         "law_error.png",
     )?;
     let mean_name = match job.spec.law.as_ref().map(|l| l.mean) {
         Some(crate::identify::curves::MeanKind::Pointwise) => "DEM: mean of the samples",
         _ => "DEM: peak-aligned mean of the samples",
     };
-    for (k, (name, dem, law, file)) in
-        [("tension", &fit.tension, &r.law_curves.0, "law_tension.png"), ("compression", &fit.compression, &r.law_curves.1, "law_compression.png")]
-            .into_iter()
-            .enumerate()
+    for (k, (name, dem, law, file)) in [
+        ("tension", &fit.tension, &r.law_curves.0, "law_tension.png"),
+        ("compression", &fit.compression, &r.law_curves.1, "law_compression.png"),
+    ]
+    .into_iter()
+    .enumerate()
     {
         let end = dem.x[dem.x.len() - 1];
-        let pts = |c: &Curve| c.x.iter().zip(&c.y).filter(|p| *p.0 <= end).map(|(&x, &y)| (x, y / 1e6)).collect::<Vec<_>>();
-        let mut chart =
-            LineChart::new(&format!("Uniaxial {name}: DEM against the identified law"), "strain ε [-] (test direction)", "stress σ [MPa]");
+        let pts =
+            |c: &Curve| c.x.iter().zip(&c.y).filter(|p| *p.0 <= end).map(|(&x, &y)| (x, y / 1e6)).collect::<Vec<_>>();
+        let mut chart = LineChart::new(
+            &format!("Uniaxial {name}: DEM against the identified law"),
+            "strain ε [-] (test direction)",
+            "stress σ [MPa]",
+        );
         let own = samples.map(|s| if k == 0 { &s.0 } else { &s.1 });
         for (i, c) in own.into_iter().flatten().enumerate() {
             chart = chart.series(if i == 0 { "DEM samples" } else { "" }, pts(c), SeriesStyle::Dashed);
         }
-        chart = chart.series(mean_name, pts(dem), SeriesStyle::Markers).series("damage law", pts(law), SeriesStyle::Line);
+        chart =
+            chart.series(mean_name, pts(dem), SeriesStyle::Markers).series("damage law", pts(law), SeriesStyle::Line);
         plot(chart, file)?;
     }
     let provenance = provenance(path, job, fit, r, summary);
@@ -498,8 +544,12 @@ fn provenance(path: &Path, job: &IdentifyJob, fit: &LawFit, r: &LawResult, summa
         _ => "peak-aligned",
     };
     let test = |t: &Option<crate::dem::solver::VirtualTest>| match t {
-        Some(crate::dem::solver::VirtualTest::Tension { max_strain, steps }) => format!("tension to {max_strain:e} in {steps} steps"),
-        Some(crate::dem::solver::VirtualTest::Compression { max_strain, steps }) => format!("compression to {max_strain:e} in {steps} steps"),
+        Some(crate::dem::solver::VirtualTest::Tension { max_strain, steps }) => {
+            format!("tension to {max_strain:e} in {steps} steps")
+        }
+        Some(crate::dem::solver::VirtualTest::Compression { max_strain, steps }) => {
+            format!("compression to {max_strain:e} in {steps} steps")
+        }
         _ => "-".to_string(),
     };
     let curves = match (law, &job.dem_curves, &job.dem_samples) {
@@ -525,8 +575,12 @@ fn provenance(path: &Path, job: &IdentifyJob, fit: &LawFit, r: &LawResult, summa
         _ => String::new(),
     };
     let elastic = match law {
-        Some(l) if l.young_modulus.is_some() || l.poisson.is_some() => "E and nu given in the job's [law] table".to_string(),
-        Some(l) if l.elastic == crate::config::ElasticSource::Dem => "E and nu: the virtual compression tests' means ([law] elastic = dem)".to_string(),
+        Some(l) if l.young_modulus.is_some() || l.poisson.is_some() => {
+            "E and nu given in the job's [law] table".to_string()
+        }
+        Some(l) if l.elastic == crate::config::ElasticSource::Dem => {
+            "E and nu: the virtual compression tests' means ([law] elastic = dem)".to_string()
+        }
         _ => "E and nu: the job's [experiment] table".to_string(),
     };
     let calibration = summary.calibration.as_ref().map_or(Vec::new(), |c| {

@@ -10,10 +10,12 @@
 //!
 //! The computation is serial and cheap: rank 0 runs it, every rank agrees on the outcome.
 use crate::config::{Kinematics, MaterialPointJob, PathConfig};
-use crate::material::{run_path, LoadPath, NewtonSettings, PathError, PathRecord, PlaneStress, StressState, ThreeD, Uniaxial};
+use crate::error::Error;
+use crate::material::{
+    run_path, LoadPath, NewtonSettings, PathError, PathRecord, PlaneStress, StressState, ThreeD, Uniaxial,
+};
 use crate::parallel::Context;
 use crate::plot::{LineChart, SeriesStyle};
-use crate::error::Error;
 use std::fmt::Write as _;
 use std::path::Path;
 

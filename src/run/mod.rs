@@ -119,10 +119,14 @@ pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), 
 /// Collective. As [`run_job`]; `restart` continues a time history from its last checkpoint.
 pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: bool) -> Result<(), Error> {
     let job = agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)?;
-    let restartable = |a: &AnalysisConfig| matches!(a, AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_));
+    let restartable =
+        |a: &AnalysisConfig| matches!(a, AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_));
     if restart && !matches!(&job, AnyJob::Structural(j) if restartable(&j.spec.analysis)) {
         // Every rank knows it: print it once.
-        let message = format!("{}: --restart applies to [analysis] type = \"time_history\" or \"seismic_assessment\" jobs only", path.display());
+        let message = format!(
+            "{}: --restart applies to [analysis] type = \"time_history\" or \"seismic_assessment\" jobs only",
+            path.display()
+        );
         return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
     }
     match job {
@@ -130,7 +134,11 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
         AnyJob::Dem(job) => run_dem(ctx, path, &job),
         AnyJob::Identify(job) => {
-            ctx.log.info(format!("job {}{}", path.display(), job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()));
+            ctx.log.info(format!(
+                "job {}{}",
+                path.display(),
+                job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+            ));
             prepare(ctx, &job.output_dir, job.spec.output.existing)?;
             let summary = identify::run(ctx, path, &job)?;
             ctx.log.info(format!("results: {}", job.output_dir.display()));
@@ -156,8 +164,9 @@ fn prepare(ctx: &Context, dir: &Path, policy: crate::config::ExistingOutput) -> 
 /// Rank 0 writes `summary.json` into `dir`.
 fn write_summary(ctx: &Context, dir: &Path, summary: &impl serde::Serialize) -> Result<(), Error> {
     if ctx.rank == 0 {
-        let text = serde_json::to_string_pretty(summary).unwrap_or_default();
         let file = dir.join("summary.json");
+        let text = serde_json::to_string_pretty(summary)
+            .map_err(|e| Error::Analysis(format!("{}: the summary cannot be written as JSON: {e}", file.display())))?;
         std::fs::write(&file, text + "\n").map_err(|source| Error::OutputDir { path: file.clone(), source })?;
         ctx.log.info(format!("summary: {}", file.display()));
     }
@@ -222,7 +231,10 @@ fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String], r
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::SeismicAssessment(cfg) => {
-            ctx.log.info(format!("analysis: seismic assessment (modal, updating, gravity, earthquake){}", if restart { " (restart)" } else { "" }));
+            ctx.log.info(format!(
+                "analysis: seismic assessment (modal, updating, gravity, earthquake){}",
+                if restart { " (restart)" } else { "" }
+            ));
             let summary = crate::analysis::assessment::run(ctx, job, cfg, &input.mesh, &input.model, restart)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }

@@ -5,8 +5,8 @@
 //! against the EC8 spectra), `record.png` (the acceleration history), and in `summary.json` the
 //! record's intensity measures (PGA, PGV, PGD, Arias intensity, D5–95) and peak Sa.
 use crate::config::SpectrumJob;
-use crate::parallel::{agree, Context};
 use crate::error::Error;
+use crate::parallel::{agree, Context};
 use crate::seismic::{intensity, log_periods, record_png, response_spectrum, spectrum_png, Ec8Spectrum, Ec8Type};
 use std::fmt::Write as _;
 
@@ -57,7 +57,8 @@ fn compute(ctx: &Context, job: &SpectrumJob) -> Result<SpectrumSummary, Error> {
     if let Some(e) = &job.spec.ec8 {
         let fine: Vec<f64> = (0..=400).map(|i| i as f64 * a.periods.max / 400.0).collect();
         for &t in &e.types {
-            let s = Ec8Spectrum::new(t, e.ground, e.ag, 100.0 * a.damping).map_err(|e| Error::Analysis(e.to_string()))?;
+            let s =
+                Ec8Spectrum::new(t, e.ground, e.ag, 100.0 * a.damping).map_err(|e| Error::Analysis(e.to_string()))?;
             let kind = match t {
                 Ec8Type::Type1 => "type 1 (Ms > 5.5)",
                 Ec8Type::Type2 => "type 2 (Ms ≤ 5.5)",

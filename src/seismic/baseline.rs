@@ -64,7 +64,8 @@ pub fn correct(r: &Record, method: Baseline) -> Result<Record, SeismicError> {
     match method {
         Baseline::Acceleration { .. } => {
             let powers: Vec<i32> = (0..=order as i32).collect();
-            let c = fit(&tau, &r.accel, &powers).ok_or_else(|| SeismicError::invalid(what(), "singular fit (too few samples)"))?;
+            let c = fit(&tau, &r.accel, &powers)
+                .ok_or_else(|| SeismicError::invalid(what(), "singular fit (too few samples)"))?;
             for (a, &x) in out.accel.iter_mut().zip(&tau) {
                 *a -= c.iter().zip(&powers).map(|(c, &p)| c * x.powi(p)).sum::<f64>();
             }
@@ -72,10 +73,12 @@ pub fn correct(r: &Record, method: Baseline) -> Result<Record, SeismicError> {
         _ => {
             let (_, u) = integrate(&r.accel, r.dt);
             let powers: Vec<i32> = (2..=order as i32 + 2).collect();
-            let c = fit(&tau, &u, &powers).ok_or_else(|| SeismicError::invalid(what(), "singular fit (too few samples)"))?;
+            let c = fit(&tau, &u, &powers)
+                .ok_or_else(|| SeismicError::invalid(what(), "singular fit (too few samples)"))?;
             for (a, &x) in out.accel.iter_mut().zip(&tau) {
                 // d²/dt² of c (t/T)^k = c k (k−1) τ^{k−2} / T².
-                *a -= c.iter().zip(&powers).map(|(c, &k)| c * (k * (k - 1)) as f64 * x.powi(k - 2)).sum::<f64>() / (t_total * t_total);
+                *a -= c.iter().zip(&powers).map(|(c, &k)| c * (k * (k - 1)) as f64 * x.powi(k - 2)).sum::<f64>()
+                    / (t_total * t_total);
             }
         }
     }
@@ -96,7 +99,11 @@ mod tests {
         let clean: Vec<f64> = (0..n)
             .map(|i| {
                 let t = i as f64 * dt;
-                if (8.0..=10.0).contains(&t) { (PI * (t - 8.0)).sin() } else { 0.0 }
+                if (8.0..=10.0).contains(&t) {
+                    (PI * (t - 8.0)).sin()
+                } else {
+                    0.0
+                }
             })
             .collect();
         let drift: Vec<f64> = clean.iter().enumerate().map(|(i, a)| a + offset + slope * i as f64 * dt).collect();

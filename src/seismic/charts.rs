@@ -7,7 +7,12 @@ use crate::plot::{LineChart, PlotError, SeriesStyle};
 use std::path::Path;
 
 /// Sa(T) of records (solid lines) against code spectra `(label, (T, Se) points)` (dashed), T ≤ 4 s.
-pub fn spectrum_png(path: &Path, title: &str, records: &[(&str, &ResponseSpectrum)], code_spectra: &[(String, Vec<(f64, f64)>)]) -> Result<(), PlotError> {
+pub fn spectrum_png(
+    path: &Path,
+    title: &str,
+    records: &[(&str, &ResponseSpectrum)],
+    code_spectra: &[(String, Vec<(f64, f64)>)],
+) -> Result<(), PlotError> {
     let mut chart = LineChart::new(title, "period T [s]", "spectral acceleration Sa, Se [m/s²]");
     for (label, s) in records {
         let pts = s.sa_curve().into_iter().filter(|p| p.0 <= 4.0).collect();

@@ -95,11 +95,21 @@ impl Ec8Spectrum {
 
     /// Checks overridden parameters: a_g ≥ 0, S > 0, 0 < T_B < T_C < T_D, η > 0.
     pub fn validate(&self) -> Result<(), SeismicError> {
-        let ok = self.ag.is_finite() && self.ag >= 0.0 && self.s > 0.0 && self.tb > 0.0 && self.tb < self.tc && self.tc < self.td && self.td.is_finite() && self.eta > 0.0;
+        let ok = self.ag.is_finite()
+            && self.ag >= 0.0
+            && self.s > 0.0
+            && self.tb > 0.0
+            && self.tb < self.tc
+            && self.tc < self.td
+            && self.td.is_finite()
+            && self.eta > 0.0;
         if ok {
             Ok(())
         } else {
-            Err(SeismicError::invalid("EC8 spectrum", format!("needs a_g ≥ 0, S > 0, 0 < T_B < T_C < T_D, η > 0: {self:?}")))
+            Err(SeismicError::invalid(
+                "EC8 spectrum",
+                format!("needs a_g ≥ 0, S > 0, 0 < T_B < T_C < T_D, η > 0: {self:?}"),
+            ))
         }
     }
 

@@ -46,7 +46,9 @@ pub enum SeismicError {
         t: f64,
     },
     /// The time step is not uniform within the tolerance.
-    #[error("{file}:{line}: time step {dt_found} s differs from the mean {dt_mean} s by more than {tolerance:e} (relative)")]
+    #[error(
+        "{file}:{line}: time step {dt_found} s differs from the mean {dt_mean} s by more than {tolerance:e} (relative)"
+    )]
     NonUniformDt {
         /// The file.
         file: String,

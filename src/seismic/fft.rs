@@ -66,7 +66,8 @@ mod tests {
     #[test]
     fn matches_the_naive_dft_and_inverts() {
         let n = 64;
-        let x: Vec<Complex> = (0..n).map(|i| Complex { re: ((i * 7) % 11) as f64 - 5.0, im: ((i * 3) % 5) as f64 }).collect();
+        let x: Vec<Complex> =
+            (0..n).map(|i| Complex { re: ((i * 7) % 11) as f64 - 5.0, im: ((i * 3) % 5) as f64 }).collect();
         let mut y = x.clone();
         fft_in_place(&mut y, false).unwrap();
         for (k, yk) in y.iter().enumerate() {

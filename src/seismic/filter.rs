@@ -42,7 +42,11 @@ impl Biquad {
         let w = 2.0 * std::f64::consts::PI * f_c * dt;
         let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
         let a0 = 1.0 + alpha;
-        let b = if high { [(1.0 + c) / 2.0, -(1.0 + c), (1.0 + c) / 2.0] } else { [(1.0 - c) / 2.0, 1.0 - c, (1.0 - c) / 2.0] };
+        let b = if high {
+            [(1.0 + c) / 2.0, -(1.0 + c), (1.0 + c) / 2.0]
+        } else {
+            [(1.0 - c) / 2.0, 1.0 - c, (1.0 - c) / 2.0]
+        };
         Biquad { b: [b[0] / a0, b[1] / a0, b[2] / a0], a: [-2.0 * c / a0, (1.0 - alpha) / a0] }
     }
 
@@ -103,7 +107,8 @@ pub fn band_pass(r: &Record, band: BandPass) -> Result<Record, SeismicError> {
     }
     let mut out = r.clone();
     out.accel.copy_from_slice(&x[pad..pad + r.len()]);
-    out.units_note = format!("{}; band-pass {:?}–{:?} Hz (Butterworth 4, zero phase)", r.units_note, band.f_low, band.f_high);
+    out.units_note =
+        format!("{}; band-pass {:?}–{:?} Hz (Butterworth 4, zero phase)", r.units_note, band.f_low, band.f_high);
     Ok(out)
 }
 

@@ -33,7 +33,8 @@ fn npts_dt(line: &str, file: &str) -> Result<(usize, f64), SeismicError> {
     let up = line.to_ascii_uppercase();
     let err = |reason: String| SeismicError::Parse { file: file.into(), line: 4, reason };
     // Tokens split on anything that cannot be part of a number or a key.
-    let toks: Vec<&str> = up.split(|c: char| c == ',' || c == '=' || c.is_whitespace()).filter(|t| !t.is_empty()).collect();
+    let toks: Vec<&str> =
+        up.split(|c: char| c == ',' || c == '=' || c.is_whitespace()).filter(|t| !t.is_empty()).collect();
     let after = |key: &str| toks.iter().position(|t| *t == key).and_then(|i| toks.get(i + 1).copied());
     if let (Some(n), Some(d)) = (after("NPTS"), after("DT")) {
         let n = n.parse::<usize>().map_err(|_| err(format!("NPTS '{n}' is not a count")))?;
@@ -54,7 +55,11 @@ fn npts_dt(line: &str, file: &str) -> Result<(usize, f64), SeismicError> {
 pub fn parse_at2(s: &str, file: &str, name: &str) -> Result<Record, SeismicError> {
     let lines: Vec<&str> = s.lines().collect();
     if lines.len() < 4 {
-        return Err(SeismicError::Parse { file: file.into(), line: lines.len(), reason: "header needs 4 lines".into() });
+        return Err(SeismicError::Parse {
+            file: file.into(),
+            line: lines.len(),
+            reason: "header needs 4 lines".into(),
+        });
     }
     let unit_line = lines[2].to_ascii_uppercase();
     let unit = if unit_line.contains("CM/S") || unit_line.contains("GAL") {
@@ -74,18 +79,25 @@ pub fn parse_at2(s: &str, file: &str, name: &str) -> Result<Record, SeismicError
     if accel.len() != npts {
         return Err(SeismicError::CountMismatch { file: file.into(), line: 4, declared: npts, found: accel.len() });
     }
-    Record::new(name, dt, accel, format!("read in {}, × {}", unit.name(), unit.to_si()), format!("PEER AT2 {file}: {}", lines[1].trim()))
-        .map_err(|e| match e {
-            SeismicError::InvalidParameter { reason, .. } => SeismicError::Parse { file: file.into(), line: 4, reason },
-            e => e,
-        })
+    Record::new(
+        name,
+        dt,
+        accel,
+        format!("read in {}, × {}", unit.name(), unit.to_si()),
+        format!("PEER AT2 {file}: {}", lines[1].trim()),
+    )
+    .map_err(|e| match e {
+        SeismicError::InvalidParameter { reason, .. } => SeismicError::Parse { file: file.into(), line: 4, reason },
+        e => e,
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const HEAD: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nTEST 01/01/00, STATION, 000\nACCELERATION TIME SERIES IN UNITS OF G\n";
+    const HEAD: &str =
+        "PEER NGA STRONG MOTION DATABASE RECORD\nTEST 01/01/00, STATION, 000\nACCELERATION TIME SERIES IN UNITS OF G\n";
 
     #[test]
     fn reads_both_header_forms() {

@@ -26,7 +26,13 @@ pub fn read_two_column(path: &Path, unit: AccelUnit, dt_tolerance: f64) -> Resul
 }
 
 /// Parses two-column text; `file` names it in errors, `name` becomes the record's name.
-pub fn parse_two_column(s: &str, file: &str, name: &str, unit: AccelUnit, dt_tolerance: f64) -> Result<Record, SeismicError> {
+pub fn parse_two_column(
+    s: &str,
+    file: &str,
+    name: &str,
+    unit: AccelUnit,
+    dt_tolerance: f64,
+) -> Result<Record, SeismicError> {
     let mut t = Vec::new();
     let mut a = Vec::new();
     let mut lines = Vec::new();
@@ -36,7 +42,11 @@ pub fn parse_two_column(s: &str, file: &str, name: &str, unit: AccelUnit, dt_tol
         }
         let toks: Vec<&str> = line.split_whitespace().collect();
         if toks.len() != 2 {
-            return Err(SeismicError::Parse { file: file.into(), line: k + 1, reason: format!("expected 2 columns 't a', found {}", toks.len()) });
+            return Err(SeismicError::Parse {
+                file: file.into(),
+                line: k + 1,
+                reason: format!("expected 2 columns 't a', found {}", toks.len()),
+            });
         }
         let (ti, ai) = (text::number(toks[0], file, k + 1)?, text::number(toks[1], file, k + 1)?);
         if let Some(&tp) = t.last() {
@@ -49,13 +59,23 @@ pub fn parse_two_column(s: &str, file: &str, name: &str, unit: AccelUnit, dt_tol
         lines.push(k + 1);
     }
     if t.len() < 2 {
-        return Err(SeismicError::Parse { file: file.into(), line: s.lines().count(), reason: format!("{} data line(s), at least 2 needed", t.len()) });
+        return Err(SeismicError::Parse {
+            file: file.into(),
+            line: s.lines().count(),
+            reason: format!("{} data line(s), at least 2 needed", t.len()),
+        });
     }
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
     for i in 1..t.len() {
         let step = t[i] - t[i - 1];
         if (step - dt).abs() > dt_tolerance * dt {
-            return Err(SeismicError::NonUniformDt { file: file.into(), line: lines[i], dt_mean: dt, dt_found: step, tolerance: dt_tolerance });
+            return Err(SeismicError::NonUniformDt {
+                file: file.into(),
+                line: lines[i],
+                dt_mean: dt,
+                dt_found: step,
+                tolerance: dt_tolerance,
+            });
         }
     }
     Record::new(name, dt, a, format!("read in {}, × {}", unit.name(), unit.to_si()), format!("two-column {file}"))
@@ -77,7 +97,13 @@ pub fn parse_one_column(s: &str, file: &str, name: &str, dt: f64, unit: AccelUni
             a.push(text::number(tok, file, k + 1)? * unit.to_si());
         }
     }
-    Record::new(name, dt, a, format!("read in {}, × {}", unit.name(), unit.to_si()), format!("one-column {file}, dt = {dt} s"))
+    Record::new(
+        name,
+        dt,
+        a,
+        format!("read in {}, × {}", unit.name(), unit.to_si()),
+        format!("one-column {file}, dt = {dt} s"),
+    )
 }
 
 /// Writes a record as two columns `t [s]  a [m/s²]` (time with 4 decimals, acceleration with
@@ -107,7 +133,14 @@ mod tests {
 
     #[test]
     fn two_column_checks_time() {
-        let r = parse_two_column("# t a\n0.0 1\n0.01 2\n\n0.02 3\n", "ok.txt", "ok", AccelUnit::CentimetersPerSecond2, 1e-3).unwrap();
+        let r = parse_two_column(
+            "# t a\n0.0 1\n0.01 2\n\n0.02 3\n",
+            "ok.txt",
+            "ok",
+            AccelUnit::CentimetersPerSecond2,
+            1e-3,
+        )
+        .unwrap();
         assert!((r.dt - 0.01).abs() < 1e-15);
         assert!((r.accel[2] - 0.03).abs() < 1e-16);
         let e = parse_two_column("0 1\n0.01 2\n0.01 3\n", "m.txt", "m", AccelUnit::G, 1e-3).unwrap_err();

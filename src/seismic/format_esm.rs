@@ -32,7 +32,11 @@ pub fn parse_esm(s: &str, file: &str) -> Result<Record, SeismicError> {
                     header.insert(key.trim().to_ascii_uppercase(), (value.trim().to_string(), ln));
                 }
                 None => {
-                    return Err(SeismicError::Parse { file: file.into(), line: ln, reason: format!("expected 'KEY: value' or a number, found '{}'", line.trim()) })
+                    return Err(SeismicError::Parse {
+                        file: file.into(),
+                        line: ln,
+                        reason: format!("expected 'KEY: value' or a number, found '{}'", line.trim()),
+                    })
                 }
             }
             continue;
@@ -44,10 +48,18 @@ pub fn parse_esm(s: &str, file: &str) -> Result<Record, SeismicError> {
     }
     let last = s.lines().count();
     let get = |key: &str| {
-        header.get(key).ok_or_else(|| SeismicError::Parse { file: file.into(), line: last, reason: format!("header has no {key}") })
+        header.get(key).ok_or_else(|| SeismicError::Parse {
+            file: file.into(),
+            line: last,
+            reason: format!("header has no {key}"),
+        })
     };
     let (n_txt, n_line) = get("NDATA")?;
-    let ndata = n_txt.parse::<usize>().map_err(|_| SeismicError::Parse { file: file.into(), line: *n_line, reason: format!("NDATA '{n_txt}' is not a count") })?;
+    let ndata = n_txt.parse::<usize>().map_err(|_| SeismicError::Parse {
+        file: file.into(),
+        line: *n_line,
+        reason: format!("NDATA '{n_txt}' is not a count"),
+    })?;
     let (dt_txt, dt_line) = get("SAMPLING_INTERVAL_S")?;
     let dt = text::number(dt_txt, file, *dt_line)?;
     let (u_txt, u_line) = get("UNITS")?;
@@ -57,15 +69,27 @@ pub fn parse_esm(s: &str, file: &str) -> Result<Record, SeismicError> {
         reason: format!("units '{u_txt}' are not an acceleration unit (cm/s^2, m/s^2, g)"),
     })?;
     if accel.len() != ndata {
-        return Err(SeismicError::CountMismatch { file: file.into(), line: *n_line, declared: ndata, found: accel.len() });
+        return Err(SeismicError::CountMismatch {
+            file: file.into(),
+            line: *n_line,
+            declared: ndata,
+            found: accel.len(),
+        });
     }
     accel.iter_mut().for_each(|a| *a *= unit.to_si());
     let field = |k: &str| header.get(k).map(|v| v.0.clone()).unwrap_or_default();
-    let name = [field("EVENT_NAME"), field("STATION_CODE"), field("STREAM")].iter().filter(|s| !s.is_empty()).cloned().collect::<Vec<_>>().join(" ");
+    let name = [field("EVENT_NAME"), field("STATION_CODE"), field("STREAM")]
+        .iter()
+        .filter(|s| !s.is_empty())
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(" ");
     let name = if name.is_empty() { file.to_string() } else { name };
     Record::new(name, dt, accel, format!("read in {}, × {}", unit.name(), unit.to_si()), format!("ESM ASCII {file}"))
         .map_err(|e| match e {
-            SeismicError::InvalidParameter { reason, .. } => SeismicError::Parse { file: file.into(), line: *dt_line, reason },
+            SeismicError::InvalidParameter { reason, .. } => {
+                SeismicError::Parse { file: file.into(), line: *dt_line, reason }
+            }
             e => e,
         })
 }

@@ -43,7 +43,11 @@ fn misfit(sa: &[f64], target: &[f64]) -> (f64, f64) {
 }
 
 /// Matches `r` to the spectrum `target(T)` [m/s²] over `settings.periods`.
-pub fn match_spectrum(r: &Record, target: &dyn Fn(f64) -> f64, settings: &MatchSettings) -> Result<(Record, MatchReport), SeismicError> {
+pub fn match_spectrum(
+    r: &Record,
+    target: &dyn Fn(f64) -> f64,
+    settings: &MatchSettings,
+) -> Result<(Record, MatchReport), SeismicError> {
     let p = &settings.periods;
     let what = || format!("spectral matching of '{}'", r.name);
     if p.is_empty() || p.iter().any(|&t| t.is_nan() || t <= 0.0) || p.windows(2).any(|w| w[1] <= w[0]) {
@@ -95,7 +99,8 @@ pub fn match_spectrum(r: &Record, target: &dyn Fn(f64) -> f64, settings: &MatchS
         current.accel = x[..n].iter().map(|c| c.re).collect();
     }
     let mut out = best.0;
-    out.units_note = format!("{}; spectrally matched ({} iterations, best {})", r.units_note, settings.iterations, report.best);
+    out.units_note =
+        format!("{}; spectrally matched ({} iterations, best {})", r.units_note, settings.iterations, report.best);
     Ok((out, report))
 }
 
@@ -113,7 +118,12 @@ mod tests {
             name: "m".into(),
             duration: 20.0,
             dt: 0.01,
-            filter: GroundFilter::CloughPenzien { omega_g: 2.0 * PI * 3.0, zeta_g: 0.5, omega_f: 2.0 * PI * 0.3, zeta_f: 0.7 },
+            filter: GroundFilter::CloughPenzien {
+                omega_g: 2.0 * PI * 3.0,
+                zeta_g: 0.5,
+                omega_f: 2.0 * PI * 0.3,
+                zeta_f: 0.7,
+            },
             envelope: Envelope::Jennings { t1: 2.0, t2: 10.0, decay: 0.5 },
             high_pass_hz: None,
             baseline: Baseline::None,

@@ -45,7 +45,9 @@ pub use error::SeismicError;
 pub use fft::{fft_in_place, Complex};
 pub use filter::{band_pass, BandPass};
 pub use format_at2::{parse_at2, read_at2};
-pub use format_columns::{parse_one_column, parse_two_column, read_one_column, read_two_column, write_two_column, DEFAULT_DT_TOLERANCE};
+pub use format_columns::{
+    parse_one_column, parse_two_column, read_one_column, read_two_column, write_two_column, DEFAULT_DT_TOLERANCE,
+};
 pub use format_esm::{parse_esm, read_esm};
 pub use intensity::{husid, integrate, intensity, pga, Intensity};
 pub use matching::{match_spectrum, MatchReport, MatchSettings};
@@ -54,4 +56,7 @@ pub use sdof::{peak_displacement, response_history, SdofStep};
 pub use spectrum::{log_periods, response_spectrum, ResponseSpectrum};
 pub use synthetic::{generate, Envelope, GroundFilter, SyntheticSpec};
 pub use units::{AccelUnit, STANDARD_GRAVITY};
-pub use vallorcine::{vallorcine_like_header, vallorcine_like_spec, vallorcine_like_synthetic, write_vallorcine_like, VALLORCINE_LIKE_FILE};
+pub use vallorcine::{
+    vallorcine_like_header, vallorcine_like_spec, vallorcine_like_synthetic, write_vallorcine_like,
+    VALLORCINE_LIKE_FILE,
+};

@@ -31,10 +31,16 @@ impl Record {
     ) -> Result<Record, SeismicError> {
         let name = name.into();
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(SeismicError::invalid(format!("time step of record '{name}'"), format!("dt = {dt} is not > 0")));
+            return Err(SeismicError::invalid(
+                format!("time step of record '{name}'"),
+                format!("dt = {dt} is not > 0"),
+            ));
         }
         if accel.len() < 2 {
-            return Err(SeismicError::invalid(format!("record '{name}'"), format!("{} sample(s), at least 2 needed", accel.len())));
+            return Err(SeismicError::invalid(
+                format!("record '{name}'"),
+                format!("{} sample(s), at least 2 needed", accel.len()),
+            ));
         }
         if let Some(i) = accel.iter().position(|a| !a.is_finite()) {
             return Err(SeismicError::NonFinite { file: name, line: i + 1, value: accel[i].to_string() });
@@ -65,7 +71,10 @@ impl Record {
     /// The record multiplied by `factor` (finite, any sign).
     pub fn scaled(&self, factor: f64) -> Result<Record, SeismicError> {
         if !factor.is_finite() {
-            return Err(SeismicError::invalid(format!("scale factor of record '{}'", self.name), format!("{factor} is not finite")));
+            return Err(SeismicError::invalid(
+                format!("scale factor of record '{}'", self.name),
+                format!("{factor} is not finite"),
+            ));
         }
         let mut r = self.clone();
         r.accel.iter_mut().for_each(|a| *a *= factor);

@@ -52,7 +52,10 @@ impl SdofStep {
     /// matrix exponential above).
     pub fn new(omega: f64, zeta: f64, dt: f64) -> Result<SdofStep, SeismicError> {
         if !(omega.is_finite() && omega > 0.0 && zeta.is_finite() && zeta >= 0.0 && dt.is_finite() && dt > 0.0) {
-            return Err(SeismicError::invalid("SDOF oscillator", format!("needs ω > 0, ζ ≥ 0, Δt > 0; got ω = {omega}, ζ = {zeta}, Δt = {dt}")));
+            return Err(SeismicError::invalid(
+                "SDOF oscillator",
+                format!("needs ω > 0, ζ ≥ 0, Δt > 0; got ω = {omega}, ζ = {zeta}, Δt = {dt}"),
+            ));
         }
         Ok(if zeta < 0.95 { SdofStep::closed_form(omega, zeta, dt) } else { SdofStep::by_exponential(omega, zeta, dt) })
     }
@@ -67,7 +70,8 @@ impl SdofStep {
         let u = [
             e * (z / r * s + c),
             e * s / wd,
-            (2.0 * z / (w * dt) + e * (((1.0 - 2.0 * z * z) / (wd * dt) - z / r) * s - (1.0 + 2.0 * z / (w * dt)) * c)) / k,
+            (2.0 * z / (w * dt) + e * (((1.0 - 2.0 * z * z) / (wd * dt) - z / r) * s - (1.0 + 2.0 * z / (w * dt)) * c))
+                / k,
             (1.0 - 2.0 * z / (w * dt) + e * ((2.0 * z * z - 1.0) / (wd * dt) * s + 2.0 * z / (w * dt) * c)) / k,
         ];
         let v = [
@@ -119,7 +123,14 @@ pub fn response_history(accel: &[f64], dt: f64, omega: f64, zeta: f64) -> Result
 /// of free vibration after it. Each step is split into `substeps` equal parts (the
 /// excitation stays the same piecewise-linear function, so this only samples the response more
 /// finely; it does not approximate anything).
-pub fn peak_displacement(accel: &[f64], dt: f64, omega: f64, zeta: f64, substeps: usize, free_periods: f64) -> Result<f64, SeismicError> {
+pub fn peak_displacement(
+    accel: &[f64],
+    dt: f64,
+    omega: f64,
+    zeta: f64,
+    substeps: usize,
+    free_periods: f64,
+) -> Result<f64, SeismicError> {
     let m = substeps.max(1);
     let h = dt / m as f64;
     let st = SdofStep::new(omega, zeta, h)?;

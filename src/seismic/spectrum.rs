@@ -60,10 +60,14 @@ pub fn log_periods(t_min: f64, t_max: f64, n: usize) -> Vec<f64> {
 
 /// The response spectrum of `r` at damping ratio `damping` (≥ 0, e.g. 0.05) over `periods` [s] (≥ 0).
 pub fn response_spectrum(r: &Record, periods: &[f64], damping: f64) -> Result<ResponseSpectrum, SeismicError> {
-    let mut out = ResponseSpectrum { damping, periods: periods.to_vec(), sd: Vec::new(), sv: Vec::new(), sa: Vec::new() };
+    let mut out =
+        ResponseSpectrum { damping, periods: periods.to_vec(), sd: Vec::new(), sv: Vec::new(), sa: Vec::new() };
     for &t in periods {
         if !(t.is_finite() && t >= 0.0) {
-            return Err(SeismicError::invalid(format!("response spectrum of '{}'", r.name), format!("period {t} s is not ≥ 0")));
+            return Err(SeismicError::invalid(
+                format!("response spectrum of '{}'", r.name),
+                format!("period {t} s is not ≥ 0"),
+            ));
         }
         if t == 0.0 {
             out.sd.push(0.0);
@@ -90,7 +94,16 @@ mod tests {
         // A smooth 1 Hz pulse: a stiff oscillator (T = 0.01 s) follows the ground, Sa → PGA
         // (ω² u ≈ −a_g, error ~ (T/T_pulse)² ~ 1e-4: tolerance 1%); T = 0 gives PGA exactly.
         let dt = 0.005;
-        let acc: Vec<f64> = (0..=400).map(|i| { let t = i as f64 * dt; if t <= 1.0 { (PI * t).sin().powi(2) * (2.0 * PI * t).sin() } else { 0.0 } }).collect();
+        let acc: Vec<f64> = (0..=400)
+            .map(|i| {
+                let t = i as f64 * dt;
+                if t <= 1.0 {
+                    (PI * t).sin().powi(2) * (2.0 * PI * t).sin()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let r = Record::new("p", dt, acc, "", "").unwrap();
         let s = response_spectrum(&r, &[0.0, 0.01], 0.05).unwrap();
         assert_eq!(s.sa[0], pga(&r));

@@ -61,7 +61,9 @@ impl GroundFilter {
         match *self {
             GroundFilter::KanaiTajimi { omega_g, zeta_g } => kt(omega_g, zeta_g),
             GroundFilter::CloughPenzien { omega_g, zeta_g, omega_f, zeta_f } => {
-                kt(omega_g, zeta_g) * big_w.powi(4) / ((omega_f * omega_f - big_w * big_w).powi(2) + 4.0 * zeta_f * zeta_f * omega_f * omega_f * big_w * big_w)
+                kt(omega_g, zeta_g) * big_w.powi(4)
+                    / ((omega_f * omega_f - big_w * big_w).powi(2)
+                        + 4.0 * zeta_f * zeta_f * omega_f * omega_f * big_w * big_w)
             }
         }
     }
@@ -123,10 +125,16 @@ impl Envelope {
 
     fn validate(&self) -> Result<(), SeismicError> {
         let ok = match *self {
-            Envelope::SaragoniHart { t_start, eps, eta, t_n } => t_start >= 0.0 && eps > 0.0 && eps < 1.0 && eta > 0.0 && eta < 1.0 && t_n > 0.0,
+            Envelope::SaragoniHart { t_start, eps, eta, t_n } => {
+                t_start >= 0.0 && eps > 0.0 && eps < 1.0 && eta > 0.0 && eta < 1.0 && t_n > 0.0
+            }
             Envelope::Jennings { t1, t2, decay } => t1 > 0.0 && t2 >= t1 && decay > 0.0,
         };
-        if ok { Ok(()) } else { Err(SeismicError::invalid("synthetic record envelope", format!("parameters out of range: {self:?}"))) }
+        if ok {
+            Ok(())
+        } else {
+            Err(SeismicError::invalid("synthetic record envelope", format!("parameters out of range: {self:?}")))
+        }
     }
 }
 
@@ -183,7 +191,12 @@ fn oscillator_output(a: &[f64], dt: f64, w: f64, z: f64, relative: bool) -> Resu
 /// Generates the record of `spec`.
 pub fn generate(spec: &SyntheticSpec) -> Result<Record, SeismicError> {
     let what = || format!("synthetic record '{}'", spec.name);
-    if !(spec.dt > 0.0 && spec.duration > spec.dt && spec.target_pga > 0.0 && spec.duration.is_finite() && spec.target_pga.is_finite()) {
+    if !(spec.dt > 0.0
+        && spec.duration > spec.dt
+        && spec.target_pga > 0.0
+        && spec.duration.is_finite()
+        && spec.target_pga.is_finite())
+    {
         return Err(SeismicError::invalid(what(), format!("needs dt > 0, duration > dt, target PGA > 0: {spec:?}")));
     }
     spec.envelope.validate()?;
@@ -203,7 +216,10 @@ pub fn generate(spec: &SyntheticSpec) -> Result<Record, SeismicError> {
         a = oscillator_output(&a, spec.dt, wf, zf, true)?;
     }
     let accel: Vec<f64> = a[burn..].iter().enumerate().map(|(i, x)| x * spec.envelope.at(i as f64 * spec.dt)).collect();
-    let source = format!("SYNTHETIC (filtered white noise): {:?}, {:?}, high-pass {:?} Hz, baseline {:?}, seed {}", spec.filter, spec.envelope, spec.high_pass_hz, spec.baseline, spec.seed);
+    let source = format!(
+        "SYNTHETIC (filtered white noise): {:?}, {:?}, high-pass {:?} Hz, baseline {:?}, seed {}",
+        spec.filter, spec.envelope, spec.high_pass_hz, spec.baseline, spec.seed
+    );
     let r = Record::new(&spec.name, spec.dt, accel, "generated in m/s^2", source)?;
     let r = match spec.high_pass_hz {
         Some(f) => band_pass(&r, BandPass { f_low: Some(f), f_high: None })?,
@@ -271,7 +287,9 @@ mod tests {
             p[k0..k1].iter().sum::<f64>() / (k1 - k0) as f64
         };
         let f = GroundFilter::KanaiTajimi { omega_g: 2.0 * PI * 3.0, zeta_g: 0.3 };
-        let h = |f0: f64, f1: f64| (0..20).map(|i| f.psd_shape(2.0 * PI * (f0 + (f1 - f0) * i as f64 / 19.0))).sum::<f64>() / 20.0;
+        let h = |f0: f64, f1: f64| {
+            (0..20).map(|i| f.psd_shape(2.0 * PI * (f0 + (f1 - f0) * i as f64 / 19.0))).sum::<f64>() / 20.0
+        };
         let measured = band(2.5, 3.5) / band(10.0, 15.0);
         let predicted = h(2.5, 3.5) / h(10.0, 15.0);
         assert!(measured > predicted / 2.0 && measured < predicted * 2.0, "{measured} vs {predicted}");

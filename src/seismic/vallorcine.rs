@@ -35,7 +35,12 @@ pub fn vallorcine_like_spec() -> SyntheticSpec {
         name: "Vallorcine-like SYNTHETIC".into(),
         duration: 22.0,
         dt: 0.01,
-        filter: GroundFilter::CloughPenzien { omega_g: 2.0 * PI * 4.0, zeta_g: 0.5, omega_f: 2.0 * PI * 0.3, zeta_f: 0.7 },
+        filter: GroundFilter::CloughPenzien {
+            omega_g: 2.0 * PI * 4.0,
+            zeta_g: 0.5,
+            omega_f: 2.0 * PI * 0.3,
+            zeta_f: 0.7,
+        },
         envelope: Envelope::SaragoniHart { t_start: 2.0, eps: 0.2, eta: 0.1, t_n: 8.0 },
         high_pass_hz: Some(0.3),
         baseline: Baseline::Displacement { order: 1 },
@@ -55,9 +60,14 @@ fn filter_line(s: &SyntheticSpec) -> String {
     match s.filter {
         GroundFilter::CloughPenzien { omega_g, zeta_g, omega_f, zeta_f } => format!(
             "  Clough-Penzien filtered white noise: f_g = {} Hz, zeta_g = {}, f_f = {} Hz, zeta_f = {};",
-            hz(omega_g), zeta_g, hz(omega_f), zeta_f
+            hz(omega_g),
+            zeta_g,
+            hz(omega_f),
+            zeta_f
         ),
-        GroundFilter::KanaiTajimi { omega_g, zeta_g } => format!("  Kanai-Tajimi filtered white noise: f_g = {} Hz, zeta_g = {};", hz(omega_g), zeta_g),
+        GroundFilter::KanaiTajimi { omega_g, zeta_g } => {
+            format!("  Kanai-Tajimi filtered white noise: f_g = {} Hz, zeta_g = {};", hz(omega_g), zeta_g)
+        }
     }
 }
 
@@ -66,7 +76,9 @@ fn envelope_line(s: &SyntheticSpec) -> String {
         Envelope::SaragoniHart { t_start, eps, eta, t_n } => {
             format!("  Saragoni-Hart envelope: start {t_start} s, peak at start + {eps}*{t_n} s, {eta} of the peak at start + {t_n} s;")
         }
-        Envelope::Jennings { t1, t2, decay } => format!("  Jennings envelope: rise to {t1} s, strong phase to {t2} s, decay {decay} 1/s;"),
+        Envelope::Jennings { t1, t2, decay } => {
+            format!("  Jennings envelope: rise to {t1} s, strong phase to {t2} s, decay {decay} 1/s;")
+        }
     }
 }
 
@@ -87,7 +99,14 @@ pub fn vallorcine_like_header(r: &Record) -> Vec<String> {
             s.target_pga
         ),
         format!("units: time s, acceleration m/s^2; dt = {} s; {} samples; duration {} s", r.dt, r.len(), r.duration()),
-        format!("PGA = {:.4} m/s^2, PGV = {:.4} m/s, PGD = {:.4} m, Arias = {:.4} m/s, D5-95 = {:.2} s", im.pga, im.pgv, im.pgd, im.arias, im.d5_95()),
+        format!(
+            "PGA = {:.4} m/s^2, PGV = {:.4} m/s, PGD = {:.4} m, Arias = {:.4} m/s, D5-95 = {:.2} s",
+            im.pga,
+            im.pgv,
+            im.pgd,
+            im.arias,
+            im.d5_95()
+        ),
         "columns: t [s]  a [m/s^2]".into(),
     ]
 }

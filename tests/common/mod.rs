@@ -61,7 +61,11 @@ pub fn run_with_timeout(mut cmd: Command, limit: std::time::Duration) -> Output 
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     };
-    let out = Output { status, stdout: std::fs::read(&po).unwrap_or_default(), stderr: std::fs::read(&pe).unwrap_or_default() };
+    let out = Output {
+        status,
+        stdout: std::fs::read(&po).unwrap_or_default(),
+        stderr: std::fs::read(&pe).unwrap_or_default(),
+    };
     let _ = std::fs::remove_file(po);
     let _ = std::fs::remove_file(pe);
     out
@@ -182,8 +186,7 @@ pub fn node_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
     let f = hdf5::File::open(dir.join("results.h5")).expect("open results.h5");
     let ids: Vec<u64> = f.dataset("mesh/node_ids").expect("node_ids").read_raw().expect("read node_ids");
     let steps = f.group("steps").expect("steps group");
-    let steps: Vec<usize> =
-        steps.member_names().expect("step names").iter().filter_map(|s| s.parse().ok()).collect();
+    let steps: Vec<usize> = steps.member_names().expect("step names").iter().filter_map(|s| s.parse().ok()).collect();
     let last = steps.iter().max().expect("a step");
     let ds = f.dataset(&format!("steps/{last}/{name}")).expect("field dataset");
     let v: Vec<f64> = ds.read_raw().expect("read field");
@@ -193,7 +196,13 @@ pub fn node_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
 
 /// Writes an ASCII MSH 4.1 file of 4-node quadrangles in one physical surface group `surface`,
 /// plus point groups (name, node indices), as [`write_line_mesh`] does for lines.
-pub fn write_quad_mesh(path: &Path, nodes: &[[f64; 3]], quads: &[[usize; 4]], surface: &str, point_groups: &[(&str, Vec<usize>)]) {
+pub fn write_quad_mesh(
+    path: &Path,
+    nodes: &[[f64; 3]],
+    quads: &[[usize; 4]],
+    surface: &str,
+    point_groups: &[(&str, Vec<usize>)],
+) {
     let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
     s += &format!("{}\n2 1 \"{surface}\"\n", 1 + point_groups.len());
     for (i, (name, _)) in point_groups.iter().enumerate() {
@@ -276,7 +285,8 @@ pub fn write_mixed_mesh(
         s += &format!("{:.17e} {:.17e} {:.17e}\n", x[0], x[1], x[2]);
     }
     s += "$EndNodes\n$Elements\n";
-    let n_el: usize = surfaces.iter().map(|g| g.1.len()).sum::<usize>() + curves.iter().map(|g| g.1.len()).sum::<usize>() + pts.len();
+    let n_el: usize =
+        surfaces.iter().map(|g| g.1.len()).sum::<usize>() + curves.iter().map(|g| g.1.len()).sum::<usize>() + pts.len();
     s += &format!("{} {} 1 {}\n", ns + nc + pts.len(), n_el, n_el);
     let mut tag = 1;
     for (k, (_, n)) in pts.iter().enumerate() {
@@ -307,10 +317,10 @@ pub fn cell_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
     let f = hdf5::File::open(dir.join("results.h5")).expect("open results.h5");
     let ids: Vec<u64> = f.dataset("mesh/cell_ids").expect("cell_ids").read_raw().expect("read cell_ids");
     let steps = f.group("steps").expect("steps group");
-    let steps: Vec<usize> =
-        steps.member_names().expect("step names").iter().filter_map(|s| s.parse().ok()).collect();
+    let steps: Vec<usize> = steps.member_names().expect("step names").iter().filter_map(|s| s.parse().ok()).collect();
     let last = steps.iter().max().expect("a step");
-    let v: Vec<f64> = f.dataset(&format!("steps/{last}/{name}")).expect("cell field dataset").read_raw().expect("read field");
+    let v: Vec<f64> =
+        f.dataset(&format!("steps/{last}/{name}")).expect("cell field dataset").read_raw().expect("read field");
     let nc = v.len() / ids.len();
     ids.iter().enumerate().map(|(i, &id)| (id, v[i * nc..(i + 1) * nc].to_vec())).collect()
 }
@@ -318,5 +328,6 @@ pub fn cell_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
 /// `<dir>/summary.json`.
 pub fn summary(dir: &Path) -> serde_json::Value {
     let p = dir.join("summary.json");
-    serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).expect("summary.json")
+    serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
+        .expect("summary.json")
 }

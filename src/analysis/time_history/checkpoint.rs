@@ -17,8 +17,8 @@
 //! envelopes; an FNV-1a checksum of everything before it. A restart needs the same rank count
 //! (the partition, hence the owned DOFs and elements, depends on it).
 use crate::element::Element;
-use crate::parallel::Context;
 use crate::error::Error;
+use crate::parallel::Context;
 use mpi::traits::CommunicatorCollectives;
 use std::path::{Path, PathBuf};
 
@@ -51,7 +51,9 @@ pub fn element_states(elements: &[Box<dyn Element>]) -> Result<Vec<Vec<f64>>, Er
         .iter()
         .map(|e| {
             let mut s = vec![0.0; e.n_state()];
-            e.save_state(&mut s).map(|_| s).map_err(|source| Error::Analysis(format!("checkpoint: {} state: {source}", e.kind_name())))
+            e.save_state(&mut s)
+                .map(|_| s)
+                .map_err(|source| Error::Analysis(format!("checkpoint: {} state: {source}", e.kind_name())))
         })
         .collect()
 }
@@ -145,7 +147,10 @@ fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, String> {
     let bad = || "truncated file".to_string();
     let h: Vec<usize> = (0..7).map(|_| r.u64().map(|v| v as usize)).collect::<Option<_>>().ok_or_else(bad)?;
     if h[0] != ranks {
-        return Err(format!("written by a run on {} rank(s); restart it on {} rank(s) (mpirun -n {})", h[0], h[0], h[0]));
+        return Err(format!(
+            "written by a run on {} rank(s); restart it on {} rank(s) (mpirun -n {})",
+            h[0], h[0], h[0]
+        ));
     }
     if h[1] != rank {
         return Err(format!("holds rank {}, expected {rank}", h[1]));
@@ -172,7 +177,9 @@ pub fn write(ctx: &Context, results: &Path, c: &Checkpoint) -> Result<PathBuf, E
     let name = format!("step-{:09}", c.step);
     let dir = root.join(&name);
     let file = dir.join(format!("rank-{:04}.bin", ctx.rank));
-    let mine = std::fs::create_dir_all(&dir).and_then(|_| write_atomic(&file, &encode(c, ctx.size, ctx.rank))).map_err(|e| io_err(&file, e));
+    let mine = std::fs::create_dir_all(&dir)
+        .and_then(|_| write_atomic(&file, &encode(c, ctx.size, ctx.rank)))
+        .map_err(|e| io_err(&file, e));
     crate::parallel::agree(&ctx.comm, mine, Error::exit_code)?;
     let latest = root.join("latest.json");
     let published = if ctx.rank == 0 {
@@ -183,7 +190,11 @@ pub fn write(ctx: &Context, results: &Path, c: &Checkpoint) -> Result<PathBuf, E
             if let Ok(entries) = std::fs::read_dir(&root) {
                 for e in entries.flatten() {
                     let p = e.path();
-                    if p.is_dir() && p.file_name().is_some_and(|f| f.to_string_lossy().starts_with("step-") && f.to_string_lossy() != name.as_str()) {
+                    if p.is_dir()
+                        && p.file_name().is_some_and(|f| {
+                            f.to_string_lossy().starts_with("step-") && f.to_string_lossy() != name.as_str()
+                        })
+                    {
                         let _ = std::fs::remove_dir_all(p);
                     }
                 }
@@ -203,7 +214,8 @@ pub fn read_latest(ctx: &Context, results: &Path) -> Result<Checkpoint, Error> {
     let root = checkpoint_dir(results);
     let latest = root.join("latest.json");
     let read = (|| -> Result<Checkpoint, Error> {
-        let text = std::fs::read_to_string(&latest).map_err(|e| io_err(&latest, format!("{e} (no checkpoint to restart from)")))?;
+        let text = std::fs::read_to_string(&latest)
+            .map_err(|e| io_err(&latest, format!("{e} (no checkpoint to restart from)")))?;
         let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| io_err(&latest, e))?;
         let dir = v["dir"].as_str().ok_or_else(|| io_err(&latest, "no \"dir\" entry"))?;
         let file = root.join(dir).join(format!("rank-{:04}.bin", ctx.rank));

@@ -29,7 +29,13 @@ pub fn largest_residual(ctx: &Context, r: &[f64], dofs: &DofMap, mesh: &Mesh) ->
 /// Collective. Elements whose trial state differs from their committed state: their number over
 /// all ranks and the (Gmsh tag, largest change) of up to five with the largest changes. Leaves
 /// every element with trial = committed.
-pub fn changed_elements(ctx: &Context, elements: &mut [Box<dyn Element>], local_cells: &[usize], mesh: &Mesh, model: &StructuralModel) -> (u64, Vec<(u64, f64)>) {
+pub fn changed_elements(
+    ctx: &Context,
+    elements: &mut [Box<dyn Element>],
+    local_cells: &[usize],
+    mesh: &Mesh,
+    model: &StructuralModel,
+) -> (u64, Vec<(u64, f64)>) {
     let mut changed: Vec<(u64, f64)> = Vec::new();
     for (i, e) in elements.iter_mut().enumerate() {
         let n = e.n_state();

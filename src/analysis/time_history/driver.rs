@@ -30,11 +30,11 @@ use super::EnergyBalance;
 use crate::analysis::output::{global_max_with_tag, node_triplets, MeshPiece};
 use crate::config::{scheme_parameters, DynamicsConfig, Job};
 use crate::element::AppliedLoads;
+use crate::error::Error;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
-use crate::error::Error;
 use mpi::traits::{Communicator, Root};
 use std::time::Instant;
 
@@ -126,7 +126,13 @@ pub fn ground_motion(cfg: &DynamicsConfig) -> GroundMotion {
 }
 
 /// Collective. Runs the job: setup, gravity or restart, integration.
-pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, restart: bool) -> Result<TimeHistorySummary, Error> {
+pub fn run(
+    ctx: &Context,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    restart: bool,
+) -> Result<TimeHistorySummary, Error> {
     let log = &ctx.log;
     let cfg = job.spec.dynamics.as_ref().ok_or_else(|| Error::Analysis("a time history needs [dynamics]".into()))?;
     let (beta, gamma, alpha) = scheme_parameters(cfg);
@@ -148,7 +154,14 @@ pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, resta
     ));
     for g in &cfg.ground_motion {
         if let Some(r) = &g.record {
-            log.info(format!("ground motion {:?}: {} ({} s, dt {} s, PGA {:.4} m/s²)", g.direction, r.name, r.duration(), r.dt, crate::seismic::pga(r)));
+            log.info(format!(
+                "ground motion {:?}: {} ({} s, dt {} s, PGA {:.4} m/s²)",
+                g.direction,
+                r.name,
+                r.duration(),
+                r.dt,
+                crate::seismic::pga(r)
+            ));
         }
     }
     let t0 = Instant::now();
@@ -157,7 +170,12 @@ pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, resta
         log.info(format!("restart from the checkpoint of step {} (t = {} s)", c.step, c.t));
         restore(ctx, &mut sys, c)?
     } else {
-        let g = GravitySettings { steps: cfg.gravity_steps, max_iterations: cfg.max_iterations.max(10), tolerance: cfg.force_tolerance.min(1e-8), max_cuts: cfg.max_substeps };
+        let g = GravitySettings {
+            steps: cfg.gravity_steps,
+            max_iterations: cfg.max_iterations.max(10),
+            tolerance: cfg.force_tolerance.min(1e-8),
+            max_cuts: cfg.max_substeps,
+        };
         let u0 = match solve_gravity(&mut sys, g, log) {
             Ok(u) => u,
             Err(f) => return Err(gravity_failure(ctx, &mut sys, job, mesh, model, f)),
@@ -169,7 +187,14 @@ pub fn run(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel, resta
     let first_step = state.step;
     let stem = if restart { format!("results-restart-{first_step:06}") } else { "results".to_string() };
     let it = Integration { cfg, job, mesh, model, ground: &ground, stem, restart };
-    let settings = StepSettings { scheme: Scheme { beta, gamma, alpha }, newton: cfg.newton, krylov_dimension: cfg.krylov_dimension, max_iterations: cfg.max_iterations, tolerance: cfg.force_tolerance, max_substeps: cfg.max_substeps };
+    let settings = StepSettings {
+        scheme: Scheme { beta, gamma, alpha },
+        newton: cfg.newton,
+        krylov_dimension: cfg.krylov_dimension,
+        max_iterations: cfg.max_iterations,
+        tolerance: cfg.force_tolerance,
+        max_substeps: cfg.max_substeps,
+    };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes)?;
     summary.seconds[0] = t_setup;
     summary.seconds[1] = t_gravity;
@@ -194,7 +219,12 @@ fn restore(ctx: &Context, sys: &mut PetscSystem, c: Checkpoint) -> Result<(State
         }
         for (e, s) in sys.disc.elements.iter_mut().zip(&c.states) {
             if s.len() != e.n_state() {
-                return Err(Error::Analysis(format!("the checkpoint's {} state has {} values, the element {}", e.kind_name(), s.len(), e.n_state())));
+                return Err(Error::Analysis(format!(
+                    "the checkpoint's {} state has {} values, the element {}",
+                    e.kind_name(),
+                    s.len(),
+                    e.n_state()
+                )));
             }
             e.load_state(s).map_err(|source| Error::Analysis(format!("checkpoint: {source}")))?;
         }
@@ -209,7 +239,10 @@ fn restore(ctx: &Context, sys: &mut PetscSystem, c: Checkpoint) -> Result<(State
 /// Heights of the owned nodes above the model's lowest node.
 fn heights(sys: &PetscSystem, mesh: &Mesh) -> Vec<f64> {
     let dofs = &sys.disc.dofs;
-    let z0 = (0..mesh.coords.len()).filter(|&n| dofs.global[n] != usize::MAX).map(|n| mesh.coords[n][2]).fold(f64::INFINITY, f64::min);
+    let z0 = (0..mesh.coords.len())
+        .filter(|&n| dofs.global[n] != usize::MAX)
+        .map(|n| mesh.coords[n][2])
+        .fold(f64::INFINITY, f64::min);
     dofs.owned.iter().map(|&n| mesh.coords[n][2] - z0).collect()
 }
 
@@ -225,7 +258,14 @@ fn absolute(rel: &[f64], g: [f64; 3]) -> Vec<f64> {
 }
 
 /// Collective. The stepping loop from `state` to the end of `[dynamics] duration`.
-pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, settings: StepSettings, mut state: State, envelopes: Option<SavedEnvelopes>) -> Result<TimeHistorySummary, Error> {
+pub fn integrate(
+    ctx: &Context,
+    sys: &mut PetscSystem,
+    it: &Integration,
+    settings: StepSettings,
+    mut state: State,
+    envelopes: Option<SavedEnvelopes>,
+) -> Result<TimeHistorySummary, Error> {
     let log = &ctx.log;
     let cfg = it.cfg;
     let dir = &it.job.output_dir;
@@ -249,7 +289,11 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
     let mut energy_csv = CsvLog::open(ctx, &dir.join("energy.csv"), EnergyBalance::CSV_HEADER, restart_step)?;
     let mut monitor_csv = CsvLog::open(ctx, &dir.join("monitors.csv"), &monitor::header(&monitors), restart_step)?;
     let piece = MeshPiece::new(ctx, it.job, it.mesh, it.model, &sys.disc);
-    let mut writer = agree(&ctx.comm, ResultsWriter::create(&ctx.comm, dir, &it.stem, &piece.view()).map_err(Error::from), Error::exit_code)?;
+    let mut writer = agree(
+        &ctx.comm,
+        ResultsWriter::create(&ctx.comm, dir, &it.stem, &piece.view()).map_err(Error::from),
+        Error::exit_code,
+    )?;
     let mut summary = TimeHistorySummary {
         ranks: ctx.size,
         equations: 6 * sys.disc.dofs.n_global_nodes,
@@ -296,7 +340,8 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
             Ok(r) => r,
             Err(f) => {
                 let (rmax, tag, dof) = diagnosis::largest_residual(ctx, &f.r, &sys.disc.dofs, it.mesh);
-                let (count, worst) = diagnosis::changed_elements(ctx, &mut sys.disc.elements, &sys.disc.local_cells, it.mesh, it.model);
+                let (count, worst) =
+                    diagnosis::changed_elements(ctx, &mut sys.disc.elements, &sys.disc.local_cells, it.mesh, it.model);
                 let ck = save_checkpoint(ctx, sys, &state, &env, dir)?;
                 let listed: Vec<String> = worst.iter().map(|(t, d)| format!("{t} (Δstate {d:.3e})")).collect();
                 let msg = format!(
@@ -363,7 +408,8 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
     }
     summary.peak_displacement = [peak[0], peak[1], peak[2]];
     summary.peak_drift_ratio = peak[3];
-    summary.max_damage = [global_max_with_tag(&ctx.comm, env.cell_max(0), 0).0, global_max_with_tag(&ctx.comm, env.cell_max(1), 0).0];
+    summary.max_damage =
+        [global_max_with_tag(&ctx.comm, env.cell_max(0), 0).0, global_max_with_tag(&ctx.comm, env.cell_max(1), 0).0];
     let written: Result<(), Error> = (|| {
         let mut w = ResultsWriter::create(&ctx.comm, dir, "envelopes", &piece.view())?;
         w.begin_step(state.t)?;
@@ -406,12 +452,25 @@ pub fn integrate(ctx: &Context, sys: &mut PetscSystem, it: &Integration, setting
         e.relative_error(),
         summary.max_balance_error
     ));
-    log.info(format!("results: {} (every {} step(s)), {}, {}, {}", summary.results, cfg.output_every, dir.join("envelopes.xdmf").display(), dir.join("energy.csv").display(), dir.join("monitors.csv").display()));
+    log.info(format!(
+        "results: {} (every {} step(s)), {}, {}, {}",
+        summary.results,
+        cfg.output_every,
+        dir.join("envelopes.xdmf").display(),
+        dir.join("energy.csv").display(),
+        dir.join("monitors.csv").display()
+    ));
     Ok(summary)
 }
 
 /// Collective. Checkpoints the committed state.
-fn save_checkpoint(ctx: &Context, sys: &PetscSystem, state: &State, env: &Envelopes, dir: &std::path::Path) -> Result<std::path::PathBuf, Error> {
+fn save_checkpoint(
+    ctx: &Context,
+    sys: &PetscSystem,
+    state: &State,
+    env: &Envelopes,
+    dir: &std::path::Path,
+) -> Result<std::path::PathBuf, Error> {
     let states = checkpoint::element_states(&sys.disc.elements);
     let states = agree(&ctx.comm, states, Error::exit_code)?;
     let c = Checkpoint {
@@ -433,7 +492,14 @@ const CRACKED: f64 = 0.5;
 /// where the out-of-balance force of the last attempt is largest, the groups with cells cracked
 /// through (`d_t_max` > 0.5) at the last equilibrium, and `gravity-failure.xdmf`, that
 /// equilibrium's displacements and cell outputs for ParaView.
-fn gravity_failure(ctx: &Context, sys: &mut PetscSystem, job: &Job, mesh: &Mesh, model: &StructuralModel, f: GravityFailure) -> Error {
+fn gravity_failure(
+    ctx: &Context,
+    sys: &mut PetscSystem,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    f: GravityFailure,
+) -> Error {
     let (rmax, tag, dof) = diagnosis::largest_residual(ctx, &f.r, &sys.disc.dofs, mesh);
     let mut msg = format!("{}. Largest out-of-balance force {rmax:.4e} at node {tag}, DOF {dof}", f.message);
     let state = (|| -> Result<(std::path::PathBuf, String), Error> {
@@ -442,7 +508,11 @@ fn gravity_failure(ctx: &Context, sys: &mut PetscSystem, job: &Job, mesh: &Mesh,
         let (names, values) = crate::analysis::assembly::cell_outputs(ctx, &sys.disc, mesh, model, &u_local, &loads)?;
         let cracked = cracked_groups(ctx, sys, job, model, &names, &values);
         let piece = MeshPiece::new(ctx, job, mesh, model, &sys.disc);
-        let mut w = agree(&ctx.comm, ResultsWriter::create(&ctx.comm, &job.output_dir, "gravity-failure", &piece.view()).map_err(Error::from), Error::exit_code)?;
+        let mut w = agree(
+            &ctx.comm,
+            ResultsWriter::create(&ctx.comm, &job.output_dir, "gravity-failure", &piece.view()).map_err(Error::from),
+            Error::exit_code,
+        )?;
         let n = sys.disc.dofs.owned.len();
         let written: Result<(), Error> = (|| {
             w.begin_step(f.lambda)?;
@@ -471,7 +541,14 @@ fn gravity_failure(ctx: &Context, sys: &mut PetscSystem, job: &Job, mesh: &Mesh,
 }
 
 /// Collective. "cells with d_t_max > 0.5: group n of m, …" over all ranks, groups in job order.
-fn cracked_groups(ctx: &Context, sys: &PetscSystem, job: &Job, model: &StructuralModel, names: &[String], values: &[Vec<f64>]) -> String {
+fn cracked_groups(
+    ctx: &Context,
+    sys: &PetscSystem,
+    job: &Job,
+    model: &StructuralModel,
+    names: &[String],
+    values: &[Vec<f64>],
+) -> String {
     use mpi::collective::SystemOperation;
     use mpi::traits::CommunicatorCollectives;
     let parts = &job.spec.parts;
@@ -510,7 +587,14 @@ fn agreed(ctx: &Context, e: Error) -> Error {
 }
 
 /// Collective. One output step: relative and absolute motion, cell outputs.
-fn write_step(ctx: &Context, w: &mut ResultsWriter, sys: &mut PetscSystem, it: &Integration, state: &State, env: &mut Envelopes) -> Result<(), Error> {
+fn write_step(
+    ctx: &Context,
+    w: &mut ResultsWriter,
+    sys: &mut PetscSystem,
+    it: &Integration,
+    state: &State,
+    env: &mut Envelopes,
+) -> Result<(), Error> {
     let n = sys.disc.dofs.owned.len();
     let ag = it.ground.acceleration(state.t);
     let (vg, ug) = it.ground.velocity_displacement(state.t);

@@ -96,7 +96,16 @@ impl EnergyBalance {
 
     /// The values as f64s, for checkpoints.
     pub fn to_array(&self) -> [f64; Self::N_VALUES] {
-        [self.input, self.kinetic, self.internal_work, self.damping, self.strain, self.strain0, self.damage, self.damage0]
+        [
+            self.input,
+            self.kinetic,
+            self.internal_work,
+            self.damping,
+            self.strain,
+            self.strain0,
+            self.damage,
+            self.damage0,
+        ]
     }
 
     /// From [`Self::to_array`].

@@ -110,7 +110,8 @@ pub fn solve_gravity<S: DynamicSystem>(sys: &mut S, s: GravitySettings, log: &Lo
             control.converged();
             log.info(format!("gravity: λ = {lambda:.4}, {its} iteration(s), relative residual {rel:.2e}"));
             if lambda < 1.0 - 1e-12 && control.exhausted() {
-                let message = format!("gravity: stopped at λ = {lambda:.6}: {}", IncrementStop::Budget.describe(&control));
+                let message =
+                    format!("gravity: stopped at λ = {lambda:.6}: {}", IncrementStop::Budget.describe(&control));
                 return Err(GravityFailure { lambda, target: lambda, u, r: r.clone(), message });
             }
         } else {
@@ -306,7 +307,12 @@ mod tests {
     #[test]
     fn a_linear_system_costs_no_extra_evaluation() {
         let k = nalgebra::DMatrix::from_row_slice(2, 2, &[4.0, -1.0, -1.0, 3.0]);
-        let mut dense = super::super::system::DenseSystem::new(nalgebra::DMatrix::identity(2, 2), nalgebra::DMatrix::zeros(2, 2), k, vec![]);
+        let mut dense = super::super::system::DenseSystem::new(
+            nalgebra::DMatrix::identity(2, 2),
+            nalgebra::DMatrix::zeros(2, 2),
+            k,
+            vec![],
+        );
         dense.f_static = vec![1.0, 2.0];
         let mut sys = Counted(dense, 0);
         let u = solve_gravity(&mut sys, settings(4), &Log::new(1, true)).unwrap();

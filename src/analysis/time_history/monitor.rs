@@ -6,9 +6,9 @@
 //! nearest to it. The rank that owns the node supplies its values; a sum over ranks brings them to
 //! every rank (the others add zeros).
 use crate::config::MonitorConfig;
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::parallel::{Context, DofMap};
-use crate::error::Error;
 use mpi::traits::CommunicatorCollectives;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -37,17 +37,28 @@ pub fn resolve(cfg: &[MonitorConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<
     for (i, m) in cfg.iter().enumerate() {
         let what = format!("dynamics.monitor[{i}] ('{}')", m.name);
         let node = match (m.node, &m.group, m.near) {
-            (Some(tag), _, _) => mesh.node_tags.iter().position(|&t| t == tag).ok_or_else(|| Error::Analysis(format!("{what}: the mesh has no node with tag {tag}")))?,
+            (Some(tag), _, _) => mesh
+                .node_tags
+                .iter()
+                .position(|&t| t == tag)
+                .ok_or_else(|| Error::Analysis(format!("{what}: the mesh has no node with tag {tag}")))?,
             (None, Some(g), Some(p)) => {
                 let group = mesh.group(g).map_err(|e| Error::Analysis(format!("{what}: {e}")))?;
                 let nodes = mesh.nodes_in_group(group);
                 let d2 = |n: usize| (0..3).map(|k| (mesh.coords[n][k] - p[k]).powi(2)).sum::<f64>();
-                nodes.into_iter().filter(|&n| dofs.global[n] != usize::MAX).min_by(|&a, &b| d2(a).total_cmp(&d2(b))).ok_or_else(|| Error::Analysis(format!("{what}: group '{g}' has no node of the model")))?
+                nodes
+                    .into_iter()
+                    .filter(|&n| dofs.global[n] != usize::MAX)
+                    .min_by(|&a, &b| d2(a).total_cmp(&d2(b)))
+                    .ok_or_else(|| Error::Analysis(format!("{what}: group '{g}' has no node of the model")))?
             }
             _ => return Err(Error::Analysis(format!("{what}: give node, or group with near"))),
         };
         if dofs.global[node] == usize::MAX {
-            return Err(Error::Analysis(format!("{what}: node {} belongs to no element of the model", mesh.node_tags[node])));
+            return Err(Error::Analysis(format!(
+                "{what}: node {} belongs to no element of the model",
+                mesh.node_tags[node]
+            )));
         }
         let owned_index = dofs.owned.iter().position(|&n| n == node);
         out.push(Monitor { name: m.name.clone(), node, tag: mesh.node_tags[node], at: mesh.coords[node], owned_index });
@@ -137,11 +148,15 @@ impl CsvLog {
 pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>, String> {
     use crate::plot::{LineChart, SeriesStyle};
     let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
-    let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()).collect();
+    let rows: Vec<Vec<f64>> =
+        text.lines().skip(1).map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()).collect();
     let mut files = Vec::new();
     for (k, m) in monitors.iter().enumerate() {
         let [x, y, z] = m.at;
-        let title = format!("monitor '{}' (node {} at x {x:.2}, y {y:.2}, z {z:.2} m): displacement relative to the base", m.name, m.tag);
+        let title = format!(
+            "monitor '{}' (node {} at x {x:.2}, y {y:.2}, z {z:.2} m): displacement relative to the base",
+            m.name, m.tag
+        );
         let mut chart = LineChart::new(&title, "time t [s]", "displacement u [mm]").size(1200, 700);
         let mut drawn = 0;
         for (c, q) in ["u_x", "u_y", "u_z"].iter().enumerate() {

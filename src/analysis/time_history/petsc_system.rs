@@ -21,11 +21,11 @@ use crate::analysis::assembly::{self, Rows};
 use crate::analysis::Discretization;
 use crate::config::Job;
 use crate::element::{ElementOutput, EvalRequest, MassKind};
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Matrix, Vector};
-use crate::error::Error;
 use mpi::traits::CommunicatorCollectives;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -76,7 +76,14 @@ fn new_solver(ctx: &Context, linear: bool) -> Result<Ksp, Error> {
 impl<'a> PetscSystem<'a> {
     /// Collective. Sets up the discretization, assembles `M`, `K₀`, the static load and the
     /// influence vectors, and creates the solver (options read now, under no prefix).
-    pub fn new(ctx: &'a Context, job: &Job, mesh: &'a Mesh, model: &'a StructuralModel, mass: MassKind, rayleigh: Rayleigh) -> Result<PetscSystem<'a>, Error> {
+    pub fn new(
+        ctx: &'a Context,
+        job: &Job,
+        mesh: &'a Mesh,
+        model: &'a StructuralModel,
+        mass: MassKind,
+        rayleigh: Rayleigh,
+    ) -> Result<PetscSystem<'a>, Error> {
         let mut disc = Discretization::setup(ctx, job, mesh, model)?;
         let n = disc.dofs.n_owned_dofs();
         let format = job.spec.solver.matrix;

@@ -19,7 +19,14 @@ impl Progress {
     /// For steps `first_step..total`, a log line at most every `every_seconds`.
     pub fn new(log: &Log, first_step: usize, total: usize, every_seconds: f64) -> Progress {
         let now = Instant::now();
-        Progress { start: now, last_line: now, first_step, total, every_seconds, tty: log.is_root() && std::io::stderr().is_terminal() }
+        Progress {
+            start: now,
+            last_line: now,
+            first_step,
+            total,
+            every_seconds,
+            tty: log.is_root() && std::io::stderr().is_terminal(),
+        }
     }
 
     /// Estimated seconds left after `step` steps.

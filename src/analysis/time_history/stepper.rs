@@ -77,7 +77,12 @@ impl State {
     }
 
     /// From given `u`, `v`, `a` (the caller ensures that `a` satisfies the equation of motion).
-    pub fn new<S: DynamicSystem>(sys: &mut S, u: Vec<f64>, v: Vec<f64>, a: Vec<f64>) -> Result<State, crate::error::Error> {
+    pub fn new<S: DynamicSystem>(
+        sys: &mut S,
+        u: Vec<f64>,
+        v: Vec<f64>,
+        a: Vec<f64>,
+    ) -> Result<State, crate::error::Error> {
         let n = sys.len();
         let mut f_int = vec![0.0; n];
         sys.internal_force(&u, &mut f_int)?;
@@ -87,7 +92,14 @@ impl State {
         sys.mass_mult(&v, &mut mv)?;
         let strain = 0.5 * sys.dot(&u, &f_int);
         let damage = sys.dissipated_energy();
-        let energy = EnergyBalance { kinetic: 0.5 * sys.dot(&v, &mv), strain, strain0: strain, damage, damage0: damage, ..Default::default() };
+        let energy = EnergyBalance {
+            kinetic: 0.5 * sys.dot(&v, &mv),
+            strain,
+            strain0: strain,
+            damage,
+            damage0: damage,
+            ..Default::default()
+        };
         Ok(State { step: 0, t: 0.0, u, v, a, f_int, cv, energy })
     }
 }
@@ -211,7 +223,14 @@ impl Stepper {
     }
 
     /// Newton iterations from `state` to `t1`; the trial solution is left in the scratch vectors.
-    fn attempt<S: DynamicSystem>(&mut self, sys: &mut S, ground: &dyn Fn(f64) -> [f64; 3], state: &State, t1: f64, h: f64) -> Attempt {
+    fn attempt<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        ground: &dyn Fn(f64) -> [f64; 3],
+        state: &State,
+        t1: f64,
+        h: f64,
+    ) -> Attempt {
         let st = self.settings;
         let sc = st.scheme;
         let n = sys.len();
@@ -235,7 +254,11 @@ impl Stepper {
         if let Err(e) = sys.mass_mult(&s.du, &mut s.ma) {
             return Attempt::Failed { residual: f64::INFINITY, reason: e.to_string() };
         }
-        let rhs_norm: f64 = sys.dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)]).iter().map(|x| x.sqrt()).sum();
+        let rhs_norm: f64 = sys
+            .dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)])
+            .iter()
+            .map(|x| x.sqrt())
+            .sum();
         let (c_m, c_c) = sc.jacobian_coefficients(h);
         s.u.copy_from_slice(&state.u);
         sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);

@@ -128,7 +128,9 @@ impl DynamicSystem for DenseSystem {
     }
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
         let lu = self.lu.as_ref().ok_or_else(|| Error::Analysis("solve before prepare".into()))?;
-        let s = lu.solve(&DVector::from_column_slice(r)).ok_or_else(|| Error::Analysis("singular dense Jacobian".into()))?;
+        let s = lu
+            .solve(&DVector::from_column_slice(r))
+            .ok_or_else(|| Error::Analysis("singular dense Jacobian".into()))?;
         x.copy_from_slice(s.as_slice());
         Ok(())
     }

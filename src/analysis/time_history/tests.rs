@@ -7,7 +7,14 @@ use nalgebra::DMatrix;
 use std::f64::consts::PI;
 
 fn settings(scheme: Scheme) -> StepSettings {
-    StepSettings { scheme, newton: NewtonKind::Modified, krylov_dimension: 3, max_iterations: 10, tolerance: 1e-12, max_substeps: 3 }
+    StepSettings {
+        scheme,
+        newton: NewtonKind::Modified,
+        krylov_dimension: 3,
+        max_iterations: 10,
+        tolerance: 1e-12,
+        max_substeps: 3,
+    }
 }
 
 fn sdof(m: f64, c: f64, k: f64) -> DenseSystem {
@@ -17,11 +24,21 @@ fn sdof(m: f64, c: f64, k: f64) -> DenseSystem {
 
 /// Runs `steps` steps of `dt` from (u0, v0) with ground acceleration `ag` along x; returns the
 /// states after each step (the initial one first).
-fn run(sys: &mut DenseSystem, scheme: Scheme, u0: Vec<f64>, v0: Vec<f64>, ag: &dyn Fn(f64) -> f64, dt: f64, steps: usize) -> Vec<State> {
+fn run(
+    sys: &mut DenseSystem,
+    scheme: Scheme,
+    u0: Vec<f64>,
+    v0: Vec<f64>,
+    ag: &dyn Fn(f64) -> f64,
+    dt: f64,
+    steps: usize,
+) -> Vec<State> {
     let n = sys.len();
     // a₀ from the equation of motion: M a₀ = f(0) − C v₀ − K u₀.
     let f0: Vec<f64> = sys.mass_influence(0).iter().map(|m| -m * ag(0.0)).collect();
-    let rhs = nalgebra::DVector::from_vec(f0) - &sys.c * nalgebra::DVector::from_vec(v0.clone()) - &sys.k * nalgebra::DVector::from_vec(u0.clone());
+    let rhs = nalgebra::DVector::from_vec(f0)
+        - &sys.c * nalgebra::DVector::from_vec(v0.clone())
+        - &sys.k * nalgebra::DVector::from_vec(u0.clone());
     let a0 = sys.m.clone().lu().solve(&rhs).unwrap();
     let mut st = State::new(sys, u0, v0, a0.as_slice().to_vec()).unwrap();
     assert_eq!(st.u.len(), n);
@@ -40,8 +57,8 @@ fn sdof_damped_free_vibration_matches_the_closed_form() {
     // u(t) = e^{−ζωt} [u₀ cos ω_d t + (v₀ + ζ ω u₀)/ω_d sin ω_d t] (Chopra, §2.2).
     // Average acceleration with Ω = ω h = 0.02: phase error ≈ Ω²/12 per radian (Chopra §5.5),
     // 3.3e-5 × ω t ≈ 4e-4 rad after two periods: tolerance 1e-3 of the initial amplitude.
-    let (m, k, zeta) = (2.0, 800.0, 0.05);
-    let w = (k / m as f64).sqrt();
+    let (m, k, zeta) = (2.0f64, 800.0f64, 0.05);
+    let w = (k / m).sqrt();
     let c = 2.0 * zeta * m * w;
     let mut sys = sdof(m, c, k);
     let dt = 0.02 / w;
@@ -180,7 +197,15 @@ fn undamped_linear_runs_conserve_energy() {
         assert!((e - e0).abs() <= 1e-10 * e0, "step {}: {e} vs {e0}", s.step);
     }
     let mut sys = two_dof(0.3, 0.001);
-    let out = run(&mut sys, Scheme::default(), vec![0.0, 0.0], vec![0.0, 0.0], &|t| (3.0 * t).sin() + 0.5 * (11.0 * t).cos(), 0.01, 2000);
+    let out = run(
+        &mut sys,
+        Scheme::default(),
+        vec![0.0, 0.0],
+        vec![0.0, 0.0],
+        &|t| (3.0 * t).sin() + 0.5 * (11.0 * t).cos(),
+        0.01,
+        2000,
+    );
     let last = out.last().unwrap().energy;
     assert!(last.input.abs() > 0.0 && last.damping > 0.0);
     assert!(last.relative_error() < 1e-10, "balance error {}", last.relative_error());
@@ -269,7 +294,14 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
     let run_with = |max_iterations: usize, max_substeps: usize, dt: f64, steps: usize| {
         let mut sys = mk();
         let mut st = State::new(&mut sys, vec![1.0], vec![0.0], vec![-51.0]).unwrap();
-        let mut stepper = Stepper::new(StepSettings { scheme: Scheme::default(), newton: NewtonKind::Modified, krylov_dimension: 3, max_iterations, tolerance: 1e-12, max_substeps });
+        let mut stepper = Stepper::new(StepSettings {
+            scheme: Scheme::default(),
+            newton: NewtonKind::Modified,
+            krylov_dimension: 3,
+            max_iterations,
+            tolerance: 1e-12,
+            max_substeps,
+        });
         let mut reports = Vec::new();
         for k in 1..=steps {
             match stepper.advance(&mut sys, &|_| [0.0; 3], &mut st, k as f64 * dt, dt) {
@@ -298,7 +330,14 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
     let go = |newton: NewtonKind| {
         let mut sys = Duffing { lin: sdof(1.0, 0.0, 1.0), k3: 5.0, lu: 1.0 };
         let mut st = State::new(&mut sys, vec![1.0], vec![0.0], vec![-6.0]).unwrap();
-        let mut stepper = Stepper::new(StepSettings { scheme: Scheme::default(), newton, krylov_dimension: 3, max_iterations: 40, tolerance: 1e-12, max_substeps: 0 });
+        let mut stepper = Stepper::new(StepSettings {
+            scheme: Scheme::default(),
+            newton,
+            krylov_dimension: 3,
+            max_iterations: 40,
+            tolerance: 1e-12,
+            max_substeps: 0,
+        });
         let (mut us, mut its) = (Vec::new(), 0);
         for k in 1..=40 {
             let r = stepper.advance(&mut sys, &|_| [0.0; 3], &mut st, k as f64 * 0.1, 0.1).unwrap();

@@ -262,8 +262,19 @@ mod tests {
         let want = local_stiffness(l, ea, ei);
         let (a, b, c, d, e) = (ea / l, 12.0 * ei / l.powi(3), 6.0 * ei / l.powi(2), 4.0 * ei / l, 2.0 * ei / l);
         let checks = [
-            ((0, 0), a), ((0, 3), -a), ((1, 1), b), ((1, 4), -b), ((1, 2), c), ((1, 5), c),
-            ((2, 4), -c), ((4, 5), -c), ((2, 2), d), ((5, 5), d), ((2, 5), e), ((0, 1), 0.0), ((0, 2), 0.0),
+            ((0, 0), a),
+            ((0, 3), -a),
+            ((1, 1), b),
+            ((1, 4), -b),
+            ((1, 2), c),
+            ((1, 5), c),
+            ((2, 4), -c),
+            ((4, 5), -c),
+            ((2, 2), d),
+            ((5, 5), d),
+            ((2, 5), e),
+            ((0, 1), 0.0),
+            ((0, 2), 0.0),
         ];
         for ((r, cc), v) in checks {
             assert!((k[(r, cc)] - v).abs() <= 1e-12 * a, "K[{r},{cc}] = {} vs {v}", k[(r, cc)]);
@@ -280,9 +291,9 @@ mod tests {
         let (g, ci, cj) = oblique();
         let k = beam_stiffness(&g, &p);
         for (about, u, th) in [
-            ([0.0, 0.0], [1e-3, -2e-3], 0.0), // translation
-            ([0.0, 0.0], [0.0, 0.0], 1e-3),   // rotation about the origin
-            ([3.0, -1.0], [0.0, 0.0], -2e-3), // rotation about a far point
+            ([0.0, 0.0], [1e-3, -2e-3], 0.0),  // translation
+            ([0.0, 0.0], [0.0, 0.0], 1e-3),    // rotation about the origin
+            ([3.0, -1.0], [0.0, 0.0], -2e-3),  // rotation about a far point
             ([0.2, 0.25], [4e-4, 1e-4], 5e-4), // both
         ] {
             let qi = rigid_motion_dofs(about, u, th, ci);

@@ -78,8 +78,8 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::{positive, MechanicsError};
-use super::thickness::ThicknessProfile;
 use super::kinematics::{cross, dot, perp};
+use super::thickness::ThicknessProfile;
 use super::MechParams;
 use crate::dem::polygon::{Polygon, P2};
 
@@ -471,7 +471,9 @@ mod tests {
         // Apart: no contact.
         let none = contact(&unit_square_at(0.0, 0.0), &unit_square_at(1.0, 0.0), [0.5, 0.5], [1.5, 0.5], 1.0, 1.0, &p);
         assert_eq!(none, Ok(None));
-        assert!(contact(&unit_square_at(0.0, 0.0), &unit_square_at(0.5, 0.0), [0.5; 2], [1.0, 0.5], 0.0, 1.0, &p).is_err());
+        assert!(
+            contact(&unit_square_at(0.0, 0.0), &unit_square_at(0.5, 0.0), [0.5; 2], [1.0, 0.5], 0.0, 1.0, &p).is_err()
+        );
     }
 
     #[test]

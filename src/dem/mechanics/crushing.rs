@@ -53,9 +53,11 @@
 //! - `g` has a positive minimum: the loaded width has shrunk below `H/κ` (a corner crushed
 //!   deep), the layer softens more slowly than the yield line and snaps. The dissipation is the
 //!   yield line's area up to that minimum plus the layer's energy there, released at once;
-//! - the step went past `κ_p = δ_u`: the rest of the yield line's area. `k_n > H`, i.e.
-//! `δ_u > σ_c ℓ_c/Ē` (the plastic penetration at full crushing exceeds the elastic one at the
-//! peak), is required, otherwise a flat contact snaps back; it is checked at every contact.
+//! - the step went past `κ_p = δ_u`: the rest of the yield line's area.
+//!
+//! `k_n > H`, i.e. `δ_u > σ_c ℓ_c/Ē` (the plastic penetration at full crushing exceeds the
+//! elastic one at the peak), is required, otherwise a flat contact snaps back; it is checked at
+//! every contact.
 //!
 //! **Why a uniform plastic depth in the Winkler layer.** The layer's potential
 //! `U = ½ κ ∫ (δ − δ_p)₊² ds` then gives the force, its point and its moment at once: for a
@@ -343,10 +345,12 @@ mod tests {
             // Lines a + (φ + 1) s and a + (φ − 1) s meet at s = 0; zeros at −a/(φ+1), a/(1−φ).
             ThicknessProfile { s: vec![-a / (phi + 1.0), 0.0, a / (1.0 - phi)], delta: vec![0.0, a, 0.0] }
         };
-        let strip = |a: f64, phi: f64| ThicknessProfile { s: vec![-0.05, 0.05], delta: vec![a - 0.05 * phi, a + 0.05 * phi] };
+        let strip =
+            |a: f64, phi: f64| ThicknessProfile { s: vec![-0.05, 0.05], delta: vec![a - 0.05 * phi, a + 0.05 * phi] };
         type Path = Box<dyn Fn(f64) -> (f64, f64)>;
+        type Profile = Box<dyn Fn(f64, f64) -> ThicknessProfile>;
         // (profile, path t ↦ (a, φ)): press, rock, press further.
-        let cases: Vec<(&str, Box<dyn Fn(f64, f64) -> ThicknessProfile>, Path, f64)> = vec![
+        let cases: Vec<(&str, Profile, Path, f64)> = vec![
             (
                 "corner",
                 Box::new(tent),
@@ -364,7 +368,13 @@ mod tests {
             (
                 "strip",
                 Box::new(strip),
-                Box::new(|t: f64| if t < 0.5 { (5e-4 * t / 0.5, 0.0) } else { (5e-4, 4e-3 * (std::f64::consts::TAU * (t - 0.5) / 0.5).sin()) }),
+                Box::new(|t: f64| {
+                    if t < 0.5 {
+                        (5e-4 * t / 0.5, 0.0)
+                    } else {
+                        (5e-4, 4e-3 * (std::f64::consts::TAU * (t - 0.5) / 0.5).sin())
+                    }
+                }),
                 0.1,
             ),
         ];
@@ -389,7 +399,10 @@ mod tests {
                 u_end = 0.5 * k * c.second;
             }
             let imbalance = work - u_end - diss;
-            println!("{name}: W {work:.6e} J, U {u_end:.6e} J, D {diss:.6e} J, imbalance {imbalance:.3e} J, κ_p {:.3e}", st.kappa);
+            println!(
+                "{name}: W {work:.6e} J, U {u_end:.6e} J, D {diss:.6e} J, imbalance {imbalance:.3e} J, κ_p {:.3e}",
+                st.kappa
+            );
             assert!(st.kappa > 0.0 && diss > 0.1 * work && u_end > 0.1 * work, "{name}: crushed, not through");
             assert!(imbalance.abs() <= 1e-6 * work, "{name}: W − U − D = {imbalance:e} of W = {work:e}");
         }

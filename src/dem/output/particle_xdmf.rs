@@ -131,7 +131,12 @@ fn rigid(sample: &Sample, p: usize, dofs: [f64; 3], x: [f64; 3]) -> [f64; 2] {
 
 /// Writes `<dir>/<stem>.h5` and `<dir>/<stem>.xdmf` (replacing older ones) from the particle
 /// states kept in `result`. Nothing is written when no state was kept.
-pub fn write_particle_states(dir: &Path, stem: &str, sample: &Sample, result: &TestResult) -> Result<(), ParticleOutputError> {
+pub fn write_particle_states(
+    dir: &Path,
+    stem: &str,
+    sample: &Sample,
+    result: &TestResult,
+) -> Result<(), ParticleOutputError> {
     if result.particle_states.is_empty() {
         return Ok(());
     }
@@ -147,10 +152,8 @@ pub fn write_particle_states(dir: &Path, stem: &str, sample: &Sample, result: &T
     let file = hdf5::File::create(&h5_path).map_err(h5("/"))?;
     let g = file.create_group("mesh").map_err(h5("/mesh"))?;
     let coords: Vec<f64> = mesh.coordinates.iter().flatten().copied().collect();
-    let coords = ndarray::Array2::from_shape_vec((n_nodes, 3), coords).map_err(|e| ParticleOutputError::Inconsistent {
-        file: h5_path.clone(),
-        reason: e.to_string(),
-    })?;
+    let coords = ndarray::Array2::from_shape_vec((n_nodes, 3), coords)
+        .map_err(|e| ParticleOutputError::Inconsistent { file: h5_path.clone(), reason: e.to_string() })?;
     g.new_dataset_builder().with_data(&coords).create("coordinates").map_err(h5("/mesh/coordinates"))?;
     g.new_dataset_builder().with_data(&mesh.topology[..]).create("topology").map_err(h5("/mesh/topology"))?;
     g.new_dataset_builder().with_data(&mesh.particle[..]).create("particle").map_err(h5("/mesh/particle"))?;
@@ -161,16 +164,20 @@ pub fn write_particle_states(dir: &Path, stem: &str, sample: &Sample, result: &T
         if ps.dofs.len() != sample.particles.len() {
             return Err(ParticleOutputError::Inconsistent {
                 file: h5_path.clone(),
-                reason: format!("state {}: {} particle states for {} stones", ps.state, ps.dofs.len(), sample.particles.len()),
+                reason: format!(
+                    "state {}: {} particle states for {} stones",
+                    ps.state,
+                    ps.dofs.len(),
+                    sample.particles.len()
+                ),
             });
         }
         let name = format!("/steps/{k}");
         let sg = steps.create_group(&k.to_string()).map_err(h5(&name))?;
         let curve = result.curve.get(ps.state);
-        for (attr, value) in [
-            ("strain", curve.map_or(f64::NAN, |c| c.strain)),
-            ("stress", curve.map_or(f64::NAN, |c| c.stress)),
-        ] {
+        for (attr, value) in
+            [("strain", curve.map_or(f64::NAN, |c| c.strain)), ("stress", curve.map_or(f64::NAN, |c| c.stress))]
+        {
             sg.new_attr::<f64>().create(attr).and_then(|a| a.write_scalar(&value)).map_err(h5(&name))?;
         }
         sg.new_attr::<u64>().create("state").and_then(|a| a.write_scalar(&(ps.state as u64))).map_err(h5(&name))?;
@@ -186,7 +193,8 @@ pub fn write_particle_states(dir: &Path, stem: &str, sample: &Sample, result: &T
             };
             disp.extend([d[0], d[1], 0.0]);
         }
-        let (mut pd, mut rot, mut crack) = (Vec::with_capacity(3 * n_cells), Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
+        let (mut pd, mut rot, mut crack) =
+            (Vec::with_capacity(3 * n_cells), Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
         for &(i, j) in &mesh.stones {
             let (a, b) = (ps.dofs[i], ps.dofs[j]);
             pd.extend([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0]);
@@ -200,7 +208,10 @@ pub fn write_particle_states(dir: &Path, stem: &str, sample: &Sample, result: &T
         };
         let disp = arr(disp, n_nodes)?;
         let pd = arr(pd, n_cells)?;
-        sg.new_dataset_builder().with_data(&disp).create("displacement").map_err(h5(&format!("{name}/displacement")))?;
+        sg.new_dataset_builder()
+            .with_data(&disp)
+            .create("displacement")
+            .map_err(h5(&format!("{name}/displacement")))?;
         sg.new_dataset_builder()
             .with_data(&pd)
             .create("particle_displacement")
@@ -217,7 +228,17 @@ pub fn write_particle_states(dir: &Path, stem: &str, sample: &Sample, result: &T
             ("crack", "Cell", 1, "Int", 4),
         ] {
             let rows = if center == "Node" { n_nodes } else { n_cells };
-            push_attribute(&mut xml_steps, &h5_name, field, center, rows, comps, number, prec, &format!("{name}/{field}"));
+            push_attribute(
+                &mut xml_steps,
+                &h5_name,
+                field,
+                center,
+                rows,
+                comps,
+                number,
+                prec,
+                &format!("{name}/{field}"),
+            );
         }
         xml_steps.push_str("      </Grid>\n");
     }
@@ -248,7 +269,17 @@ fn push_mesh(s: &mut String, h5: &str, n_nodes: usize, n_cells: usize, topo_len:
 }
 
 #[allow(clippy::too_many_arguments)]
-fn push_attribute(s: &mut String, h5: &str, name: &str, center: &str, rows: usize, comps: usize, number: &str, prec: u8, path: &str) {
+fn push_attribute(
+    s: &mut String,
+    h5: &str,
+    name: &str,
+    center: &str,
+    rows: usize,
+    comps: usize,
+    number: &str,
+    prec: u8,
+    path: &str,
+) {
     let (kind, dims) = if comps == 1 { ("Scalar", format!("{rows}")) } else { ("Vector", format!("{rows} {comps}")) };
     let _ = writeln!(s, "        <Attribute Name=\"{name}\" AttributeType=\"{kind}\" Center=\"{center}\">");
     let _ = writeln!(

@@ -66,12 +66,7 @@ impl Sample {
     }
 
     /// Builds the sample of explicit seeds in `[0, width] × [0, height]` (particle `k` = seed `k`).
-    pub fn from_seeds(
-        width: f64,
-        height: f64,
-        seeds: &[P2],
-        options: &GeometryOptions,
-    ) -> Result<Sample, SampleError> {
+    pub fn from_seeds(width: f64, height: f64, seeds: &[P2], options: &GeometryOptions) -> Result<Sample, SampleError> {
         for (field, v) in [("width", width), ("height", height)] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(SampleError::InvalidConfig {
@@ -84,26 +79,14 @@ impl Sample {
         options.validate()?;
         check_seeds(width, height, seeds)?;
         let raw = clipped_cells(width, height, seeds);
-        let mut tess = Tessellation::weld(
-            &raw,
-            width,
-            height,
-            1e-9 * mean_spacing(width, height, seeds.len()),
-        )?;
-        let polygon = |t: &Tessellation, c: usize| {
-            Polygon::new(t.cells[c].iter().map(|&v| t.vertices[v]).collect())
-        };
-        let mean_d = (0..seeds.len())
-            .map(|c| 2.0 * (polygon(&tess, c).area() / std::f64::consts::PI).sqrt())
-            .sum::<f64>()
-            / seeds.len() as f64;
-        let merged_facets =
-            tess.merge_tiny_facets(options.facet_tolerance * mean_d, options.tiny_facets)?;
-        let particles: Vec<Particle> = seeds
-            .iter()
-            .enumerate()
-            .map(|(c, &s)| Particle::new(polygon(&tess, c), s))
-            .collect();
+        let mut tess = Tessellation::weld(&raw, width, height, 1e-9 * mean_spacing(width, height, seeds.len()))?;
+        let polygon = |t: &Tessellation, c: usize| Polygon::new(t.cells[c].iter().map(|&v| t.vertices[v]).collect());
+        let mean_d =
+            (0..seeds.len()).map(|c| 2.0 * (polygon(&tess, c).area() / std::f64::consts::PI).sqrt()).sum::<f64>()
+                / seeds.len() as f64;
+        let merged_facets = tess.merge_tiny_facets(options.facet_tolerance * mean_d, options.tiny_facets)?;
+        let particles: Vec<Particle> =
+            seeds.iter().enumerate().map(|(c, &s)| Particle::new(polygon(&tess, c), s)).collect();
         check_cells(width, height, &particles)?;
         let mut beams: Vec<Beam> = tess
             .facets()?
@@ -111,17 +94,7 @@ impl Sample {
             .map(|f| {
                 let (pi, pj) = (&particles[f.i], &particles[f.j]);
                 let facet = [tess.vertices[f.a], tess.vertices[f.b]];
-                Beam::new(
-                    f.i,
-                    f.j,
-                    pi.seed,
-                    pj.seed,
-                    pi.centroid,
-                    pj.centroid,
-                    facet,
-                    options.thickness,
-                    options.alpha,
-                )
+                Beam::new(f.i, f.j, pi.seed, pj.seed, pi.centroid, pj.centroid, facet, options.thickness, options.alpha)
             })
             .collect();
         beams.sort_by_key(|b| (b.i, b.j));
@@ -142,12 +115,7 @@ impl Sample {
             particles,
             beams,
             neighbours,
-            boundary: BoundaryParticles {
-                bottom,
-                top,
-                left,
-                right,
-            },
+            boundary: BoundaryParticles { bottom, top, left, right },
             merged_facets,
         })
     }
@@ -181,8 +149,6 @@ impl Sample {
     /// The index of the beam between particles `i` and `j` (either order), if any.
     pub fn beam_between(&self, i: usize, j: usize) -> Option<usize> {
         let list = self.neighbours.get(i)?;
-        list.binary_search_by_key(&j, |&(n, _)| n)
-            .ok()
-            .map(|k| list[k].1)
+        list.binary_search_by_key(&j, |&(n, _)| n).ok().map(|k| list[k].1)
     }
 }

@@ -26,13 +26,7 @@ pub fn check_seeds(width: f64, height: f64, seeds: &[P2]) -> Result<(), SampleEr
     for (index, p) in seeds.iter().enumerate() {
         let inside = p[0] > 0.0 && p[0] < width && p[1] > 0.0 && p[1] < height;
         if !inside {
-            return Err(SampleError::SeedOutsideDomain {
-                index,
-                x: p[0],
-                y: p[1],
-                width,
-                height,
-            });
+            return Err(SampleError::SeedOutsideDomain { index, x: p[0], y: p[1], width, height });
         }
     }
     let h = mean_spacing(width, height, seeds.len());
@@ -43,20 +37,11 @@ pub fn check_seeds(width: f64, height: f64, seeds: &[P2]) -> Result<(), SampleEr
         let (kx, ky) = key(p);
         for dy in -1..=1 {
             for dx in -1..=1 {
-                for &i in buckets
-                    .get(&(kx + dx, ky + dy))
-                    .map(Vec::as_slice)
-                    .unwrap_or(&[])
-                {
+                for &i in buckets.get(&(kx + dx, ky + dy)).map(Vec::as_slice).unwrap_or(&[]) {
                     let q = seeds[i];
                     let distance = (q[0] - p[0]).hypot(q[1] - p[1]);
                     if distance <= tol {
-                        return Err(SampleError::DuplicateSeeds {
-                            i,
-                            j,
-                            distance,
-                            tolerance: tol,
-                        });
+                        return Err(SampleError::DuplicateSeeds { i, j, distance, tolerance: tol });
                     }
                 }
             }
@@ -71,31 +56,20 @@ pub fn check_cells(width: f64, height: f64, particles: &[Particle]) -> Result<()
     let h = mean_spacing(width, height, particles.len());
     for (k, p) in particles.iter().enumerate() {
         if p.polygon.len() < 3 || p.area < 1e-12 * h * h {
-            return Err(SampleError::ZeroAreaCell {
-                particle: k,
-                area: p.area,
-            });
+            return Err(SampleError::ZeroAreaCell { particle: k, area: p.area });
         }
         if !p.polygon.is_convex(1e-9) {
             return Err(SampleError::NonConvexCell { particle: k });
         }
         if !contains(&p.polygon, p.seed, 1e-12 * h) {
-            return Err(SampleError::SeedOutsideCell {
-                particle: k,
-                x: p.seed[0],
-                y: p.seed[1],
-            });
+            return Err(SampleError::SeedOutsideCell { particle: k, x: p.seed[0], y: p.seed[1] });
         }
     }
     let sum: f64 = particles.iter().map(|p| p.area).sum();
     let domain = width * height;
     let relative = (sum - domain).abs() / domain;
     if relative > 1e-10 {
-        return Err(SampleError::TilingMismatch {
-            sum,
-            domain,
-            relative,
-        });
+        return Err(SampleError::TilingMismatch { sum, domain, relative });
     }
     Ok(())
 }
@@ -118,20 +92,11 @@ mod tests {
     fn bad_seeds_are_named() {
         assert_eq!(check_seeds(1.0, 1.0, &[]), Err(SampleError::NoSeeds));
         let e = check_seeds(1.0, 1.0, &[[0.5, 0.5], [1.0, 0.5]]).unwrap_err();
-        assert!(
-            matches!(e, SampleError::SeedOutsideDomain { index: 1, .. }),
-            "{e}"
-        );
+        assert!(matches!(e, SampleError::SeedOutsideDomain { index: 1, .. }), "{e}");
         let e = check_seeds(1.0, 1.0, &[[0.5, f64::NAN]]).unwrap_err();
-        assert!(
-            matches!(e, SampleError::SeedOutsideDomain { index: 0, .. }),
-            "{e}"
-        );
+        assert!(matches!(e, SampleError::SeedOutsideDomain { index: 0, .. }), "{e}");
         let e = check_seeds(1.0, 1.0, &[[0.2, 0.2], [0.5, 0.5], [0.2, 0.2 + 1e-12]]).unwrap_err();
-        assert!(
-            matches!(e, SampleError::DuplicateSeeds { i: 0, j: 2, .. }),
-            "{e}"
-        );
+        assert!(matches!(e, SampleError::DuplicateSeeds { i: 0, j: 2, .. }), "{e}");
         assert!(e.to_string().contains("seeds 0 and 2"));
         assert!(check_seeds(1.0, 1.0, &[[0.2, 0.2], [0.2, 0.2 + 1e-6]]).is_ok());
     }
@@ -139,26 +104,14 @@ mod tests {
     #[test]
     fn bad_cells_are_named() {
         // A non-convex "cell" (an L) and a cell not containing its seed.
-        let l = Polygon::new(vec![
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 0.5],
-            [0.5, 0.5],
-            [0.5, 1.0],
-            [0.0, 1.0],
-        ]);
+        let l = Polygon::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 0.5], [0.5, 0.5], [0.5, 1.0], [0.0, 1.0]]);
         let e = check_cells(1.0, 1.0, &[Particle::new(l, [0.25, 0.25])]).unwrap_err();
         assert_eq!(e, SampleError::NonConvexCell { particle: 0 });
         let sq = Polygon::rectangle(0.0, 0.0, 1.0, 1.0);
         let e = check_cells(1.0, 1.0, &[Particle::new(sq.clone(), [1.5, 0.5])]).unwrap_err();
-        assert!(matches!(
-            e,
-            SampleError::SeedOutsideCell { particle: 0, .. }
-        ));
+        assert!(matches!(e, SampleError::SeedOutsideCell { particle: 0, .. }));
         let e = check_cells(2.0, 1.0, &[Particle::new(sq, [0.5, 0.5])]).unwrap_err();
-        assert!(
-            matches!(e, SampleError::TilingMismatch { relative, .. } if (relative - 0.5).abs() < 1e-15)
-        );
+        assert!(matches!(e, SampleError::TilingMismatch { relative, .. } if (relative - 0.5).abs() < 1e-15));
         let flat = Polygon::new(vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.0]]);
         let e = check_cells(1.0, 1.0, &[Particle::new(flat, [0.5, 0.0])]).unwrap_err();
         assert!(matches!(e, SampleError::ZeroAreaCell { particle: 0, .. }));

@@ -162,14 +162,7 @@ impl GeometryOptions {
     pub fn validate(&self) -> Result<(), SampleError> {
         positive("thickness", self.thickness)?;
         positive("alpha", self.alpha)?;
-        in_range(
-            "facet_tolerance",
-            self.facet_tolerance,
-            0.0,
-            0.5,
-            false,
-            "a number in [0, 0.5)",
-        )
+        in_range("facet_tolerance", self.facet_tolerance, 0.0, 0.5, false, "a number in [0, 0.5)")
     }
 }
 
@@ -226,14 +219,7 @@ impl SampleConfig {
                 at_least_one("n_per_course", c.n_per_course)?;
                 in_range("jitter", c.jitter, 0.0, 1.0, false, "a number in [0, 1)")?;
                 in_range("stagger", c.stagger, 0.0, 1.0, true, "a number in [0, 1]")?;
-                in_range(
-                    "size_variability",
-                    c.size_variability,
-                    0.0,
-                    1.0,
-                    false,
-                    "a number in [0, 1)",
-                )?;
+                in_range("size_variability", c.size_variability, 0.0, 1.0, false, "a number in [0, 1)")?;
             }
             SampleLayout::Random(r) => {
                 at_least_one("n_particles", r.n_particles)?;
@@ -248,11 +234,7 @@ impl SampleConfig {
 }
 
 fn invalid(field: &'static str, value: impl ToString, expected: &'static str) -> SampleError {
-    SampleError::InvalidConfig {
-        field,
-        value: value.to_string(),
-        expected,
-    }
+    SampleError::InvalidConfig { field, value: value.to_string(), expected }
 }
 
 fn positive(field: &'static str, v: f64) -> Result<(), SampleError> {
@@ -308,9 +290,7 @@ mod tests {
         assert_eq!(c.thickness, 1.0);
         assert_eq!(c.alpha, 0.8);
         assert_eq!(c.tiny_facets, TinyFacetPolicy::Merge);
-        let SampleLayout::Coursed(l) = &c.layout else {
-            panic!("coursed expected")
-        };
+        let SampleLayout::Coursed(l) = &c.layout else { panic!("coursed expected") };
         assert_eq!((l.stagger, l.size_variability), (1.0, 0.0));
         assert!(c.validate().is_ok());
     }
@@ -323,17 +303,10 @@ mod tests {
 
     #[test]
     fn random_layout_parses() {
-        let c: SampleConfig = toml::from_str(
-            "[layout]\ntype = \"random\"\nwidth = 1.0\nheight = 1.0\nn_particles = 100\n",
-        )
-        .expect("valid config");
-        assert!(matches!(
-            c.layout,
-            SampleLayout::Random(RandomLayout {
-                min_distance_factor: 0.7,
-                ..
-            })
-        ));
+        let c: SampleConfig =
+            toml::from_str("[layout]\ntype = \"random\"\nwidth = 1.0\nheight = 1.0\nn_particles = 100\n")
+                .expect("valid config");
+        assert!(matches!(c.layout, SampleLayout::Random(RandomLayout { min_distance_factor: 0.7, .. })));
     }
 
     #[test]
@@ -341,16 +314,7 @@ mod tests {
         let mut c: SampleConfig = toml::from_str(PAPER_WALL).expect("valid config");
         c.thickness = -1.0;
         let e = c.validate().unwrap_err();
-        assert!(
-            matches!(
-                e,
-                SampleError::InvalidConfig {
-                    field: "thickness",
-                    ..
-                }
-            ),
-            "{e}"
-        );
+        assert!(matches!(e, SampleError::InvalidConfig { field: "thickness", .. }), "{e}");
         c.thickness = 1.0;
         if let SampleLayout::Coursed(l) = &mut c.layout {
             l.jitter = 1.0;
@@ -361,20 +325,11 @@ mod tests {
             l.jitter = 0.1;
             l.n_courses = 0;
         }
-        assert!(matches!(
-            c.validate(),
-            Err(SampleError::InvalidConfig {
-                field: "n_courses",
-                ..
-            })
-        ));
+        assert!(matches!(c.validate(), Err(SampleError::InvalidConfig { field: "n_courses", .. })));
         if let SampleLayout::Coursed(l) = &mut c.layout {
             l.n_courses = 3;
             l.width = f64::NAN;
         }
-        assert!(matches!(
-            c.validate(),
-            Err(SampleError::InvalidConfig { field: "width", .. })
-        ));
+        assert!(matches!(c.validate(), Err(SampleError::InvalidConfig { field: "width", .. })));
     }
 }

@@ -18,9 +18,7 @@ pub enum SampleError {
     #[error("sample: no seed given (at least one particle is needed)")]
     NoSeeds,
     /// A seed on or outside the domain boundary, or not finite.
-    #[error(
-        "sample: seed {index} at ({x}, {y}) is not strictly inside the domain [0, {width}] × [0, {height}] m"
-    )]
+    #[error("sample: seed {index} at ({x}, {y}) is not strictly inside the domain [0, {width}] × [0, {height}] m")]
     SeedOutsideDomain {
         /// Seed (particle) index.
         index: usize,
@@ -112,9 +110,7 @@ pub enum SampleError {
         length: f64,
     },
     /// The two sides of a shared edge do not match (a tessellation defect).
-    #[error(
-        "sample: the edge of particle {i} facing particle {j} has no matching edge in particle {j}"
-    )]
+    #[error("sample: the edge of particle {i} facing particle {j} has no matching edge in particle {j}")]
     NonConforming {
         /// Particle whose edge has no twin.
         i: usize,

@@ -55,17 +55,7 @@ impl Beam {
     /// The beam between seeds `si`, `sj` (particles `i < j`, centroids `ci`, `cj`) across the facet
     /// `[fa, fb]`.
     #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        i: usize,
-        j: usize,
-        si: P2,
-        sj: P2,
-        ci: P2,
-        cj: P2,
-        facet: [P2; 2],
-        thickness: f64,
-        alpha: f64,
-    ) -> Beam {
+    pub fn new(i: usize, j: usize, si: P2, sj: P2, ci: P2, cj: P2, facet: [P2; 2], thickness: f64, alpha: f64) -> Beam {
         let d = [sj[0] - si[0], sj[1] - si[1]];
         let length = d[0].hypot(d[1]);
         let normal = [d[0] / length, d[1] / length];
@@ -90,10 +80,7 @@ impl Beam {
     /// `|n · e_f|` with `e_f` the unit facet direction: 0 when the beam is normal to its facet.
     pub fn facet_skew(&self) -> f64 {
         let [fa, fb] = self.facet;
-        let e = [
-            (fb[0] - fa[0]) / self.facet_length,
-            (fb[1] - fa[1]) / self.facet_length,
-        ];
+        let e = [(fb[0] - fa[0]) / self.facet_length, (fb[1] - fa[1]) / self.facet_length];
         (self.normal[0] * e[0] + self.normal[1] * e[1]).abs()
     }
 }
@@ -106,21 +93,8 @@ mod tests {
     fn beam_across_a_vertical_facet() {
         // Seeds (0.25, 0.5), (0.75, 0.5), facet x = ½ from (½, 0) to (½, 1), t_z = 0.5, α = 0.8:
         // ℓ = ½, n = (1, 0), t = (0, 1), A = 0.5, I = 0.8 · 0.5 · 1/12 = 1/30.
-        let b = Beam::new(
-            0,
-            1,
-            [0.25, 0.5],
-            [0.75, 0.5],
-            [0.25, 0.5],
-            [0.7, 0.5],
-            [[0.5, 0.0], [0.5, 1.0]],
-            0.5,
-            0.8,
-        );
-        assert_eq!(
-            (b.length, b.normal, b.tangent),
-            (0.5, [1.0, 0.0], [0.0, 1.0])
-        );
+        let b = Beam::new(0, 1, [0.25, 0.5], [0.75, 0.5], [0.25, 0.5], [0.7, 0.5], [[0.5, 0.0], [0.5, 1.0]], 0.5, 0.8);
+        assert_eq!((b.length, b.normal, b.tangent), (0.5, [1.0, 0.0], [0.0, 1.0]));
         assert_eq!((b.area, b.facet_midpoint), (0.5, [0.5, 0.5]));
         assert!((b.inertia - 1.0 / 30.0).abs() < 1e-16);
         assert_eq!(b.arm_i, [0.0, 0.0]);

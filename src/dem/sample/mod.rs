@@ -25,9 +25,7 @@ pub mod topology;
 pub mod voronoi;
 
 pub use builder::{BoundaryParticles, Sample};
-pub use config::{
-    CoursedLayout, GeometryOptions, RandomLayout, SampleConfig, SampleLayout, TinyFacetPolicy,
-};
+pub use config::{CoursedLayout, GeometryOptions, RandomLayout, SampleConfig, SampleLayout, TinyFacetPolicy};
 pub use error::SampleError;
 pub use lattice::{beam_inertia, Beam};
 pub use particle::Particle;

@@ -39,10 +39,7 @@ impl Particle {
 
     /// The seed's offset from the centroid, `s − c` (m): a beam end's lever arm.
     pub fn seed_arm(&self) -> P2 {
-        [
-            self.seed[0] - self.centroid[0],
-            self.seed[1] - self.centroid[1],
-        ]
+        [self.seed[0] - self.centroid[0], self.seed[1] - self.centroid[1]]
     }
 
     /// Where a point `p` of the stone goes under the rigid motion `(u_x, u_y, θ)` of the centroid,
@@ -50,10 +47,7 @@ impl Particle {
     pub fn moved_point(&self, p: P2, u: [f64; 3]) -> P2 {
         let (s, co) = u[2].sin_cos();
         let r = [p[0] - self.centroid[0], p[1] - self.centroid[1]];
-        [
-            self.centroid[0] + u[0] + co * r[0] - s * r[1],
-            self.centroid[1] + u[1] + s * r[0] + co * r[1],
-        ]
+        [self.centroid[0] + u[0] + co * r[0] - s * r[1], self.centroid[1] + u[1] + s * r[0] + co * r[1]]
     }
 }
 
@@ -70,9 +64,6 @@ mod tests {
         assert_eq!(p.seed_arm(), [-0.25, 0.0]);
         // Quarter turn about the centroid: the seed (¼, ½) goes to (½, ¼).
         let q = p.moved_point(p.seed, [0.0, 0.0, std::f64::consts::FRAC_PI_2]);
-        assert!(
-            (q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.25).abs() < 1e-15,
-            "{q:?}"
-        );
+        assert!((q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.25).abs() < 1e-15, "{q:?}");
     }
 }

@@ -92,10 +92,7 @@ fn poisson_disk_with_budget(
     let target = l.n_particles;
     let r = min_distance(l);
     // Margin r/2 (a quarter of the side for a domain narrower than 2r): seeds stay strictly inside.
-    let (x0, y0) = (
-        (0.5 * r).min(0.25 * l.width),
-        (0.5 * r).min(0.25 * l.height),
-    );
+    let (x0, y0) = ((0.5 * r).min(0.25 * l.width), (0.5 * r).min(0.25 * l.height));
     let (wx, wy) = (l.width - 2.0 * x0, l.height - 2.0 * y0);
     let g = r / std::f64::consts::SQRT_2;
     let nx = ((wx / g).ceil() as usize).max(1);
@@ -128,12 +125,7 @@ fn poisson_disk_with_budget(
         }
     }
     if seeds.len() < target {
-        return Err(SampleError::PoissonDiskFailed {
-            placed: seeds.len(),
-            target,
-            min_distance: r,
-            attempts,
-        });
+        return Err(SampleError::PoissonDiskFailed { placed: seeds.len(), target, min_distance: r, attempts });
     }
     Ok(seeds)
 }
@@ -143,15 +135,7 @@ mod tests {
     use super::*;
 
     fn wall(jitter: f64, stagger: f64, v: f64) -> CoursedLayout {
-        CoursedLayout {
-            width: 1.0,
-            height: 1.2,
-            n_courses: 10,
-            n_per_course: 6,
-            jitter,
-            stagger,
-            size_variability: v,
-        }
+        CoursedLayout { width: 1.0, height: 1.2, n_courses: 10, n_per_course: 6, jitter, stagger, size_variability: v }
     }
 
     #[test]
@@ -175,19 +159,12 @@ mod tests {
         let c = coursed_seeds(&l, &mut rng(43));
         assert_eq!(a, b);
         assert_ne!(a, c);
-        assert!(a
-            .iter()
-            .all(|p| p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.2));
+        assert!(a.iter().all(|p| p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.2));
     }
 
     #[test]
     fn poisson_disk_count_and_spacing() {
-        let l = RandomLayout {
-            width: 2.0,
-            height: 1.0,
-            n_particles: 500,
-            min_distance_factor: 0.7,
-        };
+        let l = RandomLayout { width: 2.0, height: 1.0, n_particles: 500, min_distance_factor: 0.7 };
         let s = poisson_disk_seeds(&l, &mut rng(3)).expect("placeable");
         assert_eq!(s.len(), 500);
         let r = min_distance(&l);
@@ -202,25 +179,9 @@ mod tests {
     #[test]
     fn exhausted_budget_is_an_error() {
         // One candidate is always accepted (nothing to conflict with), then the budget is spent.
-        let l = RandomLayout {
-            width: 1.0,
-            height: 1.0,
-            n_particles: 5,
-            min_distance_factor: 0.5,
-        };
+        let l = RandomLayout { width: 1.0, height: 1.0, n_particles: 5, min_distance_factor: 0.5 };
         let e = poisson_disk_with_budget(&l, &mut rng(0), 1).unwrap_err();
-        assert!(
-            matches!(
-                e,
-                SampleError::PoissonDiskFailed {
-                    placed: 1,
-                    target: 5,
-                    attempts: 1,
-                    ..
-                }
-            ),
-            "{e}"
-        );
+        assert!(matches!(e, SampleError::PoissonDiskFailed { placed: 1, target: 5, attempts: 1, .. }), "{e}");
         assert!(e.to_string().contains("lower `min_distance_factor`"));
     }
 }

@@ -43,18 +43,9 @@ impl Default for SvgStyle {
             exaggeration: 1.0,
             draw_beams: false,
             categories: vec![
-                CrackCategory {
-                    label: "tension".into(),
-                    colour: "#d62728".into(),
-                },
-                CrackCategory {
-                    label: "shear".into(),
-                    colour: "#1f77b4".into(),
-                },
-                CrackCategory {
-                    label: "crushing".into(),
-                    colour: "#ff7f0e".into(),
-                },
+                CrackCategory { label: "tension".into(), colour: "#d62728".into() },
+                CrackCategory { label: "shear".into(), colour: "#1f77b4".into() },
+                CrackCategory { label: "crushing".into(), colour: "#ff7f0e".into() },
             ],
             title: None,
         }
@@ -75,33 +66,22 @@ pub fn draw_svg(
     let np = sample.particles.len();
     if let Some(d) = displacements {
         if d.len() != np {
-            return Err(SampleError::DisplacementCount {
-                got: d.len(),
-                expected: np,
-            });
+            return Err(SampleError::DisplacementCount { got: d.len(), expected: np });
         }
     }
     let mut is_broken = vec![false; sample.beams.len()];
     for &(b, _) in broken {
         if b >= sample.beams.len() {
-            return Err(SampleError::BeamIndex {
-                index: b,
-                count: sample.beams.len(),
-            });
+            return Err(SampleError::BeamIndex { index: b, count: sample.beams.len() });
         }
         is_broken[b] = true;
     }
     let e = style.exaggeration;
-    let motion =
-        |k: usize| displacements.map_or([0.0; 3], |d| [e * d[k][0], e * d[k][1], e * d[k][2]]);
+    let motion = |k: usize| displacements.map_or([0.0; 3], |d| [e * d[k][0], e * d[k][1], e * d[k][2]]);
     let shapes: Vec<Vec<P2>> = (0..np)
         .map(|k| {
             let p = &sample.particles[k];
-            p.polygon
-                .vertices
-                .iter()
-                .map(|&v| p.moved_point(v, motion(k)))
-                .collect()
+            p.polygon.vertices.iter().map(|&v| p.moved_point(v, motion(k))).collect()
         })
         .collect();
 
@@ -129,11 +109,7 @@ pub fn draw_svg(
     );
     let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
     if let Some(t) = &style.title {
-        let _ = writeln!(
-            out,
-            r#"<text x="{margin}" y="24" font-size="15">{}</text>"#,
-            escape(t)
-        );
+        let _ = writeln!(out, r#"<text x="{margin}" y="24" font-size="15">{}</text>"#, escape(t));
     }
     if displacements.is_some() {
         let (a, b) = (map([0.0, sample.height]), map([sample.width, 0.0]));
@@ -146,10 +122,7 @@ pub fn draw_svg(
             b.1 - a.1
         );
     }
-    let _ = writeln!(
-        out,
-        r##"<g fill="#ebe3d3" stroke="#4a4a4a" stroke-width="0.8" stroke-linejoin="round">"##
-    );
+    let _ = writeln!(out, r##"<g fill="#ebe3d3" stroke="#4a4a4a" stroke-width="0.8" stroke-linejoin="round">"##);
     for shape in &shapes {
         let pts: Vec<String> = shape
             .iter()
@@ -163,33 +136,15 @@ pub fn draw_svg(
     let _ = writeln!(out, "</g>");
     if style.draw_beams {
         let _ = writeln!(out, r##"<g stroke="#7a8a99" stroke-width="0.6">"##);
-        for b in sample
-            .beams
-            .iter()
-            .zip(&is_broken)
-            .filter(|(_, &x)| !x)
-            .map(|(b, _)| b)
-        {
+        for b in sample.beams.iter().zip(&is_broken).filter(|(_, &x)| !x).map(|(b, _)| b) {
             let pi = &sample.particles[b.i];
             let pj = &sample.particles[b.j];
-            let (a, c) = (
-                map(pi.moved_point(pi.seed, motion(b.i))),
-                map(pj.moved_point(pj.seed, motion(b.j))),
-            );
-            let _ = writeln!(
-                out,
-                r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}"/>"#,
-                a.0, a.1, c.0, c.1
-            );
+            let (a, c) = (map(pi.moved_point(pi.seed, motion(b.i))), map(pj.moved_point(pj.seed, motion(b.j))));
+            let _ = writeln!(out, r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}"/>"#, a.0, a.1, c.0, c.1);
         }
         let _ = writeln!(out, "</g>");
     }
-    let colour = |c: u8| {
-        style
-            .categories
-            .get(c as usize)
-            .map_or("#666666", |k| k.colour.as_str())
-    };
+    let colour = |c: u8| style.categories.get(c as usize).map_or("#666666", |k| k.colour.as_str());
     let _ = writeln!(out, r#"<g stroke-width="3.5" stroke-linecap="round">"#);
     for &(k, cat) in broken {
         let b = &sample.beams[k];
@@ -198,10 +153,7 @@ pub fn draw_svg(
             .facet
             .iter()
             .map(|&f| {
-                let (a, c) = (
-                    pi.moved_point(f, motion(b.i)),
-                    pj.moved_point(f, motion(b.j)),
-                );
+                let (a, c) = (pi.moved_point(f, motion(b.i)), pj.moved_point(f, motion(b.j)));
                 map([0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])])
             })
             .collect();
@@ -225,13 +177,8 @@ pub fn draw_svg(
         r#"<line x1="{margin}" y1="{ybar:.1}" x2="{:.1}" y2="{ybar:.1}" stroke="black" stroke-width="3"/>"#,
         margin + s * len
     );
-    let _ = writeln!(
-        out,
-        r#"<text x="{:.1}" y="{:.1}">{}</text>"#,
-        margin + s * len + 8.0,
-        ybar + 5.0,
-        length_label(len)
-    );
+    let _ =
+        writeln!(out, r#"<text x="{:.1}" y="{:.1}">{}</text>"#, margin + s * len + 8.0, ybar + 5.0, length_label(len));
     // Legend: counts per category, then the totals.
     let mut counts = vec![0usize; style.categories.len()];
     let mut other = 0;
@@ -252,10 +199,7 @@ pub fn draw_svg(
         entries.push(("#666666".into(), format!("other ({other})")));
     }
     for (r, (col, text)) in entries.iter().enumerate() {
-        let (cx, cy) = (
-            lx + 150.0 * (r % 2) as f64,
-            ybar - 4.0 + 22.0 * (r / 2) as f64,
-        );
+        let (cx, cy) = (lx + 150.0 * (r % 2) as f64, ybar - 4.0 + 22.0 * (r / 2) as f64);
         let _ = writeln!(
             out,
             r#"<line x1="{cx:.1}" y1="{cy:.1}" x2="{:.1}" y2="{cy:.1}" stroke="{col}" stroke-width="3.5" stroke-linecap="round"/><text x="{:.1}" y="{:.1}">{text}</text>"#,
@@ -269,18 +213,10 @@ pub fn draw_svg(
         np,
         sample.beams.len(),
         broken.len(),
-        if displacements.is_some() {
-            format!(", displacements × {e}")
-        } else {
-            String::new()
-        }
+        if displacements.is_some() { format!(", displacements × {e}") } else { String::new() }
     );
-    let _ = writeln!(
-        out,
-        r##"<text x="{margin}" y="{:.1}" fill="#333">{}</text>"##,
-        height_px - 10.0,
-        escape(&summary)
-    );
+    let _ =
+        writeln!(out, r##"<text x="{margin}" y="{:.1}" fill="#333">{}</text>"##, height_px - 10.0, escape(&summary));
     let _ = writeln!(out, "</svg>");
     Ok(out)
 }
@@ -288,11 +224,7 @@ pub fn draw_svg(
 /// The largest of `{1, 2, 5} × 10^k` not above `target`.
 fn nice_length(target: f64) -> f64 {
     let p = 10f64.powf(target.log10().floor());
-    [5.0, 2.0, 1.0]
-        .into_iter()
-        .map(|m| m * p)
-        .find(|&l| l <= target)
-        .unwrap_or(p)
+    [5.0, 2.0, 1.0].into_iter().map(|m| m * p).find(|&l| l <= target).unwrap_or(p)
 }
 
 fn length_label(l: f64) -> String {
@@ -306,10 +238,7 @@ fn length_label(l: f64) -> String {
 }
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
 #[cfg(test)]

@@ -74,21 +74,11 @@ pub struct MergedFacet {
 
 impl Tessellation {
     /// Welds the vertices of independently clipped cells.
-    pub fn weld(
-        raw: &[RawCell],
-        width: f64,
-        height: f64,
-        weld_tol: f64,
-    ) -> Result<Tessellation, SampleError> {
+    pub fn weld(raw: &[RawCell], width: f64, height: f64, weld_tol: f64) -> Result<Tessellation, SampleError> {
         let mut vertices: Vec<P2> = Vec::new();
         let mut sides: Vec<u8> = Vec::new();
         let mut hash: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-        let key = |p: P2| {
-            (
-                (p[0] / weld_tol).floor() as i64,
-                (p[1] / weld_tol).floor() as i64,
-            )
-        };
+        let key = |p: P2| ((p[0] / weld_tol).floor() as i64, (p[1] / weld_tol).floor() as i64);
         let mut cells = Vec::with_capacity(raw.len());
         let mut owners = Vec::with_capacity(raw.len());
         for c in raw {
@@ -132,12 +122,7 @@ impl Tessellation {
         for (v, &s) in sides.iter().enumerate() {
             snap_to_sides(&mut vertices[v], s, width, height);
         }
-        let mut t = Tessellation {
-            vertices,
-            sides,
-            cells,
-            owners,
-        };
+        let mut t = Tessellation { vertices, sides, cells, owners };
         for c in 0..t.cells.len() {
             t.dedupe(c)?;
         }
@@ -157,10 +142,7 @@ impl Tessellation {
             }
         }
         if ids.len() < 3 {
-            return Err(SampleError::ZeroAreaCell {
-                particle: c,
-                area: 0.0,
-            });
+            return Err(SampleError::ZeroAreaCell { particle: c, area: 0.0 });
         }
         Ok(())
     }
@@ -202,37 +184,21 @@ impl Tessellation {
     }
 
     /// Merges (or rejects) facets shorter than `tol` (m) until none is left.
-    pub fn merge_tiny_facets(
-        &mut self,
-        tol: f64,
-        policy: TinyFacetPolicy,
-    ) -> Result<Vec<MergedFacet>, SampleError> {
+    pub fn merge_tiny_facets(&mut self, tol: f64, policy: TinyFacetPolicy) -> Result<Vec<MergedFacet>, SampleError> {
         let mut merged = Vec::new();
         if tol <= 0.0 {
             return Ok(merged);
         }
         loop {
-            let mut tiny: Vec<(f64, Facet)> = self
-                .facets()?
-                .into_iter()
-                .map(|f| (self.distance(f.a, f.b), f))
-                .filter(|(l, _)| *l < tol)
-                .collect();
+            let mut tiny: Vec<(f64, Facet)> =
+                self.facets()?.into_iter().map(|f| (self.distance(f.a, f.b), f)).filter(|(l, _)| *l < tol).collect();
             if tiny.is_empty() {
                 return Ok(merged);
             }
-            tiny.sort_by(|x, y| {
-                x.0.total_cmp(&y.0)
-                    .then((x.1.i, x.1.j).cmp(&(y.1.i, y.1.j)))
-            });
+            tiny.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1.i, x.1.j).cmp(&(y.1.i, y.1.j))));
             if policy == TinyFacetPolicy::Reject {
                 let (length, f) = tiny[0];
-                return Err(SampleError::TinyFacet {
-                    i: f.i,
-                    j: f.j,
-                    length,
-                    tolerance: tol,
-                });
+                return Err(SampleError::TinyFacet { i: f.i, j: f.j, length, tolerance: tol });
             }
             let mut users: HashMap<usize, Vec<usize>> = HashMap::new();
             for (c, ids) in self.cells.iter().enumerate() {
@@ -253,11 +219,7 @@ impl Tessellation {
                     (_, 0) => pa,
                     (0, _) => pb,
                     _ if sa & sb == 0 => {
-                        return Err(SampleError::CannotMergeFacet {
-                            i: f.i,
-                            j: f.j,
-                            length,
-                        });
+                        return Err(SampleError::CannotMergeFacet { i: f.i, j: f.j, length });
                     }
                     _ if sa.count_ones() > 1 => pa,
                     _ if sb.count_ones() > 1 => pb,
@@ -275,12 +237,7 @@ impl Tessellation {
                 }
                 touched[f.a] = true;
                 touched[f.b] = true;
-                merged.push(MergedFacet {
-                    i: f.i,
-                    j: f.j,
-                    length,
-                    point: target,
-                });
+                merged.push(MergedFacet { i: f.i, j: f.j, length, point: target });
             }
             dirty.sort_unstable();
             dirty.dedup();
@@ -294,10 +251,7 @@ impl Tessellation {
     pub fn boundary_cells(&self) -> [Vec<usize>; 4] {
         let mut out: [Vec<usize>; 4] = Default::default();
         for (c, owners) in self.owners.iter().enumerate() {
-            for (s, list) in [Side::Bottom, Side::Right, Side::Top, Side::Left]
-                .into_iter()
-                .zip(out.iter_mut())
-            {
+            for (s, list) in [Side::Bottom, Side::Right, Side::Top, Side::Left].into_iter().zip(out.iter_mut()) {
                 if owners.contains(&EdgeOwner::Boundary(s)) {
                     list.push(c);
                 }
@@ -340,9 +294,7 @@ mod tests {
         // 3 × 3 seeds at the centres of a 3 × 3 grid of unit squares: 4 seeds are cocircular at
         // every interior grid point, the diagonal pairs share only that point. Expected facets:
         // 2 · 3 · 2 = 12 (horizontal + vertical neighbours), 16 distinct vertices (4 × 4 grid).
-        let seeds: Vec<P2> = (0..9)
-            .map(|k| [(k % 3) as f64 + 0.5, (k / 3) as f64 + 0.5])
-            .collect();
+        let seeds: Vec<P2> = (0..9).map(|k| [(k % 3) as f64 + 0.5, (k / 3) as f64 + 0.5]).collect();
         let raw = clipped_cells(3.0, 3.0, &seeds);
         let t = Tessellation::weld(&raw, 3.0, 3.0, 1e-9).expect("conforming");
         let f = t.facets().expect("conforming");
@@ -367,17 +319,9 @@ mod tests {
         let short = f.iter().find(|f| (f.i, f.j) == (0, 1)).expect("0–1 facet");
         let len = t.distance(short.a, short.b);
         assert!(len > 1e-4 && len < 1e-3, "{len}");
-        let e = t
-            .clone()
-            .merge_tiny_facets(1e-2, TinyFacetPolicy::Reject)
-            .unwrap_err();
-        assert!(
-            matches!(e, SampleError::TinyFacet { i: 0, j: 1, .. }),
-            "{e}"
-        );
-        let m = t
-            .merge_tiny_facets(1e-2, TinyFacetPolicy::Merge)
-            .expect("mergeable");
+        let e = t.clone().merge_tiny_facets(1e-2, TinyFacetPolicy::Reject).unwrap_err();
+        assert!(matches!(e, SampleError::TinyFacet { i: 0, j: 1, .. }), "{e}");
+        let m = t.merge_tiny_facets(1e-2, TinyFacetPolicy::Merge).expect("mergeable");
         assert_eq!(m.len(), 1);
         let f = t.facets().expect("conforming");
         assert!(f.iter().all(|f| (f.i, f.j) != (0, 1)));
@@ -385,10 +329,7 @@ mod tests {
         let area: f64 = t
             .cells
             .iter()
-            .map(|ids| {
-                crate::dem::polygon::Polygon::new(ids.iter().map(|&v| t.vertices[v]).collect())
-                    .area()
-            })
+            .map(|ids| crate::dem::polygon::Polygon::new(ids.iter().map(|&v| t.vertices[v]).collect()).area())
             .sum();
         assert!((area - 1.0).abs() < 1e-14, "{area}");
     }

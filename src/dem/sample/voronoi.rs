@@ -106,10 +106,7 @@ impl RawCell {
     }
 
     fn max_distance2(&self, s: P2) -> f64 {
-        self.vertices
-            .iter()
-            .map(|p| (p[0] - s[0]).powi(2) + (p[1] - s[1]).powi(2))
-            .fold(0.0, f64::max)
+        self.vertices.iter().map(|p| (p[0] - s[0]).powi(2) + (p[1] - s[1]).powi(2)).fold(0.0, f64::max)
     }
 }
 
@@ -119,12 +116,7 @@ pub fn clipped_cells(width: f64, height: f64, seeds: &[P2]) -> Vec<RawCell> {
     let g = (width * height / n.max(1) as f64).sqrt();
     let nx = ((width / g).ceil() as usize).max(1);
     let ny = ((height / g).ceil() as usize).max(1);
-    let bucket = |p: P2| {
-        (
-            ((p[0] / g) as usize).min(nx - 1),
-            ((p[1] / g) as usize).min(ny - 1),
-        )
-    };
+    let bucket = |p: P2| (((p[0] / g) as usize).min(nx - 1), ((p[1] / g) as usize).min(ny - 1));
     let mut grid: Vec<Vec<usize>> = vec![Vec::new(); nx * ny];
     for (i, &p) in seeds.iter().enumerate() {
         let (bx, by) = bucket(p);
@@ -163,11 +155,8 @@ fn regularize(cell: &mut RawCell, i: usize, seeds: &[P2], width: f64, height: f6
     for k in 0..n {
         let (e_in, e_out) = (cell.owners[(k + n - 1) % n], cell.owners[k]);
         let exact = match (e_in, e_out) {
-            (EdgeOwner::Seed(j), EdgeOwner::Seed(l)) if j != l => {
-                circumcentre(si, seeds[j], seeds[l])
-            }
-            (EdgeOwner::Seed(j), EdgeOwner::Boundary(side))
-            | (EdgeOwner::Boundary(side), EdgeOwner::Seed(j)) => {
+            (EdgeOwner::Seed(j), EdgeOwner::Seed(l)) if j != l => circumcentre(si, seeds[j], seeds[l]),
+            (EdgeOwner::Seed(j), EdgeOwner::Boundary(side)) | (EdgeOwner::Boundary(side), EdgeOwner::Seed(j)) => {
                 bisector_on_side(si, seeds[j], side, width, height)
             }
             _ => None,
@@ -239,10 +228,7 @@ mod tests {
     fn two_seeds_split_the_rectangle_at_the_bisector() {
         // Seeds (0.25, 0.5), (0.75, 0.5) in the unit square: cells [0, ½] × [0, 1] and [½, 1] × [0, 1].
         let c = clipped_cells(1.0, 1.0, &[[0.25, 0.5], [0.75, 0.5]]);
-        assert_eq!(
-            c[0].vertices,
-            vec![[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0]]
-        );
+        assert_eq!(c[0].vertices, vec![[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0]]);
         assert_eq!(
             c[0].owners,
             vec![
@@ -258,10 +244,7 @@ mod tests {
     #[test]
     fn circumcentre_and_side_crossings() {
         // Right triangle (0,0), (2,0), (0,2): circumcentre at the hypotenuse midpoint (1, 1).
-        assert_eq!(
-            circumcentre([0.0, 0.0], [2.0, 0.0], [0.0, 2.0]),
-            Some([1.0, 1.0])
-        );
+        assert_eq!(circumcentre([0.0, 0.0], [2.0, 0.0], [0.0, 2.0]), Some([1.0, 1.0]));
         assert_eq!(circumcentre([0.0, 0.0], [1.0, 0.0], [2.0, 0.0]), None);
         // Seeds (0.2, 0.3), (0.6, 0.5): bisector 0.4 (x − 0.4) + 0.2 (y − 0.4) = 0 meets y = 0
         // at x = 0.6, and x = 1 at y = 0.4 − 0.24/0.2 = −0.8 (outside the domain: the formula only).
@@ -286,12 +269,8 @@ mod tests {
         // Brute force: clip by every other seed. Same cells (same vertex lists) expected exactly
         // up to skipped no-op clips, so compare areas to 1e-14.
         let mut rng = super::super::seeds::rng(5);
-        let l = super::super::config::RandomLayout {
-            width: 1.5,
-            height: 1.0,
-            n_particles: 300,
-            min_distance_factor: 0.6,
-        };
+        let l =
+            super::super::config::RandomLayout { width: 1.5, height: 1.0, n_particles: 300, min_distance_factor: 0.6 };
         let seeds = super::super::seeds::poisson_disk_seeds(&l, &mut rng).expect("placeable");
         let fast = clipped_cells(1.5, 1.0, &seeds);
         for (i, &si) in seeds.iter().enumerate() {

@@ -134,7 +134,11 @@ impl CandidateList {
                 .particles
                 .iter()
                 .map(|p| {
-                    p.polygon.vertices.iter().map(|v| (v[0] - p.centroid[0]).hypot(v[1] - p.centroid[1])).fold(0.0, f64::max)
+                    p.polygon
+                        .vertices
+                        .iter()
+                        .map(|v| (v[0] - p.centroid[0]).hypot(v[1] - p.centroid[1]))
+                        .fold(0.0, f64::max)
                 })
                 .collect();
             let d = sample.mean_diameter();
@@ -254,7 +258,12 @@ mod tests {
         // the search from scratch (same pairs, same forces bit for bit), and the list evaluates
         // fewer pairs.
         let s = Sample::build(&SampleConfig {
-            layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: 150, min_distance_factor: 0.7 }),
+            layout: SampleLayout::Random(RandomLayout {
+                width: 1.0,
+                height: 1.0,
+                n_particles: 150,
+                min_distance_factor: 0.7,
+            }),
             thickness: 1.0,
             seed: 11,
             alpha: 0.8,

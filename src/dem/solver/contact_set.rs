@@ -34,8 +34,8 @@ use super::dofs::DofMap;
 use super::error::DemError;
 use crate::dem::mechanics::{self, Contact, FrictionUpdate, MechParams, SlipState};
 use crate::dem::polygon::Polygon;
-use nalgebra::{SMatrix, SVector};
 use crate::dem::sample::Sample;
+use nalgebra::{SMatrix, SVector};
 
 /// The committed history of a pair: its tangential force and its plastic (crushing) state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -144,7 +144,8 @@ pub fn candidates(sample: &Sample, map: &DofMap, z: &[f64], intact: &[bool]) -> 
     }
     // Bounding boxes of the current polygons.
     let n = sample.particles.len();
-    let boxes: Vec<[f64; 4]> = (0..n).map(|p| bounding_box(&current_polygon(sample, p, map.particle_dofs(p, z)))).collect();
+    let boxes: Vec<[f64; 4]> =
+        (0..n).map(|p| bounding_box(&current_polygon(sample, p, map.particle_dofs(p, z)))).collect();
     // A small tolerance so stones that touch along an edge (zero overlap) are candidates.
     let cell = boxes.iter().fold(0.0f64, |m, b| m.max(b[2] - b[0]).max(b[3] - b[1])).max(1e-12);
     for (i, j) in overlapping_boxes(&boxes, 1e-9 * cell) {

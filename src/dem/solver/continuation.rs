@@ -53,9 +53,9 @@
 //! refactorized. It is a fallback: one continuation costs up to `MAX_ITERATIONS` factorizations
 //! of a small wall, more than Newton's method, and runs only where Newton's method failed at the
 //! smallest increment.
+use super::equilibrium::Refactor;
 use super::error::DemError;
 use super::events::{LoadPoint, Solver};
-use super::equilibrium::Refactor;
 use super::gmres::gmres;
 use super::tangent::Tangent;
 use super::trace::NewtonStep;
@@ -181,7 +181,9 @@ impl<'a> Solver<'a> {
             // step releases: ½ (r_k + r_{k+1})ᵀ Δz > 0, else the step overshot a valley.
             let released = 0.5 * (work * cap + dz.iter().zip(&trial.r).map(|(d, r)| d * r).sum::<f64>());
             if released <= 0.0 {
-                if let Some(st) = self.trace.as_mut().and_then(|tr| tr.attempts.back_mut()).and_then(|a| a.steps.last_mut()) {
+                if let Some(st) =
+                    self.trace.as_mut().and_then(|tr| tr.attempts.back_mut()).and_then(|a| a.steps.last_mut())
+                {
                     st.alpha = 0.0;
                 }
                 sigma = (4.0 * sigma).clamp(SIGMA_MIN, SIGMA_MAX);

@@ -136,11 +136,18 @@ fn paper_wall_sample_continues_past_its_old_stop() {
     let t = VirtualTest::Compression { max_strain: 3e-3, steps: 60 };
     let off = SolverOptions { continuation: false, ..Default::default() };
     let before = run_test_with(&s, &p, &t, off).unwrap();
-    assert!(matches!(before.end, TestEnd::Failed { .. } | TestEnd::Collapse { .. }), "the stop near the peak: {:?}", before.end);
+    assert!(
+        matches!(before.end, TestEnd::Failed { .. } | TestEnd::Collapse { .. }),
+        "the stop near the peak: {:?}",
+        before.end
+    );
     let stop = before.curve.last().unwrap().strain;
     let r = run_test(&s, &p, &t).unwrap();
     let last = r.curve.last().unwrap();
-    println!("without continuation: {:?} at ε = {stop:e}; with: {:?} at ε = {:e}, {:?}", before.end, r.end, last.strain, r.stats);
+    println!(
+        "without continuation: {:?} at ε = {stop:e}; with: {:?} at ε = {:e}, {:?}",
+        before.end, r.end, last.strain, r.stats
+    );
     assert!(matches!(r.end, TestEnd::LossOfLoad | TestEnd::Target), "{:?}", r.end);
     assert!(r.stats.continuations >= 1, "{:?}", r.stats);
     assert!(last.strain < stop - 2e-4, "continued from ε = {stop:e} to {:e}", last.strain);
@@ -168,13 +175,23 @@ fn crushed_contacts_keep_the_energy_balance_far_past_the_peak() {
     let w_end = last.external_work;
     assert!(w_end > 0.0);
     for c in &r.curve {
-        assert!(c.stored <= c.external_work + 0.01 * w_end, "state at ε {:e}: stored {:e} J, W_ext {:e} J", c.strain, c.stored, c.external_work);
+        assert!(
+            c.stored <= c.external_work + 0.01 * w_end,
+            "state at ε {:e}: stored {:e} J, W_ext {:e} J",
+            c.strain,
+            c.stored,
+            c.external_work
+        );
     }
-    println!("seed 5: {} states, end {:?}, W_ext {w_end:.4e} J, imbalance {:.3e} J, {:?}", r.curve.len(), r.end, balance(last), r.stats);
+    println!(
+        "seed 5: {} states, end {:?}, W_ext {w_end:.4e} J, imbalance {:.3e} J, {:?}",
+        r.curve.len(),
+        r.end,
+        balance(last),
+        r.stats
+    );
     assert!(balance(last).abs() <= 0.01 * w_end, "imbalance {:e} J of W_ext {w_end:e} J", balance(last));
 }
-
-
 
 /// Where the energy balance of a crushing sample goes astray: runs the paper's wall
 /// (`DIAG_SEED`, default 12; σ_c 2.2 MPa, G_c 1 kJ/m²) step by step in compression and, for every
@@ -214,7 +231,9 @@ fn diag_contact_balance() {
             continue;
         }
         let (a, b) = (&solver.states[n0 - 1], &solver.states[n0]);
-        let global = (b.external_work - a.external_work) - (b.stored - a.stored) - (b.dissipated.iter().sum::<f64>() - a.dissipated.iter().sum::<f64>());
+        let global = (b.external_work - a.external_work)
+            - (b.stored - a.stored)
+            - (b.dissipated.iter().sum::<f64>() - a.dissipated.iter().sum::<f64>());
         total_global += global;
         let c1: BTreeMap<(usize, usize), ActiveContactSnapshot> =
             solver.contacts().iter().map(|a| ((a.i, a.j), snap(a))).collect();
@@ -231,14 +250,25 @@ fn diag_contact_balance() {
             sum += imb;
             let label = format!(
                 "{}{} {}",
-                if !c0.contains_key(&key) { "new " } else if !c1.contains_key(&key) { "gone " } else { "" },
+                if !c0.contains_key(&key) {
+                    "new "
+                } else if !c1.contains_key(&key) {
+                    "gone "
+                } else {
+                    ""
+                },
                 s1.kind,
-                if s0.kind != s1.kind && c0.contains_key(&key) && c1.contains_key(&key) { format!("(from {})", s0.kind) } else { String::new() }
+                if s0.kind != s1.kind && c0.contains_key(&key) && c1.contains_key(&key) {
+                    format!("(from {})", s0.kind)
+                } else {
+                    String::new()
+                }
             );
             if s0.kind == "stick-plastic" && s1.kind == "stick-plastic" {
                 let wn: f64 = (0..6).map(|d| 0.5 * (s0.fnv[d] + s1.fnv[d]) * (q1[d] - q0[d])).sum();
                 let wt: f64 = (0..6).map(|d| 0.5 * (s0.ftv[d] + s1.ftv[d]) * (q1[d] - q0[d])).sum();
-                *cat.entry("sp: normal W - dUn - dUw - Dc".into()).or_default() += wn - (s1.un - s0.un) - (s1.uw - s0.uw) - s1.dc;
+                *cat.entry("sp: normal W - dUn - dUw - Dc".into()).or_default() +=
+                    wn - (s1.un - s0.un) - (s1.uw - s0.uw) - s1.dc;
                 *cat.entry("sp: tangential W - dUt - Df".into()).or_default() += wt - (s1.ut - s0.ut) - s1.df;
                 *cat.entry("sp: dUw".into()).or_default() += s1.uw - s0.uw;
                 let ws = 0.5 * (s0.fl + s1.fl) * (s1.sr - s0.sr);
@@ -248,7 +278,11 @@ fn diag_contact_balance() {
             }
             *cat.entry(label).or_default() += imb;
         }
-        println!("ε {eps:.2e} σ {:.3e} global {global:+.3} contacts {sum:+.3} ({} contacts)", b.platen_force[1][1] / s.width, c1.len());
+        println!(
+            "ε {eps:.2e} σ {:.3e} global {global:+.3} contacts {sum:+.3} ({} contacts)",
+            b.platen_force[1][1] / s.width,
+            c1.len()
+        );
     }
     println!("total global {total_global:.3}");
     for (k, v) in &cat {
@@ -308,4 +342,3 @@ fn pair_q(s: &Solver, (i, j): (usize, usize), z: &[f64]) -> [f64; 6] {
     let (a, b) = (s.model().map.particle_dofs(i, z), s.model().map.particle_dofs(j, z));
     [a[0], a[1], a[2], b[0], b[1], b[2]]
 }
-

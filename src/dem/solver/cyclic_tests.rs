@@ -25,9 +25,15 @@ fn protocol_branches_and_steps() {
     assert!(bad(axial(vec![1.0, -1.0], 1.0, 4)).contains("amplitudes"));
     assert!(bad(axial(vec![1.0], -0.5, 4)).contains("compression_ratio"));
     assert!(bad(axial(vec![1.0], 1.0, 0)).contains("steps"));
-    let t: VirtualTest = toml::from_str("type = \"cyclic_shear\"\namplitudes = [1e-3, 2e-3]\nsteps_per_half_cycle = 10").unwrap();
-    assert!(matches!(t, VirtualTest::CyclicShear { vertical_stress, preload_steps: 5, rotation: PlatenRotation::Fixed, .. } if vertical_stress == 1e6));
-    assert!(toml::from_str::<VirtualTest>("type = \"cyclic_shear\"\namplitudes = [1e-3]\nsteps_per_half_cycle = 2\nbogus = 1").is_err());
+    let t: VirtualTest =
+        toml::from_str("type = \"cyclic_shear\"\namplitudes = [1e-3, 2e-3]\nsteps_per_half_cycle = 10").unwrap();
+    assert!(
+        matches!(t, VirtualTest::CyclicShear { vertical_stress, preload_steps: 5, rotation: PlatenRotation::Fixed, .. } if vertical_stress == 1e6)
+    );
+    assert!(toml::from_str::<VirtualTest>(
+        "type = \"cyclic_shear\"\namplitudes = [1e-3]\nsteps_per_half_cycle = 2\nbogus = 1"
+    )
+    .is_err());
 }
 
 /// Below the first crack the lattice is linear (no broken beam, hence no contact): every state of
@@ -38,7 +44,11 @@ fn protocol_branches_and_steps() {
 #[test]
 fn undamaged_sample_retraces_its_loading_line() {
     let s = small_wall(2);
-    let t = VirtualTest::CyclicTensionCompression { amplitudes: vec![1e-5, 2e-5], compression_ratio: 1.0, steps_per_half_cycle: 8 };
+    let t = VirtualTest::CyclicTensionCompression {
+        amplitudes: vec![1e-5, 2e-5],
+        compression_ratio: 1.0,
+        steps_per_half_cycle: 8,
+    };
     let p = MechParams::default();
     let r = run_test(&s, &p, &t).unwrap();
     assert_eq!(r.end, TestEnd::Target);
@@ -50,10 +60,22 @@ fn undamaged_sample_retraces_its_loading_line() {
     let lmax = r.curve.iter().fold(0.0f64, |m, c| m.max(c.lateral_strain.abs()));
     assert!((smax - e * 2e-5).abs() <= 1e-8 * smax, "peak stress {smax} vs E a {}", e * 2e-5);
     for c in &r.curve {
-        assert!((c.stress - e * c.strain).abs() <= 1e-8 * smax, "state {}: σ {} vs E ε {}", c.state, c.stress, e * c.strain);
+        assert!(
+            (c.stress - e * c.strain).abs() <= 1e-8 * smax,
+            "state {}: σ {} vs E ε {}",
+            c.state,
+            c.stress,
+            e * c.strain
+        );
         assert!((c.lateral_strain + nu * c.strain).abs() <= 1e-8 * lmax, "state {}", c.state);
         let elastic = 0.5 * c.stress * (s.width * p.t_z) * c.displacement;
-        assert!((c.external_work - elastic).abs() <= 1e-8 * wmax, "state {}: W {} vs ½Fδ {}", c.state, c.external_work, elastic);
+        assert!(
+            (c.external_work - elastic).abs() <= 1e-8 * wmax,
+            "state {}: W {} vs ½Fδ {}",
+            c.state,
+            c.external_work,
+            elastic
+        );
     }
     // The branch ends sit exactly on the protocol: +a1, −a1, +a2, −a2, 0.
     let ends: Vec<f64> = [1e-5, -1e-5, 2e-5, -2e-5, 0.0].into();
@@ -114,7 +136,8 @@ fn cyclic_shear(amplitudes: Vec<f64>) -> VirtualTest {
 fn cyclic_shear_loops_dissipate() {
     let s = small_wall(3);
     let t = cyclic_shear(vec![0.5e-3, 1e-3]);
-    let r = run_test_recording(&s, &MechParams::default(), &t, SolverOptions::default(), ParticleStates::Steps).unwrap();
+    let r =
+        run_test_recording(&s, &MechParams::default(), &t, SolverOptions::default(), ParticleStates::Steps).unwrap();
     let last = r.curve.last().unwrap();
     println!(
         "cyclic shear: end {:?}, events {}, cutbacks {}, peak {:.3} MPa, friction {:.3e} J, W_ext {:.3e}, imbalance {:.2e}, {} particle states",
@@ -134,7 +157,12 @@ fn cyclic_shear_loops_dissipate() {
     // Open loop: at zero displacement after the cycles the platen still carries a shear force
     // (residual stresses of slid joints), which it did not after the preload.
     let preload_end = r.curve.iter().take_while(|c| c.displacement == 0.0).last().unwrap();
-    assert!(last.stress.abs() > 0.01e6 && preload_end.stress.abs() < last.stress.abs(), "{} vs {}", last.stress, preload_end.stress);
+    assert!(
+        last.stress.abs() > 0.01e6 && preload_end.stress.abs() < last.stress.abs(),
+        "{} vs {}",
+        last.stress,
+        preload_end.stress
+    );
     let loading = r.curve.iter().filter(|c| c.kind == StateKind::Loading).count();
     assert!(r.particle_states.len() >= loading);
     assert!(r.particle_states.windows(2).all(|w| w[0].state < w[1].state));
@@ -259,7 +287,8 @@ fn sliding_block_balance_at_stick_slip_kinks() {
     // The spring–slider on the same steps: trapezoid work minus (ΔE + D).
     let limit = p.mu * n;
     let (mut f, mut trap, mut diss, mut u) = (0.0f64, 0.0, 0.0, 0.0);
-    let targets = (1..=steps).map(|k| a * k as f64 / steps as f64).chain((0..steps).rev().map(|k| a * k as f64 / steps as f64));
+    let targets =
+        (1..=steps).map(|k| a * k as f64 / steps as f64).chain((0..steps).rev().map(|k| a * k as f64 / steps as f64));
     for target in targets {
         let du = target - u;
         let trial = f + k_t * du;
@@ -301,7 +330,17 @@ fn diag_cyclic_shear_refinement() {
         if std::env::var("DIAG_V").is_ok() {
             println!(
                 "{:4} {:?} u {:+.4e} τ {:+.4e} W {:.4e} E {:.4e} D {:.3e} {:.3e} {:.3e} imb {:+.3e} dimb {:+.3e}",
-                c.state, c.kind, c.displacement, c.stress, c.external_work, c.stored, c.dissipated[0], c.dissipated[1], c.dissipated[2], b, b - prev
+                c.state,
+                c.kind,
+                c.displacement,
+                c.stress,
+                c.external_work,
+                c.stored,
+                c.dissipated[0],
+                c.dissipated[1],
+                c.dissipated[2],
+                b,
+                b - prev
             );
         }
         prev = b;
@@ -320,7 +359,6 @@ fn diag_cyclic_shear_refinement() {
         t0.elapsed().as_secs_f64()
     );
 }
-
 
 /// The paper's wall under the protocol of `jobs/wall-cyclic-tension-compression.toml`
 /// (amplitudes 0.5, 1, 2, 4 × 10⁻⁴, 20 steps per half cycle), sample 1 of the job (seed 2). The
@@ -348,7 +386,13 @@ fn paper_wall_tension_compression_reversals_complete() {
     };
     let r = run_test(&s, &p, &t).unwrap();
     let last = r.curve.last().unwrap();
-    println!("end {:?}, events {}, W_ext {:.4e} J, imbalance {:.3e} J", r.end, r.stats.events, last.external_work, balance(last));
+    println!(
+        "end {:?}, events {}, W_ext {:.4e} J, imbalance {:.3e} J",
+        r.end,
+        r.stats.events,
+        last.external_work,
+        balance(last)
+    );
     assert_eq!(r.end, TestEnd::Target);
     assert!(r.stats.events > 0, "the wall cracks");
     assert!(balance(last).abs() <= 0.01 * last.external_work, "imbalance {} of {}", balance(last), last.external_work);

@@ -140,10 +140,7 @@ impl DofMap {
             Owner::Free { base } => ([base, base + 1, base + 2], Matrix3::identity()),
             Owner::Slave { platen, arm } => {
                 let b = self.platen_base[platen];
-                (
-                    [b, b + 1, b + 2],
-                    Matrix3::new(1.0, 0.0, -arm[1], 0.0, 1.0, arm[0], 0.0, 0.0, 1.0),
-                )
+                ([b, b + 1, b + 2], Matrix3::new(1.0, 0.0, -arm[1], 0.0, 1.0, arm[0], 0.0, 0.0, 1.0))
             }
         }
     }
@@ -223,8 +220,7 @@ mod tests {
         z[b + 2] = 5e-4;
         for &p in &s.boundary.top {
             let c = s.particles[p].centroid;
-            let want =
-                crate::dem::mechanics::kinematics::rigid_motion_dofs([0.5, 1.2], [1e-3, -2e-3], 5e-4, c);
+            let want = crate::dem::mechanics::kinematics::rigid_motion_dofs([0.5, 1.2], [1e-3, -2e-3], 5e-4, c);
             let got = map.particle_dofs(p, &z);
             for a in 0..3 {
                 assert!((got[a] - want[a]).abs() < 1e-15);
@@ -257,9 +253,6 @@ mod tests {
     fn empty_row_is_an_error() {
         let mut s = wall();
         s.boundary.top.clear();
-        assert!(matches!(
-            DofMap::new(&s, [[DofControl::Prescribed; 3]; 2]),
-            Err(DemError::BadSample { .. })
-        ));
+        assert!(matches!(DofMap::new(&s, [[DofControl::Prescribed; 3]; 2]), Err(DemError::BadSample { .. })));
     }
 }

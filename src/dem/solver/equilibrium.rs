@@ -64,12 +64,12 @@ use std::collections::BTreeMap;
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
 use super::events::Solver;
+use super::factor::{SparseColumn, TermId};
 use super::gmres::{gmres_split, ForcingSequence};
-use super::system::ZTerm;
 use super::profile;
+use super::system::ZTerm;
 use super::tangent::Tangent;
 use super::trace::NewtonStep;
-use super::factor::{SparseColumn, TermId};
 use std::time::Instant;
 
 /// The floor of the convergence scale relative to the largest platen force of the test so far
@@ -151,9 +151,7 @@ impl<'a> Solver<'a> {
             })
             .collect();
         let t = self.model.assemble(&self.intact, diagonal, &extra);
-        self.factor
-            .factorize(&t)
-            .map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
+        self.factor.factorize(&t).map_err(|e| DemError::Factorization { event: self.broken.len(), reason: e.0 })?;
         self.needs_factor = false;
         let r = &mut self.profile.refactorizations;
         match cause {
@@ -204,7 +202,8 @@ impl<'a> Solver<'a> {
             }
         }
         // (key of a new term, or None for a subtraction; columns; sign)
-        let mut batch: Vec<(Option<(usize, usize, u8)>, Vec<SparseColumn>, f64)> = Vec::new();
+        type TermKey = (usize, usize, u8);
+        let mut batch: Vec<(Option<TermKey>, Vec<SparseColumn>, f64)> = Vec::new();
         let gone: Vec<_> = self.op_terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
         for k in gone {
             self.profile.operator_changes[if k.2 == 0 { 1 } else { 3 }] += 1;
@@ -216,10 +215,9 @@ impl<'a> Solver<'a> {
             }
         }
         for a in contacts {
-            for (kind, dir, k) in [
-                (0u8, a.contact.normal_direction(), a.contact.k_n),
-                (1u8, a.contact.tangential_direction(), a.k_t),
-            ] {
+            for (kind, dir, k) in
+                [(0u8, a.contact.normal_direction(), a.contact.k_n), (1u8, a.contact.tangential_direction(), a.k_t)]
+            {
                 let key = (a.i, a.j, kind);
                 if want.contains_key(&key) && !self.op_terms.contains_key(&key) {
                     self.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
@@ -471,9 +469,6 @@ impl<'a> Solver<'a> {
                 )
                 .map_err(|e| fail(e, events))?;
                 self.n_solves += info.iterations;
-                if std::env::var("DEM_DEBUG_NEWTON").is_ok() {
-                    eprintln!("DBG {} ev {} it {} rel {:.3e} eta {:.2e} gmres {} contacts {} sliding {} rank {}", what, self.broken.len(), iteration, ev.relative, eta, info.iterations, ev.contacts.len(), ev.contacts.iter().filter(|a| !a.sticks()).count(), self.factor.rank());
-                }
                 if let Some(st) = step.as_mut() {
                     st.gmres_iterations = info.iterations;
                     st.linear_converged = info.converged;
@@ -602,7 +597,6 @@ impl<'a> Solver<'a> {
             .collect()
     }
 }
-
 
 /// Contacts entering or leaving and stick/slip flips between two sets `(i, j, sticks)`, both
 /// sorted by pair.

@@ -91,8 +91,8 @@
 use std::collections::BTreeMap;
 
 use super::contact_set::{self, ActiveContact};
-use super::error::DemError;
 use super::equilibrium::Refactor;
+use super::error::DemError;
 use super::factor::{LowRankCholesky, TermId};
 use super::profile::SolverProfile;
 use super::step_predictor::StepPredictor;
@@ -565,7 +565,8 @@ impl<'a> Solver<'a> {
         let mut best: Option<(f64, usize)> = None;
         for b in (0..self.intact.len()).filter(|&b| self.intact[b]) {
             let (qi, qj) = self.model.beam_dofs(b, &self.z);
-            let p = failure_index(&self.model.geoms[b], &self.model.thresholds, qi, qj).max(self.crushing_index(b, &self.z));
+            let p = failure_index(&self.model.geoms[b], &self.model.thresholds, qi, qj)
+                .max(self.crushing_index(b, &self.z));
             if p >= 1.0 && best.is_none_or(|(bp, _)| p > bp) {
                 best = Some((p, b));
             }
@@ -692,25 +693,27 @@ impl<'a> Solver<'a> {
             // No equilibrium at the smallest increment: past a limit point of the path, the
             // state after the snap-back (module docs, "Snap-back").
             let mut snapped = false;
-            let mut ok = match self.equilibrate_predicted(predictor.as_ref().filter(|_| self.predicts_steps()), &load, t, t_try) {
-                Ok(()) => true,
-                Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
-                Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
-                    self.restore();
-                    if self.continuation(&load, None, t_try).is_err() {
+            let mut ok =
+                match self.equilibrate_predicted(predictor.as_ref().filter(|_| self.predicts_steps()), &load, t, t_try)
+                {
+                    Ok(()) => true,
+                    Err(DemError::NoConvergence { .. }) if h * 0.5 >= h_min => false,
+                    Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
+                        self.restore();
+                        if self.continuation(&load, None, t_try).is_err() {
+                            self.restore();
+                            self.load = LoadPoint::lerp(&from, target, t);
+                            return Err(e);
+                        }
+                        snapped = true;
+                        true
+                    }
+                    Err(e) => {
                         self.restore();
                         self.load = LoadPoint::lerp(&from, target, t);
                         return Err(e);
                     }
-                    snapped = true;
-                    true
-                }
-                Err(e) => {
-                    self.restore();
-                    self.load = LoadPoint::lerp(&from, target, t);
-                    return Err(e);
-                }
-            };
+                };
             // Energy released inside a converged step (crushing only): halve the step; at the
             // smallest one the release is a snap (module docs, "Snaps inside a step").
             if ok && !snapped && self.model.params.crushing.is_some() {
@@ -728,12 +731,7 @@ impl<'a> Solver<'a> {
                 }
             }
             let failure = if ok && !snapped { self.first_failure(&z_old) } else { None };
-            if ok
-                && !snapped
-                && self.opts.contact_events
-                && !at_event
-                && failure.is_none_or(|(lam, _)| lam >= 1.0)
-            {
+            if ok && !snapped && self.opts.contact_events && !at_event && failure.is_none_or(|(lam, _)| lam >= 1.0) {
                 if let Some(lam) = self.first_contact_event(&z_old) {
                     let t_c = t + lam * (t_try - t);
                     let min = MIN_EVENT_STEP * step;

@@ -45,10 +45,10 @@
 //! zeros). The ordering is faer's AMD for small systems and METIS nested dissection
 //! ([`super::ordering`]) from [`NESTED_DISSECTION_MIN`] unknowns on.
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
-use faer::perm::PermRef;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::DMatrix;
@@ -227,7 +227,8 @@ impl LowRankCholesky {
                 .or(sym.solve_in_place_scratch::<f64>(BATCH, Par::Seq));
             self.scratch = MemBuffer::try_new(req).map_err(|e| FactorError(format!("workspace: {e:?}")))?;
             self.values = vec![0.0; sym.len_val()];
-            self.symbolic = Some(Symbolic { sym, col_ptr: cp.to_vec(), row_idx: ri.to_vec(), solve_flops, factor_flops });
+            self.symbolic =
+                Some(Symbolic { sym, col_ptr: cp.to_vec(), row_idx: ri.to_vec(), solve_flops, factor_flops });
             self.n_symbolic += 1;
         }
         let Some(s) = &self.symbolic else { return Err(FactorError("no symbolic factorization".into())) };

@@ -62,6 +62,7 @@ pub fn gmres<E>(
 /// tangent that the factorization does not hold ([`super::tangent::TangentDifference`]), a
 /// product costs `O(contacts)` instead of `O(beams)`. The solve is that of `M + D` only as far
 /// as `M⁻¹` is exact (a Woodbury correction is, to round-off): Newton's step, not its residual.
+#[allow(clippy::too_many_arguments)] // gmres's arguments plus the difference operator
 pub fn gmres_split<E>(
     x: &mut [f64],
     b: &[f64],

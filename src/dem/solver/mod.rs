@@ -30,33 +30,33 @@ pub mod contact_set;
 mod continuation;
 mod energy;
 mod equilibrium;
+pub mod events;
 pub mod gmres;
 pub mod ordering;
 pub mod profile;
+pub mod system;
 pub mod tangent;
 pub mod trace;
-pub mod events;
-pub mod system;
 
 pub use events::{
     BrokenBeam, FailureModeTag, FloatingPolicy, LoadPoint, Solver, SolverOptions, StageEnd, StateKind, StateRecord,
 };
 pub use profile::SolverProfile;
 pub use system::Model;
-pub mod snapshots;
-mod step_predictor;
-pub mod virtual_test;
 #[cfg(test)]
 mod crushing_tests;
 #[cfg(test)]
 mod cyclic_tests;
+pub mod snapshots;
 #[cfg(test)]
 mod speed_tests;
+mod step_predictor;
 #[cfg(test)]
 mod tests;
+pub mod virtual_test;
 
 pub use snapshots::{ParticleState, ParticleStates};
 pub use virtual_test::{
-    cyclic_protocol, run_test, run_test_recording, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats, TestEnd,
-    TestResult, VirtualTest,
+    cyclic_protocol, run_test, run_test_recording, run_test_with, CurvePoint, Derived, PlatenRotation, RunStats,
+    TestEnd, TestResult, VirtualTest,
 };

@@ -19,7 +19,11 @@ pub struct OrderingError(pub String);
 /// METIS nested dissection of the graph of a symmetric `n × n` matrix given by the pattern of
 /// one triangle in compressed columns (`col_ptr`, `row_idx`; the diagonal is ignored).
 /// Returns `(perm, inv)`.
-pub fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<(Vec<usize>, Vec<usize>), OrderingError> {
+pub fn nested_dissection(
+    n: usize,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+) -> Result<(Vec<usize>, Vec<usize>), OrderingError> {
     let err = |s: String| OrderingError(s);
     if col_ptr.len() != n + 1 || col_ptr.last().is_none_or(|&e| e > row_idx.len()) {
         return Err(err(format!("pattern of {} column pointers for {n} columns", col_ptr.len())));
@@ -81,7 +85,9 @@ pub fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Resu
         return Err(err(format!("METIS_NodeND returned status {status}")));
     }
     let to_usize = |v: &[m::idx_t]| -> Result<Vec<usize>, OrderingError> {
-        v.iter().map(|&x| usize::try_from(x).ok().filter(|&x| x < n).ok_or_else(|| err(format!("index {x} out of {n}")))).collect()
+        v.iter()
+            .map(|&x| usize::try_from(x).ok().filter(|&x| x < n).ok_or_else(|| err(format!("index {x} out of {n}"))))
+            .collect()
     };
     let (perm, inv) = (to_usize(&perm)?, to_usize(&iperm)?);
     if perm.iter().enumerate().any(|(k, &p)| inv[p] != k) {

@@ -123,7 +123,10 @@ impl Recorder {
         }
         std::mem::take(&mut k.states)
             .into_iter()
-            .map(|(state, z)| ParticleState { state, dofs: (0..n_particles).map(|p| map.particle_dofs(p, &z)).collect() })
+            .map(|(state, z)| ParticleState {
+                state,
+                dofs: (0..n_particles).map(|p| map.particle_dofs(p, &z)).collect(),
+            })
             .collect()
     }
 }

@@ -12,7 +12,12 @@ use crate::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyF
 
 fn random(n: usize, seed: u64) -> Sample {
     Sample::build(&SampleConfig {
-        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
+        layout: SampleLayout::Random(RandomLayout {
+            width: 1.0,
+            height: 1.0,
+            n_particles: n,
+            min_distance_factor: 0.7,
+        }),
         thickness: 1.0,
         seed,
         alpha: 0.8,

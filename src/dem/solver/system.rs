@@ -49,14 +49,8 @@ impl<'a> Model<'a> {
         let mut terms = Vec::with_capacity(sample.beams.len());
         for (k, b) in sample.beams.iter().enumerate() {
             let err = |source| DemError::Beam { beam: k, i: b.i, j: b.j, source };
-            let g = BeamGeom {
-                ell: b.length,
-                n: b.normal,
-                r_i: b.arm_i,
-                r_j: b.arm_j,
-                area: b.area,
-                inertia: b.inertia,
-            };
+            let g =
+                BeamGeom { ell: b.length, n: b.normal, r_i: b.arm_i, r_j: b.arm_j, area: b.area, inertia: b.inertia };
             g.validate().map_err(err)?;
             let (idx, gm) = map.pair_map(b.i, b.j);
             let kz = gm.transpose() * mechanics::beam_stiffness(&g, params) * gm;

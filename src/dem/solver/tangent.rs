@@ -164,7 +164,10 @@ impl JacobianCache {
         let (regime, old): (Regime, _) = if on_cone {
             // The trial force becomes F_t (1 + CONE_PUSH).
             let f_t = old.f_t + CONE_PUSH * a.friction.f_t;
-            ((SlipState::Slip, model.params.mu * a.friction.f_t.signum(), plastic), contact_set::ContactHistory { f_t, ..old })
+            (
+                (SlipState::Slip, model.params.mu * a.friction.f_t.signum(), plastic),
+                contact_set::ContactHistory { f_t, ..old },
+            )
         } else if limit > 0.0 && margin < reach && shift < 0.5 * limit {
             // Sliding: the trial pushed further out; sticking: pulled further in.
             let out = if a.friction.state == SlipState::Slip { 1.0 } else { -1.0 };
@@ -255,11 +258,8 @@ impl<'m, 'a> Tangent<'m, 'a> {
         held: impl Fn(usize, usize) -> SMatrix<f64, 6, 6>,
     ) -> TangentDifference {
         let eq = &self.model.map.eq;
-        let terms = contacts
-            .iter()
-            .zip(&self.contacts)
-            .map(|(a, (idx, k))| (idx.map(|z| eq[z]), k - held(a.i, a.j)))
-            .collect();
+        let terms =
+            contacts.iter().zip(&self.contacts).map(|(a, (idx, k))| (idx.map(|z| eq[z]), k - held(a.i, a.j))).collect();
         TangentDifference { terms }
     }
 
@@ -356,7 +356,12 @@ mod tests {
         // differs from it by less than 10⁻³ of its largest entry: the motion is 10⁻⁴ of the
         // penetration); a motion of 0.5 δ recomputes it; η = 0 always recomputes.
         let s = Sample::build(&SampleConfig {
-            layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: 60, min_distance_factor: 0.7 }),
+            layout: SampleLayout::Random(RandomLayout {
+                width: 1.0,
+                height: 1.0,
+                n_particles: 60,
+                min_distance_factor: 0.7,
+            }),
             thickness: 1.0,
             seed: 3,
             alpha: 0.8,
@@ -380,7 +385,8 @@ mod tests {
         let j1 = cache.jacobian(&model, &contact(at(1e-4)), at(1e-4), c, Default::default()).unwrap();
         assert_eq!((cache.computed, cache.reused), (1, 1));
         assert_eq!(j0, j1);
-        let fresh = contact_set::pair_jacobian(&s, &model.params, &contact(at(1e-4)), at(1e-4), c, Default::default()).unwrap();
+        let fresh =
+            contact_set::pair_jacobian(&s, &model.params, &contact(at(1e-4)), at(1e-4), c, Default::default()).unwrap();
         assert!((fresh - j1).amax() <= 1e-3 * fresh.amax(), "{}", (fresh - j1).amax() / fresh.amax());
         cache.jacobian(&model, &contact(at(0.5)), at(0.5), c, Default::default()).unwrap();
         assert_eq!((cache.computed, cache.reused), (2, 1));

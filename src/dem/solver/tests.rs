@@ -132,7 +132,12 @@ fn paper_wall_compression_report_and_energy_balance() {
     let last = r.curve.last().unwrap();
     println!(
         "  energy: W_ext {:.4e}, stored {:.4e}, fracture {:.4e}, friction {:.4e}, relaxation {:.4e}, imbalance {:.3e}",
-        last.external_work, last.stored, last.dissipated[0], last.dissipated[1], last.dissipated[2], balance(last)
+        last.external_work,
+        last.stored,
+        last.dissipated[0],
+        last.dissipated[1],
+        last.dissipated[2],
+        balance(last)
     );
     assert!(d.young_modulus > 0.0 && d.poisson.is_finite() && d.peak_stress > 0.0);
     assert!(r.stats.events > 0);
@@ -147,7 +152,9 @@ fn bad_test_parameters_are_errors() {
     assert!(run_test(&s, &p, &VirtualTest::Tension { max_strain: 1e-3, steps: 0 }).is_err());
     let toml = "type = \"shear\"\nmax_displacement = 5e-3\nsteps = 10\nrotation = \"free\"";
     let t: VirtualTest = toml::from_str(toml).unwrap();
-    assert!(matches!(t, VirtualTest::Shear { vertical_stress, rotation: PlatenRotation::Free, .. } if vertical_stress == 1e6));
+    assert!(
+        matches!(t, VirtualTest::Shear { vertical_stress, rotation: PlatenRotation::Free, .. } if vertical_stress == 1e6)
+    );
     assert!(toml::from_str::<VirtualTest>("type = \"tension\"\nmax_strain = 1\nsteps = 1\nbogus = 2").is_err());
 }
 
@@ -167,7 +174,12 @@ fn random_sample_is_isotropic() {
     let (a, b) = (ey.derived.young_modulus, ex.derived.young_modulus);
     println!(
         "random 2000: E_y = {:.4} GPa, E_x = {:.4} GPa, ν_y = {:.3}, ν_x = {:.3}, {:.3} s + {:.3} s",
-        a / 1e9, b / 1e9, ey.derived.poisson, ex.derived.poisson, ey.stats.seconds, ex.stats.seconds
+        a / 1e9,
+        b / 1e9,
+        ey.derived.poisson,
+        ex.derived.poisson,
+        ey.stats.seconds,
+        ex.stats.seconds
     );
     assert_eq!(ey.stats.events, 0);
     assert!((a - b).abs() <= 0.05 * a.max(b), "E_y {a} vs E_x {b}");
@@ -175,7 +187,12 @@ fn random_sample_is_isotropic() {
 
 fn random_sample(n: usize) -> Sample {
     Sample::build(&SampleConfig {
-        layout: SampleLayout::Random(RandomLayout { width: 1.0, height: 1.0, n_particles: n, min_distance_factor: 0.7 }),
+        layout: SampleLayout::Random(RandomLayout {
+            width: 1.0,
+            height: 1.0,
+            n_particles: n,
+            min_distance_factor: 0.7,
+        }),
         thickness: 1.0,
         seed: 11,
         alpha: 0.8,
@@ -212,7 +229,12 @@ fn paper_wall_compression_to_failure_report() {
         last.external_work
     );
     assert!(r.stats.events > 0, "cracks form");
-    assert!(balance(last).abs() <= 0.01 * last.external_work, "energy balance {} of {}", balance(last), last.external_work);
+    assert!(
+        balance(last).abs() <= 0.01 * last.external_work,
+        "energy balance {} of {}",
+        balance(last),
+        last.external_work
+    );
 }
 
 /// A small coursed wall (5 courses × 3 stones, 0.5 m × 0.6 m) with the paper's parameters.

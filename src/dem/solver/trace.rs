@@ -109,7 +109,9 @@ impl Trace {
                 a.final_relative,
                 if a.converged { "converged" } else { "NOT converged" }
             ));
-            s.push_str("   it   residual      merit   contacts sliding crushing changes gmres lin    cap   alpha   shift\n");
+            s.push_str(
+                "   it   residual      merit   contacts sliding crushing changes gmres lin    cap   alpha   shift\n",
+            );
             for (k, st) in a.steps.iter().enumerate() {
                 s.push_str(&format!(
                     "  {:3} {:10.3e} {:10.3e} {:8} {:7} {:8} {:7} {:5} {:3} {:6.3} {:7.4} {:7.1e}\n",

@@ -156,7 +156,11 @@ pub fn cyclic_protocol(amplitudes: &[f64], ratio: f64, steps_per_half_cycle: usi
 
 fn check_amplitudes(amplitudes: &[f64]) -> Result<(), DemError> {
     if amplitudes.is_empty() {
-        return Err(DemError::InvalidParameter { field: "amplitudes", value: "[]".into(), expected: "at least one amplitude" });
+        return Err(DemError::InvalidParameter {
+            field: "amplitudes",
+            value: "[]".into(),
+            expected: "at least one amplitude",
+        });
     }
     for (k, &a) in amplitudes.iter().enumerate() {
         positive("amplitudes", a)?;
@@ -183,7 +187,11 @@ impl VirtualTest {
         };
         let half_cycle_steps = |s: usize| {
             if s == 0 {
-                Err(DemError::InvalidParameter { field: "steps_per_half_cycle", value: "0".into(), expected: "at least 1" })
+                Err(DemError::InvalidParameter {
+                    field: "steps_per_half_cycle",
+                    value: "0".into(),
+                    expected: "at least 1",
+                })
             } else {
                 Ok(())
             }
@@ -216,7 +224,9 @@ impl VirtualTest {
                 }
                 half_cycle_steps(steps_per_half_cycle)
             }
-            VirtualTest::CyclicShear { vertical_stress, ref amplitudes, steps_per_half_cycle, preload_steps, .. } => {
+            VirtualTest::CyclicShear {
+                vertical_stress, ref amplitudes, steps_per_half_cycle, preload_steps, ..
+            } => {
                 if !(vertical_stress.is_finite() && vertical_stress >= 0.0) {
                     return Err(DemError::InvalidParameter {
                         field: "vertical_stress",
@@ -473,7 +483,9 @@ impl CyclicEnvelope {
     fn lost(&self, fraction: f64) -> bool {
         let visited: Vec<usize> = (0..2).filter(|&k| self.latest[k].is_some()).collect();
         !visited.is_empty()
-            && visited.iter().all(|&k| self.peak[k] > 0.0 && self.latest[k].is_some_and(|l| l < fraction * self.peak[k]))
+            && visited
+                .iter()
+                .all(|&k| self.peak[k] > 0.0 && self.latest[k].is_some_and(|l| l < fraction * self.peak[k]))
     }
 }
 

@@ -71,19 +71,8 @@ use crate::material::{nonlocal, DamageState, MaterialError, PointLaw};
 pub const DRILLING_FACTOR: f64 = 1e-2;
 
 /// Names of the cell outputs of shell elements (module docs).
-pub const CELL_OUTPUT_NAMES: [&str; 11] = [
-    "d_t_max",
-    "d_t_mean",
-    "d_c_max",
-    "d_c_mean",
-    "Nxx",
-    "Nyy",
-    "Nxy",
-    "Mxx",
-    "Myy",
-    "Mxy",
-    "dissipated_energy",
-];
+pub const CELL_OUTPUT_NAMES: [&str; 11] =
+    ["d_t_max", "d_t_mean", "d_c_max", "d_c_mean", "Nxx", "Nyy", "Nxy", "Mxx", "Myy", "Mxy", "dissipated_energy"];
 
 /// Stress resultants at one in-plane integration point, element local axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -156,13 +145,10 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         let rule = ThicknessRule::simpson(section.thickness, section.layers);
         let h = geometry.characteristic_length();
         let law = match section.material {
-            ShellMaterial::Elastic { e, nu } => {
-                SectionLaw::Elastic(rule.elastic_section(&plane_stress_matrix(e, nu)))
+            ShellMaterial::Elastic { e, nu } => SectionLaw::Elastic(rule.elastic_section(&plane_stress_matrix(e, nu))),
+            ShellMaterial::Damage(p) => {
+                SectionLaw::Damage(p.for_element(h).map_err(|source| ShellError::Material { h, source })?)
             }
-            ShellMaterial::Damage(p) => SectionLaw::Damage(
-                p.for_element(h)
-                    .map_err(|source| ShellError::Material { h, source })?,
-            ),
         };
         let n_states = match law {
             SectionLaw::Elastic(_) => 0,
@@ -179,9 +165,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             rule,
             law,
             shear_stiffness: section.shear_stiffness(),
-            drilling_stiffness: DRILLING_FACTOR
-                * section.material.shear_modulus()
-                * section.thickness,
+            drilling_stiffness: DRILLING_FACTOR * section.material.shear_modulus() * section.thickness,
             committed: vec![DamageState::default(); n_states],
             trial: vec![DamageState::default(); n_states],
             dissipated: 0.0,
@@ -243,7 +227,9 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
     }
 
     /// Section response at point `p` for the flat displacement `uf`, from `committed` (the states of
-    /// this point) into `trial`.
+    /// this point) into `trial`. (The point's own data, each argument distinct: no struct would
+    /// name them better.)
+    #[allow(clippy::too_many_arguments)]
     fn section_at(
         law: &SectionLaw,
         rule: &ThicknessRule,
@@ -347,12 +333,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         N
     }
 
-    fn evaluate(
-        &mut self,
-        u_e: &[f64],
-        request: EvalRequest,
-        out: &mut ElementOutput,
-    ) -> Result<(), ElementError> {
+    fn evaluate(&mut self, u_e: &[f64], request: EvalRequest, out: &mut ElementOutput) -> Result<(), ElementError> {
         let uf = self.flat_displacement(u_e)?;
         out.prepare(D);
         let want_k = request.wants_tangent();
@@ -362,11 +343,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let mut k = SMatrix::<f64, D, D>::zeros();
         let mut dissipation = 0.0;
         for (p, pt) in self.points.iter().enumerate() {
-            let range = if has_state {
-                p * nz..(p + 1) * nz
-            } else {
-                0..0
-            };
+            let range = if has_state { p * nz..(p + 1) * nz } else { 0..0 };
             let r = Self::section_at(
                 &self.law,
                 &self.rule,
@@ -441,17 +418,11 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         &CELL_OUTPUT_NAMES
     }
 
-    fn cell_output(
-        &self,
-        u_e: &[f64],
-        _loads: &AppliedLoads,
-        values: &mut [f64],
-    ) -> Result<(), ElementError> {
+    fn cell_output(&self, u_e: &[f64], _loads: &AppliedLoads, values: &mut [f64]) -> Result<(), ElementError> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let uf = self.flat_displacement(u_e)?;
         let nz = self.rule.len();
-        let mut scratch =
-            vec![DamageState::default(); if self.committed.is_empty() { 0 } else { nz }];
+        let mut scratch = vec![DamageState::default(); if self.committed.is_empty() { 0 } else { nz }];
         let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
         let mut n = Vector3::zeros();
         let mut m = Vector3::zeros();
@@ -459,7 +430,16 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let mut volume = 0.0;
         for (p, pt) in self.points.iter().enumerate() {
             let committed = self.states_of(p, &self.committed);
-            let r = Self::section_at(&self.law, &self.rule, pt, &uf, committed, &mut scratch, false, self.nonlocal_input(p));
+            let r = Self::section_at(
+                &self.law,
+                &self.rule,
+                pt,
+                &uf,
+                committed,
+                &mut scratch,
+                false,
+                self.nonlocal_input(p),
+            );
             n += r.n;
             m += r.m;
             dissipation += pt.weight * r.dissipation;
@@ -499,10 +479,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         if self.committed.is_empty() {
             return Ok(());
         }
-        for (chunk, s) in out
-            .chunks_exact_mut(DamageState::N_VALUES)
-            .zip(&self.committed)
-        {
+        for (chunk, s) in out.chunks_exact_mut(DamageState::N_VALUES).zip(&self.committed) {
             chunk.copy_from_slice(&s.to_array());
         }
         out[out.len() - 1] = self.dissipated;
@@ -514,10 +491,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         if self.committed.is_empty() {
             return Ok(());
         }
-        for (chunk, s) in state
-            .chunks_exact(DamageState::N_VALUES)
-            .zip(self.committed.iter_mut())
-        {
+        for (chunk, s) in state.chunks_exact(DamageState::N_VALUES).zip(self.committed.iter_mut()) {
             *s = DamageState::from_array([chunk[0], chunk[1], chunk[2], chunk[3]]);
         }
         self.dissipated = state[state.len() - 1];
@@ -571,7 +545,9 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
     }
 
     fn set_nonlocal_strains(&mut self, averaged: &[f64], self_share: &[f64]) {
-        for ((a, s), (v, share)) in self.averaged.iter_mut().zip(self.self_share.iter_mut()).zip(averaged.chunks_exact(2).zip(self_share)) {
+        for ((a, s), (v, share)) in
+            self.averaged.iter_mut().zip(self.self_share.iter_mut()).zip(averaged.chunks_exact(2).zip(self_share))
+        {
             *a = [v[0], v[1]];
             *s = *share;
         }

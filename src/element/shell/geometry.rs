@@ -69,12 +69,7 @@ fn check_finite<const N: usize>(coords: &[[f64; 3]; N]) -> Result<(), ShellError
 }
 
 fn degenerate<const N: usize>(coords: &[[f64; 3]; N], corner: usize, ratio: f64) -> ShellError {
-    ShellError::Degenerate {
-        coords: coords.to_vec(),
-        corner,
-        ratio,
-        min_ratio: MIN_CORNER_JACOBIAN,
-    }
+    ShellError::Degenerate { coords: coords.to_vec(), corner, ratio, min_ratio: MIN_CORNER_JACOBIAN }
 }
 
 fn frame<const N: usize>(
@@ -95,11 +90,7 @@ fn frame<const N: usize>(
     let e1 = v / vn;
     let e2 = e3.cross(&e1);
     let rotation = Matrix3::from_rows(&[e1.transpose(), e2.transpose(), e3.transpose()]);
-    let origin = coords
-        .iter()
-        .map(|c| Vector3::from(*c))
-        .sum::<Vector3<f64>>()
-        / N as f64;
+    let origin = coords.iter().map(|c| Vector3::from(*c)).sum::<Vector3<f64>>() / N as f64;
     let mut xy = [[0.0; 2]; N];
     let mut z = [0.0; N];
     for (i, c) in coords.iter().enumerate() {
@@ -107,13 +98,7 @@ fn frame<const N: usize>(
         xy[i] = [l.x, l.y];
         z[i] = l.z;
     }
-    Some(FlatGeometry {
-        rotation,
-        origin,
-        xy,
-        offsets: z,
-        area: 0.0,
-    })
+    Some(FlatGeometry { rotation, origin, xy, offsets: z, area: 0.0 })
 }
 
 /// Local geometry of a quadrilateral (module docs). Refuses non-finite coordinates, degenerate or
@@ -151,12 +136,7 @@ pub fn quad(coords: &[[f64; 3]; 4]) -> Result<FlatGeometry<4>, ShellError> {
     let offset = geo.offsets.iter().fold(0.0f64, |m, z| m.max(z.abs()));
     let ratio = offset / area.sqrt();
     if ratio > WARPING_LIMIT {
-        return Err(ShellError::Warped {
-            coords: coords.to_vec(),
-            offset,
-            ratio,
-            limit: WARPING_LIMIT,
-        });
+        return Err(ShellError::Warped { coords: coords.to_vec(), offset, ratio, limit: WARPING_LIMIT });
     }
     geo.area = area;
     Ok(geo)
@@ -168,14 +148,8 @@ pub fn triangle(coords: &[[f64; 3]; 3]) -> Result<FlatGeometry<3>, ShellError> {
     check_finite(coords)?;
     let x: Vec<Vector3<f64>> = coords.iter().map(|c| Vector3::from(*c)).collect();
     let normal = (x[1] - x[0]).cross(&(x[2] - x[0]));
-    let longest = (0..3)
-        .map(|i| (x[(i + 1) % 3] - x[i]).norm_squared())
-        .fold(0.0, f64::max);
-    let ratio = if longest > 0.0 {
-        normal.norm() / longest
-    } else {
-        0.0
-    };
+    let longest = (0..3).map(|i| (x[(i + 1) % 3] - x[i]).norm_squared()).fold(0.0, f64::max);
+    let ratio = if longest > 0.0 { normal.norm() / longest } else { 0.0 };
     let valid = ratio > MIN_CORNER_JACOBIAN;
     if !valid {
         return Err(degenerate(coords, 0, ratio));

@@ -166,28 +166,13 @@ pub fn damage_section(
         dissipation += w * r.dissipation;
         trial[j] = r.state;
     }
-    SectionResponse {
-        n,
-        m,
-        tangent: block_section(&a, &b, &d),
-        dissipation,
-    }
+    SectionResponse { n, m, tangent: block_section(&a, &b, &d), dissipation }
 }
 
 /// In-plane plane-stress elastic matrix E/(1−ν²) [[1, ν, 0], [ν, 1, 0], [0, 0, (1−ν)/2]].
 pub fn plane_stress_matrix(e: f64, nu: f64) -> Matrix3<f64> {
     let f = e / (1.0 - nu * nu);
-    Matrix3::new(
-        f,
-        f * nu,
-        0.0,
-        f * nu,
-        f,
-        0.0,
-        0.0,
-        0.0,
-        f * 0.5 * (1.0 - nu),
-    )
+    Matrix3::new(f, f * nu, 0.0, f * nu, f, 0.0, 0.0, 0.0, f * 0.5 * (1.0 - nu))
 }
 
 #[cfg(test)]

@@ -133,13 +133,7 @@ impl ShellElement<4, 24> {
                 b_s[(0, c)] = cart.x;
                 b_s[(1, c)] = cart.y;
             }
-            points.push(PlanePoint {
-                weight: det,
-                shape: SVector::<f64, 4>::from(n),
-                b,
-                b_s,
-                b_d,
-            });
+            points.push(PlanePoint { weight: det, shape: SVector::<f64, 4>::from(n), b, b_s, b_d });
         }
         ShellElement::from_parts("shell_mitc4", coords, geo, points, section)
     }

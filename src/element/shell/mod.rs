@@ -26,9 +26,7 @@ mod tri3;
 #[cfg(test)]
 mod tests;
 
-pub use element::{
-    PointResultants, ShellElement, CELL_OUTPUT_NAMES as SHELL_CELL_OUTPUT_NAMES, DRILLING_FACTOR,
-};
+pub use element::{PointResultants, ShellElement, CELL_OUTPUT_NAMES as SHELL_CELL_OUTPUT_NAMES, DRILLING_FACTOR};
 pub use error::ShellError;
 pub use geometry::WARPING_LIMIT;
 pub use layers::ThicknessRule;

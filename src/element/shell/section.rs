@@ -124,18 +124,11 @@ impl ShellSection {
             return Err(ShellError::NoLayers { layers: 0 });
         }
         non_negative("density", self.density)?;
-        non_negative(
-            "nonstructural_mass_per_area",
-            self.nonstructural_mass_per_area,
-        )?;
+        non_negative("nonstructural_mass_per_area", self.nonstructural_mass_per_area)?;
         positive("E", self.material.e())?;
         let nu = self.material.nu();
         if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-            return Err(ElementError::InvalidSection {
-                quantity: "nu",
-                value: nu,
-            }
-            .into());
+            return Err(ElementError::InvalidSection { quantity: "nu", value: nu }.into());
         }
         Ok(())
     }

@@ -55,10 +55,7 @@ struct Model {
 
 impl Model {
     fn new(nodes: Vec<[f64; 3]>) -> Self {
-        Model {
-            nodes,
-            elements: Vec::new(),
-        }
+        Model { nodes, elements: Vec::new() }
     }
     fn n_dofs(&self) -> usize {
         6 * self.nodes.len()
@@ -74,9 +71,7 @@ impl Model {
         self.elements.push((Shell::T(Box::new(e)), c.to_vec()));
     }
     fn dofs(conn: &[usize]) -> Vec<usize> {
-        conn.iter()
-            .flat_map(|&n| (0..6).map(move |k| 6 * n + k))
-            .collect()
+        conn.iter().flat_map(|&n| (0..6).map(move |k| 6 * n + k)).collect()
     }
     /// Global tangent at u = 0 (elastic: the stiffness).
     fn stiffness(&mut self) -> DMatrix<f64> {
@@ -85,9 +80,7 @@ impl Model {
         let mut out = ElementOutput::new(24);
         for (e, conn) in &mut self.elements {
             let d = Self::dofs(conn);
-            e.el()
-                .evaluate(&vec![0.0; d.len()], EvalRequest::ForceAndTangent, &mut out)
-                .unwrap();
+            e.el().evaluate(&vec![0.0; d.len()], EvalRequest::ForceAndTangent, &mut out).unwrap();
             for (a, &ga) in d.iter().enumerate() {
                 for (b, &gb) in d.iter().enumerate() {
                     k[(ga, gb)] += out.k_t[(a, b)];
@@ -123,21 +116,13 @@ impl Model {
         f
     }
     fn element_u(&self, i: usize, u: &DVector<f64>) -> Vec<f64> {
-        Self::dofs(&self.elements[i].1)
-            .iter()
-            .map(|&d| u[d])
-            .collect()
+        Self::dofs(&self.elements[i].1).iter().map(|&d| u[d]).collect()
     }
 }
 
 /// Solve K u = f with u = `prescribed` on the given DOFs; `skyline` selects the Cholesky solver
 /// (K_ff must then be positive definite), otherwise dense LU.
-fn solve(
-    k: &DMatrix<f64>,
-    f: &DVector<f64>,
-    prescribed: &[(usize, f64)],
-    skyline: bool,
-) -> DVector<f64> {
+fn solve(k: &DMatrix<f64>, f: &DVector<f64>, prescribed: &[(usize, f64)], skyline: bool) -> DVector<f64> {
     let n = k.nrows();
     let mut u = DVector::zeros(n);
     let mut fixed = vec![false; n];
@@ -148,17 +133,9 @@ fn solve(
     let free: Vec<usize> = (0..n).filter(|&d| !fixed[d]).collect();
     let kff = DMatrix::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
     let rhs = DVector::from_fn(free.len(), |i, _| {
-        f[free[i]]
-            - (0..n)
-                .filter(|&d| fixed[d])
-                .map(|d| k[(free[i], d)] * u[d])
-                .sum::<f64>()
+        f[free[i]] - (0..n).filter(|&d| fixed[d]).map(|d| k[(free[i], d)] * u[d]).sum::<f64>()
     });
-    let x = if skyline {
-        skyline_cholesky_solve(kff, &rhs)
-    } else {
-        kff.lu().solve(&rhs).expect("regular")
-    };
+    let x = if skyline { skyline_cholesky_solve(kff, &rhs) } else { kff.lu().solve(&rhs).expect("regular") };
     for (i, &d) in free.iter().enumerate() {
         u[d] = x[i];
     }
@@ -169,9 +146,7 @@ fn solve(
 /// cost ~ n b² for profile b.
 fn skyline_cholesky_solve(mut a: DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
     let n = a.nrows();
-    let first: Vec<usize> = (0..n)
-        .map(|i| (0..=i).find(|&j| a[(i, j)] != 0.0).unwrap_or(i))
-        .collect();
+    let first: Vec<usize> = (0..n).map(|i| (0..=i).find(|&j| a[(i, j)] != 0.0).unwrap_or(i)).collect();
     for i in 0..n {
         for j in first[i]..=i {
             let mut s = a[(i, j)];
@@ -230,10 +205,7 @@ fn count_zero_eigenvalues(k: &DMatrix<f64>) -> (usize, f64) {
     let ev = SymmetricEigen::new(sym).eigenvalues;
     let max = ev.amax();
     let zeros = ev.iter().filter(|l| l.abs() < 1e-10 * max).count();
-    let min_nonzero = ev
-        .iter()
-        .filter(|l| l.abs() >= 1e-10 * max)
-        .fold(f64::INFINITY, |m, l| m.min(l.abs()));
+    let min_nonzero = ev.iter().filter(|l| l.abs() >= 1e-10 * max).fold(f64::INFINITY, |m, l| m.min(l.abs()));
     (zeros, min_nonzero / max)
 }
 
@@ -257,47 +229,24 @@ fn rigid_body_modes() {
     let a = Vector3::new(0.6, 0.64, 0.48);
     let b = Vector3::new(-0.8, 0.48, 0.36);
     let n = a.cross(&b);
-    let place = |x: f64, y: f64, z: f64| -> [f64; 3] {
-        (Vector3::new(1.0, -2.0, 3.0) + a * x + b * y + n * z).into()
-    };
-    let flat = [
-        place(0.0, 0.0, 0.0),
-        place(1.1, 0.1, 0.0),
-        place(1.0, 0.9, 0.0),
-        place(-0.1, 0.8, 0.0),
-    ];
+    let place = |x: f64, y: f64, z: f64| -> [f64; 3] { (Vector3::new(1.0, -2.0, 3.0) + a * x + b * y + n * z).into() };
+    let flat = [place(0.0, 0.0, 0.0), place(1.1, 0.1, 0.0), place(1.0, 0.9, 0.0), place(-0.1, 0.8, 0.0)];
     // Warping ±0.02 on a ~1 m element: ratio 0.02 < WARPING_LIMIT.
-    let warped = [
-        place(0.0, 0.0, 0.02),
-        place(1.1, 0.1, -0.02),
-        place(1.0, 0.9, 0.02),
-        place(-0.1, 0.8, -0.02),
-    ];
-    let tri = [
-        place(0.0, 0.0, 0.0),
-        place(1.2, 0.2, 0.0),
-        place(0.3, 0.9, 0.0),
-    ];
+    let warped = [place(0.0, 0.0, 0.02), place(1.1, 0.1, -0.02), place(1.0, 0.9, 0.02), place(-0.1, 0.8, -0.02)];
+    let tri = [place(0.0, 0.0, 0.0), place(1.2, 0.2, 0.0), place(0.3, 0.9, 0.0)];
     type Placed = (Box<dyn Element>, Vec<[f64; 3]>);
     let mut elems: Vec<Placed> = vec![
         (Box::new(ShellQuad4::new(flat, &s).unwrap()), flat.to_vec()),
-        (
-            Box::new(ShellQuad4::new(warped, &s).unwrap()),
-            warped.to_vec(),
-        ),
+        (Box::new(ShellQuad4::new(warped, &s).unwrap()), warped.to_vec()),
         (Box::new(ShellTri3::new(tri, &s).unwrap()), tri.to_vec()),
     ];
     let mut out = ElementOutput::new(24);
     for (e, x) in &mut elems {
         let nd = e.n_dofs();
-        e.evaluate(&vec![0.0; nd], EvalRequest::ForceAndTangent, &mut out)
-            .unwrap();
+        e.evaluate(&vec![0.0; nd], EvalRequest::ForceAndTangent, &mut out).unwrap();
         let k = out.k_t.clone();
         let (zeros, gap) = count_zero_eigenvalues(&k);
-        println!(
-            "{}: {zeros} zero eigenvalues, smallest non-zero / largest = {gap:e}",
-            e.kind_name()
-        );
+        println!("{}: {zeros} zero eigenvalues, smallest non-zero / largest = {gap:e}", e.kind_name());
         assert_eq!(zeros, 6, "{}", e.kind_name());
         for (c, th) in [
             (Vector3::new(1.0, 2.0, -1.0), Vector3::zeros()),
@@ -307,12 +256,7 @@ fn rigid_body_modes() {
             let u = rigid_motion(x, c, th);
             e.evaluate(&u, EvalRequest::Force, &mut out).unwrap();
             let un = DVector::from_column_slice(&u).norm();
-            assert!(
-                out.f_int.amax() <= 1e-9 * k.amax() * un,
-                "{}: {}",
-                e.kind_name(),
-                out.f_int.amax()
-            );
+            assert!(out.f_int.amax() <= 1e-9 * k.amax() * un, "{}: {}", e.kind_name(), out.f_int.amax());
         }
     }
 }
@@ -341,13 +285,7 @@ fn patch_nodes() -> Vec<[f64; 3]> {
         [0.08, 0.08, 0.0],
     ]
 }
-const PATCH_QUADS: [[usize; 4]; 5] = [
-    [0, 1, 5, 4],
-    [1, 2, 6, 5],
-    [2, 3, 7, 6],
-    [3, 0, 4, 7],
-    [4, 5, 6, 7],
-];
+const PATCH_QUADS: [[usize; 4]; 5] = [[0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7], [4, 5, 6, 7]];
 
 fn patch_model(s: &ShellSection, triangles: bool) -> Model {
     let mut m = Model::new(patch_nodes());
@@ -383,14 +321,8 @@ fn membrane_patch_test() {
         }
         let u = solve(&k, &DVector::zeros(m.n_dofs()), &bc, false);
         for (i, x) in m.nodes.iter().enumerate().skip(4) {
-            assert!(
-                (u[6 * i] - 1e-3 * (x[0] + x[1] / 2.0)).abs() < 1e-12,
-                "interior u"
-            );
-            assert!(
-                (u[6 * i + 1] - 1e-3 * (x[1] + x[0] / 2.0)).abs() < 1e-12,
-                "interior v"
-            );
+            assert!((u[6 * i] - 1e-3 * (x[0] + x[1] / 2.0)).abs() < 1e-12, "interior u");
+            assert!((u[6 * i + 1] - 1e-3 * (x[1] + x[0] / 2.0)).abs() < 1e-12, "interior v");
         }
         let mut worst = 0.0f64;
         for i in 0..m.elements.len() {
@@ -402,10 +334,7 @@ fn membrane_patch_test() {
                 assert!(mm.amax() < 1e-8 * n.amax() * t);
             }
         }
-        println!(
-            "membrane patch ({}): worst relative error {worst:e}",
-            if triangles { "tri" } else { "quad" }
-        );
+        println!("membrane patch ({}): worst relative error {worst:e}", if triangles { "tri" } else { "quad" });
         assert!(worst < 1e-8);
     }
 }
@@ -439,10 +368,7 @@ fn bending_patch_test() {
         }
         let u = solve(&k, &DVector::zeros(m.n_dofs()), &bc, false);
         for (i, x) in m.nodes.iter().enumerate().skip(4) {
-            assert!(
-                (u[6 * i + 2] - w(x)).abs() < 1e-9 * w(x).abs(),
-                "interior w"
-            );
+            assert!((u[6 * i + 2] - w(x)).abs() < 1e-9 * w(x).abs(), "interior w");
         }
         let mut worst = 0.0f64;
         for i in 0..m.elements.len() {
@@ -453,10 +379,7 @@ fn bending_patch_test() {
                 worst = worst.max((mm - expect).amax() / mom.amax());
             }
         }
-        println!(
-            "bending patch ({}): worst relative moment error {worst:e}",
-            if triangles { "tri" } else { "quad" }
-        );
+        println!("bending patch ({}): worst relative moment error {worst:e}", if triangles { "tri" } else { "quad" });
         assert!(worst < 1e-6);
     }
 }
@@ -478,10 +401,7 @@ fn bending_patch_test() {
 fn scordelis_lo(n: usize, triangles: bool) -> f64 {
     let (r, half_l, phi_max) = (25.0, 25.0, 40f64.to_radians());
     let t = 0.25;
-    let s = ShellSection {
-        density: 90.0 / t,
-        ..elastic(t, 4.32e8, 0.0, 0.0)
-    };
+    let s = ShellSection { density: 90.0 / t, ..elastic(t, 4.32e8, 0.0, 0.0) };
     let id = |i: usize, j: usize| j * (n + 1) + i;
     let mut nodes = Vec::new();
     for j in 0..=n {
@@ -532,19 +452,12 @@ fn scordelis_lo_roof() {
     for n in [4, 8, 16] {
         let q = scordelis_lo(n, false);
         let t = scordelis_lo(n, true);
-        println!(
-            "  {n:2}x{n:<2}   {q:.5}   {:.4}   {t:.5}   {:.4}",
-            q / reference,
-            t / reference
-        );
+        println!("  {n:2}x{n:<2}   {q:.5}   {:.4}   {t:.5}   {:.4}", q / reference, t / reference);
         if n == 16 {
             quad16 = q;
         }
     }
-    assert!(
-        (quad16 / reference - 1.0).abs() < 0.02,
-        "16x16 MITC4: {quad16}"
-    );
+    assert!((quad16 / reference - 1.0).abs() < 0.02, "16x16 MITC4: {quad16}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -597,7 +510,10 @@ fn plate_first_frequency() {
         let d = e * t * t * t / (12.0 * (1.0 - nu * nu));
         let exact = 2.0 * std::f64::consts::PI.powi(2) / (a * a) * (d / (rho * t)).sqrt();
         let err = omega / exact - 1.0;
-        println!("plate 12x12 {kind:?} mass: omega_1 = {omega:.4} rad/s, Leissa {exact:.4}, error {:.3} %", 100.0 * err);
+        println!(
+            "plate 12x12 {kind:?} mass: omega_1 = {omega:.4} rad/s, Leissa {exact:.4}, error {:.3} %",
+            100.0 * err
+        );
         if kind == MassKind::Consistent {
             assert!(err.abs() < 0.01);
         }
@@ -626,12 +542,7 @@ fn layered_elastic_section_is_the_closed_form() {
 }
 
 fn test_quad() -> [[f64; 3]; 4] {
-    [
-        [0.0, 0.0, 0.0],
-        [1.1, 0.1, 0.0],
-        [1.0, 0.9, 0.0],
-        [-0.1, 0.8, 0.0],
-    ]
+    [[0.0, 0.0, 0.0], [1.1, 0.1, 0.0], [1.0, 0.9, 0.0], [-0.1, 0.8, 0.0]]
 }
 
 /// Node displacements of a membrane strain (exx, eyy, gxy) and curvature (kxx, kyy) in global
@@ -654,10 +565,7 @@ fn strain_field(x: &[[f64; 3]; 4], eps: [f64; 3], kap: [f64; 2], noise: f64) -> 
 }
 
 fn damage_section(t: f64) -> ShellSection {
-    ShellSection {
-        material: ShellMaterial::Damage(damage_params()),
-        ..elastic(t, 1.0, 0.2, 2000.0)
-    }
+    ShellSection { material: ShellMaterial::Damage(damage_params()), ..elastic(t, 1.0, 0.2, 2000.0) }
 }
 
 /// Below the damage threshold the damage element equals the elastic one (same E, ν): f and K to
@@ -671,18 +579,13 @@ fn damage_below_threshold_equals_elastic() {
     // Largest layer strain ~ 3e-5 + 0.1 · 1e-4 < ε₀ᵗ = 1e-4.
     let u = strain_field(&test_quad(), [3e-5, -1e-5, 2e-5], [1e-4, -5e-5], 1e-7);
     let (mut o1, mut o2) = (ElementOutput::new(24), ElementOutput::new(24));
-    el.evaluate(&u, EvalRequest::ForceAndTangent, &mut o1)
-        .unwrap();
-    dm.evaluate(&u, EvalRequest::ForceAndTangent, &mut o2)
-        .unwrap();
+    el.evaluate(&u, EvalRequest::ForceAndTangent, &mut o1).unwrap();
+    dm.evaluate(&u, EvalRequest::ForceAndTangent, &mut o2).unwrap();
     assert!((&o1.f_int - &o2.f_int).amax() <= 1e-12 * o1.f_int.amax());
     assert!((&o1.k_t - &o2.k_t).amax() <= 1e-12 * o1.k_t.amax());
     dm.commit();
     assert_eq!(dm.dissipated_energy(), 0.0);
-    assert!(dm
-        .committed_states()
-        .iter()
-        .all(|s| s.d_t == 0.0 && s.d_c == 0.0));
+    assert!(dm.committed_states().iter().all(|s| s.d_t == 0.0 && s.d_c == 0.0));
 }
 
 /// Beyond the threshold (all 4 × 15 layer points loading in tension, away from the kinks of the
@@ -698,20 +601,17 @@ fn damage_tangent_matches_finite_differences() {
     let mut out = ElementOutput::new(24);
     for factor in [1.0, 0.8, 1.3] {
         let u = &u0 * factor;
-        el.evaluate(u.as_slice(), EvalRequest::ForceAndTangent, &mut out)
-            .unwrap();
+        el.evaluate(u.as_slice(), EvalRequest::ForceAndTangent, &mut out).unwrap();
         let k = out.k_t.clone();
         let h = 1e-7 * u.amax();
         let mut kfd = DMatrix::zeros(24, 24);
         for j in 0..24 {
             let mut up = u.clone();
             up[j] += h;
-            el.evaluate(up.as_slice(), EvalRequest::Force, &mut out)
-                .unwrap();
+            el.evaluate(up.as_slice(), EvalRequest::Force, &mut out).unwrap();
             let fp = out.f_int.clone();
             up[j] -= 2.0 * h;
-            el.evaluate(up.as_slice(), EvalRequest::Force, &mut out)
-                .unwrap();
+            el.evaluate(up.as_slice(), EvalRequest::Force, &mut out).unwrap();
             kfd.set_column(j, &((fp - &out.f_int) / (2.0 * h)));
         }
         let err = (&kfd - &k).amax() / k.amax();
@@ -724,8 +624,7 @@ fn damage_tangent_matches_finite_differences() {
         } else {
             assert!(asym > 1e-6);
         }
-        el.evaluate(u.as_slice(), EvalRequest::Force, &mut out)
-            .unwrap();
+        el.evaluate(u.as_slice(), EvalRequest::Force, &mut out).unwrap();
         el.commit();
     }
 }
@@ -759,18 +658,12 @@ fn state_checkpoint_round_trip() {
     assert_eq!(out.f_int, o2.f_int);
     let names = el.cell_output_names();
     let (mut c1, mut c2) = (vec![0.0; names.len()], vec![0.0; names.len()]);
-    el.cell_output(&u1, &AppliedLoads::default(), &mut c1)
-        .unwrap();
-    fresh
-        .cell_output(&u1, &AppliedLoads::default(), &mut c2)
-        .unwrap();
+    el.cell_output(&u1, &AppliedLoads::default(), &mut c1).unwrap();
+    fresh.cell_output(&u1, &AppliedLoads::default(), &mut c2).unwrap();
     assert_eq!(c1, c2);
     println!("{:?}", names.iter().zip(&c1).collect::<Vec<_>>());
     assert!(c1[0] > 0.0 && c1[1] > 0.0 && c1[1] <= c1[0], "d_t max/mean");
-    assert_eq!(
-        c1[10], d1,
-        "no further dissipation at the committed displacement"
-    );
+    assert_eq!(c1[10], d1, "no further dissipation at the committed displacement");
     assert!(el.load_state(&saved[1..]).is_err());
 }
 
@@ -779,17 +672,9 @@ fn state_checkpoint_round_trip() {
 /// 1e-12 relative. Tilted, slightly warped quad and a triangle.
 #[test]
 fn mass_and_gravity_totals() {
-    let s = ShellSection {
-        nonstructural_mass_per_area: 30.0,
-        ..elastic(0.3, 2e9, 0.2, 1800.0)
-    };
+    let s = ShellSection { nonstructural_mass_per_area: 30.0, ..elastic(0.3, 2e9, 0.2, 1800.0) };
     let m0 = 1800.0 * 0.3 + 30.0;
-    let quad = [
-        [0.0, 0.0, 0.0],
-        [1.2, 0.0, 0.5],
-        [1.1, 1.0, 0.52],
-        [0.0, 0.9, 0.0],
-    ];
+    let quad = [[0.0, 0.0, 0.0], [1.2, 0.0, 0.5], [1.1, 1.0, 0.52], [0.0, 0.9, 0.0]];
     let tri = [[0.0, 0.0, 0.0], [1.2, 0.0, 0.5], [0.3, 1.0, 0.2]];
     let q = ShellQuad4::new(quad, &s).unwrap();
     let t = ShellTri3::new(tri, &s).unwrap();
@@ -802,15 +687,9 @@ fn mass_and_gravity_totals() {
             for dir in 0..3 {
                 let ones = DVector::from_fn(nd, |i, _| if i % 6 == dir { 1.0 } else { 0.0 });
                 let total = ones.dot(&(&m * &ones));
-                assert!(
-                    (total - m0 * area).abs() <= 1e-12 * m0 * area,
-                    "{kind:?} {dir}: {total}"
-                );
+                assert!((total - m0 * area).abs() <= 1e-12 * m0 * area, "{kind:?} {dir}: {total}");
             }
-            assert!(
-                m.clone().cholesky().is_some(),
-                "{kind:?} mass positive definite"
-            );
+            assert!(m.clone().cholesky().is_some(), "{kind:?} mass positive definite");
         }
         let mut f = DVector::zeros(0);
         e.gravity_load([0.0, 0.0, -9.81], &mut f);
@@ -823,29 +702,13 @@ fn mass_and_gravity_totals() {
 #[test]
 fn construction_errors() {
     let s = elastic(0.1, 1e9, 0.2, 1.0);
-    let warped = [
-        [0.0, 0.0, 0.1],
-        [1.0, 0.0, -0.1],
-        [1.0, 1.0, 0.1],
-        [0.0, 1.0, -0.1],
-    ];
+    let warped = [[0.0, 0.0, 0.1], [1.0, 0.0, -0.1], [1.0, 1.0, 0.1], [0.0, 1.0, -0.1]];
     let e = ShellQuad4::new(warped, &s).unwrap_err();
     assert!(matches!(e, super::ShellError::Warped { .. }), "{e}");
-    let collapsed = [
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-    ];
-    assert!(matches!(
-        ShellQuad4::new(collapsed, &s),
-        Err(super::ShellError::Degenerate { .. })
-    ));
+    let collapsed = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    assert!(matches!(ShellQuad4::new(collapsed, &s), Err(super::ShellError::Degenerate { .. })));
     let line = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-    assert!(matches!(
-        ShellTri3::new(line, &s),
-        Err(super::ShellError::Degenerate { .. })
-    ));
+    assert!(matches!(ShellTri3::new(line, &s), Err(super::ShellError::Degenerate { .. })));
     let bad = ShellSection { layers: 0, ..s };
     assert!(ShellQuad4::new(test_quad(), &bad).is_err());
     let nan = [[f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -979,7 +842,8 @@ fn cook_membrane_converges_to_the_reference() {
         let mut m = Model::new(nodes);
         for j in 0..n {
             for i in 0..n {
-                for c in [[idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)], [idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]] {
+                for c in [[idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)], [idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]]
+                {
                     let x = c.map(|a| m.nodes[a]);
                     let e = ShellTri3::with_membrane(x, &s, membrane).unwrap();
                     m.elements.push((Shell::T(Box::new(e)), c.to_vec()));

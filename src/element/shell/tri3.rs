@@ -84,13 +84,8 @@ fn edge_coefficients(xy: &[[f64; 2]; 3]) -> [[f64; 5]; 3] {
         let x = xy[i][0] - xy[j][0];
         let y = xy[i][1] - xy[j][1];
         let l2 = x * x + y * y;
-        *o = [
-            -x / l2,
-            0.75 * x * y / l2,
-            (0.25 * x * x - 0.5 * y * y) / l2,
-            -y / l2,
-            (0.25 * y * y - 0.5 * x * x) / l2,
-        ];
+        *o =
+            [-x / l2, 0.75 * x * y / l2, (0.25 * x * x - 0.5 * y * y) / l2, -y / l2, (0.25 * y * y - 0.5 * x * x) / l2];
     }
     out
 }
@@ -139,12 +134,7 @@ impl ShellElement<3, 18> {
         let xy = geo.xy;
         let coef = edge_coefficients(&xy);
         // Linear map x = x₁ + ξ x₂₁ + η x₃₁: J = [[x₂₁, y₂₁], [x₃₁, y₃₁]], det J = 2 area.
-        let j = Matrix2::new(
-            xy[1][0] - xy[0][0],
-            xy[1][1] - xy[0][1],
-            xy[2][0] - xy[0][0],
-            xy[2][1] - xy[0][1],
-        );
+        let j = Matrix2::new(xy[1][0] - xy[0][0], xy[1][1] - xy[0][1], xy[2][0] - xy[0][0], xy[2][1] - xy[0][1]);
         let det = j.determinant();
         let jinv = j.try_inverse().ok_or(ShellError::Degenerate {
             coords: coords.to_vec(),
@@ -153,18 +143,11 @@ impl ShellElement<3, 18> {
             min_ratio: geometry::MIN_CORNER_JACOBIAN,
         })?;
         // Linear shape functions: constant Cartesian derivatives.
-        let dlin: [Vector2<f64>; 3] = [
-            jinv * Vector2::new(-1.0, -1.0),
-            jinv * Vector2::new(1.0, 0.0),
-            jinv * Vector2::new(0.0, 1.0),
-        ];
+        let dlin: [Vector2<f64>; 3] =
+            [jinv * Vector2::new(-1.0, -1.0), jinv * Vector2::new(1.0, 0.0), jinv * Vector2::new(0.0, 1.0)];
         let mut points = Vec::with_capacity(3);
         let allman = allman_edges(&xy);
-        for (xi, eta) in [
-            (1.0 / 6.0, 1.0 / 6.0),
-            (2.0 / 3.0, 1.0 / 6.0),
-            (1.0 / 6.0, 2.0 / 3.0),
-        ] {
+        for (xi, eta) in [(1.0 / 6.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 6.0), (1.0 / 6.0, 2.0 / 3.0)] {
             let lin = [1.0 - xi - eta, xi, eta];
             let (_, nxi, neta) = quadratic(xi, eta);
             // Cartesian derivatives of the quadratic functions.
