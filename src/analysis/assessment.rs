@@ -1,25 +1,29 @@
 //! The `seismic_assessment` job (the church job): the stages of a seismic assessment chained in
-//! one run, each one the existing driver, on the same mesh.
+//! one run on one finite-element problem: the discretization (partition, numbering, elements) is
+//! set up once, and every stage works on it (deal.II's `setup_system` once, then phases).
 //!
 //! ```text
-//!  1 modal          modal::run_to on the model as given          → modes.xdmf, the frequencies
-//!  2 updating       modal_updating::run: factors s_g on E per group (LM, exact sensitivities),
-//!                   targets paired by MAC with stage 1's shapes unless target_shapes are given
-//!                   the updated job: each updated part gets its own copy of its material,
-//!                   E ← s_g E (G with it; a damage law's f_t = E ε₀ᵗ follows, ε₀ᵗ fixed)
+//!  setup            Discretization::setup                        (summary: discretization_setups)
+//!  1 modal          modal::run_on, the model as given            → modes.xdmf, the frequencies,
+//!                                                                  the shapes kept in memory
+//!  2 updating       modal_updating::run_on: factors s_g on E per group (LM, exact
+//!                   sensitivities), targets paired by MAC with stage 1's shapes unless
+//!                   target_shapes are given
+//!                   the moduli moved on the problem: the owned elements built again with
+//!                   E ← s_g E per part (G with it; a damage law's f_t = E ε₀ᵗ follows, ε₀ᵗ fixed)
 //!                   → stages.json (stages 1–3 and the factors: what --restart reads back)
-//!  3 modal (updated) modal::run_to on the updated model         → modes-updated.xdmf
-//!  4 time history   time_history::run on the updated model: gravity, then [dynamics]
+//!  3 modal (updated) modal::run_on                               → modes-updated.xdmf
+//!  4 time history   time_history::run_on: gravity, then [dynamics]
 //!                   → results.xdmf, envelopes.xdmf, monitors.csv + PNGs, energy.csv, checkpoint/
 //! ```
 //!
-//! `--restart` skips stages 1–3: it reads the factors from `stages.json`, rebuilds the updated
-//! model and continues the time history from its last checkpoint. `summary.json` holds every
-//! stage.
+//! `--restart` skips stages 1–3: it reads the factors from `stages.json`, moves the moduli and
+//! continues the time history from its last checkpoint. `summary.json` holds every stage.
 use super::modal;
 use super::modal_updating::{self, UpdatingSummary};
 use super::time_history::{self, TimeHistorySummary};
-use crate::config::{AssessmentConfig, Job, MaterialConfig, Source};
+use super::Discretization;
+use crate::config::{AssessmentConfig, Job, MaterialConfig};
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
@@ -38,8 +42,6 @@ pub struct ModulusChange {
     pub group: String,
     /// The material the job gives its parts.
     pub material: String,
-    /// The material the updated model uses (`<material>@<group>` when scaled).
-    pub material_used: String,
     /// Factor on E (1 when the group is not updated).
     pub factor: f64,
     /// Young's modulus before [Pa].
@@ -72,6 +74,8 @@ pub struct AssessmentSummary {
     pub ranks: usize,
     /// True when this run continued a time history from its checkpoint.
     pub restart: bool,
+    /// Discretizations set up by this run (partition, numbering, elements): 1, all stages on it.
+    pub discretization_setups: usize,
     /// Stages 1–3 (read back from `stages.json` on a restart).
     pub stages: PreStages,
     /// Stage 4.
@@ -91,34 +95,55 @@ pub fn run(
 ) -> Result<AssessmentSummary, Error> {
     let log = &ctx.log;
     let t_start = Instant::now();
+    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+    log.info(format!(
+        "setup: {} equations, {} element(s) on {} rank(s): one discretization for every stage",
+        6 * disc.dofs.n_global_nodes,
+        model.cells.len(),
+        ctx.size
+    ));
     let stages = if restart {
         let file = job.output_dir.join(STAGES_FILE);
-        let read = read_stages(&file);
-        let stages = agree(&ctx.comm, read, Error::exit_code)?;
+        let read = read_stages(&file).and_then(|s| part_factors(job, &s.moduli).map(|f| (s, f)));
+        let (stages, factors) = agree(&ctx.comm, read, Error::exit_code)?;
         log.info(format!("restart: stages 1-3 read back from {} (modal updating skipped)", file.display()));
+        disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
         stages
     } else {
-        pre_stages(ctx, job, cfg, mesh, model)?
+        pre_stages(ctx, job, cfg, mesh, model, &mut disc)?
     };
     let t_pre = t_start.elapsed().as_secs_f64();
-    let updated = updated_job(job, &stages.moduli);
-    let updated_model =
-        agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
 
     log.info(format!(
         "stage 4/4: gravity, then the ground motion on the updated model{}",
         if restart { " (restart)" } else { "" }
     ));
     let t0 = Instant::now();
-    let th = time_history::run(ctx, &updated, mesh, &updated_model, restart)?;
+    let th = time_history::run_on(ctx, job, mesh, model, disc, restart)?;
     let t_th = t0.elapsed().as_secs_f64();
     Ok(AssessmentSummary {
         ranks: ctx.size,
         restart,
+        discretization_setups: Discretization::setups(),
         stages,
         time_history: th,
         seconds: [if restart { 0.0 } else { t_pre }, t_th, t_start.elapsed().as_secs_f64()],
     })
+}
+
+/// The factor on E of every part (in the job's order), from the moduli of [`modulus_changes`];
+/// an error when they are not this job's (a `stages.json` of another job).
+fn part_factors(job: &Job, moduli: &[ModulusChange]) -> Result<Vec<f64>, Error> {
+    let parts = &job.spec.parts;
+    if moduli.len() != parts.len()
+        || moduli.iter().zip(parts).any(|(m, p)| m.group != p.group || m.material != p.material)
+    {
+        return Err(Error::Analysis(format!(
+            "{STAGES_FILE} lists the moduli of other parts than the job's {} (was the job changed since the first run?)",
+            parts.len()
+        )));
+    }
+    Ok(moduli.iter().map(|m| m.factor).collect())
 }
 
 /// Collective. Stages 1–3; rank 0 writes them to `stages.json`.
@@ -128,11 +153,12 @@ fn pre_stages(
     cfg: &AssessmentConfig,
     mesh: &Mesh,
     model: &StructuralModel,
+    disc: &mut Discretization,
 ) -> Result<PreStages, Error> {
     let log = &ctx.log;
     log.info(format!("stage 1/4: modal analysis of the model as given, {} mode(s)", cfg.modes));
     let t0 = Instant::now();
-    let modal = modal::run_to(ctx, job, &cfg.modal(), mesh, model, "modes")?;
+    let (modal, shapes) = modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes")?;
     let t_modal = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
@@ -146,12 +172,10 @@ fn pre_stages(
             // Without measured shapes, the targets are stage 1's modes: each target keeps the
             // computed mode most like its stage-1 shape (MAC), so a reordering of close modes as
             // the moduli move does not pair a target with another mode.
-            let mut u = u.clone();
             if u.target_shapes.is_none() {
-                u.target_shapes = Some(job.output_dir.join("modes.h5"));
-                log.info("  targets paired by MAC with the mode shapes of stage 1 (modes.h5)");
+                log.info("  targets paired by MAC with the mode shapes of stage 1");
             }
-            Some(modal_updating::run(ctx, job, &u, mesh, model)?)
+            Some(modal_updating::run_on(ctx, job, u, mesh, model, disc, Some(&shapes))?)
         }
         None => {
             log.info("stage 2/4: no [analysis.updating]: the moduli are used as given");
@@ -176,10 +200,9 @@ fn pre_stages(
 
     log.info("stage 3/4: modal analysis of the updated model");
     let t0 = Instant::now();
-    let updated = updated_job(job, &moduli);
-    let updated_model =
-        agree(&ctx.comm, StructuralModel::build(&updated, mesh).map_err(Error::from), Error::exit_code)?;
-    let modal_updated = modal::run_to(ctx, &updated, &cfg.modal(), mesh, &updated_model, "modes-updated")?;
+    let factors: Vec<f64> = moduli.iter().map(|m| m.factor).collect();
+    disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
+    let (modal_updated, _) = modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes-updated")?;
     let t_modal_updated = t0.elapsed().as_secs_f64();
 
     let stages = PreStages {
@@ -236,11 +259,6 @@ pub fn modulus_changes(job: &Job, updating: Option<&UpdatingSummary>) -> Vec<Mod
             ModulusChange {
                 group: part.group.clone(),
                 material: part.material.clone(),
-                material_used: if factor.is_some() {
-                    format!("{}@{}", part.material, part.group)
-                } else {
-                    part.material.clone()
-                },
                 factor: s,
                 e_before: e,
                 e_after: s * e,
@@ -248,60 +266,4 @@ pub fn modulus_changes(job: &Job, updating: Option<&UpdatingSummary>) -> Vec<Mod
             }
         })
         .collect()
-}
-
-/// The job with every updated group's parts on their own copy of their material, its Young
-/// modulus (and shear modulus, when given) multiplied by the group's factor.
-pub fn updated_job(job: &Job, moduli: &[ModulusChange]) -> Job {
-    let mut spec = job.spec.clone();
-    for part in spec.parts.iter_mut() {
-        let Some(m) = moduli.iter().find(|m| m.group == part.group && m.material == part.material) else { continue };
-        if m.material_used == part.material {
-            continue;
-        }
-        let Some(mut material) = job.spec.materials.get(&part.material).cloned() else { continue };
-        scale_modulus(&mut material, m.factor);
-        spec.materials.insert(m.material_used.clone(), material);
-        part.material = m.material_used.clone();
-    }
-    Job {
-        source: Source { file: job.source.file.clone(), text: job.source.text.clone() },
-        spec,
-        mesh_file: job.mesh_file.clone(),
-        output_dir: job.output_dir.clone(),
-        petsc_options: job.petsc_options.clone(),
-    }
-}
-
-/// `E ← s E` (and `G ← s G`): the whole elastic stiffness scales by `s`, the Poisson ratio held.
-fn scale_modulus(material: &mut MaterialConfig, s: f64) {
-    match material {
-        MaterialConfig::Elastic(m) => {
-            m.e *= s;
-            if let Some(g) = m.g.as_mut() {
-                *g *= s;
-            }
-        }
-        MaterialConfig::Damage(d) => {
-            if let Some(law) = d.law.as_mut() {
-                law.e *= s;
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::config::ElasticMaterial;
-
-    #[test]
-    fn scaling_keeps_the_poisson_ratio() {
-        let mut m = MaterialConfig::Elastic(ElasticMaterial { e: 2.0e9, nu: None, g: Some(0.8e9), density: 1.0 });
-        scale_modulus(&mut m, 1.5);
-        let MaterialConfig::Elastic(e) = m else { panic!() };
-        // E and G both × 1.5: ν = E/2G − 1 unchanged (0.25).
-        assert_eq!(e.e, 3.0e9);
-        assert_eq!(e.g, Some(1.2e9));
-    }
 }

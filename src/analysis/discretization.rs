@@ -10,6 +10,10 @@ use crate::mesh::CellKind;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, partition_cells, Context, DofMap};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// How many times this process has set up a discretization ([`Discretization::setups`]).
+static SETUPS: AtomicUsize = AtomicUsize::new(0);
 
 /// The discrete system of one rank.
 pub struct Discretization {
@@ -38,13 +42,38 @@ pub fn default_orientation(x1: [f64; 3], x2: [f64; 3]) -> [f64; 3] {
 impl Discretization {
     /// Collective. Partitions the model's cells, numbers the DOFs, builds the owned elements.
     pub fn setup(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel) -> Result<Self, Error> {
+        SETUPS.fetch_add(1, Ordering::Relaxed);
         let cells = model.cell_nodes(mesh);
         let cell_rank = agree(&ctx.comm, partition_cells(&ctx.comm, &cells), |_| 1)?;
         let dofs = DofMap::build(&cells, &cell_rank, model.fixed.clone(), ctx.rank, ctx.size);
         let local_cells: Vec<usize> = (0..cells.len()).filter(|&c| cell_rank[c] == ctx.rank).collect();
-        let built = build_elements(job, mesh, model, &local_cells);
+        let scale = vec![1.0; job.spec.parts.len()];
+        let built = build_elements(job, mesh, model, &local_cells, &scale);
         let elements = agree(&ctx.comm, built, Error::exit_code)?;
         Ok(Discretization { dofs, cell_rank, local_cells, elements })
+    }
+
+    /// Collective. The owned elements built again, fresh (no damage, no state), with the Young
+    /// modulus of each part's material scaled by `scale[part]`
+    /// ([`MaterialConfig::with_modulus_scaled`]); the partition and the numbering stay. Modal
+    /// updating moves the moduli of the problem it runs on this way.
+    pub fn rebuild_elements(
+        &mut self,
+        ctx: &Context,
+        job: &Job,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        scale: &[f64],
+    ) -> Result<(), Error> {
+        let built = build_elements(job, mesh, model, &self.local_cells, scale);
+        self.elements = agree(&ctx.comm, built, Error::exit_code)?;
+        Ok(())
+    }
+
+    /// How many discretizations this process has set up (partition, numbering, elements): a
+    /// seismic assessment sets up one for all its stages.
+    pub fn setups() -> usize {
+        SETUPS.load(Ordering::Relaxed)
     }
 
     /// Collective. An empty matrix over the equations, preallocated exactly for the model's
@@ -99,6 +128,7 @@ fn build_elements(
     mesh: &Mesh,
     model: &StructuralModel,
     local_cells: &[usize],
+    scale: &[f64],
 ) -> Result<Vec<Box<dyn Element>>, Error> {
     let spec = &job.spec;
     let mut out: Vec<Box<dyn Element>> = Vec::with_capacity(local_cells.len());
@@ -106,7 +136,13 @@ fn build_elements(
         let mc = model.cells[c];
         let cell = &mesh.cells[mc.cell];
         let part = &spec.parts[mc.part];
-        let material = &spec.materials[&part.material];
+        let scaled;
+        let material = if scale[mc.part] == 1.0 {
+            &spec.materials[&part.material]
+        } else {
+            scaled = spec.materials[&part.material].with_modulus_scaled(scale[mc.part]);
+            &scaled
+        };
         let element: Box<dyn Element> =
             match (&spec.sections[&part.section], material) {
                 (SectionConfig::Frame(s), MaterialConfig::Elastic(mat)) => {

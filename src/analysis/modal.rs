@@ -108,17 +108,36 @@ pub fn run_to(
     model: &StructuralModel,
     stem: &str,
 ) -> Result<ModalSummary, Error> {
-    let log = &ctx.log;
     let t0 = Instant::now();
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+    let t_setup = t0.elapsed().as_secs_f64();
+    let (mut summary, _) = run_on(ctx, job, cfg, mesh, model, &mut disc, stem)?;
+    summary.seconds[0] += t_setup;
+    Ok(summary)
+}
+
+/// Collective. The modal analysis on a discretization already set up (a stage of a seismic
+/// assessment); the mode shapes in `<stem>.xdmf` + `<stem>.h5`, and returned too: the owned
+/// values of each mass-normalized mode, in the discretization's numbering.
+pub fn run_on(
+    ctx: &Context,
+    job: &Job,
+    cfg: &ModalConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: &mut Discretization,
+    stem: &str,
+) -> Result<(ModalSummary, Vec<Vec<f64>>), Error> {
+    let log = &ctx.log;
+    let t0 = Instant::now();
     let format = job.spec.solver.matrix;
     let mut k = disc.new_matrix(ctx, mesh, model, format)?;
     let mut m = disc.new_matrix(ctx, mesh, model, format)?;
     let t_setup = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
-    assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k)?;
-    assembly::assemble_mass(&disc, mesh, model, cfg.mass, &mut m)?;
+    assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?;
+    assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
     let t_assemble = t0.elapsed().as_secs_f64();
     log.info(format!(
         "modal: {} equations, {:?} mass, {} mode(s) wanted; assembly {t_assemble:.3} s",
@@ -194,7 +213,7 @@ pub fn run_to(
 
     // Mode shapes: one output step per mode, the step's "time" is the mode number.
     let t0 = Instant::now();
-    let piece = MeshPiece::new(ctx, job, mesh, model, &disc);
+    let piece = MeshPiece::new(ctx, job, mesh, model, disc);
     let written: Result<(), Error> = (|| {
         let mut w = ResultsWriter::create(&ctx.comm, &job.output_dir, stem, &piece.view())?;
         let n_nodes = disc.dofs.owned.len();
@@ -211,7 +230,7 @@ pub fn run_to(
     let t_output = t0.elapsed().as_secs_f64();
     log.info(format!("mode shapes: {}", job.output_dir.join(format!("{stem}.xdmf")).display()));
 
-    Ok(ModalSummary {
+    let summary = ModalSummary {
         ranks: ctx.size,
         nodes: disc.dofs.n_global_nodes,
         elements: model.cells.len(),
@@ -220,5 +239,6 @@ pub fn run_to(
         total_mass,
         modes,
         seconds: [t_setup, t_assemble, t_solve, t_output],
-    })
+    };
+    Ok((summary, shapes))
 }

@@ -162,6 +162,24 @@ fn mac_matrix(ctx: &Context, shapes: &[TargetShape], modes: &[Vec<f64>]) -> Vec<
     sum.chunks(3).map(|c| if c[1] > 0.0 && c[2] > 0.0 { c[0] * c[0] / (c[1] * c[2]) } else { 0.0 }).collect()
 }
 
+/// The target shapes from computed modes (owned values in the discretization's numbering, mode
+/// k at index k − 1): each target takes its mode's shape, every DOF given.
+fn computed_target_shapes(cfg: &ModalUpdatingConfig, modes: &[Vec<f64>]) -> Result<Vec<TargetShape>, Error> {
+    cfg.targets
+        .iter()
+        .map(|t| {
+            let values = modes.get(t.mode - 1).cloned().ok_or_else(|| {
+                Error::Analysis(format!(
+                    "modal updating: target mode {} has no computed shape to pair with ({} mode(s))",
+                    t.mode,
+                    modes.len()
+                ))
+            })?;
+            Ok(TargetShape { given: vec![true; values.len()], values })
+        })
+        .collect()
+}
+
 /// Collective. Runs the updating and reports before/after.
 pub fn run(
     ctx: &Context,
@@ -170,31 +188,49 @@ pub fn run(
     mesh: &Mesh,
     model: &StructuralModel,
 ) -> Result<UpdatingSummary, Error> {
-    let log = &ctx.log;
     let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+    run_on(ctx, job, cfg, mesh, model, &mut disc, None)
+}
+
+/// Collective. The updating on a discretization already set up (a stage of a seismic
+/// assessment). Targets are paired with computed modes by MAC against the shapes of
+/// `[analysis.updating] target_shapes` when given, else against `computed` (the owned values of
+/// the modes of the model as given, as [`super::modal::run_on`] returns them), else by number.
+/// The elements are left as they are: the caller moves the moduli (`Discretization::rebuild_elements`).
+pub fn run_on(
+    ctx: &Context,
+    job: &Job,
+    cfg: &ModalUpdatingConfig,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: &mut Discretization,
+    computed: Option<&[Vec<f64>]>,
+) -> Result<UpdatingSummary, Error> {
+    let log = &ctx.log;
     let format = job.spec.solver.matrix;
     let parts = &job.spec.parts;
     // Part index → parameter index (None: not updated).
     let param_of: Vec<Option<usize>> =
         parts.iter().map(|p| cfg.parameters.iter().position(|q| q.group == p.group)).collect();
     let mut k_rest = disc.new_matrix(ctx, mesh, model, format)?;
-    assembly::assemble_stiffness_of(&mut disc, mesh, model, None, &|p| param_of[p].is_none(), &mut k_rest)?;
+    assembly::assemble_stiffness_of(disc, mesh, model, None, &|p| param_of[p].is_none(), &mut k_rest)?;
     let mut k_groups = Vec::with_capacity(cfg.parameters.len());
     for g in 0..cfg.parameters.len() {
         let mut kg = disc.new_matrix(ctx, mesh, model, format)?;
-        assembly::assemble_stiffness_of(&mut disc, mesh, model, None, &|p| param_of[p] == Some(g), &mut kg)?;
+        assembly::assemble_stiffness_of(disc, mesh, model, None, &|p| param_of[p] == Some(g), &mut kg)?;
         k_groups.push(kg);
     }
     let mut k = disc.new_matrix(ctx, mesh, model, format)?;
-    assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k)?; // the full pattern
+    assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?; // the full pattern
     let mut m = disc.new_matrix(ctx, mesh, model, format)?;
-    assembly::assemble_mass(&disc, mesh, model, cfg.mass, &mut m)?;
+    assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
 
-    let shapes = match &cfg.target_shapes {
-        Some(file) => {
-            Some(crate::parallel::agree(&ctx.comm, load_target_shapes(file, cfg, mesh, &disc), Error::exit_code)?)
+    let shapes = match (&cfg.target_shapes, computed) {
+        (Some(file), _) => {
+            Some(crate::parallel::agree(&ctx.comm, load_target_shapes(file, cfg, mesh, disc), Error::exit_code)?)
         }
-        None => None,
+        (None, Some(modes)) => Some(computed_target_shapes(cfg, modes)?),
+        (None, None) => None,
     };
     let lo: Vec<f64> = cfg.parameters.iter().map(|p| p.min).collect();
     let hi: Vec<f64> = cfg.parameters.iter().map(|p| p.max).collect();

@@ -375,6 +375,27 @@ impl MaterialConfig {
             MaterialConfig::Damage(m) => m.law.as_ref().map(|l| l.e),
         }
     }
+
+    /// The material with `E ← s E` (and `G ← s G` when given): the whole elastic stiffness
+    /// scaled by `s`, the Poisson ratio held. A damage law keeps its strain thresholds, so its
+    /// strengths (f_t = E ε₀ᵗ) scale with it (modal updating, SPEC §4.2).
+    pub fn with_modulus_scaled(&self, s: f64) -> MaterialConfig {
+        let mut m = self.clone();
+        match &mut m {
+            MaterialConfig::Elastic(e) => {
+                e.e *= s;
+                if let Some(g) = e.g.as_mut() {
+                    *g *= s;
+                }
+            }
+            MaterialConfig::Damage(d) => {
+                if let Some(law) = d.law.as_mut() {
+                    law.e *= s;
+                }
+            }
+        }
+        m
+    }
 }
 
 /// `type = "damage"` (shell layers and beam fibers): the damage law's parameters, inline (`[materials.NAME.law]`) or from the

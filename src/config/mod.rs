@@ -335,6 +335,15 @@ fn output_dir(path: &Path, out: &OutputConfig) -> PathBuf {
 mod tests {
     use super::*;
 
+    /// `E ← s E`, `G ← s G`: the Poisson ratio ν = E/2G − 1 is unchanged (0.25 here).
+    #[test]
+    fn scaling_the_modulus_keeps_the_poisson_ratio() {
+        let m = MaterialConfig::Elastic(ElasticMaterial { e: 2.0e9, nu: None, g: Some(0.8e9), density: 1.0 });
+        let MaterialConfig::Elastic(e) = m.with_modulus_scaled(1.5) else { panic!() };
+        assert_eq!(e.e, 3.0e9);
+        assert_eq!(e.g, Some(1.2e9));
+    }
+
     fn load_str(text: &str) -> Result<Job, ConfigError> {
         let dir = std::env::temp_dir().join(format!("mhpc-config-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();

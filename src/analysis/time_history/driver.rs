@@ -28,6 +28,7 @@ use super::stepper::{State, StepSettings, Stepper};
 use super::system::DynamicSystem;
 use super::EnergyBalance;
 use crate::analysis::output::{global_max_with_tag, node_triplets, MeshPiece};
+use crate::analysis::Discretization;
 use crate::config::{scheme_parameters, DynamicsConfig, Job};
 use crate::element::AppliedLoads;
 use crate::error::Error;
@@ -133,13 +134,31 @@ pub fn run(
     model: &StructuralModel,
     restart: bool,
 ) -> Result<TimeHistorySummary, Error> {
+    let t0 = Instant::now();
+    let disc = Discretization::setup(ctx, job, mesh, model)?;
+    let t_setup = t0.elapsed().as_secs_f64();
+    let mut summary = run_on(ctx, job, mesh, model, disc, restart)?;
+    summary.seconds[0] += t_setup;
+    Ok(summary)
+}
+
+/// Collective. As [`run`], on a discretization already set up (the last stage of a seismic
+/// assessment): gravity or restart, integration.
+pub fn run_on(
+    ctx: &Context,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: Discretization,
+    restart: bool,
+) -> Result<TimeHistorySummary, Error> {
     let log = &ctx.log;
     let cfg = job.spec.dynamics.as_ref().ok_or_else(|| Error::Analysis("a time history needs [dynamics]".into()))?;
     let (beta, gamma, alpha) = scheme_parameters(cfg);
     let rayleigh = Rayleigh::from_config(&cfg.damping);
     let ground = ground_motion(cfg);
     let t0 = Instant::now();
-    let mut sys = PetscSystem::new(ctx, job, mesh, model, cfg.mass, rayleigh)?;
+    let mut sys = PetscSystem::on(ctx, job, mesh, model, disc, cfg.mass, rayleigh)?;
     let t_setup = t0.elapsed().as_secs_f64();
     log.info(format!(
         "setup: {} equations, {} element(s) ({}), {:?} mass; Newmark β = {beta}, γ = {gamma}, HHT α = {alpha}; Rayleigh α = {:.4e} 1/s, β = {:.4e} s; {:?} Newton; {}",

@@ -44,7 +44,7 @@ mod tests;
 
 pub use checkpoint::Checkpoint;
 pub use damping::Rayleigh;
-pub use driver::{ground_motion, integrate, run, Integration, TimeHistorySummary};
+pub use driver::{ground_motion, integrate, run, run_on, Integration, TimeHistorySummary};
 pub use energy::EnergyBalance;
 pub use envelope::Envelopes;
 pub use gravity::{solve_gravity, GravityFailure, GravitySettings};

@@ -84,7 +84,21 @@ impl<'a> PetscSystem<'a> {
         mass: MassKind,
         rayleigh: Rayleigh,
     ) -> Result<PetscSystem<'a>, Error> {
-        let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+        let disc = Discretization::setup(ctx, job, mesh, model)?;
+        Self::on(ctx, job, mesh, model, disc, mass, rayleigh)
+    }
+
+    /// Collective. As [`PetscSystem::new`], on a discretization already set up (its elements'
+    /// committed state is the system's starting state).
+    pub fn on(
+        ctx: &'a Context,
+        job: &Job,
+        mesh: &'a Mesh,
+        model: &'a StructuralModel,
+        mut disc: Discretization,
+        mass: MassKind,
+        rayleigh: Rayleigh,
+    ) -> Result<PetscSystem<'a>, Error> {
         let n = disc.dofs.n_owned_dofs();
         let format = job.spec.solver.matrix;
         let mut m = disc.new_matrix(ctx, mesh, model, format)?;
