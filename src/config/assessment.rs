@@ -67,18 +67,17 @@ pub(super) fn validate_assessment(
     job: &StructuralJobFile,
     a: &AssessmentConfig,
 ) -> Result<(), ConfigError> {
-    let key = |k: &str| Seg::Key(k.to_string());
     if a.modes == 0 {
-        return Err(src.error_at(&[key("analysis"), key("modes")], "expected at least 1 mode"));
+        return Err(src.error_at(&[Seg::key("analysis"), Seg::key("modes")], "expected at least 1 mode"));
     }
     if job.dynamics.is_none() {
         return Err(src.error_at(
-            &[key("analysis"), key("type")],
+            &[Seg::key("analysis"), Seg::key("type")],
             "a seismic assessment needs a [dynamics] table (the earthquake stage)",
         ));
     }
     if let Some(u) = &a.updating {
-        super::validate::validate_updating(src, job, u, &[key("analysis"), key("updating")])?;
+        super::validate::validate_updating(src, job, u, &[Seg::key("analysis"), Seg::key("updating")])?;
     }
     Ok(())
 }

@@ -89,9 +89,8 @@ impl MechanicsConfig {
         t_z: f64,
         source: &super::Source,
     ) -> Result<crate::dem::mechanics::MechParams, super::ConfigError> {
-        let at = |key: &str, msg: String| {
-            source.error_at(&[super::Seg::Key("mechanics".into()), super::Seg::Key(key.into())], msg)
-        };
+        let at =
+            |key: &str, msg: String| source.error_at(&[super::Seg::key("mechanics"), super::Seg::Key(key.into())], msg);
         let crushing = match (self.crushing_stress, self.crushing_energy) {
             (None, None) => None,
             (Some(stress), Some(energy)) => Some(crate::dem::mechanics::Crushing { stress, energy }),
@@ -115,8 +114,9 @@ impl MechanicsConfig {
             crushing,
         };
         params.validate().map_err(|e| {
-            let field = e.to_string().split('`').nth(1).unwrap_or("").to_string();
-            source.error_at(&[super::Seg::Key("mechanics".into()), super::Seg::Key(field)], e.to_string())
+            let mut at = vec![super::Seg::key("mechanics")];
+            at.extend(e.quantity().map(super::Seg::key));
+            source.error_at(&at, e.to_string())
         })?;
         Ok(params)
     }

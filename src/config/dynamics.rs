@@ -246,8 +246,7 @@ pub fn scheme_parameters(d: &DynamicsConfig) -> (f64, f64, f64) {
 
 /// Checks `[dynamics]` and reads its records (paths relative to `folder`). Errors name the key.
 pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Result<(), ConfigError> {
-    let key = |k: &str| Seg::Key(k.to_string());
-    let at = |k: &str| vec![key("dynamics"), key(k)];
+    let at = |k: &str| vec![Seg::key("dynamics"), Seg::key(k)];
     if !(d.dt.is_finite() && d.dt > 0.0) {
         return Err(src.error_at(&at("dt"), format!("expected a time step > 0 [s], got {}", d.dt)));
     }
@@ -302,7 +301,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         return Err(src.error_at(&at("gravity_steps"), "expected at least 1"));
     }
     let dam = &d.damping;
-    let dat = |k: &str| vec![key("dynamics"), key("damping"), key(k)];
+    let dat = |k: &str| vec![Seg::key("dynamics"), Seg::key("damping"), Seg::key(k)];
     match (dam.frequencies, dam.ratio, dam.alpha, dam.beta) {
         (None, None, _, _) => {
             for (k, v) in [("alpha", dam.alpha), ("beta", dam.beta)] {
@@ -325,22 +324,25 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         }
         _ => {
             return Err(src.error_at(
-                &[key("dynamics"), key("damping")],
+                &[Seg::key("dynamics"), Seg::key("damping")],
                 "give either frequencies = [f1, f2] with ratio, or alpha and/or beta",
             ))
         }
     }
     if d.ground_motion.is_empty() {
-        return Err(src.error_at(&[key("dynamics")], "a time history needs at least one [[dynamics.ground_motion]]"));
+        return Err(
+            src.error_at(&[Seg::key("dynamics")], "a time history needs at least one [[dynamics.ground_motion]]")
+        );
     }
     if d.ground_motion.len() > 3 {
-        return Err(
-            src.error_at(&[key("dynamics"), key("ground_motion"), Seg::Index(3)], "at most three components (x, y, z)")
-        );
+        return Err(src.error_at(
+            &[Seg::key("dynamics"), Seg::key("ground_motion"), Seg::Index(3)],
+            "at most three components (x, y, z)",
+        ));
     }
     let duration = d.duration;
     for i in 0..d.ground_motion.len() {
-        let at = |k: &str| vec![key("dynamics"), key("ground_motion"), Seg::Index(i), key(k)];
+        let at = |k: &str| vec![Seg::key("dynamics"), Seg::key("ground_motion"), Seg::Index(i), Seg::key(k)];
         let dir = d.ground_motion[i].direction;
         if d.ground_motion[..i].iter().any(|g| g.direction == dir) {
             return Err(src.error_at(&at("direction"), format!("direction {dir:?} is given twice")));
@@ -352,7 +354,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         d.ground_motion[i].record = Some(record);
     }
     for (i, m) in d.monitor.iter().enumerate() {
-        let at = |k: &str| vec![key("dynamics"), key("monitor"), Seg::Index(i), key(k)];
+        let at = |k: &str| vec![Seg::key("dynamics"), Seg::key("monitor"), Seg::Index(i), Seg::key(k)];
         if m.name.is_empty() || m.name.contains([',', '/', '\\', '"']) {
             return Err(src.error_at(&at("name"), "expected a non-empty name without , / \\ or quotes"));
         }
@@ -363,7 +365,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
             (Some(_), None, None) | (None, Some(_), Some(_)) => {}
             _ => {
                 return Err(src.error_at(
-                    &[key("dynamics"), key("monitor"), Seg::Index(i)],
+                    &[Seg::key("dynamics"), Seg::key("monitor"), Seg::Index(i)],
                     "give node = <Gmsh tag>, or group with near = [x, y, z]",
                 ))
             }
@@ -371,7 +373,10 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     }
     let c = &d.checkpoint;
     if !(c.every_minutes.is_finite() && c.every_minutes >= 0.0) {
-        return Err(src.error_at(&[key("dynamics"), key("checkpoint"), key("every_minutes")], "expected minutes >= 0"));
+        return Err(src.error_at(
+            &[Seg::key("dynamics"), Seg::key("checkpoint"), Seg::key("every_minutes")],
+            "expected minutes >= 0",
+        ));
     }
     Ok(())
 }

@@ -300,10 +300,9 @@ impl IdentifyJob {
     ) -> Result<IdentifyJob, super::ConfigError> {
         use super::Seg;
         let spec: IdentifyJobFile = source.deserialize().map_err(|e| super::tagged::refine(&source, e))?;
-        let key = |k: &str| Seg::Key(k.to_string());
-        let at = |keys: &[&str]| keys.iter().map(|k| key(k)).collect::<Vec<_>>();
+        let at = |keys: &[&str]| keys.iter().map(|k| Seg::key(k)).collect::<Vec<_>>();
         let folder = path.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
-        spec.sample.validate().map_err(|e| source.error_at(&[key("sample")], e.to_string()))?;
+        spec.sample.validate().map_err(|e| source.error_at(&[Seg::key("sample")], e.to_string()))?;
         let m = &spec.mechanics;
         let dem = crate::identify::DemParameters {
             alpha: spec.sample.alpha,
@@ -331,7 +330,7 @@ impl IdentifyJob {
             Ok(())
         };
         if spec.calibration.is_none() && spec.law.is_none() {
-            return Err(source.error_at(&[key("analysis")], "nothing to identify: add [calibration] (the DEM against the experiment), [law] (the damage law from virtual tests), or both"));
+            return Err(source.error_at(&[Seg::key("analysis")], "nothing to identify: add [calibration] (the DEM against the experiment), [law] (the damage law from virtual tests), or both"));
         }
         let count = |keys: &[&str], v: usize, min: usize| -> Result<(), super::ConfigError> {
             if v < min {

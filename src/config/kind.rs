@@ -45,10 +45,10 @@ pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {
         );
     };
     let DeValue::Table(t) = analysis.get_ref() else {
-        return Err(src.error_at(&[Seg::Key("analysis".into())], "expected a table [analysis]"));
+        return Err(src.error_at(&[Seg::key("analysis")], "expected a table [analysis]"));
     };
     let ty = t.iter().find(|(k, _)| k.get_ref().as_ref() == "type").map(|(_, v)| v.get_ref());
-    let path = [Seg::Key("analysis".into()), Seg::Key("type".into())];
+    let path = [Seg::key("analysis"), Seg::key("type")];
     match ty {
         Some(DeValue::String(s)) => {
             ANALYSIS_TYPES.iter().find(|(n, _)| *n == s.as_ref()).map(|(_, k)| *k).ok_or_else(|| {
@@ -56,8 +56,6 @@ pub fn job_kind(src: &Source) -> Result<JobKind, ConfigError> {
             })
         }
         Some(_) => Err(src.error_at(&path, format!("expected a string, one of: {}", names()))),
-        None => {
-            Err(src.error_at(&[Seg::Key("analysis".into())], format!("[analysis] needs type = one of: {}", names())))
-        }
+        None => Err(src.error_at(&[Seg::key("analysis")], format!("[analysis] needs type = one of: {}", names()))),
     }
 }

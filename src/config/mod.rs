@@ -49,22 +49,18 @@ impl Job {
     pub fn load(path: &Path) -> Result<Job, ConfigError> {
         match load_job(path)? {
             AnyJob::Structural(job) => Ok(job),
-            AnyJob::MaterialPoint(j) => Err(j.source.error_at(
-                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
-                "expected a structural analysis here",
-            )),
-            AnyJob::Spectrum(j) => Err(j.source.error_at(
-                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
-                "expected a structural analysis here",
-            )),
-            AnyJob::Dem(j) => Err(j.source.error_at(
-                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
-                "expected a structural analysis here",
-            )),
-            AnyJob::Identify(j) => Err(j.source.error_at(
-                &[Seg::Key("analysis".into()), Seg::Key("type".into())],
-                "expected a structural analysis here",
-            )),
+            AnyJob::MaterialPoint(j) => {
+                Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
+            }
+            AnyJob::Spectrum(j) => {
+                Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
+            }
+            AnyJob::Dem(j) => {
+                Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
+            }
+            AnyJob::Identify(j) => {
+                Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
+            }
         }
     }
 
@@ -77,7 +73,7 @@ impl Job {
         for (name, m) in spec.materials.iter_mut() {
             if let MaterialConfig::Damage(d) = m {
                 if let Some(p) = &d.law_file {
-                    let at = [Seg::Key("materials".into()), Seg::Key(name.clone()), Seg::Key("law_file".into())];
+                    let at = [Seg::key("materials"), Seg::Key(name.clone()), Seg::key("law_file")];
                     let file = resolve(&folder, p);
                     d.law = Some(read_law_file(&file).map_err(|msg| source.error_at(&at, msg))?);
                     d.law_file = Some(file);
@@ -89,12 +85,7 @@ impl Job {
                 let file = resolve(&folder, &o.file);
                 if !file.is_file() {
                     return Err(source.error_at(
-                        &[
-                            Seg::Key("analysis".into()),
-                            Seg::Key("control".into()),
-                            Seg::Key("overlay".into()),
-                            Seg::Key("file".into()),
-                        ],
+                        &[Seg::key("analysis"), Seg::key("control"), Seg::key("overlay"), Seg::key("file")],
                         format!("overlay curve file {} does not exist", file.display()),
                     ));
                 }
@@ -102,9 +93,9 @@ impl Job {
             }
         }
         let updating = match &mut spec.analysis {
-            AnalysisConfig::ModalUpdating(u) => Some((u, vec![Seg::Key("analysis".into())])),
+            AnalysisConfig::ModalUpdating(u) => Some((u, vec![Seg::key("analysis")])),
             AnalysisConfig::SeismicAssessment(a) => {
-                a.updating.as_mut().map(|u| (u, vec![Seg::Key("analysis".into()), Seg::Key("updating".into())]))
+                a.updating.as_mut().map(|u| (u, vec![Seg::key("analysis"), Seg::key("updating")]))
             }
             _ => None,
         };
@@ -113,7 +104,7 @@ impl Job {
                 let file = resolve(&folder, p);
                 if !file.is_file() {
                     return Err(source.error_at(
-                        &[base, vec![Seg::Key("target_shapes".into())]].concat(),
+                        &[base, vec![Seg::key("target_shapes")]].concat(),
                         format!("target shapes file {} does not exist", file.display()),
                     ));
                 }
@@ -125,14 +116,12 @@ impl Job {
                 dynamics::load_dynamics(&source, &folder, d)?
             }
             (AnalysisConfig::TimeHistory, None) => {
-                return Err(source.error_at(
-                    &[Seg::Key("analysis".into()), Seg::Key("type".into())],
-                    "a time history needs a [dynamics] table",
-                ))
+                return Err(source
+                    .error_at(&[Seg::key("analysis"), Seg::key("type")], "a time history needs a [dynamics] table"))
             }
             (_, Some(_)) => {
                 return Err(source.error_at(
-                    &[Seg::Key("dynamics".into())],
+                    &[Seg::key("dynamics")],
                     "[dynamics] is read only by [analysis] type = \"time_history\" or \"seismic_assessment\"",
                 ))
             }
@@ -190,27 +179,27 @@ pub struct SpectrumJob {
 impl SpectrumJob {
     fn from_source(source: Source, path: &Path) -> Result<SpectrumJob, ConfigError> {
         let spec: SpectrumJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
-        let key = |k: &str| Seg::Key(k.to_string());
         let a = &spec.analysis;
         if !(a.damping.is_finite() && a.damping >= 0.0 && a.damping < 1.0) {
             return Err(source.error_at(
-                &[key("analysis"), key("damping")],
+                &[Seg::key("analysis"), Seg::key("damping")],
                 format!("expected a damping ratio in [0, 1), got {}", a.damping),
             ));
         }
         let p = &a.periods;
         if !(p.min > 0.0 && p.max > p.min && p.count >= 2) {
-            return Err(source.error_at(&[key("analysis"), key("periods")], "expected 0 < min < max and count >= 2"));
+            return Err(
+                source.error_at(&[Seg::key("analysis"), Seg::key("periods")], "expected 0 < min < max and count >= 2")
+            );
         }
         let r = &spec.record;
-        let at = |k: &str| vec![key("record"), key(k)];
+        let at = |k: &str| vec![Seg::key("record"), Seg::key(k)];
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let record = record::read_record(&source, &folder, r, &at)?;
         if let Some(e) = &spec.ec8 {
             if !(e.ag.is_finite() && e.ag > 0.0) {
-                return Err(
-                    source.error_at(&[key("ec8"), key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag))
-                );
+                return Err(source
+                    .error_at(&[Seg::key("ec8"), Seg::key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag)));
             }
         }
         let output_dir = output_dir(path, &spec.output);
@@ -233,17 +222,16 @@ pub struct DemJob {
 impl DemJob {
     fn from_source(source: Source, path: &Path) -> Result<DemJob, ConfigError> {
         let spec: DemJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
-        let key = |k: &str| Seg::Key(k.to_string());
         if spec.analysis.samples == 0 {
-            return Err(source.error_at(&[key("analysis"), key("samples")], "expected at least 1 sample"));
+            return Err(source.error_at(&[Seg::key("analysis"), Seg::key("samples")], "expected at least 1 sample"));
         }
-        spec.sample.validate().map_err(|e| source.error_at(&[key("sample")], e.to_string()))?;
+        spec.sample.validate().map_err(|e| source.error_at(&[Seg::key("sample")], e.to_string()))?;
         spec.test.validate().map_err(|e| {
             // At the offending key when the file has it, else at [test].
-            let mut at = vec![key("test")];
+            let mut at = vec![Seg::key("test")];
             if let crate::dem::solver::DemError::InvalidParameter { field, .. } = &e {
                 let mut k = at.clone();
-                k.push(key(field));
+                k.push(Seg::key(field));
                 if source.span_of(&k).is_some() {
                     at = k;
                 }
@@ -283,15 +271,14 @@ pub struct MaterialPointJob {
 impl MaterialPointJob {
     fn from_source(source: Source, path: &Path) -> Result<MaterialPointJob, ConfigError> {
         let spec: MaterialPointJobFile = source.deserialize().map_err(|e| tagged::refine(&source, e))?;
-        let key = |k: &str| Seg::Key(k.to_string());
         let law = spec.material.for_element(spec.analysis.element_size).map_err(|e| {
             use crate::material::MaterialError as M;
             let at = match &e {
                 M::NonFinite { quantity, .. } | M::NonPositive { quantity, .. } | M::OutOfRange { quantity, .. } => {
-                    vec![key("material"), key(quantity)]
+                    vec![Seg::key("material"), Seg::key(quantity)]
                 }
                 M::InvalidElementSize { .. } | M::ElementTooLarge { .. } => {
-                    vec![key("analysis"), key("element_size")]
+                    vec![Seg::key("analysis"), Seg::key("element_size")]
                 }
             };
             source.error_at(&at, e.to_string())
@@ -334,6 +321,22 @@ fn output_dir(path: &Path, out: &OutputConfig) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A DEM mechanics parameter out of range is located at its own key (taken from the
+    /// error's structure, `MechanicsError::quantity`), with its line in the file.
+    #[test]
+    fn a_bad_dem_mechanics_value_is_located_at_its_key() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(root.join("jobs/wall-tension.toml")).unwrap();
+        let line = text.lines().position(|l| l.starts_with("mu = ")).unwrap() + 1;
+        let dir = std::env::temp_dir().join(format!("masonry-hpc-config-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let job = dir.join("bad-mu.toml");
+        std::fs::write(&job, text.replacen("\nmu = 0.6", "\nmu = -0.5", 1)).unwrap();
+        let e = load_job(&job).err().expect("mu < 0 is refused").to_string();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(e.contains(&format!(":{line}:")) && e.contains("mechanics.mu") && e.contains("-0.5"), "{e}");
+    }
 
     /// `E ← s E`, `G ← s G`: the Poisson ratio ν = E/2G − 1 is unchanged (0.25 here).
     #[test]

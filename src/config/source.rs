@@ -13,6 +13,13 @@ pub enum Seg {
     Index(usize),
 }
 
+impl Seg {
+    /// The table key `k`.
+    pub fn key(k: &str) -> Seg {
+        Seg::Key(k.to_string())
+    }
+}
+
 /// Formats a key path the way a user writes it: `parts[2].group`.
 pub fn format_path(path: &[Seg]) -> String {
     let mut s = String::new();

@@ -3,10 +3,6 @@ use super::job::*;
 use super::source::{Seg, Source};
 use super::ConfigError;
 
-fn key(k: &str) -> Seg {
-    Seg::Key(k.to_string())
-}
-
 fn positive(src: &Source, path: &[Seg], what: &str, v: f64) -> Result<(), ConfigError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
@@ -47,7 +43,7 @@ fn has_mass(job: &StructuralJobFile) -> bool {
 /// Validates a structural job file; the first problem found is returned.
 pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
     for (name, m) in &job.materials {
-        let at = |k: &str| vec![key("materials"), key(name), key(k)];
+        let at = |k: &str| vec![Seg::key("materials"), Seg::key(name), Seg::key(k)];
         match m {
             MaterialConfig::Elastic(ElasticMaterial { e, nu, g, density }) => {
                 positive(src, &at("E"), "Young's modulus E [Pa]", *e)?;
@@ -55,7 +51,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                     (Some(_), Some(_)) => return Err(src.error_at(&at("G"), "give either nu or G, not both")),
                     (None, None) => {
                         return Err(src.error_at(
-                            &[key("materials"), key(name)],
+                            &[Seg::key("materials"), Seg::key(name)],
                             "an elastic material needs nu (Poisson ratio) or G (shear modulus [Pa])",
                         ))
                     }
@@ -88,7 +84,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                     }
                     (None, None) => {
                         return Err(src.error_at(
-                            &[key("materials"), key(name)],
+                            &[Seg::key("materials"), Seg::key(name)],
                             "a damage material needs its [law] table or a law_file",
                         ))
                     }
@@ -99,7 +95,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         }
     }
     for (name, s) in &job.sections {
-        let at = |k: &str| vec![key("sections"), key(name), key(k)];
+        let at = |k: &str| vec![Seg::key("sections"), Seg::key(name), Seg::key(k)];
         match s {
             SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j, nonstructural_mass }) => {
                 positive(src, &at("area"), "section area [m^2]", *area)?;
@@ -163,17 +159,17 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
     }
     if let AnalysisConfig::Modal(m) = &job.analysis {
         if m.modes == 0 {
-            return Err(src.error_at(&[key("analysis"), key("modes")], "expected at least 1 mode"));
+            return Err(src.error_at(&[Seg::key("analysis"), Seg::key("modes")], "expected at least 1 mode"));
         }
         if !has_mass(job) {
             return Err(src.error_at(
-                &[key("materials")],
+                &[Seg::key("materials")],
                 "a modal analysis needs mass: give at least one material a density > 0 (or a non-structural or point mass)",
             ));
         }
     }
     if let AnalysisConfig::StaticNonlinear(c) = &job.analysis {
-        let at = |k: &str| vec![key("analysis"), key(k)];
+        let at = |k: &str| vec![Seg::key("analysis"), Seg::key(k)];
         if c.steps == 0 {
             return Err(src.error_at(&at("steps"), "expected at least 1 load step"));
         }
@@ -189,12 +185,12 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             positive(src, &at("nonlocal_radius"), "nonlocal radius (m)", r)?;
         }
         if let Some(ctl) = &c.control {
-            let at = |k: &str| vec![key("analysis"), key("control"), key(k)];
+            let at = |k: &str| vec![Seg::key("analysis"), Seg::key("control"), Seg::key(k)];
             match (&ctl.group, &ctl.node) {
                 (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
                 (None, None) => {
                     return Err(src.error_at(
-                        &[key("analysis"), key("control")],
+                        &[Seg::key("analysis"), Seg::key("control")],
                         "the control needs a group or a node (Gmsh node tag)",
                     ))
                 }
@@ -212,14 +208,16 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
                 return Err(src.error_at(&at("steps"), "expected at least 1 step"));
             }
             for (i, p) in ctl.pattern.iter().enumerate() {
-                let at = |k: &str| vec![key("analysis"), key("control"), key("pattern"), Seg::Index(i), key(k)];
+                let at = |k: &str| {
+                    vec![Seg::key("analysis"), Seg::key("control"), Seg::key("pattern"), Seg::Index(i), Seg::key(k)]
+                };
                 finite3(src, &at("force"), &p.force)?;
                 finite3(src, &at("moment"), &p.moment)?;
             }
         }
     }
     if let AnalysisConfig::ModalUpdating(u) = &job.analysis {
-        validate_updating(src, job, u, &[key("analysis")])?;
+        validate_updating(src, job, u, &[Seg::key("analysis")])?;
     }
     if let AnalysisConfig::SeismicAssessment(a) = &job.analysis {
         super::assessment::validate_assessment(src, job, a)?;
@@ -230,7 +228,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         );
     }
     for (i, p) in job.parts.iter().enumerate() {
-        let at = |k: &str| vec![key("parts"), Seg::Index(i), key(k)];
+        let at = |k: &str| vec![Seg::key("parts"), Seg::Index(i), Seg::key(k)];
         if !job.sections.contains_key(&p.section) {
             return Err(
                 src.error_at(&at("section"), format!("no section named '{}' ({})", p.section, names(&job.sections)))
@@ -275,7 +273,7 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
     for (i, s) in job.supports.iter().enumerate() {
         if s.dofs.is_empty() {
             return Err(src.error_at(
-                &[key("supports"), Seg::Index(i), key("dofs")],
+                &[Seg::key("supports"), Seg::Index(i), Seg::key("dofs")],
                 "expected at least one of all, ux, uy, uz, rx, ry, rz",
             ));
         }
@@ -283,18 +281,20 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
     for (i, l) in job.loads.iter().enumerate() {
         match l {
             LoadConfig::Nodal(NodalLoadConfig { force, moment, .. }) => {
-                finite3(src, &[key("loads"), Seg::Index(i), key("force")], force)?;
-                finite3(src, &[key("loads"), Seg::Index(i), key("moment")], moment)?;
+                finite3(src, &[Seg::key("loads"), Seg::Index(i), Seg::key("force")], force)?;
+                finite3(src, &[Seg::key("loads"), Seg::Index(i), Seg::key("moment")], moment)?;
             }
         }
     }
     for (i, m) in job.masses.iter().enumerate() {
-        let at = |k: &str| vec![key("masses"), Seg::Index(i), key(k)];
+        let at = |k: &str| vec![Seg::key("masses"), Seg::Index(i), Seg::key(k)];
         match (&m.group, &m.node) {
             (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
             (None, None) => {
-                return Err(src
-                    .error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node (Gmsh node tag)"))
+                return Err(src.error_at(
+                    &[Seg::key("masses"), Seg::Index(i)],
+                    "a point mass needs a group or a node (Gmsh node tag)",
+                ))
             }
             _ => {}
         }
@@ -309,12 +309,12 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
         }
     }
     if let Some(g) = &job.gravity {
-        finite3(src, &[key("gravity"), key("acceleration")], &g.acceleration)?;
+        finite3(src, &[Seg::key("gravity"), Seg::key("acceleration")], &g.acceleration)?;
     }
     for (k, v) in &job.solver.petsc {
         if matches!(v, toml::Value::Array(_) | toml::Value::Table(_) | toml::Value::Datetime(_)) {
             return Err(src.error_at(
-                &[key("solver"), key("petsc"), key(k)],
+                &[Seg::key("solver"), Seg::key("petsc"), Seg::key(k)],
                 "a PETSc option value must be a string, a number or a boolean",
             ));
         }
@@ -332,7 +332,7 @@ pub(super) fn validate_updating(
 ) -> Result<(), ConfigError> {
     let at = |k: &str, i: usize, f: &str| {
         let mut p = base.to_vec();
-        p.extend([key(k), Seg::Index(i), key(f)]);
+        p.extend([Seg::key(k), Seg::Index(i), Seg::key(f)]);
         p
     };
     let table = if base.len() > 1 { "analysis.updating" } else { "analysis" };
@@ -366,9 +366,10 @@ pub(super) fn validate_updating(
         }
     }
     if !has_mass(job) {
-        return Err(
-            src.error_at(&[key("materials")], "modal updating needs mass: give at least one material a density > 0")
-        );
+        return Err(src.error_at(
+            &[Seg::key("materials")],
+            "modal updating needs mass: give at least one material a density > 0",
+        ));
     }
     Ok(())
 }

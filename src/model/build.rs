@@ -63,10 +63,6 @@ pub struct StructuralModel {
     pub anchors: Vec<usize>,
 }
 
-fn key(k: &str) -> Seg {
-    Seg::Key(k.to_string())
-}
-
 impl StructuralModel {
     /// Resolves the job against the mesh.
     pub fn build(job: &Job, mesh: &Mesh) -> Result<StructuralModel, ModelError> {
@@ -75,7 +71,7 @@ impl StructuralModel {
         let tie_part: Vec<bool> =
             spec.parts.iter().map(|p| matches!(spec.sections[&p.section], SectionConfig::Tie(_))).collect();
         for (ip, p) in spec.parts.iter().enumerate() {
-            let at = [key("parts"), Seg::Index(ip), key("group")];
+            let at = [Seg::key("parts"), Seg::Index(ip), Seg::key("group")];
             let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
             let want: &[CellKind] = match &spec.sections[&p.section] {
                 SectionConfig::Frame(_) | SectionConfig::Fiber(_) | SectionConfig::Tie(_) => &[CellKind::Line2],
@@ -161,7 +157,7 @@ impl StructuralModel {
 
         let mut fixed = vec![0u8; mesh.coords.len()];
         for (i, s) in spec.supports.iter().enumerate() {
-            let at = [key("supports"), Seg::Index(i), key("group")];
+            let at = [Seg::key("supports"), Seg::Index(i), Seg::key("group")];
             let mut mask = 0u8;
             for d in &s.dofs {
                 for k in d.indices() {
@@ -185,7 +181,7 @@ impl StructuralModel {
             let mut loaded = vec![false; mesh.coords.len()];
             for (i, NodalLoadConfig { group, force, moment }) in loads.enumerate() {
                 let mut at = prefix.to_vec();
-                at.extend([Seg::Index(i), key("group")]);
+                at.extend([Seg::Index(i), Seg::key("group")]);
                 for n in group_nodes(&at, group)? {
                     for k in 0..3 {
                         load[n][k] += force[k];
@@ -197,7 +193,7 @@ impl StructuralModel {
             Ok((0..mesh.coords.len()).filter(|&n| loaded[n]).map(|n| (n, load[n])).collect())
         };
         let nodal_loads = sum_loads(
-            &[key("loads")],
+            &[Seg::key("loads")],
             &mut spec.loads.iter().map(|l| match l {
                 LoadConfig::Nodal(n) => n,
             }),
@@ -208,9 +204,9 @@ impl StructuralModel {
         let mut massive = vec![false; mesh.coords.len()];
         for (i, m) in spec.masses.iter().enumerate() {
             let nodes = match (&m.group, m.node) {
-                (Some(group), _) => group_nodes(&[key("masses"), Seg::Index(i), key("group")], group)?,
+                (Some(group), _) => group_nodes(&[Seg::key("masses"), Seg::Index(i), Seg::key("group")], group)?,
                 (None, Some(tag)) => {
-                    let at = [key("masses"), Seg::Index(i), key("node")];
+                    let at = [Seg::key("masses"), Seg::Index(i), Seg::key("node")];
                     let n = mesh
                         .node_tags
                         .iter()
@@ -226,7 +222,7 @@ impl StructuralModel {
                 // Rejected by validation; kept as an error, not a panic.
                 (None, None) => {
                     return Err(job
-                        .error_at(&[key("masses"), Seg::Index(i)], "a point mass needs a group or a node")
+                        .error_at(&[Seg::key("masses"), Seg::Index(i)], "a point mass needs a group or a node")
                         .into())
                 }
             };
@@ -243,11 +239,13 @@ impl StructuralModel {
         let control = match &spec.analysis {
             AnalysisConfig::StaticNonlinear(c) => match &c.control {
                 Some(ctl) => {
-                    let base = [key("analysis"), key("control")];
+                    let base = [Seg::key("analysis"), Seg::key("control")];
                     let nodes = match (&ctl.group, ctl.node) {
-                        (Some(group), _) => group_nodes(&[key("analysis"), key("control"), key("group")], group)?,
+                        (Some(group), _) => {
+                            group_nodes(&[Seg::key("analysis"), Seg::key("control"), Seg::key("group")], group)?
+                        }
                         (None, Some(tag)) => {
-                            let at = [key("analysis"), key("control"), key("node")];
+                            let at = [Seg::key("analysis"), Seg::key("control"), Seg::key("node")];
                             let n = mesh
                                 .node_tags
                                 .iter()
@@ -263,8 +261,10 @@ impl StructuralModel {
                         (None, None) => return Err(job.error_at(&base, "the control needs a group or a node").into()),
                     };
                     let dof = ctl.dof.indices().start;
-                    let pattern =
-                        sum_loads(&[key("analysis"), key("control"), key("pattern")], &mut ctl.pattern.iter())?;
+                    let pattern = sum_loads(
+                        &[Seg::key("analysis"), Seg::key("control"), Seg::key("pattern")],
+                        &mut ctl.pattern.iter(),
+                    )?;
                     if !pattern.is_empty() && nodes.len() != 1 {
                         return Err(job
                             .error_at(&base, format!("with a load pattern the control is one node; the group has {} nodes (use node = <tag>)", nodes.len()))
@@ -273,7 +273,7 @@ impl StructuralModel {
                     if let Some(&n) = nodes.iter().find(|&&n| fixed[n] & (1 << dof) != 0) {
                         return Err(job
                             .error_at(
-                                &[key("analysis"), key("control"), key("dof")],
+                                &[Seg::key("analysis"), Seg::key("control"), Seg::key("dof")],
                                 format!(
                                     "DOF {:?} of control node {} is fixed by a support",
                                     ctl.dof, mesh.node_tags[n]
@@ -339,7 +339,7 @@ impl StructuralModel {
 /// The message of a tie element that cannot be used: "tie element 1234 of group nave_ties: …".
 fn tie_error(job: &Job, mesh: &Mesh, c: &ModelCell, what: String) -> ModelError {
     let part = &job.spec.parts[c.part];
-    let at = [key("parts"), Seg::Index(c.part), key("group")];
+    let at = [Seg::key("parts"), Seg::Index(c.part), Seg::key("group")];
     job.error_at(&at, format!("tie element {} of group {}: {what}", mesh.cells[c.cell].tag, part.group)).into()
 }
 

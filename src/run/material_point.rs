@@ -77,9 +77,7 @@ fn compute_and_write(ctx: &Context, job: &MaterialPointJob) -> Result<Option<Mat
 
 fn path_error(job: &MaterialPointJob, e: PathError) -> Error {
     match e {
-        PathError::InvalidPath { .. } => {
-            job.source.error_at(&[crate::config::Seg::Key("path".into())], e.to_string()).into()
-        }
+        PathError::InvalidPath { .. } => job.source.error_at(&[crate::config::Seg::key("path")], e.to_string()).into(),
         other => Error::MaterialPoint(other.to_string()),
     }
 }

@@ -84,3 +84,17 @@ pub(crate) fn non_negative(quantity: &'static str, value: f64) -> Result<f64, Me
         Err(MechanicsError::Negative { quantity, value })
     }
 }
+
+impl MechanicsError {
+    /// The parameter the error is about (`e_bar`, `mu`, `crushing_energy`, …), when it names one:
+    /// the key a job file's error points at.
+    pub fn quantity(&self) -> Option<&'static str> {
+        match self {
+            MechanicsError::NotPositive { quantity, .. }
+            | MechanicsError::Negative { quantity, .. }
+            | MechanicsError::NotFinite { quantity, .. } => Some(quantity),
+            MechanicsError::CrushingSnapBack { .. } => Some("crushing_energy"),
+            MechanicsError::NotUnit { .. } | MechanicsError::ZeroLength { .. } => None,
+        }
+    }
+}
