@@ -2,6 +2,7 @@
 //!
 //! Every error names the file, the line and column, the key and what was expected
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
+mod analysis;
 mod assessment;
 mod dem;
 mod dynamics;
@@ -16,6 +17,7 @@ mod spectrum;
 mod tagged;
 mod validate;
 
+pub use analysis::*;
 pub use assessment::*;
 pub use dem::*;
 pub use dynamics::*;

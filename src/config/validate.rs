@@ -1,4 +1,5 @@
 //! Checks of a job file that need no mesh: positive moduli and sections, names that resolve.
+use super::analysis::*;
 use super::job::*;
 use super::source::{Seg, Source};
 use super::ConfigError;
