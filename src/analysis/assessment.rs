@@ -27,10 +27,9 @@ use crate::config::{AssessmentConfig, Job, MaterialConfig};
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{agree, Context};
+use crate::parallel::{agree, Context, Phases};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use std::time::Instant;
 
 /// The file holding the stages before the time history (read back by `--restart`).
 pub const STAGES_FILE: &str = "stages.json";
@@ -94,40 +93,40 @@ pub fn run(
     restart: bool,
 ) -> Result<AssessmentSummary, Error> {
     let log = &ctx.log;
-    let t_start = Instant::now();
-    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
+    let mut phases = Phases::default();
+    let mut disc = phases.time("setup", || Discretization::setup(ctx, job, mesh, model))?;
     log.info(format!(
         "setup: {} equations, {} element(s) on {} rank(s): one discretization for every stage",
         6 * disc.dofs.n_global_nodes,
         model.cells.len(),
         ctx.size
     ));
-    let stages = if restart {
-        let file = job.output_dir.join(STAGES_FILE);
-        let read = read_stages(&file).and_then(|s| part_factors(job, &s.moduli).map(|f| (s, f)));
-        let (stages, factors) = agree(&ctx.comm, read, Error::exit_code)?;
-        log.info(format!("restart: stages 1-3 read back from {} (modal updating skipped)", file.display()));
-        disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
-        stages
-    } else {
-        pre_stages(ctx, job, cfg, mesh, model, &mut disc)?
-    };
-    let t_pre = t_start.elapsed().as_secs_f64();
+    let stages = phases.time("stages 1-3", || -> Result<PreStages, Error> {
+        if restart {
+            let file = job.output_dir.join(STAGES_FILE);
+            let read = read_stages(&file).and_then(|s| part_factors(job, &s.moduli).map(|f| (s, f)));
+            let (stages, factors) = agree(&ctx.comm, read, Error::exit_code)?;
+            log.info(format!("restart: stages 1-3 read back from {} (modal updating skipped)", file.display()));
+            disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
+            Ok(stages)
+        } else {
+            pre_stages(ctx, job, cfg, mesh, model, &mut disc)
+        }
+    })?;
 
     log.info(format!(
         "stage 4/4: gravity, then the ground motion on the updated model{}",
         if restart { " (restart)" } else { "" }
     ));
-    let t0 = Instant::now();
-    let th = time_history::run_on(ctx, job, mesh, model, disc, restart)?;
-    let t_th = t0.elapsed().as_secs_f64();
+    let th = phases.time("time history", || time_history::run_on(ctx, job, mesh, model, disc, restart))?;
+    let [t_setup, t_pre, t_th] = phases.seconds_of(["setup", "stages 1-3", "time history"]);
     Ok(AssessmentSummary {
         ranks: ctx.size,
         restart,
         discretization_setups: Discretization::setups(),
         stages,
         time_history: th,
-        seconds: [if restart { 0.0 } else { t_pre }, t_th, t_start.elapsed().as_secs_f64()],
+        seconds: [if restart { 0.0 } else { t_setup + t_pre }, t_th, t_setup + t_pre + t_th],
     })
 }
 
@@ -156,33 +155,32 @@ fn pre_stages(
     disc: &mut Discretization,
 ) -> Result<PreStages, Error> {
     let log = &ctx.log;
+    let mut phases = Phases::default();
     log.info(format!("stage 1/4: modal analysis of the model as given, {} mode(s)", cfg.modes));
-    let t0 = Instant::now();
-    let (modal, shapes) = modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes")?;
-    let t_modal = t0.elapsed().as_secs_f64();
+    let (modal, shapes) = phases.time("modal", || modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes"))?;
 
-    let t0 = Instant::now();
-    let updating = match &cfg.updating {
-        Some(u) => {
-            log.info(format!(
-                "stage 2/4: modal updating of {} group modulus(es) to {} target frequency(ies)",
-                u.parameters.len(),
-                u.targets.len()
-            ));
-            // Without measured shapes, the targets are stage 1's modes: each target keeps the
-            // computed mode most like its stage-1 shape (MAC), so a reordering of close modes as
-            // the moduli move does not pair a target with another mode.
-            if u.target_shapes.is_none() {
-                log.info("  targets paired by MAC with the mode shapes of stage 1");
+    let updating = phases.time("updating", || -> Result<Option<UpdatingSummary>, Error> {
+        Ok(match &cfg.updating {
+            Some(u) => {
+                log.info(format!(
+                    "stage 2/4: modal updating of {} group modulus(es) to {} target frequency(ies)",
+                    u.parameters.len(),
+                    u.targets.len()
+                ));
+                // Without measured shapes, the targets are stage 1's modes: each target keeps the
+                // computed mode most like its stage-1 shape (MAC), so a reordering of close modes as
+                // the moduli move does not pair a target with another mode.
+                if u.target_shapes.is_none() {
+                    log.info("  targets paired by MAC with the mode shapes of stage 1");
+                }
+                Some(modal_updating::run_on(ctx, job, u, mesh, model, disc, Some(&shapes))?)
             }
-            Some(modal_updating::run_on(ctx, job, u, mesh, model, disc, Some(&shapes))?)
-        }
-        None => {
-            log.info("stage 2/4: no [analysis.updating]: the moduli are used as given");
-            None
-        }
-    };
-    let t_updating = t0.elapsed().as_secs_f64();
+            None => {
+                log.info("stage 2/4: no [analysis.updating]: the moduli are used as given");
+                None
+            }
+        })
+    })?;
     let moduli = modulus_changes(job, updating.as_ref());
     log.info("moduli of the time history: group, material, factor, E before -> after [Pa], f_t before -> after [Pa]");
     let (wg, wm) = moduli.iter().fold((12, 16), |(g, w), m| (g.max(m.group.len()), w.max(m.material.len())));
@@ -199,11 +197,11 @@ fn pre_stages(
     }
 
     log.info("stage 3/4: modal analysis of the updated model");
-    let t0 = Instant::now();
     let factors: Vec<f64> = moduli.iter().map(|m| m.factor).collect();
-    disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
-    let (modal_updated, _) = modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes-updated")?;
-    let t_modal_updated = t0.elapsed().as_secs_f64();
+    let (modal_updated, _) = phases.time("modal (updated)", || -> Result<_, Error> {
+        disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
+        modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes-updated")
+    })?;
 
     let stages = PreStages {
         modal: to_value(&modal)?,
@@ -213,7 +211,7 @@ fn pre_stages(
         },
         moduli,
         modal_updated: to_value(&modal_updated)?,
-        seconds: [t_modal, t_updating, t_modal_updated],
+        seconds: phases.seconds_of(["modal", "updating", "modal (updated)"]),
     };
     let written = if ctx.rank == 0 { write_stages(&job.output_dir.join(STAGES_FILE), &stages) } else { Ok(()) };
     agree(&ctx.comm, written, Error::exit_code)?;

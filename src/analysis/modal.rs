@@ -15,9 +15,8 @@ use crate::error::Error;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{agree, Context};
+use crate::parallel::{agree, Context, Phases};
 use crate::petsc::{Eps, Matrix, Vector};
-use std::time::Instant;
 
 /// One mode.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -108,11 +107,10 @@ pub fn run_to(
     model: &StructuralModel,
     stem: &str,
 ) -> Result<ModalSummary, Error> {
-    let t0 = Instant::now();
-    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
-    let t_setup = t0.elapsed().as_secs_f64();
+    let mut phases = Phases::default();
+    let mut disc = phases.time("setup", || Discretization::setup(ctx, job, mesh, model))?;
     let (mut summary, _) = run_on(ctx, job, cfg, mesh, model, &mut disc, stem)?;
-    summary.seconds[0] += t_setup;
+    summary.seconds[0] += phases.seconds("setup");
     Ok(summary)
 }
 
@@ -129,16 +127,17 @@ pub fn run_on(
     stem: &str,
 ) -> Result<(ModalSummary, Vec<Vec<f64>>), Error> {
     let log = &ctx.log;
-    let t0 = Instant::now();
+    let mut phases = Phases::default();
     let format = job.spec.solver.matrix;
-    let mut k = disc.new_matrix(ctx, mesh, model, format)?;
-    let mut m = disc.new_matrix(ctx, mesh, model, format)?;
-    let t_setup = t0.elapsed().as_secs_f64();
-
-    let t0 = Instant::now();
-    assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?;
-    assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
-    let t_assemble = t0.elapsed().as_secs_f64();
+    let (mut k, mut m) = phases.time("setup", || -> Result<_, Error> {
+        Ok((disc.new_matrix(ctx, mesh, model, format)?, disc.new_matrix(ctx, mesh, model, format)?))
+    })?;
+    phases.time("assemble", || -> Result<(), Error> {
+        assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?;
+        assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
+        Ok(())
+    })?;
+    let t_assemble = phases.seconds("assemble");
     log.info(format!(
         "modal: {} equations, {:?} mass, {} mode(s) wanted; assembly {t_assemble:.3} s",
         6 * disc.dofs.n_global_nodes,
@@ -146,9 +145,8 @@ pub fn run_on(
         cfg.modes
     ));
 
-    let t0 = Instant::now();
-    let pairs = lowest_modes(ctx, &k, &m, cfg.modes)?;
-    let t_solve = t0.elapsed().as_secs_f64();
+    let pairs = phases.time("eigensolve", || lowest_modes(ctx, &k, &m, cfg.modes))?;
+    let t_solve = phases.seconds("eigensolve");
 
     // Influence vectors and M ι_d.
     let n_owned = disc.dofs.n_owned_dofs();
@@ -212,9 +210,8 @@ pub fn run_on(
     }
 
     // Mode shapes: one output step per mode, the step's "time" is the mode number.
-    let t0 = Instant::now();
-    let piece = MeshPiece::new(ctx, job, mesh, model, disc);
-    let written: Result<(), Error> = (|| {
+    let piece = phases.time("output", || MeshPiece::new(ctx, job, mesh, model, disc));
+    let written: Result<(), Error> = phases.time("output", || {
         let mut w = ResultsWriter::create(&ctx.comm, &job.output_dir, stem, &piece.view())?;
         let n_nodes = disc.dofs.owned.len();
         for (md, shape) in modes.iter().zip(&shapes) {
@@ -225,9 +222,8 @@ pub fn run_on(
         }
         w.close()?;
         Ok(())
-    })();
-    agree(&ctx.comm, written, Error::exit_code)?;
-    let t_output = t0.elapsed().as_secs_f64();
+    });
+    phases.time("output", || agree(&ctx.comm, written, Error::exit_code))?;
     log.info(format!("mode shapes: {}", job.output_dir.join(format!("{stem}.xdmf")).display()));
 
     let summary = ModalSummary {
@@ -238,7 +234,7 @@ pub fn run_on(
         mass: format!("{:?}", cfg.mass).to_lowercase(),
         total_mass,
         modes,
-        seconds: [t_setup, t_assemble, t_solve, t_output],
+        seconds: phases.seconds_of(["setup", "assemble", "eigensolve", "output"]),
     };
     Ok((summary, shapes))
 }

@@ -11,9 +11,11 @@ pub mod batch;
 mod context;
 mod dof_map;
 mod partition;
+mod phases;
 
 pub use agree::{agree, Agreed};
 pub use batch::{run_batch, BatchError, TaskResult};
 pub use context::{Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
 pub use partition::{partition_cells, PartitionError};
+pub use phases::Phases;
