@@ -1,7 +1,7 @@
 //! Where a driver's time goes: named phases timed in one place, instead of `Instant` pairs
 //! written out at every phase (deal.II's `TimerOutput` scopes, in their simplest form).
 //!
-//! ```ignore
+//! ```text
 //! let mut phases = Phases::default();
 //! let k = phases.time("assemble", || assemble(&mut disc))?;
 //! let pairs = phases.time("solve", || solve(&k))?;
