@@ -47,28 +47,17 @@ skipped=()
 pvpython="${PVPYTHON:-pvpython}"
 if ! command -v "$pvpython" >/dev/null 2>&1; then
   skipped+=("the ParaView pictures ($pvpython is not installed: scripts/setup.sh --paraview)")
-elif ! command -v xvfb-run >/dev/null 2>&1; then
-  skipped+=("the ParaView pictures (xvfb-run is not installed: scripts/setup.sh --paraview)")
+elif ! command -v Xvfb >/dev/null 2>&1; then
+  skipped+=("the ParaView pictures (Xvfb is not installed: scripts/setup.sh --paraview)")
 else
   echo "post_church: rendering with ParaView ($("$pvpython" --version 2>/dev/null | head -n 1))"
-  # xvfb-run -a can lose a race for a display number with another xvfb-run starting at the same
-  # moment (ParaView then aborts: "bad X server connection"): such a failure is retried.
-  log="$(mktemp)"
-  trap 'rm -f "$log"' EXIT
-  for attempt in 1 2 3; do
-    status=0
-    xvfb-run -a "$pvpython" "$here/pv_post_church.py" "$dir" --out "$pictures" --size "$size" \
-      ${mesh:+--mesh "$mesh"} 2>"$log" || status=$?
-    grep -v '^\s*$' "$log" >&2 || true
-    [ "$status" -eq 0 ] && break
-    if [ "$attempt" -lt 3 ] && grep -q "bad X server connection\|cannot open display\|Can't open display" "$log"; then
-      echo "post_church: the virtual X display failed (attempt $attempt); retrying" >&2
-      sleep 2
-      continue
-    fi
+  status=0
+  bash "$here/with_display.sh" "$pvpython" "$here/pv_post_church.py" "$dir" --out "$pictures" --size "$size" \
+    ${mesh:+--mesh "$mesh"} || status=$?
+  if [ "$status" -ne 0 ]; then
     echo "post_church.sh: the ParaView post-processing failed (exit $status)" >&2
     exit "$status"
-  done
+  fi
 fi
 
 # The monitors in one picture: any Python that has matplotlib (ParaView's package brings it).

@@ -2,13 +2,13 @@
 """Render the church (a results XDMF, or the Gmsh mesh itself) to one PNG with four camera views.
 
     # the mesh coloured by substructure, straight from the Gmsh file
-    xvfb-run -a pvpython scripts/pv_church.py meshes/church.msh --out church-mesh.png
+    scripts/with_display.sh pvpython scripts/pv_church.py meshes/church.msh --out church-mesh.png
     # a mode shape of a modal run ("time" = mode number), warped automatically
-    xvfb-run -a pvpython scripts/pv_church.py results/church-modal/modes.xdmf --mode 1 --out mode1.png
+    scripts/with_display.sh pvpython scripts/pv_church.py results/church-modal/modes.xdmf --mode 1 --out mode1.png
     # the tensile damage at the last time of an earthquake run
-    xvfb-run -a pvpython scripts/pv_church.py results/church/results.xdmf --field d_t_max --out damage.png
+    scripts/with_display.sh pvpython scripts/pv_church.py results/church/results.xdmf --field d_t_max --out damage.png
     # the substructures of any structural result (cell field "group"), named from the mesh
-    xvfb-run -a pvpython scripts/pv_church.py results/church-modal/modes.xdmf --field group \
+    scripts/with_display.sh pvpython scripts/pv_church.py results/church-modal/modes.xdmf --field group \
         --names meshes/church.msh --out groups.png
 
 One PNG, four panels: from the south-west (entrance facade and south wall), from the north-east
@@ -23,7 +23,7 @@ Gmsh files are read by this script (ASCII MSH 4.1; ParaView has no reader for th
 lines, 3-node triangles and 4-node quads, with the physical tag of each element as the cell
 field `group`; the `supports` group is left out (it lies on the wall bases). Cells where a field
 is not defined (NaN: the beams in the shells' damage fields) are grey.
-Needs `scripts/setup.sh --paraview` (ParaView 5.11 + xvfb).
+Needs `scripts/setup.sh --paraview` (ParaView 5.11 + Xvfb).
 """
 import argparse
 import math

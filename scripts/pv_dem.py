@@ -2,8 +2,8 @@
 """Open a DEM sample's particle states (sample-KKK/particles.xdmf) in ParaView, print what the
 reader sees as one JSON line, and optionally render the deformed stones and the cracks to a PNG.
 
-    xvfb-run -a pvpython scripts/pv_dem.py results/wall-cyclic-shear/sample-000/particles.xdmf
-    xvfb-run -a pvpython scripts/pv_dem.py results/wall-shear/sample-000/particles.xdmf \
+    scripts/with_display.sh pvpython scripts/pv_dem.py results/wall-cyclic-shear/sample-000/particles.xdmf
+    scripts/with_display.sh pvpython scripts/pv_dem.py results/wall-shear/sample-000/particles.xdmf \
         --state last --scale 50 --out stones.png
 
 JSON: the number of time steps (recorded states), and at the chosen state the points, the cells,

@@ -1,7 +1,7 @@
 #!/usr/bin/env pvpython
 """The church job's pictures, rendered with ParaView from its results folder (one process).
 
-    xvfb-run -a pvpython scripts/pv_post_church.py results/church --mesh meshes/church.msh
+    scripts/with_display.sh pvpython scripts/pv_post_church.py results/church --mesh meshes/church.msh
 
 Writes into `<results>/pictures/` (or --out):
   mesh.png                 the model coloured by substructure (cell field "group" of the modes),

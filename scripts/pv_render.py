@@ -1,12 +1,12 @@
 #!/usr/bin/env pvpython
 """Render a masonry-hpc result (XDMF) to PNG with ParaView.
 
-    xvfb-run -a pvpython scripts/pv_render.py results/tower/results.xdmf \
+    scripts/with_display.sh pvpython scripts/pv_render.py results/tower/results.xdmf \
         --field displacement --warp 20 --out tower.png
 
 Opens the XDMF index with ParaView's XDMF reader, takes the last time step, optionally warps the
 mesh by the displacement field (scale factor --warp), colours it by --field (node or cell field;
-vectors by magnitude) and saves a PNG. Needs `scripts/setup.sh --paraview` (ParaView + xvfb).
+vectors by magnitude) and saves a PNG. Needs `scripts/setup.sh --paraview` (ParaView + Xvfb).
 """
 import argparse
 import sys

@@ -26,7 +26,7 @@ debs=(build-essential pkg-config libclang-dev libopenmpi-dev openmpi-bin
       libopenblas0-serial
       # shared libraries the PyPI gmsh wheel loads (the church mesh script)
       libglu1-mesa libgl1 libxrender1 libxcursor1 libxft2 libxinerama1 libgomp1)
-[ "$want_paraview" = 1 ] && debs+=(paraview python3-paraview xvfb xauth)
+[ "$want_paraview" = 1 ] && debs+=(paraview python3-paraview xvfb)
 
 missing=()
 for p in "${debs[@]}"; do

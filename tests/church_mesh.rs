@@ -10,7 +10,7 @@
 //!                        first two modes are the bell tower's sways (across and along the
 //!                        nave), the first frequency within [1.5, 4.5] Hz, none below 1 Hz
 //!   pv_church.py         renders mode 1 of those results to a PNG that is not blank (skipped,
-//!                        with the reason printed, when pvpython or xvfb-run is missing)
+//!                        with the reason printed, when pvpython or Xvfb is missing)
 //! ```
 //!
 //! Frequency reference: EN 1998-1 §4.3.3.2.2(3), T₁ = C_t H^{3/4} with C_t = 0.05 for masonry:
@@ -165,13 +165,13 @@ fn church_modes_on_two_ranks_and_the_paraview_picture() {
     }
     assert_ne!(dirs[0], dirs[1], "the tower's first two modes sway in the same direction");
 
-    if !(on_path("pvpython") && on_path("xvfb-run")) {
-        println!("skipped the ParaView picture: pvpython or xvfb-run is not installed (scripts/setup.sh --paraview)");
+    if !(on_path("pvpython") && on_path("Xvfb")) {
+        println!("skipped the ParaView picture: pvpython or Xvfb is not installed (scripts/setup.sh --paraview)");
         return;
     }
     let png = dir.join("mode1.png");
-    let mut c = Command::new("xvfb-run");
-    c.current_dir(root()).args(["-a", "pvpython", "scripts/pv_church.py"]).arg(out.join("modes.xdmf")).args([
+    let mut c = Command::new("bash");
+    c.current_dir(root()).args(["scripts/with_display.sh", "pvpython", "scripts/pv_church.py"]).arg(out.join("modes.xdmf")).args([
         "--mode",
         "1",
         "--size",

@@ -10,7 +10,7 @@
 //!   │ Python, 1e-12 m); the top row follows the platen (curve.csv displacement, 1e-12 m); the
 //!   │ crack cells present at the end = the broken beams of curve.csv's last row
 //!   └ pv_dem.py (ParaView's XDMF reader) sees the same stones, cracks and arrays and renders a
-//!     non-blank PNG (skipped, with the reason printed, without pvpython or xvfb-run)
+//!     non-blank PNG (skipped, with the reason printed, without pvpython or Xvfb)
 //! ```
 mod common;
 use common::*;
@@ -121,14 +121,14 @@ fn cyclic_shear_job_writes_loops_and_particle_states() {
         }
     }
 
-    if !(on_path("pvpython") && on_path("xvfb-run")) {
-        println!("skipped the ParaView check: pvpython or xvfb-run is not installed (scripts/setup.sh --paraview)");
+    if !(on_path("pvpython") && on_path("Xvfb")) {
+        println!("skipped the ParaView check: pvpython or Xvfb is not installed (scripts/setup.sh --paraview)");
         return;
     }
     let sdir = out.join("sample-000");
     let png = dir.join("states.png");
-    let mut c = Command::new("xvfb-run");
-    c.current_dir(root()).args(["-a", "pvpython", "scripts/pv_dem.py"]).arg(sdir.join("particles.xdmf")).args([
+    let mut c = Command::new("bash");
+    c.current_dir(root()).args(["scripts/with_display.sh", "pvpython", "scripts/pv_dem.py"]).arg(sdir.join("particles.xdmf")).args([
         "--size",
         "600x700",
         "--out",

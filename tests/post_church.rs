@@ -15,7 +15,7 @@
 //!                       with the hdf5 crate
 //!   matplotlib present  monitors.png exists and is not blank
 //! ```
-//! Skipped parts print why (pvpython, xvfb-run or matplotlib missing: scripts/setup.sh --paraview).
+//! Skipped parts print why (pvpython, Xvfb or matplotlib missing: scripts/setup.sh --paraview).
 mod common;
 use common::*;
 use std::path::{Path, PathBuf};
@@ -131,8 +131,8 @@ fn without_paraview_the_pictures_are_skipped_with_the_reason() {
 
 #[test]
 fn the_church_pictures() {
-    if !(on_path("pvpython") && on_path("xvfb-run")) {
-        println!("skipped: pvpython or xvfb-run is not installed (scripts/setup.sh --paraview)");
+    if !(on_path("pvpython") && on_path("Xvfb")) {
+        println!("skipped: pvpython or Xvfb is not installed (scripts/setup.sh --paraview)");
         return;
     }
     let dir = fixture_copy("post-church");
