@@ -27,7 +27,7 @@ use masonry_hpc::dem::mechanics::MechParams;
 #[path = "common/random_sample.rs"]
 mod random_sample;
 use masonry_hpc::dem::solver::gmres::Forcing;
-use masonry_hpc::dem::solver::{DofControl, DofMap, LoadPoint, Model, Solver, SolverOptions, StageEnd};
+use masonry_hpc::dem::solver::{DofControl, DofMap, LoadPoint, Model, Solver, SolverOptions, StageEnd, StateRecord};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -81,7 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Progress on stderr every 25 recorded states: a run stopped by a time limit still says how
     // far it got.
     let h = sample.height;
-    solver.observer = Some(Box::new(move |k, st, _| {
+    solver.observer = Some(Box::new(move |k: usize, st: &StateRecord, _: &[f64]| {
         if k % 25 == 0 {
             let s = clock.elapsed().as_secs_f64();
             eprintln!("progress: state {k} strain {:.4e} events {} seconds {s:.2}", -st.platen[1][1] / h, st.broken[0]);
@@ -96,7 +96,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let area = sample.width * params.t_z;
     let curve: Vec<(f64, f64, usize)> = solver
-        .states
+        .states()
         .iter()
         .map(|s| (s.platen[1][1] / sample.height, s.platen_force[1][1] / area, s.broken[0]))
         .collect();
@@ -112,11 +112,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(path) = std::env::var("DEM_BROKEN_CSV") {
         let mut f = std::fs::File::create(&path)?;
         writeln!(f, "event,beam,mode,state")?;
-        for (k, b) in solver.broken.iter().enumerate() {
+        for (k, b) in solver.broken().iter().enumerate() {
             writeln!(f, "{k},{},{:?},{}", b.beam, b.mode, b.state)?;
         }
     }
-    let events = solver.broken.len();
+    let events = solver.broken().len();
     // Peak resident memory of the process (Linux: VmHWM in /proc/self/status), kB.
     let vm_hwm_kb: Option<u64> = std::fs::read_to_string("/proc/self/status").ok().and_then(|s| {
         s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
@@ -124,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let line = serde_json::json!({
         "stones": sample.particles.len(), "equations": n_eq, "end": end, "events": events,
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
-        "peak_stress_pa": peak, "e_pa": e, "solves": solver.n_solves, "cutbacks": solver.n_cutbacks,
+        "peak_stress_pa": peak, "e_pa": e, "solves": solver.counters.solves, "cutbacks": solver.counters.cutbacks,
         "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.profile,
     });
     println!("{line}");

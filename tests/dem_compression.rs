@@ -47,10 +47,10 @@ fn cracked_paper_wall_is_a_compressed_lattice_that_never_breaks_again() {
         assert_eq!(solver.run_stage(&load(1e-2), 100, Some((1, 1))).unwrap(), StageEnd::Completed);
 
         let n_beams = s.beams.len();
-        let broken = solver.broken.len();
-        let last_break = solver.broken.last().map(|b| b.state).unwrap();
+        let broken = solver.broken().len();
+        let last_break = solver.broken().last().map(|b| b.state).unwrap();
         let after: Vec<_> =
-            solver.states.iter().skip(last_break + 1).filter(|st| st.kind == StateKind::Loading).collect();
+            solver.states().iter().skip(last_break + 1).filter(|st| st.kind == StateKind::Loading).collect();
         assert!(after.len() >= 3, "seed {seed}: the last break is near the end of the test");
         // (a) contacts after the last break (printed; expected: a few, all sticking).
         let n_contacts = solver.contacts().len();
@@ -71,8 +71,8 @@ fn cracked_paper_wall_is_a_compressed_lattice_that_never_breaks_again() {
         }
         println!("seed {seed}: tangent after the last break constant to {dev:.1e} relative");
         // (c) along the load ray beyond 1e-2, every intact beam's failure index decreases.
-        let z_end = solver.z.clone();
-        let intact = solver.intact.clone();
+        let z_end = solver.state().z.clone();
+        let intact = solver.state().intact.clone();
         solver.equilibrate(&load(1.2e-2), 1.0).unwrap();
         let model_ref = solver.model();
         let thr = model_ref.thresholds;
@@ -83,7 +83,7 @@ fn cracked_paper_wall_is_a_compressed_lattice_that_never_breaks_again() {
         for b in (0..n_beams).filter(|&b| intact[b] && free(b)) {
             let g = &model_ref.geoms[b];
             let (qi0, qj0) = model_ref.beam_dofs(b, &z_end);
-            let (qi1, qj1) = model_ref.beam_dofs(b, &solver.z);
+            let (qi1, qj1) = model_ref.beam_dofs(b, &solver.state().z);
             let (e0, r0) = failure_terms(g, &thr, qi0, qj0);
             let (e1, _) = failure_terms(g, &thr, qi1, qj1);
             let dphi = ((qi1[2] - qj1[2]) - (qi0[2] - qj0[2])).abs() / thr.theta_cr;

@@ -1,9 +1,9 @@
-//! Where a load step meets its first contact event (the module docs of [`super::events`],
+//! Where a load step meets its first contact event (the module docs of [`super::stage`],
 //! "Contact events"): a contact that starts to slide, closes or opens inside the step.
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::contact_set::ActiveContact;
-use super::events::Solver;
+use super::solver::Solver;
 use crate::dem::mechanics::beam::stack;
 
 impl<'a> Solver<'a> {
@@ -14,7 +14,7 @@ impl<'a> Solver<'a> {
         let map = &self.model.map;
         let mu = self.model.params.mu;
         let dq = |i: usize, j: usize| {
-            let (qi, qj) = (map.particle_dofs(i, &self.z), map.particle_dofs(j, &self.z));
+            let (qi, qj) = (map.particle_dofs(i, &self.state.z), map.particle_dofs(j, &self.state.z));
             let (oi, oj) = (map.particle_dofs(i, z_old), map.particle_dofs(j, z_old));
             stack([qi[0] - oi[0], qi[1] - oi[1], qi[2] - oi[2]], [qj[0] - oj[0], qj[1] - oj[1], qj[2] - oj[2]])
         };
@@ -26,15 +26,15 @@ impl<'a> Solver<'a> {
             }
         };
         let old: BTreeMap<(usize, usize), &ActiveContact> =
-            self.committed_contacts.iter().map(|a| ((a.i, a.j), a)).collect();
-        let now: BTreeSet<(usize, usize)> = self.contacts.iter().map(|a| (a.i, a.j)).collect();
+            self.state.committed_contacts.iter().map(|a| ((a.i, a.j), a)).collect();
+        let now: BTreeSet<(usize, usize)> = self.state.contacts.iter().map(|a| (a.i, a.j)).collect();
         let mut best: Option<f64> = None;
         let mut consider = |l: f64| {
             if l > 0.0 && l < 1.0 && best.is_none_or(|b| l < b) {
                 best = Some(l);
             }
         };
-        for a in &self.contacts {
+        for a in &self.state.contacts {
             match old.get(&(a.i, a.j)) {
                 Some(o) if o.sticks() && !a.sticks() => {
                     // |F_t,0 + λ (F_trial − F_t,0)| = μ (F_n,0 + λ (F_n − F_n,0))
@@ -56,7 +56,7 @@ impl<'a> Solver<'a> {
                 }
             }
         }
-        for o in self.committed_contacts.iter().filter(|o| !now.contains(&(o.i, o.j))) {
+        for o in self.state.committed_contacts.iter().filter(|o| !now.contains(&(o.i, o.j))) {
             // Opening: the separation −b·Δq against the committed depth.
             let separation = -o.contact.normal_direction().dot(&dq(o.i, o.j));
             if separation > depth(o) {

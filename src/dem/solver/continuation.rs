@@ -53,10 +53,12 @@
 //! refactorized. It is a fallback: one continuation costs up to `MAX_ITERATIONS` factorizations
 //! of a small wall, more than Newton's method, and runs only where Newton's method failed at the
 //! smallest increment.
-use super::equilibrium::Refactor;
+use super::equilibrium::Evaluation;
 use super::error::DemError;
-use super::events::{LoadPoint, Solver};
-use super::gmres::gmres;
+use super::gmres::{gmres, GmresInfo};
+use super::operator::Refactor;
+use super::records::LoadPoint;
+use super::solver::Solver;
 use super::tangent::Tangent;
 use super::trace::NewtonStep;
 
@@ -76,80 +78,36 @@ impl<'a> Solver<'a> {
     /// pseudo-transient continuation (module docs); leaves the contacts of the equilibrium in
     /// [`Self::contacts`]. Errors: [`DemError::NoConvergence`] after `MAX_ITERATIONS`.
     pub(super) fn continuation(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
-        let map = &self.model.map;
-        for (k, &zi) in map.prescribed.iter().enumerate() {
-            self.z[zi] = load.prescribed[k];
-        }
-        let mut f_ext = extra.map_or_else(|| vec![0.0; map.n_z], |x| x.to_vec());
-        for (k, &zi) in map.forced.iter().enumerate() {
-            f_ext[zi] += load.forces[k];
-        }
-        let unknowns = map.unknowns.clone();
-        let n_eq = map.n_eq();
-        // M = diag K₀ (with a positive fallback for DOFs without a beam).
-        let mass = self.intact_diagonal.clone();
-        let events = self.broken.len();
+        let f_ext = self.apply_load(load, extra);
+        let unknowns = self.model.map.unknowns.clone();
+        let events = self.state.broken.len();
         if let Some(tr) = self.trace.as_mut() {
-            tr.begin(self.stage, t, events, "continuation");
+            tr.begin(self.state.stage, t, events, "continuation");
         }
-        self.n_continuations += 1;
-        let z0 = self.z.clone();
+        self.counters.continuations += 1;
+        let z0 = self.state.z.clone();
         let mut ev = self.evaluate(&z0, &f_ext)?;
         let mut sigma = SIGMA_0;
         let mut factored: Option<f64> = None;
-        let mut result = Err(());
+        let mut converged = false;
         for _ in 0..MAX_ITERATIONS {
             if ev.relative <= self.opts.tol {
-                result = Ok(());
+                converged = true;
                 break;
             }
             self.profile.continuation_iterations += 1;
-            // The shifted symmetric operator as preconditioner.
             if factored.is_none_or(|s| sigma > 2.0 * s || sigma < 0.5 * s) {
-                self.needs_factor = true;
+                self.operator.invalidate(None);
             }
-            self.sync_operator(&ev.contacts)?;
-            if self.needs_factor || (self.factor.rank() > 0 && !self.factor.is_accurate()) {
-                let diagonal: Vec<f64> = self.reg.iter().zip(&mass).map(|(r, m)| r + sigma * m).collect();
-                self.pending_refactor = None;
-                self.refactorize_with(Some(Refactor::Continuation), &diagonal)?;
+            let (op, mut u, scales) = self.operator_upkeep();
+            op.sync(&mut u, &ev.contacts)?;
+            if op.is_stale() || (op.factor.rank() > 0 && !op.factor.is_accurate()) {
+                let diagonal: Vec<f64> =
+                    scales.reg.iter().zip(&scales.intact_diagonal).map(|(r, m)| r + sigma * m).collect();
+                op.refactorize(&mut u, Some(Refactor::Continuation), &diagonal)?;
                 factored = Some(sigma);
             }
-            let tangent = Tangent::new(
-                &self.model,
-                &self.intact,
-                &self.reg,
-                &ev.contacts,
-                &self.z,
-                &self.z_commit,
-                &self.committed_ft,
-                &mut self.jacobians,
-            )?;
-            let mut dz = vec![0.0; n_eq];
-            let factor = &mut self.factor;
-            let info = gmres(
-                &mut dz,
-                &ev.r,
-                |v, o| {
-                    tangent.apply(v, o);
-                    for ((o, v), m) in o.iter_mut().zip(v).zip(&mass) {
-                        *o += sigma * m * v;
-                    }
-                },
-                |v| factor.solve(v),
-                1e-8,
-                60,
-                240,
-            )
-            .map_err(|e| DemError::Factorization { event: events, reason: e.0 })?;
-            drop(tangent);
-            self.n_solves += info.iterations;
-            if !info.converged && self.factor.rank() > 0 {
-                self.needs_factor = true;
-            }
-            // Downhill: the step must do positive work with the out-of-balance forces,
-            // Δzᵀ r > 0 (first-order decrease of the energy); else the shifted operator is not
-            // positive along it: more shift, same state.
+            let (mut dz, info) = self.shifted_solve(&ev, sigma)?;
             let work: f64 = dz.iter().zip(&ev.r).map(|(d, r)| d * r).sum();
             let downhill = work > 0.0;
             let cap = if downhill { self.cap_continuation(&mut dz) } else { 0.0 };
@@ -172,13 +130,12 @@ impl<'a> Solver<'a> {
                 sigma = (4.0 * sigma).clamp(SIGMA_MIN, SIGMA_MAX);
                 continue;
             }
-            let mut z = self.z.clone();
+            let mut z = self.state.z.clone();
             for (e, &zi) in unknowns.iter().enumerate() {
                 z[zi] += dz[e];
             }
             let trial = self.evaluate(&z, &f_ext)?;
-            // The work of the out-of-balance forces along the step (trapezoid), the energy the
-            // step releases: ½ (r_k + r_{k+1})ᵀ Δz > 0, else the step overshot a valley.
+            // The energy the step releases, by the trapezoid of the residual along it.
             let released = 0.5 * (work * cap + dz.iter().zip(&trial.r).map(|(d, r)| d * r).sum::<f64>());
             if released <= 0.0 {
                 if let Some(st) =
@@ -190,46 +147,72 @@ impl<'a> Solver<'a> {
                 continue;
             }
             ev = trial;
-            self.z = z;
-            // A step inside the trust radius: less shift (towards Newton's method); a capped
-            // step keeps it.
+            self.state.z = z;
             if cap >= 1.0 {
                 sigma = (0.5 * sigma).max(SIGMA_MIN);
             }
         }
         if let Some(tr) = self.trace.as_mut() {
-            tr.end(ev.relative, result.is_ok());
+            tr.end(ev.relative, converged);
         }
-        // Back to the unshifted operator.
-        self.needs_factor = true;
-        self.pending_refactor = Some(Refactor::Continuation);
-        match result {
-            Ok(()) => {
-                self.contacts = ev.contacts;
-                Ok(())
-            }
-            Err(()) => Err(DemError::NoConvergence {
-                stage: self.stage,
-                load: t,
-                event: events,
-                iterations: MAX_ITERATIONS,
-                residual: ev.relative,
-                unbonded: self.unbonded_stones(),
-            }),
+        // Back to the unshifted operator for the next Newton iteration.
+        self.operator.invalidate(Some(Refactor::Continuation));
+        if converged {
+            self.state.contacts = ev.contacts;
+            return Ok(());
         }
+        Err(DemError::NoConvergence {
+            stage: self.state.stage,
+            load: t,
+            event: events,
+            iterations: MAX_ITERATIONS,
+            residual: ev.relative,
+            unbonded: self.unbonded_stones(),
+        })
     }
 
-    /// Scales `dz` so that no stone moves more than the trust radius `TRUST_RADIUS · D̄`
-    /// (translation, or rotation × D̄); returns the scale (1: inside).
+    /// `(K_T + σ diag K₀) Δz = r` by GMRES to 1e-8, preconditioned by the factorized shifted
+    /// operator; an unconverged solve with a Woodbury correction marks the operator stale.
+    fn shifted_solve(&mut self, ev: &Evaluation, sigma: f64) -> Result<(Vec<f64>, GmresInfo), DemError> {
+        let events = self.state.broken.len();
+        let tangent = Tangent::new(&self.model, &self.state, &self.scales.reg, &ev.contacts, &mut self.jacobians)?;
+        let mass = &self.scales.intact_diagonal;
+        let mut dz = vec![0.0; self.model.map.n_eq()];
+        let factor = &mut self.operator.factor;
+        let info = gmres(
+            &mut dz,
+            &ev.r,
+            |v, o| {
+                tangent.apply(v, o);
+                for ((o, v), m) in o.iter_mut().zip(v).zip(mass) {
+                    *o += sigma * m * v;
+                }
+            },
+            |v| factor.solve(v),
+            1e-8,
+            60,
+            240,
+        )
+        .map_err(|e| DemError::Factorization { event: events, reason: e.0 })?;
+        self.counters.solves += info.iterations;
+        if !info.converged && self.operator.factor.rank() > 0 {
+            self.operator.invalidate(None);
+        }
+        Ok((dz, info))
+    }
+
+    /// Scales `dz` so that no stone moves by more than the trust radius; returns the scale
+    /// applied (1: none).
     fn cap_continuation(&self, dz: &mut [f64]) -> f64 {
         let map = &self.model.map;
+        let d_mean = self.scales.mean_diameter;
         let big = map
             .unknowns
             .iter()
             .zip(dz.iter())
-            .map(|(&zi, d)| if zi % 3 == 2 { d.abs() * self.mean_diameter } else { d.abs() })
+            .map(|(&zi, d)| if zi % 3 == 2 { d.abs() * d_mean } else { d.abs() })
             .fold(0.0f64, f64::max);
-        let radius = TRUST_RADIUS * self.mean_diameter;
+        let radius = TRUST_RADIUS * d_mean;
         if big > radius {
             let s = radius / big;
             dz.iter_mut().for_each(|d| *d *= s);

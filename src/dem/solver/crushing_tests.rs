@@ -80,7 +80,7 @@ fn contact_plateaus_at_the_crushing_force_then_softens_with_its_energy() {
         }
     };
     let mut peak: f64 = 0.0;
-    for st in &solver.states {
+    for st in solver.states() {
         let d = -st.platen[1][1];
         let f = -st.platen_force[1][1];
         peak = peak.max(f);
@@ -89,7 +89,7 @@ fn contact_plateaus_at_the_crushing_force_then_softens_with_its_energy() {
     // The plateau: never above σ_c L t_z; the states on the 2e-4 m grid straddle the kink at
     // δ_y = 2.257e-3 m, where the closed form gives 0.975 σ_c L t_z on either side.
     assert!(peak <= f_y * (1.0 + 1e-9) && peak > 0.97 * f_y, "largest recorded force {peak:e}");
-    let last = solver.states.last().unwrap();
+    let last = solver.states().last().unwrap();
     assert!((last.dissipated[3] - gc).abs() < 1e-6 * gc, "crushing energy {:e}", last.dissipated[3]);
     let w = last.external_work;
     let imbalance = w - last.stored - last.dissipated.iter().sum::<f64>();
@@ -161,7 +161,7 @@ fn crushed_contacts_keep_the_energy_balance_far_past_the_peak() {
     // of an overlap was counted at its full elastic value on a crushed contact (whose force, and
     // so whose moment, crushing had reduced), this sample ended with stored + dissipated 356 J
     // (13 %) above the work done. Before loading steps were checked for snaps inside them
-    // (`events.rs`, "Snaps inside a step") it ended 1.3 % short, two steps carrying 25 J and
+    // (`stage.rs`, "Snaps inside a step") it ended 1.3 % short, two steps carrying 25 J and
     // 36 J of released energy; with the crushed force at the overlap centroid and the wedge
     // energy scaled by (F/F_el)² it ended 0.56 % short (seeds 1–8: 0.46–0.91 %, a remainder that
     // did not fall with the step: the crushed contacts' moment). Asserted: stored ≤ W_ext + 1 %
@@ -218,19 +218,19 @@ fn diag_contact_balance() {
     for k in 1..=56 {
         let eps = 5e-5 * k as f64;
         let target = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, -eps * h, 0.0], forces: vec![] };
-        let z0 = solver.z.clone();
+        let z0 = solver.state().z.clone();
         let c0: BTreeMap<(usize, usize), ActiveContactSnapshot> =
             solver.contacts().iter().map(|a| ((a.i, a.j), snap(a))).collect();
-        let (n0, b0) = (solver.states.len(), solver.broken.len());
+        let (n0, b0) = (solver.states().len(), solver.broken().len());
         if solver.run_stage(&target, 1, Some((1, 1))).is_err() {
             println!("stopped at ε {eps:e}");
             break;
         }
-        let z1 = solver.z.clone();
-        if solver.broken.len() != b0 || solver.states.len() != n0 + 1 {
+        let z1 = solver.state().z.clone();
+        if solver.broken().len() != b0 || solver.states().len() != n0 + 1 {
             continue;
         }
-        let (a, b) = (&solver.states[n0 - 1], &solver.states[n0]);
+        let (a, b) = (&solver.states()[n0 - 1], &solver.states()[n0]);
         let global = (b.external_work - a.external_work)
             - (b.stored - a.stored)
             - (b.dissipated.iter().sum::<f64>() - a.dissipated.iter().sum::<f64>());

@@ -221,13 +221,13 @@ fn rocking_joint_stores_the_wedge_energy() {
     solver.start().unwrap();
     solver.run_stage(&load(0.0, k_n * db, 0.0), 2, None).unwrap();
     solver.break_and_relax(0).unwrap();
-    let flat = solver.states.len() - 1;
+    let flat = solver.states().len() - 1;
     for target in [th, 0.0, -th, 0.0] {
         solver.run_stage(&load(-target, k_n * db, target), 4, None).unwrap();
     }
-    let st0 = solver.states[flat].clone();
+    let st0 = solver.states()[flat].clone();
     let mut rocked = 0;
-    for st in &solver.states[flat..] {
+    for st in &solver.states()[flat..] {
         let theta = st.platen[1][2];
         let wedge = k_n * theta * theta / 24.0;
         let want = 0.5 * k_n * db * db + wedge;
@@ -244,7 +244,7 @@ fn rocking_joint_stores_the_wedge_energy() {
         }
     }
     assert!(rocked >= 4, "rocked states {rocked}");
-    assert!((solver.states.last().unwrap().platen[1][2]).abs() < 1e-20);
+    assert!((solver.states().last().unwrap().platen[1][2]).abs() < 1e-20);
 }
 
 /// A block sliding on a block, pushed and pulled back (two stones, one reversal): the energy
@@ -277,12 +277,12 @@ fn sliding_block_balance_at_stick_slip_kinks() {
         solver.start().unwrap();
         solver.run_stage(&load(0.0, n), 2, None).unwrap();
         solver.break_and_relax(0).unwrap();
-        let st0 = solver.states.last().unwrap().clone();
+        let st0 = solver.states().last().unwrap().clone();
         solver.run_stage(&load(a, n), steps, None).unwrap();
         solver.run_stage(&load(0.0, n), steps, None).unwrap();
-        let last = solver.states.last().unwrap().clone();
+        let last = solver.states().last().unwrap().clone();
         let bal = |st: &StateRecord| st.external_work - st.stored - st.dissipated.iter().sum::<f64>();
-        (last.external_work - st0.external_work, bal(&last) - bal(&st0), solver.n_contact_events)
+        (last.external_work - st0.external_work, bal(&last) - bal(&st0), solver.counters.contact_events)
     };
     // The spring–slider on the same steps: trapezoid work minus (ΔE + D).
     let limit = p.mu * n;

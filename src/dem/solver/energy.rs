@@ -1,4 +1,4 @@
-//! The energy account of the event loop ([`super::events`]): what each recorded state carries,
+//! The energy account of the stage loop ([`super::stage`]): what each recorded state carries,
 //! and the check of a trial load step's balance.
 //!
 //! **Per committed state:** external work (trapezoid of the platen forces times the platen
@@ -13,16 +13,22 @@
 //!
 //! **A trial step** ([`Solver::trial_step_imbalance`]): `ΔW − ΔU − ΔD` against the last recorded
 //! state, with the same trapezoid, stored energy and dissipation as a commit would book (the
-//! events module's "Snaps inside a step").
-use super::events::{FailureModeTag, Solver, StateKind, StateRecord};
+//! stage module's "Snaps inside a step").
+use super::records::{FailureModeTag, StateKind, StateRecord};
+use super::solver::Solver;
 
 /// The running totals (J).
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Energy {
+pub struct Energy {
+    /// External work.
     pub external: f64,
+    /// Fracture: each broken beam's energy when it broke.
     pub fracture: f64,
+    /// Friction: the contacts' return-map dissipation.
     pub friction: f64,
+    /// Relaxation: what re-equilibrations at fixed load release beyond the broken beams' energy.
     pub relaxation: f64,
+    /// Crushing: the plastic work of crushing contacts.
     pub crushing: f64,
 }
 
@@ -44,70 +50,74 @@ fn step_work(prev: &StateRecord, platen: &PlatenValues, force: &PlatenValues) ->
 impl<'a> Solver<'a> {
     /// Intact beams' and active contacts' elastic energy at the trial state.
     fn stored_energy(&self) -> f64 {
-        let beams: f64 =
-            (0..self.intact.len()).filter(|&b| self.intact[b]).map(|b| self.model.beam_energy(b, &self.z)).sum();
-        beams + self.contacts.iter().map(|a| a.energy()).sum::<f64>()
+        let beams: f64 = (0..self.state.intact.len())
+            .filter(|&b| self.state.intact[b])
+            .map(|b| self.model.beam_energy(b, &self.state.z))
+            .sum();
+        beams + self.state.contacts.iter().map(|a| a.energy()).sum::<f64>()
     }
 
     /// The platen DOFs at the trial state and their generalized forces (the reactions of
     /// prescribed DOFs).
     fn platen_state(&self) -> (PlatenValues, PlatenValues) {
-        let f = self.internal(&self.z, &self.contacts);
+        let f = self.internal(&self.state.z, &self.state.contacts);
         let b = self.model.map.platen_base;
         let at = |v: &[f64], k: usize| [v[b[k]], v[b[k] + 1], v[b[k] + 2]];
-        ([at(&self.z, 0), at(&self.z, 1)], [at(&f, 0), at(&f, 1)])
+        ([at(&self.state.z, 0), at(&self.state.z, 1)], [at(&f, 0), at(&f, 1)])
     }
 
     /// Commits the trial state and records it.
     pub(super) fn commit(&mut self, t: f64, kind: StateKind) {
         let (platen, pf) = self.platen_state();
-        if let Some(prev) = self.states.last() {
-            self.energy.external += step_work(prev, &platen, &pf);
+        if let Some(prev) = self.state.records.last() {
+            self.state.energy.external += step_work(prev, &platen, &pf);
         }
-        self.accept();
+        self.state.accept();
         self.raise_reference_force(&pf);
         let mut lateral_ux = [0.0; 2];
-        for (s, set) in self.lateral.iter().enumerate() {
-            let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.z)[0]).sum();
+        let boundary = &self.model.sample.boundary;
+        for (s, set) in [&boundary.left, &boundary.right].into_iter().enumerate() {
+            let sum: f64 = set.iter().map(|&p| self.model.map.particle_dofs(p, &self.state.z)[0]).sum();
             lateral_ux[s] = sum / set.len().max(1) as f64;
         }
-        let n_t = self.broken.iter().filter(|b| b.mode == FailureModeTag::Tension).count();
-        let n_c = self.broken.iter().filter(|b| b.mode == FailureModeTag::Crushing).count();
+        let n_t = self.state.broken.iter().filter(|b| b.mode == FailureModeTag::Tension).count();
+        let n_c = self.state.broken.iter().filter(|b| b.mode == FailureModeTag::Crushing).count();
         let stored = self.stored_energy();
         if kind == StateKind::Relaxed {
             // Energy released by the re-equilibration beyond the broken beam's own energy.
-            if let Some(prev) = self.states.last() {
+            if let Some(prev) = self.state.records.last() {
                 let before = prev.external_work - prev.stored - prev.dissipated.iter().sum::<f64>();
-                let e = &self.energy;
+                let e = &self.state.energy;
                 let now = e.external - stored - e.fracture - e.friction - e.relaxation - e.crushing;
-                self.energy.relaxation += now - before;
+                self.state.energy.relaxation += now - before;
             }
         }
-        let e = self.energy;
-        self.states.push(StateRecord {
-            stage: self.stage,
+        let e = self.state.energy;
+        self.state.records.push(StateRecord {
+            stage: self.state.stage,
             t,
             kind,
             platen,
             platen_force: pf,
             lateral_ux,
-            broken: [self.broken.len(), n_t, self.broken.len() - n_t - n_c, n_c],
-            contacts: self.contacts.len(),
+            broken: [self.state.broken.len(), n_t, self.state.broken.len() - n_t - n_c, n_c],
+            contacts: self.state.contacts.len(),
             external_work: e.external,
             stored,
             dissipated: [e.fracture, e.friction, e.relaxation, e.crushing],
         });
-        if let (Some(observe), Some(record)) = (self.observer.as_mut(), self.states.last()) {
-            observe(self.states.len() - 1, record, &self.z);
+        if let (Some(observer), Some(record)) = (self.observer.as_mut(), self.state.records.last()) {
+            observer.recorded(self.state.records.len() - 1, record, &self.state.z);
         }
     }
 
     /// The energy imbalance `ΔW − ΔU − ΔD` of the trial state against the last recorded one, and
     /// the scale it is measured against, `max(W, U)` there.
     pub(super) fn trial_step_imbalance(&self) -> (f64, f64) {
-        let Some(prev) = self.states.last() else { return (0.0, 0.0) };
+        let Some(prev) = self.state.records.last() else { return (0.0, 0.0) };
         let (platen, pf) = self.platen_state();
-        let dissipated: f64 = self.contacts.iter().map(|a| a.friction.dissipation + a.crushing_dissipation()).sum();
+        let dissipated: f64 =
+            self.state.contacts.iter().map(|a| a.friction.dissipation + a.crushing_dissipation()).sum();
         let imbalance = step_work(prev, &platen, &pf) - (self.stored_energy() - prev.stored) - dissipated;
         (imbalance, prev.external_work.max(prev.stored))
     }

@@ -68,6 +68,26 @@ pub struct SolverProfile {
     pub evaluate_seconds: f64,
 }
 
+/// How often the stage loop took each of its branches ([`super::stage`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Counters {
+    /// Linear solves with the factorized operator (GMRES preconditioner applications included).
+    pub solves: usize,
+    /// Load-increment cut-backs (halvings of a load step or of a beam's release).
+    pub cutbacks: usize,
+    /// Load steps ended at a contact event.
+    pub contact_events: usize,
+    /// Pseudo-transient continuations run ([`super::continuation`]).
+    pub continuations: usize,
+    /// Load steps whose equilibrium was found by continuation, or left as a snap (the stage
+    /// module's "Continuation" and "Snaps inside a step").
+    pub continued_steps: usize,
+    /// Load steps halved because their energy did not balance (counted in `cutbacks` too).
+    pub imbalance_cutbacks: usize,
+    /// Such steps left at the smallest increment and recorded as snaps.
+    pub snaps_in_steps: usize,
+}
+
 /// Numeric factorizations by cause.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Refactorizations {

@@ -20,7 +20,7 @@ use std::rc::Rc;
 use serde::{Deserialize, Serialize};
 
 use super::dofs::DofMap;
-use super::events::{StateKind, StateRecord};
+use super::records::{Observer, StateKind, StateRecord};
 
 /// Which recorded states are written as particle states.
 #[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
@@ -72,38 +72,8 @@ impl Recorder {
     }
 
     /// The observer to install in the solver (`None` for the `none` policy).
-    #[allow(clippy::type_complexity)]
-    pub fn observer<'a>(&self) -> Option<Box<dyn FnMut(usize, &StateRecord, &[f64]) + 'a>> {
-        if self.policy == ParticleStates::None {
-            return None;
-        }
-        let me = self.clone();
-        Some(Box::new(move |index: usize, record: &StateRecord, z: &[f64]| me.observe(index, record, z)))
-    }
-
-    fn observe(&self, index: usize, record: &StateRecord, z: &[f64]) {
-        let mut k = self.kept.borrow_mut();
-        let keep = match self.policy {
-            ParticleStates::None => false,
-            ParticleStates::All => true,
-            ParticleStates::Steps => {
-                let first = record.kind == StateKind::PreBreak && k.first_break.is_none();
-                if first {
-                    k.first_break = Some(index);
-                }
-                first || record.kind == StateKind::Loading || k.first_break.is_some_and(|f| f + 1 == index)
-            }
-        };
-        if keep {
-            k.states.insert(index, z.to_vec());
-        }
-        if self.policy == ParticleStates::Steps && record.stage >= self.first_driven_stage {
-            let f = record.platen_force[self.driven.0][self.driven.1].abs();
-            if k.peak.as_ref().is_none_or(|(p, _, _)| f > *p) {
-                let z = if keep { Vec::new() } else { z.to_vec() }; // kept states are not copied twice
-                k.peak = Some((f, index, z));
-            }
-        }
+    pub fn observer<'a>(&self) -> Option<Box<dyn Observer + 'a>> {
+        (self.policy != ParticleStates::None).then(|| Box::new(self.clone()) as Box<dyn Observer + 'a>)
     }
 
     /// The kept states as particle motions, in state order; `last` is the final committed state
@@ -128,5 +98,32 @@ impl Recorder {
                 dofs: (0..n_particles).map(|p| map.particle_dofs(p, &z)).collect(),
             })
             .collect()
+    }
+}
+
+impl Observer for Recorder {
+    fn recorded(&mut self, index: usize, record: &StateRecord, z: &[f64]) {
+        let mut k = self.kept.borrow_mut();
+        let keep = match self.policy {
+            ParticleStates::None => false,
+            ParticleStates::All => true,
+            ParticleStates::Steps => {
+                let first = record.kind == StateKind::PreBreak && k.first_break.is_none();
+                if first {
+                    k.first_break = Some(index);
+                }
+                first || record.kind == StateKind::Loading || k.first_break.is_some_and(|f| f + 1 == index)
+            }
+        };
+        if keep {
+            k.states.insert(index, z.to_vec());
+        }
+        if self.policy == ParticleStates::Steps && record.stage >= self.first_driven_stage {
+            let f = record.platen_force[self.driven.0][self.driven.1].abs();
+            if k.peak.as_ref().is_none_or(|(p, _, _)| f > *p) {
+                let z = if keep { Vec::new() } else { z.to_vec() }; // kept states are not copied twice
+                k.peak = Some((f, index, z));
+            }
+        }
     }
 }

@@ -50,12 +50,12 @@ fn predicted_load_steps_reach_the_same_equilibria() {
     let s = random(120, 5);
     let with = compress(&s, SolverOptions::default());
     let without = compress(&s, SolverOptions { predict_steps: false, ..Default::default() });
-    assert!(with.broken.len() > 10, "breaks {}", with.broken.len());
-    let seq = |v: &Solver| v.broken.iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
+    assert!(with.broken().len() > 10, "breaks {}", with.broken().len());
+    let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
     assert_eq!(seq(&with), seq(&without));
-    assert_eq!(with.states.len(), without.states.len());
-    let peak = without.states.iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
-    for (a, b) in with.states.iter().zip(&without.states) {
+    assert_eq!(with.states().len(), without.states().len());
+    let peak = without.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
+    for (a, b) in with.states().iter().zip(without.states()) {
         assert_eq!((a.kind, a.broken), (b.kind, b.broken));
         // A break's load fraction comes from the converged end of its step, known to the
         // tolerance: 1e-7 of the stage (measured: 2e-9).
@@ -146,39 +146,36 @@ fn cache_jacobian(
 }
 
 /// The pair of [`Pair`] pressed into contact by 0.3 of its overlap scale with its beam broken,
-/// as the tangent tests need it: state, intact beams, regularization ε = 1e-10 of the diagonal,
-/// committed state (zero), histories (none) and the one active contact.
+/// as the tangent tests need it: the solver state (its beam broken, committed state zero, no
+/// histories, the one active contact) and the regularization ε = 1e-10 of the diagonal.
 struct ContactState {
-    z: Vec<f64>,
-    intact: Vec<bool>,
+    state: SolverState,
     reg: Vec<f64>,
-    zc: Vec<f64>,
-    hist: contact_set::Histories,
-    contacts: Vec<contact_set::ActiveContact>,
 }
 
 impl ContactState {
     fn new(s: &Sample, p: &Pair) -> Self {
         let map = &p.model.map;
-        let mut z = vec![0.0; map.n_z];
+        let load = LoadPoint { prescribed: vec![0.0; map.prescribed.len()], forces: vec![0.0; map.forced.len()] };
+        let mut state = SolverState::new(map.n_z, s.beams.len(), load);
         let (idx, _) = map.particle_map(p.j);
         let qj = p.q(0.3 * p.delta)[1];
         for a in 0..3 {
-            z[idx[a]] = qj[a];
+            state.z[idx[a]] = qj[a];
         }
-        let intact: Vec<bool> = (0..s.beams.len()).map(|b| b != p.beam).collect();
+        state.intact[p.beam] = false;
         let reg: Vec<f64> = p.model.diagonal().iter().map(|d| 1e-10 * d.max(1.0)).collect();
-        let zc = vec![0.0; map.n_z];
-        let hist = contact_set::Histories::new();
-        let contacts = contact_set::evaluate(s, map, &p.model.params, &[(p.i, p.j)], &z, &zc, &hist).unwrap();
-        assert_eq!(contacts.len(), 1);
-        ContactState { z, intact, reg, zc, hist, contacts }
+        state.contacts =
+            contact_set::evaluate(s, map, &p.model.params, &[(p.i, p.j)], &state.z, &state.z_commit, &state.histories)
+                .unwrap();
+        assert_eq!(state.contacts.len(), 1);
+        ContactState { state, reg }
     }
 
     /// The tangent at this state (fresh Jacobians).
     fn tangent<'m, 'a>(&'m self, model: &'m Model<'a>) -> Tangent<'m, 'a> {
         let mut cache = JacobianCache::default();
-        Tangent::new(model, &self.intact, &self.reg, &self.contacts, &self.z, &self.zc, &self.hist, &mut cache).unwrap()
+        Tangent::new(model, &self.state, &self.reg, &self.state.contacts, &mut cache).unwrap()
     }
 }
 
@@ -200,8 +197,8 @@ fn tangent_difference_is_the_tangent_minus_the_factorized_operator() {
         p.model.rank_one(p.i, p.j, &earlier.contact.normal_direction(), earlier.contact.k_n),
         p.model.rank_one(p.i, p.j, &earlier.contact.tangential_direction(), earlier.k_t),
     ];
-    let diff = tangent.difference(&c.contacts, |_, _| held[0].k + held[1].k);
-    let upper = p.model.assemble(&c.intact, &c.reg, &held);
+    let diff = tangent.difference(&c.state.contacts, |_, _| held[0].k + held[1].k);
+    let upper = p.model.assemble(&c.state.intact, &c.reg, &held);
     let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
     for t in &upper {
         m[(t.row, t.col)] += t.val;

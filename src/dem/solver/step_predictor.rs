@@ -25,7 +25,8 @@
 //! `MechParams::crushing` the steps start from the plain start, as before.
 
 use super::error::DemError;
-use super::events::{LoadPoint, Solver};
+use super::records::LoadPoint;
+use super::solver::Solver;
 
 /// The response of a cut load step, kept for the step that follows the break.
 #[derive(Clone, Debug)]
@@ -70,8 +71,8 @@ impl<'a> Solver<'a> {
         t: f64,
         t_try: f64,
     ) -> Result<(), DemError> {
-        if let Some(z0) = predictor.and_then(|p| p.guess(&self.z, t, t_try)) {
-            self.z = z0;
+        if let Some(z0) = predictor.and_then(|p| p.guess(&self.state.z, t, t_try)) {
+            self.state.z = z0;
             match self.equilibrate(load, t_try) {
                 Ok(()) => {
                     self.profile.predicted_steps += 1;
@@ -79,7 +80,7 @@ impl<'a> Solver<'a> {
                 }
                 Err(DemError::NoConvergence { .. }) => {
                     self.profile.predictor_fallbacks += 1;
-                    self.restore();
+                    self.state.restore();
                 }
                 Err(e) => return Err(e),
             }

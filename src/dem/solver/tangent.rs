@@ -68,6 +68,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
+use super::state::SolverState;
 use super::system::Model;
 use crate::dem::mechanics::SlipState;
 
@@ -221,20 +222,17 @@ pub struct Tangent<'m, 'a> {
 }
 
 impl<'m, 'a> Tangent<'m, 'a> {
-    /// The tangent at `z` with the evaluated `contacts`, whose friction trial starts from
-    /// `z_commit` and the committed tangential forces `committed`; contact Jacobians from and
-    /// into `cache`.
-    #[allow(clippy::too_many_arguments)]
+    /// The tangent at the trial state of `state` with its evaluated `contacts`, whose friction
+    /// trial starts from the committed state; `reg` the regularization; contact Jacobians from
+    /// and into `cache`.
     pub fn new(
         model: &'m Model<'a>,
-        intact: &'m [bool],
+        state: &'m SolverState,
         reg: &'m [f64],
         contacts: &[ActiveContact],
-        z: &[f64],
-        z_commit: &[f64],
-        committed: &contact_set::Histories,
         cache: &mut JacobianCache,
     ) -> Result<Self, DemError> {
+        let (intact, z, z_commit, committed) = (&state.intact, &state.z, &state.z_commit, &state.histories);
         cache.keep_only(contacts);
         let map = &model.map;
         let mut terms = Vec::with_capacity(contacts.len());

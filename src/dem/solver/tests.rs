@@ -88,7 +88,7 @@ fn block_on_a_block_slides_at_mu_n_through_the_solver() {
     solver.break_and_relax(0).unwrap();
     let push = LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 1e-3, 0.0], forces: vec![-n] };
     solver.run_stage(&push, 10, None).unwrap();
-    let last = solver.states.last().unwrap();
+    let last = solver.states().last().unwrap();
     assert_eq!(last.contacts, 1);
     // On the contact itself |F_t| = μ F_n exactly (slip); the platen's horizontal force differs
     // from μN by O(δ/L) ≈ 1e-3 because the chord normal of the shifted overlap tilts by ~δ/L
@@ -297,4 +297,54 @@ fn a_stopped_test_keeps_its_curve() {
     assert_eq!(r.stats.events, 4);
     assert!(r.curve.len() > 4 && r.curve.iter().any(|c| c.kind == StateKind::PreBreak));
     assert!(!r.end.is_valid());
+}
+
+#[test]
+fn a_cloned_state_continues_the_test_in_a_new_solver() {
+    // The solver's state apart from its workspace: the paper's wall under 0.5 MPa of vertical
+    // stress is pushed sideways to 2 mm, its state cloned, and the push to 3 mm continued both
+    // in the same solver and in a new one resumed from the clone. The new solver starts with an
+    // empty workspace (a fresh factorization in place of the Woodbury-corrected one, no cached
+    // contact Jacobians or candidates), so both must break the same beams in the same order, and
+    // their platen forces agree within 1e-6 of the largest: the equilibrium tolerance is 1e-8 of
+    // the forces, and only round-off tells the two workspaces apart.
+    use super::dofs::{DofControl::*, DofMap};
+    let s = paper_wall();
+    let p = MechParams::default();
+    let fy = -0.5e6 * s.width * p.t_z;
+    let controls = [[Prescribed; 3], [Prescribed, Force, Prescribed]];
+    let model = || Model::new(&s, &p, DofMap::new(&s, controls).unwrap()).unwrap();
+    let at = |ux: f64| LoadPoint { prescribed: vec![0.0, 0.0, 0.0, ux, 0.0], forces: vec![fy] };
+    let mut solver = Solver::new(model(), SolverOptions::default(), at(0.0)).unwrap();
+    solver.start().unwrap();
+    solver.run_stage(&at(0.0), 2, None).unwrap();
+    solver.run_stage(&at(2.0e-3), 20, None).unwrap();
+    let (n0, b0) = (solver.states().len(), solver.broken().len());
+    assert!(
+        b0 > 0 && !solver.contacts().is_empty(),
+        "the first push breaks beams and closes contacts: {b0} breaks, {} contacts",
+        solver.contacts().len()
+    );
+    let mut resumed = Solver::resume(model(), SolverOptions::default(), solver.state().clone()).unwrap();
+    for sv in [&mut solver, &mut resumed] {
+        sv.run_stage(&at(3.0e-3), 10, None).unwrap();
+    }
+    let key = |sv: &Solver| sv.broken().iter().map(|b| (b.beam, b.mode)).collect::<Vec<_>>();
+    assert!(solver.broken().len() > b0, "the second push breaks more beams");
+    assert_eq!(key(&solver), key(&resumed), "the same breaks in the same order");
+    assert_eq!(solver.states().len(), resumed.states().len());
+    let peak = solver.states().iter().flat_map(|st| st.platen_force[1]).fold(0.0f64, |m, f| m.max(f.abs()));
+    for (a, b) in solver.states()[n0..].iter().zip(&resumed.states()[n0..]) {
+        for (fa, fb) in a.platen_force.iter().flatten().zip(b.platen_force.iter().flatten()) {
+            assert!((fa - fb).abs() <= 1e-6 * peak, "{fa} vs {fb} (peak {peak})");
+        }
+    }
+    // The workspace was rebuilt: the resumed solver factorized at least once of its own.
+    assert!(resumed.factor_stats().0 >= 1);
+    println!(
+        "resumed at state {n0} ({b0} breaks): {} breaks after 3 mm, factorizations {} (continued) / {} (resumed)",
+        solver.broken().len(),
+        solver.factor_stats().0,
+        resumed.factor_stats().0
+    );
 }

@@ -30,19 +30,19 @@
 //! Platens are bonded to the bottom and top rows ([`super::dofs`]). Sign convention: tension
 //! positive; `strain = U_y/H` (compression, tension) or `U_x/H` (shear), `stress = F/(W t_z)` with
 //! `F` the top platen's force along the driven DOF. Lateral strain `(ū_x,right − ū_x,left)/W`.
-//!
-//! Derived numbers: `E = σ/ε` at the first recorded loading state (the response is linear
-//! before the first break: secant = tangent), `ν = −ε_lat/ε_axial` there, first-crack stress =
-//! the stress of the first pre-break state, peak = the largest `|σ|`, and the strain there.
+
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
 use super::dofs::{DofControl, DofMap};
 use super::error::{positive, DemError};
-use super::events::{BrokenBeam, LoadPoint, Solver, SolverOptions, StageEnd, StateKind};
-use super::snapshots::{ParticleState, ParticleStates, Recorder};
+use super::options::SolverOptions;
+use super::records::{LoadPoint, StageEnd, StateRecord};
+use super::snapshots::{ParticleStates, Recorder};
+use super::solver::Solver;
 use super::system::Model;
+use super::test_result::{curve_of, derive, RunStats, TestEnd, TestResult};
 use crate::dem::mechanics::MechParams;
 use crate::dem::sample::Sample;
 
@@ -252,135 +252,6 @@ impl VirtualTest {
     }
 }
 
-/// One point of the curve (one recorded equilibrium state).
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-pub struct CurvePoint {
-    /// Index of the recorded state.
-    pub state: usize,
-    /// Why it was recorded.
-    pub kind: StateKind,
-    /// Driven platen displacement (m).
-    pub displacement: f64,
-    /// Axial (or shear) strain.
-    pub strain: f64,
-    /// Stress (Pa, tension positive).
-    pub stress: f64,
-    /// Lateral strain.
-    pub lateral_strain: f64,
-    /// Broken beams: total, tension, shear, crushing.
-    pub broken: [usize; 4],
-    /// External work (J).
-    pub external_work: f64,
-    /// Stored energy (J).
-    pub stored: f64,
-    /// Dissipated energy: fracture, friction, relaxation, crushing (J).
-    pub dissipated: [f64; 4],
-}
-
-/// Derived numbers of a test.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-pub struct Derived {
-    /// Initial modulus `σ/ε` (Pa; shear test: the shear modulus-like ratio τ/γ).
-    pub young_modulus: f64,
-    /// `−ε_lat/ε_axial` in the elastic range.
-    pub poisson: f64,
-    /// |σ| at the first break (Pa), if any.
-    pub first_crack_stress: Option<f64>,
-    /// Largest |σ| (Pa).
-    pub peak_stress: f64,
-    /// Strain at the peak.
-    pub strain_at_peak: f64,
-}
-
-/// Run statistics.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-pub struct RunStats {
-    /// Beam breaks.
-    pub events: usize,
-    /// Linear solves.
-    pub solves: usize,
-    /// Numeric factorizations.
-    pub factorizations: usize,
-    /// Wall time (s).
-    pub seconds: f64,
-    /// Whether the run stopped on loss of load.
-    pub loss_of_load: bool,
-    /// Load steps ended at a contact event (stick → slip, closing, opening).
-    #[serde(default)]
-    pub contact_events: usize,
-    /// Load-increment cut-backs (halved steps or beam releases).
-    pub cutbacks: usize,
-    /// Load steps whose equilibrium was found by continuation (past a snap-back, or where
-    /// Newton's method alternated between two states).
-    #[serde(default)]
-    pub continued_steps: usize,
-    /// Pseudo-transient continuations run (snap-backs and stalled releases), converged or not.
-    #[serde(default)]
-    pub continuations: usize,
-    /// Load steps halved because their energy did not balance (crushing; `events.rs`, "Snaps
-    /// inside a step").
-    #[serde(default)]
-    pub imbalance_cutbacks: usize,
-    /// Such steps left at the smallest increment and recorded as snaps.
-    #[serde(default)]
-    pub snaps_in_steps: usize,
-}
-
-/// How a test ended.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TestEnd {
-    /// The target displacement was reached.
-    Target,
-    /// The driven force fell below the loss fraction of its peak.
-    LossOfLoad,
-    /// No equilibrium state was found (after all cut-backs) once the driven force had fallen at
-    /// least 10 % below its peak: the sample failed (a brittle collapse the quasi-static model
-    /// cannot follow); the curve up to there is kept and its numbers count.
-    Collapse {
-        /// The solver's message.
-        message: String,
-    },
-    /// The solver stopped before the peak (no equilibrium, factorization failure, ...): the
-    /// curve up to there is kept, the sample does not count in the statistics.
-    Failed {
-        /// The solver's message.
-        message: String,
-    },
-}
-
-impl TestEnd {
-    /// Whether the sample's numbers are valid (the test reached a target, a loss of load or a
-    /// post-peak collapse).
-    pub fn is_valid(&self) -> bool {
-        !matches!(self, TestEnd::Failed { .. })
-    }
-}
-
-/// The result of a virtual test.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
-pub struct TestResult {
-    /// The curve.
-    pub curve: Vec<CurvePoint>,
-    /// Broken beams, in order.
-    pub broken: Vec<BrokenBeam>,
-    /// Stones found free-floating `(particle, event)`.
-    pub floating: Vec<(usize, usize)>,
-    /// Derived numbers.
-    pub derived: Derived,
-    /// Statistics.
-    pub stats: RunStats,
-    /// How it ended.
-    pub end: TestEnd,
-    /// Particle states kept for the HDF5/XDMF output (not transferred between ranks).
-    #[serde(skip)]
-    pub particle_states: Vec<ParticleState>,
-    /// The Newton history of the last equilibrium attempts (with `SolverOptions::trace`; not
-    /// transferred between ranks).
-    #[serde(skip)]
-    pub trace: Option<super::trace::Trace>,
-}
-
 /// Runs `test` on `sample` with the default solver options.
 pub fn run_test(sample: &Sample, params: &MechParams, test: &VirtualTest) -> Result<TestResult, DemError> {
     run_test_with(sample, params, test, SolverOptions::default())
@@ -521,13 +392,13 @@ pub fn run_test_recording(
             }
             if let Some(towards) = stage.towards {
                 let largest = solver
-                    .states
+                    .states()
                     .iter()
                     .filter(|s| s.stage == k)
                     .map(|s| s.platen_force[1][driven].abs())
                     .fold(0.0, f64::max);
                 envelope.branch(towards, largest);
-                if !solver.broken.is_empty() && envelope.lost(opts.loss_fraction) {
+                if !solver.broken().is_empty() && envelope.lost(opts.loss_fraction) {
                     end = TestEnd::LossOfLoad;
                     break;
                 }
@@ -538,52 +409,32 @@ pub fn run_test_recording(
     if let Err(e) = outcome {
         end = classify_stop(e.to_string(), &solver, &stages, first_driven, driven);
     }
-    let curve: Vec<CurvePoint> = solver
-        .states
-        .iter()
-        .enumerate()
-        .map(|(s, st)| {
-            let d = st.platen[1][driven];
-            let strain = d / h;
-            let lat = (st.lateral_ux[1] - st.lateral_ux[0]) / w;
-            CurvePoint {
-                state: s,
-                kind: st.kind,
-                displacement: d,
-                strain,
-                stress: st.platen_force[1][driven] / (w * tz),
-                lateral_strain: lat,
-                broken: st.broken,
-                external_work: st.external_work,
-                stored: st.stored,
-                dissipated: st.dissipated,
-            }
-        })
-        .collect();
-    let derived = derive(&curve, &solver.broken, first_driven, &solver.states);
+    let curve = curve_of(solver.states(), driven, (w, h, tz));
+    let derived = derive(&curve, solver.broken(), first_driven, solver.states());
     let loss = end == TestEnd::LossOfLoad;
     let (factorizations, _) = solver.factor_stats();
     solver.observer = None;
-    let last = solver.states.len().checked_sub(1).map(|i| (i, solver.z_commit.as_slice()));
-    let particle_states = recorder.finish(&solver.model.map, sample.particles.len(), last);
+    let last = solver.states().len().checked_sub(1).map(|i| (i, solver.state().z_commit.as_slice()));
+    let c = solver.counters;
+    let particle_states = recorder.finish(&solver.model().map, sample.particles.len(), last);
     Ok(TestResult {
         stats: RunStats {
-            events: solver.broken.len(),
-            solves: solver.n_solves,
+            events: solver.broken().len(),
+            solves: c.solves,
             factorizations,
             seconds: clock.elapsed().as_secs_f64(),
             loss_of_load: loss,
-            cutbacks: solver.n_cutbacks,
-            contact_events: solver.n_contact_events,
-            continued_steps: solver.n_continued_steps,
-            continuations: solver.n_continuations,
-            imbalance_cutbacks: solver.n_imbalance_cutbacks,
-            snaps_in_steps: solver.n_snaps_in_steps,
+            cutbacks: c.cutbacks,
+            contact_events: c.contact_events,
+            continued_steps: c.continued_steps,
+            continuations: c.continuations,
+            imbalance_cutbacks: c.imbalance_cutbacks,
+            snaps_in_steps: c.snaps_in_steps,
         },
         end,
         curve,
-        broken: solver.broken.clone(),
-        floating: solver.floating.clone(),
+        broken: solver.broken().to_vec(),
+        floating: solver.state().floating.clone(),
         derived,
         particle_states,
         trace: solver.trace.take(),
@@ -595,56 +446,23 @@ pub fn run_test_recording(
 /// the force along the current branch's direction, which must still be on its loading side),
 /// else `Failed`.
 fn classify_stop(message: String, solver: &Solver, stages: &[Stage], first_driven: usize, driven: usize) -> TestEnd {
-    let current = solver.states.last().map_or(0, |s| s.stage);
-    let force = |s: &super::events::StateRecord| s.platen_force[1][driven];
+    let current = solver.states().last().map_or(0, |s| s.stage);
+    let force = |s: &StateRecord| s.platen_force[1][driven];
     let along: Vec<f64> = match stages.get(current) {
         Some(Stage { towards: Some(dir), .. }) => {
-            solver.states.iter().filter(|s| s.stage >= first_driven).map(|s| dir * force(s)).collect()
+            solver.states().iter().filter(|s| s.stage >= first_driven).map(|s| dir * force(s)).collect()
         }
         Some(Stage { monitor: true, .. }) => {
-            solver.states.iter().filter(|s| s.stage == current).map(|s| force(s).abs()).collect()
+            solver.states().iter().filter(|s| s.stage == current).map(|s| force(s).abs()).collect()
         }
         _ => Vec::new(),
     };
     let peak = along.iter().cloned().fold(0.0, f64::max);
     let now = along.last().copied().unwrap_or(0.0);
     let loading_side = now >= 0.0;
-    if peak > 0.0 && loading_side && now <= 0.9 * peak && !solver.broken.is_empty() {
+    if peak > 0.0 && loading_side && now <= 0.9 * peak && !solver.broken().is_empty() {
         TestEnd::Collapse { message }
     } else {
         TestEnd::Failed { message }
     }
-}
-
-/// The derived numbers: the driven stages are those from `first_driven` on.
-fn derive(
-    curve: &[CurvePoint],
-    broken: &[BrokenBeam],
-    first_driven: usize,
-    states: &[super::events::StateRecord],
-) -> Derived {
-    // First loading state of the first driven stage with a non-zero strain and nothing broken.
-    let first = curve
-        .iter()
-        .zip(states)
-        .find(|(c, s)| s.stage == first_driven && c.strain != 0.0 && c.kind != StateKind::Relaxed)
-        .map(|(c, _)| c);
-    let (young_modulus, poisson) = match first {
-        Some(c) => (c.stress / c.strain, -c.lateral_strain / c.strain),
-        None => (f64::NAN, f64::NAN),
-    };
-    // First break during the driven stages (a shear test's preload may crack a few beams).
-    let first_crack_stress = broken
-        .iter()
-        .find(|b| states.get(b.state).is_some_and(|s| s.stage >= first_driven && s.t > 0.0))
-        .and_then(|b| curve.get(b.state))
-        .map(|c| c.stress.abs());
-    let (mut peak_stress, mut strain_at_peak) = (0.0, 0.0);
-    for (c, _) in curve.iter().zip(states).filter(|(_, s)| s.stage >= first_driven) {
-        if c.stress.abs() > peak_stress {
-            peak_stress = c.stress.abs();
-            strain_at_peak = c.strain;
-        }
-    }
-    Derived { young_modulus, poisson, first_crack_stress, peak_stress, strain_at_peak }
 }

@@ -1,0 +1,243 @@
+//! The factorized operator `M` of Newton's method and its upkeep: intact beams, the contacts'
+//! normal penalties `k_n b bᵀ` and tangential terms `k_t c cᵀ`, and the regularization `ε`
+//! (or the continuation's shift).
+//!
+//! ```text
+//!   M = K_beams(intact) + Σ_contacts (k_n b bᵀ + k_t c cᵀ) + diag(ε)
+//!     = L Lᵀ (factorized)  −  U C Uᵀ (Woodbury correction of the changes since)
+//! ```
+//!
+//! A broken beam subtracts its term (rank ≤ 3); a contact term that enters or leaves adds or
+//! subtracts a rank-one term, and one that leaves before the next factorization is dropped from
+//! the correction instead ([`LowRankCholesky`]). The base is refactorized when the correction
+//! has cost more than a factorization (the cost model of [`super::factor`]), when its rank would
+//! pass `max_rank`, when the capacitance matrix is ill-conditioned or GMRES failed with it, after
+//! a stone lost every bond and contact, and around a pseudo-transient continuation.
+//!
+//! **Pattern.** Every pair whose contact terms were once factorized keeps its entries (zeros once
+//! the contact is gone), in pair order: the same triplets in the same order, so the symbolic
+//! analysis (a fill-reducing ordering, METIS at 10k stones) is reused.
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use nalgebra::SMatrix;
+
+use super::contact_set::ActiveContact;
+use super::error::DemError;
+use super::factor::{LowRankCholesky, SparseColumn, TermId};
+use super::options::SolverOptions;
+use super::profile::{self, SolverProfile};
+use super::system::{Model, ZTerm};
+
+/// Why the operator is refactorized (counted in [`super::SolverProfile::refactorizations`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Refactor {
+    /// The Woodbury correction has cost more than a factorization (cost model).
+    CostModel,
+    /// The correction's rank would pass `max_rank`.
+    RankCap,
+    /// Ill-conditioned capacitance matrix, or GMRES failed with the correction.
+    Accuracy,
+    /// The pseudo-transient continuation's shifted operator, or the return from it.
+    Continuation,
+}
+
+/// A contact term's key: the pair and 0 = normal, 1 = tangential.
+type TermKey = (usize, usize, u8);
+
+/// The factorized operator and the contact terms it holds (module docs).
+pub(super) struct Operator {
+    /// The factorization with its Woodbury correction.
+    pub factor: LowRankCholesky,
+    /// The operator is to be refactorized before its next use.
+    stale: bool,
+    /// Why it was marked stale (for the profile; `None`: a floating stone).
+    pending: Option<Refactor>,
+    /// Contact terms currently in the operator, with their handle in the Woodbury correction
+    /// while they are there.
+    terms: BTreeMap<TermKey, (ZTerm, Option<TermId>)>,
+    /// The `z` indices of every pair whose contact terms were ever factorized (module docs,
+    /// "Pattern").
+    pattern: BTreeMap<(usize, usize), [usize; 6]>,
+}
+
+/// What the operator's upkeep reads besides the contacts: the model, the intact beams, the
+/// options, the profile it counts into, and the number of breaks (named in errors).
+pub(super) struct Upkeep<'u, 'a> {
+    pub model: &'u Model<'a>,
+    pub intact: &'u [bool],
+    pub opts: &'u SolverOptions,
+    pub profile: &'u mut SolverProfile,
+    pub event: usize,
+}
+
+impl Operator {
+    /// An operator of `n_eq` equations, to be factorized before its first use.
+    pub fn new(n_eq: usize) -> Operator {
+        Operator {
+            factor: LowRankCholesky::new(n_eq),
+            stale: true,
+            pending: None,
+            terms: BTreeMap::new(),
+            pattern: BTreeMap::new(),
+        }
+    }
+
+    /// Marks the operator for refactorization; `cause` replaces the recorded one when given.
+    pub fn invalidate(&mut self, cause: Option<Refactor>) {
+        self.stale = true;
+        if cause.is_some() {
+            self.pending = cause;
+        }
+    }
+
+    /// Whether the operator is to be refactorized before its next use.
+    pub fn is_stale(&self) -> bool {
+        self.stale
+    }
+
+    /// Refactorizes with the regularization `reg` when the operator is stale (with the recorded
+    /// cause).
+    pub fn refresh(&mut self, u: &mut Upkeep<'_, '_>, reg: &[f64]) -> Result<(), DemError> {
+        if self.stale {
+            let cause = self.pending.take();
+            self.refactorize(u, cause, reg)?;
+        }
+        Ok(())
+    }
+
+    /// Factorizes the operator with `diagonal` as its diagonal term (the regularization `ε`, or
+    /// the continuation's shifted one); `cause` is counted in the profile (`None`: the first
+    /// factorization, or a floating stone). It answers any pending request.
+    pub fn refactorize(
+        &mut self,
+        u: &mut Upkeep<'_, '_>,
+        cause: Option<Refactor>,
+        diagonal: &[f64],
+    ) -> Result<(), DemError> {
+        let clock = Instant::now();
+        for (&(i, j, _), (t, id)) in self.terms.iter_mut() {
+            *id = None;
+            self.pattern.insert((i, j), t.idx);
+        }
+        // One term per pair ever in contact, in pair order (module docs, "Pattern").
+        let extra: Vec<ZTerm> = self.pattern.iter().map(|(&(i, j), &idx)| ZTerm { idx, k: self.held(i, j) }).collect();
+        let t = u.model.assemble(u.intact, diagonal, &extra);
+        self.factor.factorize(&t).map_err(|e| DemError::Factorization { event: u.event, reason: e.0 })?;
+        (self.stale, self.pending) = (false, None);
+        let r = &mut u.profile.refactorizations;
+        match cause {
+            Some(Refactor::CostModel) => r.cost_model += 1,
+            Some(Refactor::RankCap) => r.rank_cap += 1,
+            Some(Refactor::Accuracy) => r.accuracy += 1,
+            Some(Refactor::Continuation) => r.continuation += 1,
+            None if self.factor.n_factorizations == 1 => r.initial += 1,
+            None => r.floating += 1,
+        }
+        profile::add(&mut u.profile.factor_seconds, clock.elapsed());
+        Ok(())
+    }
+
+    /// The contact terms the operator holds for the pair `(i, j)` (normal and tangential, in the
+    /// pair's `z` indices; zero when it holds none).
+    pub fn held(&self, i: usize, j: usize) -> SMatrix<f64, 6, 6> {
+        let mut k = SMatrix::<f64, 6, 6>::zeros();
+        for kind in [0u8, 1] {
+            if let Some((t, _)) = self.terms.get(&(i, j, kind)) {
+                k += t.k;
+            }
+        }
+        k
+    }
+
+    /// Adds `sign ·` `term` to the operator as a Woodbury term; `None` when the operator is to
+    /// be refactorized anyway (then the factorization includes the term).
+    pub fn add_low_rank(
+        &mut self,
+        u: &mut Upkeep<'_, '_>,
+        term: &ZTerm,
+        sign: f64,
+    ) -> Result<Option<TermId>, DemError> {
+        if self.stale {
+            return Ok(None); // the next factorization will include the current terms
+        }
+        let cols = u.model.factors(term);
+        if self.factor.rank() + cols.len() > u.opts.max_rank {
+            self.invalidate(Some(Refactor::RankCap));
+            return Ok(None);
+        }
+        let clock = Instant::now();
+        let id =
+            self.factor.add_terms(cols, sign).map_err(|e| DemError::Factorization { event: u.event, reason: e.0 })?;
+        profile::add(&mut u.profile.columns_seconds, clock.elapsed());
+        Ok(Some(id))
+    }
+
+    /// Brings the operator's contact terms (normal penalty, tangential) in line with `contacts`:
+    /// a term that leaves is dropped from the Woodbury correction when it entered since the last
+    /// factorization, else subtracted; the new and subtracted terms are added in one batch. A
+    /// refactorization is requested instead when the correction would pass `max_rank`, or when
+    /// it has cost more than a factorization (the cost model of [`super::factor`]).
+    pub fn sync(&mut self, u: &mut Upkeep<'_, '_>, contacts: &[ActiveContact]) -> Result<(), DemError> {
+        let mut want: BTreeMap<TermKey, ()> = BTreeMap::new();
+        for a in contacts {
+            want.insert((a.i, a.j, 0), ());
+            if a.sticks() || u.opts.slip_in_preconditioner {
+                want.insert((a.i, a.j, 1), ());
+            }
+        }
+        // (key of a new term, or None for a subtraction; columns; sign)
+        let mut batch: Vec<(Option<TermKey>, Vec<SparseColumn>, f64)> = Vec::new();
+        let gone: Vec<_> = self.terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
+        for k in gone {
+            u.profile.operator_changes[if k.2 == 0 { 1 } else { 3 }] += 1;
+            if let Some((t, id)) = self.terms.remove(&k) {
+                if id.is_some_and(|id| self.factor.remove(id)) || self.stale {
+                    continue;
+                }
+                batch.push((None, u.model.factors(&t), -1.0));
+            }
+        }
+        for a in contacts {
+            for (kind, dir, k) in
+                [(0u8, a.contact.normal_direction(), a.contact.k_n), (1u8, a.contact.tangential_direction(), a.k_t)]
+            {
+                let key = (a.i, a.j, kind);
+                if want.contains_key(&key) && !self.terms.contains_key(&key) {
+                    u.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
+                    let t = u.model.rank_one(a.i, a.j, &dir, k);
+                    if !self.stale {
+                        batch.push((Some(key), u.model.factors(&t), 1.0));
+                    }
+                    self.terms.insert(key, (t, None));
+                }
+            }
+        }
+        if self.stale {
+            return Ok(()); // the next factorization includes the current terms
+        }
+        let cols: usize = batch.iter().map(|b| b.1.len()).sum();
+        if self.factor.rank() + cols > u.opts.max_rank {
+            self.invalidate(Some(Refactor::RankCap));
+            return Ok(());
+        }
+        if !batch.is_empty() {
+            let clock = Instant::now();
+            let keys: Vec<_> = batch.iter().map(|b| b.0).collect();
+            let ids = self
+                .factor
+                .add_batch(batch.into_iter().map(|(_, c, s)| (c, s)).collect())
+                .map_err(|e| DemError::Factorization { event: u.event, reason: e.0 })?;
+            for (key, id) in keys.into_iter().zip(ids) {
+                if let Some(entry) = key.and_then(|k| self.terms.get_mut(&k)) {
+                    entry.1 = Some(id);
+                }
+            }
+            profile::add(&mut u.profile.columns_seconds, clock.elapsed());
+        }
+        if self.factor.wants_refactorization() {
+            self.invalidate(Some(Refactor::CostModel));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,75 @@
+//! The solver's options: tolerances, caps and the switches of its optional algorithms, a plain
+//! `Copy + Default` parameter block (the defaults are the ones the virtual tests run with).
+
+/// What to do with a stone that lost every bond and contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FloatingPolicy {
+    /// Hold it by the regularization spring and report it (default).
+    #[default]
+    Regularize,
+    /// Stop with [`DemError::FreeFloating`].
+    Error,
+}
+
+/// Solver options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverOptions {
+    /// Relative residual tolerance.
+    pub tol: f64,
+    /// Maximum equilibrium iterations.
+    pub max_iterations: usize,
+    /// Refactorize when the Woodbury correction has more columns than this (90 = 30 beams).
+    pub max_rank: usize,
+    /// Stop when `|R| < loss_fraction × peak |R|` (after the peak).
+    pub loss_fraction: f64,
+    /// Cap on the number of beam breaks.
+    pub max_events: usize,
+    /// Contacts and friction between unbonded stones.
+    pub contacts: bool,
+    /// Free-floating stones.
+    pub floating: FloatingPolicy,
+    /// Halvings of a load step (or of a beam's release) tried before giving up.
+    pub max_cutbacks: usize,
+    /// End load steps at contact events (stick → slip, a contact closing or opening), see the
+    /// module docs (default off).
+    pub contact_events: bool,
+    /// Keep every contact's tangential stiffness `k_t c cᵀ` in the factorized preconditioner,
+    /// sliding or not (default on): a stick/slip change then leaves the factorization alone and
+    /// GMRES absorbs the difference ([`super::tangent`]). Off: only sticking contacts carry it.
+    pub slip_in_preconditioner: bool,
+    /// Tolerance of the linear (GMRES) solve inside Newton ([`super::gmres::Forcing`]).
+    pub forcing: super::gmres::Forcing,
+    /// Where Newton's method finds no equilibrium at the smallest increment (a load step or a
+    /// beam's release), look for it by pseudo-transient continuation ([`super::continuation`];
+    /// default on).
+    pub continuation: bool,
+    /// Keep the Newton history of the last equilibrium attempts ([`super::trace`]; default
+    /// off).
+    pub trace: bool,
+    /// Start a load step after a break from the cut step's response
+    /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations;
+    /// never with crushing, whose softening contacts make the equilibrium depend on the start).
+    pub predict_steps: bool,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            tol: 1e-8,
+            max_iterations: 40,
+            max_rank: 90,
+            loss_fraction: 0.05,
+            max_events: 1_000_000,
+            contacts: true,
+            floating: FloatingPolicy::Regularize,
+            max_cutbacks: 10,
+            contact_events: false,
+            slip_in_preconditioner: true,
+            forcing: super::gmres::Forcing::default(),
+            continuation: true,
+            trace: false,
+            predict_steps: true,
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! The stage loop: the quasi-static, incremental, event-driven solution algorithm (SPEC §1,
+//! steps 1–4).
+//!
+//! ```text
+//! for each load step  t → t_target  (t = load parameter of the stage, in [0, 1]):
+//!   1. z_new = equilibrium at t_target (modified Newton on the residual, contacts + friction)
+//!   2. λ* = min over intact beams of failure_lambda(z_old → z_new)   (P piecewise linear in λ)
+//!   3. λ* ≥ 1: commit z_new (state "loading").
+//!      λ* < 1: t ← t + λ*(t_target − t); equilibrium there (z_old + λ*Δz when no contact is
+//!              active: exact, the problem is then linear); commit (state "pre-break");
+//!              break that beam; re-equilibrate at fixed load, commit ("relaxed");
+//!              while some intact beam has P ≥ 1: break the most critical one, re-equilibrate,
+//!              commit; then continue the step from t.
+//! stop at t = 1 of the last stage, or on loss of load (|R| < loss_fraction × peak).
+//! ```
+//!
+//! **Contact events.** A contact that starts to slide (stick → slip), closes or opens inside a
+//! load step puts a kink into the platen force–displacement path; the trapezoid rule of the
+//! external work misses the area at the kink: for a spring–slider driven from `F_0` (sticking)
+//! to the Coulomb limit `F_1` with the plastic slip `Δg_p` in one step, the trapezoid is short by
+//! `½ (F_1 − F_0) Δg_p` (exact work `F_1 Δu − (F_1 − F_0)²/(2k)` against the trapezoid
+//! `½ (F_0 + F_1) Δu`). With `SolverOptions::contact_events` (off by default) a step whose converged
+//! end shows such an event is retried to end at the event, estimated along `z_old → z`:
+//! stick → slip where `|F_t,0 + λ(F_trial − F_t,0)| = μ (F_n,0 + λ ΔF_n)`; closing where the
+//! normal approach `b·Δz` has covered the step's approach minus the depth `S_r/L` reached,
+//! `λ = 1 − (S_r/L)/(b·Δz)`; opening where the separation has covered the committed depth. The
+//! first event over all contacts ends the step (a state of kind "loading"); a step already ending
+//! at an event is not cut again, and no step shorter than `MIN_EVENT_STEP` of the stage's step is
+//! made, so the kinks left sit in steps ≤ 1/16 of the nominal one.
+//!
+//! **Crushing (optional).** With `MechParams::crushing`, a beam also breaks when its compressive
+//! stress reaches σ_c (`P_c = −Ē ε/σ_c ≥ 1`, mode "crushing"); `λ*` is the smallest crossing of
+//! either index, both linear or piecewise linear in λ. Crushing contacts soften inside the
+//! equilibrium iteration (their return map is part of the residual and of the tangent); under
+//! displacement control the loss-of-load test or, when no equilibrium exists past the peak, the
+//! caller's collapse classification ends the test. A crushed beam leaves its stones overlapping
+//! by about its shortening: the contact that takes over holds elastic energy the intact beam's
+//! pair did not, so re-equilibrations after crushing can show a negative relaxation term (energy
+//! is still balanced: `W_ext = stored + dissipated` over the loading steps).
+//!
+//! **Continuation** ([`super::SolverOptions::continuation`], on by default). Where Newton's method
+//! finds no equilibrium at the smallest increment (a load step cut back `max_cutbacks` times,
+//! or a beam's release), the equilibrium at that load is sought by pseudo-transient
+//! continuation ([`super::continuation`]), with the same residual tolerance. A load step found
+//! so is recorded as a state of kind "relaxed" at its (tiny) platen increment: past a
+//! snap-back the curve shows a vertical drop at the platen displacement, and the energy the
+//! drop releases is booked as relaxation (what a dynamic model would damp); then, as after any
+//! break, the beams with `P ≥ 1` at that state break one at a time. A release found so ends
+//! the release. If the continuation fails too, Newton's error is returned (the caller's
+//! collapse/failed classification).
+//!
+//! **Snaps inside a step (crushing).** Crushing contacts soften, so past the peak Newton's
+//! method can converge to an equilibrium on a lower branch than the step's start: the path
+//! between them is a snap, not the straight line the trapezoid rule of the external work
+//! assumes, and the energy it releases shows as an imbalance of that loading step (on the
+//! paper's wall, seed 5: 25 J and 36 J, 2.3 % of the work, in two steps out of 215; a local
+//! snap need not move the platen force much). A trial step is therefore checked before it is
+//! committed:
+//!
+//! ```text
+//!   ΔW − ΔU − ΔD  ≤  MAX_STEP_IMBALANCE · max(W, U)      (10⁻³; W, U at the last state)
+//! ```
+//!
+//! with `ΔW` the trapezoid of the platen forces, `ΔU` the change of stored energy, `ΔD` the
+//! friction and crushing dissipation of the step. A step that fails it is halved like a failed
+//! one: a kink of the path then resolves into smaller steps (its trapezoid error falls with the
+//! step), while a snap keeps its imbalance down to the smallest increment (`max_cutbacks`
+//! halvings), where it is recorded as the drop past a snap-back under "Continuation": a state of
+//! kind "relaxed", the released energy booked as relaxation, the beams with `P ≥ 1` broken.
+//!
+//! **Equilibrium iteration.** Residual `r = f_ext − f_int(z) − ε (z − z_commit)` on the
+//! unknowns; `Δz = K̃⁻¹ r` with `K̃` the factorized operator (intact beams, contact normal
+//! penalties `k_n b bᵀ`, sticking tangential terms `k_t c cᵀ`, the regularization `ε`). Converged
+//! when `‖r‖∞ ≤ tol · scale` and the contact and stick/slip sets did not change in the iteration.
+//! Without contacts the beam problem is linear and one solve is exact.
+//!
+//! **Regularization (free-floating stones).** Every unknown has a tiny spring
+//! `ε_k = 10⁻¹⁰ × (its diagonal with all beams intact)` to its position at the last committed
+//! equilibrium state. It changes connected stones' response by O(10⁻¹⁰) relative and holds a stone
+//! that lost every bond and contact where it was, so the matrix stays positive definite. Such
+//! stones are detected after every break (no intact beam, no active contact) and either reported
+//! ([`super::FloatingPolicy::Regularize`], default) or turned into [`super::DemError::FreeFloating`].
+//!
+//! **Low-rank updates.** A break subtracts its beam's term from the factorized operator and
+//! contact terms enter and leave it as Woodbury corrections, until a refactorization pays
+//! ([`super::operator`]).
+//!
+//! **Energy.** Each recorded state carries the energy account of [`super::energy`].
+use super::error::DemError;
+use super::records::{LoadPoint, StageEnd, StateKind, StateRecord};
+use super::solver::Solver;
+use super::step_predictor::StepPredictor;
+
+/// The shortest load step a contact event makes, as a fraction of the stage's step: the
+/// trapezoid error of an unresolved kink scales with the square of the step containing it, so
+/// events closer than this to either end of a step are left (≤ 1/256 of the error).
+const MIN_EVENT_STEP: f64 = 1.0 / 16.0;
+
+/// The largest energy imbalance of one load step with crushing, as a fraction of the external
+/// work so far (at least of the stored energy), module docs, "Snaps inside a step".
+const MAX_STEP_IMBALANCE: f64 = 1e-3;
+
+/// Where a stage's walk over its load parameter `t ∈ [0, 1]` stands: the committed `t`, the
+/// next increment `h` (halved on a cut-back, doubled after a success up to the step), whether
+/// the trial ends at a contact event, and the response of the last step cut by a break.
+struct StageWalk {
+    from: LoadPoint,
+    target: LoadPoint,
+    /// Steps of the stage.
+    n: f64,
+    /// The stage's step `1/n`.
+    step: f64,
+    /// The smallest increment: the step after `max_cutbacks` halvings.
+    h_min: f64,
+    t: f64,
+    h: f64,
+    /// The trial already ends at a contact event: it is not cut again (no Zeno steps).
+    at_event: bool,
+    /// The response of the last step cut by a break ([`super::step_predictor`]).
+    predictor: Option<StepPredictor>,
+}
+
+impl StageWalk {
+    fn new(from: LoadPoint, target: LoadPoint, steps: usize, max_cutbacks: usize) -> StageWalk {
+        let n = steps.max(1) as f64;
+        let step = 1.0 / n;
+        let h_min = step * 0.5f64.powi(max_cutbacks as i32);
+        StageWalk { from, target, n, step, h_min, t: 0.0, h: step, at_event: false, predictor: None }
+    }
+
+    fn done(&self) -> bool {
+        self.t >= 1.0 - 1e-12
+    }
+
+    /// The load at `t`.
+    fn load_at(&self, t: f64) -> LoadPoint {
+        LoadPoint::lerp(&self.from, &self.target, t)
+    }
+
+    /// The end of the next trial: `t + h`, never past the next step boundary (the recorded curve
+    /// keeps its regular points) and without slivers from round-off.
+    fn trial_end(&self) -> f64 {
+        let boundary = (((self.t * self.n) + 1e-9).floor() + 1.0) / self.n;
+        let t_try = (self.t + self.h).min(boundary).min(1.0);
+        if boundary - t_try < 1e-9 * self.step {
+            boundary
+        } else {
+            t_try
+        }
+    }
+
+    /// The increment can be halved once more.
+    fn can_halve(&self) -> bool {
+        self.h * 0.5 >= self.h_min
+    }
+
+    /// The trial to `t_try` is retried with half its increment.
+    fn halve(&mut self, t_try: f64) {
+        self.h = 0.5 * (t_try - self.t);
+    }
+}
+
+/// What a trial load step `t → t_try` came to, before the beams are checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Trial {
+    /// Equilibrium found by Newton's method, its energy balanced.
+    Converged,
+    /// The state past a snap: found by continuation at the smallest increment, or a step whose
+    /// energy does not balance at the smallest increment (module docs).
+    Snapped,
+    /// No equilibrium found: retried with half the increment.
+    Failed,
+    /// Converged with an energy imbalance (crushing): retried with half the increment.
+    Unbalanced,
+}
+
+/// Watches the monitored platen force for loss of load: `|R| < loss_fraction × peak |R|`.
+struct LossWatch {
+    /// `(platen, dof)` of the force.
+    force: (usize, usize),
+    peak: f64,
+    /// Records already seen.
+    seen: usize,
+}
+
+impl LossWatch {
+    /// Whether the force fell below `fraction` of its peak over `records` (only once a beam broke).
+    fn lost(&mut self, records: &[StateRecord], any_broken: bool, fraction: f64) -> bool {
+        let (k, a) = self.force;
+        for st in &records[self.seen..] {
+            self.peak = self.peak.max(st.platen_force[k][a].abs());
+        }
+        self.seen = records.len();
+        let r = records.last().map_or(0.0, |s| s.platen_force[k][a].abs());
+        any_broken && self.peak > 0.0 && r < fraction * self.peak
+    }
+}
+
+impl<'a> Solver<'a> {
+    /// Records the unloaded initial state (call once before the first stage).
+    pub fn start(&mut self) -> Result<(), DemError> {
+        let l = self.state.load.clone();
+        self.equilibrate(&l, 0.0)?;
+        self.commit(0.0, StateKind::Loading);
+        Ok(())
+    }
+
+    /// Runs one load stage from the current load to `target` in `steps` equal steps; `monitor`
+    /// is the platen force `(platen, dof)` watched for loss of load.
+    ///
+    /// **Cut-back.** A step whose equilibrium is not found is retried from the committed state
+    /// with half the increment (at most `max_cutbacks` halvings of one step); after a success the
+    /// increment doubles again up to the step. If the smallest increment fails too, the error is
+    /// returned: the recorded states so far stay in [`Self::states`].
+    pub fn run_stage(
+        &mut self,
+        target: &LoadPoint,
+        steps: usize,
+        monitor: Option<(usize, usize)>,
+    ) -> Result<StageEnd, DemError> {
+        let mut walk = StageWalk::new(self.state.load.clone(), target.clone(), steps, self.opts.max_cutbacks);
+        let mut watch = monitor.map(|force| LossWatch { force, peak: 0.0, seen: self.state.records.len() });
+        while !walk.done() {
+            let t_try = walk.trial_end();
+            let z_old = self.state.z.clone();
+            let load = walk.load_at(t_try);
+            let trial = self.trial_step(&walk, &load, t_try)?;
+            if trial == Trial::Unbalanced {
+                self.state.restore();
+                self.counters.cutbacks += 1;
+                self.counters.imbalance_cutbacks += 1;
+                walk.halve(t_try);
+                continue;
+            }
+            let failure = if trial == Trial::Converged { self.first_failure(&z_old) } else { None };
+            let breaks = failure.filter(|&(lam, _)| lam < 1.0);
+            if trial == Trial::Converged && breaks.is_none() {
+                if let Some(t_c) = self.contact_event_within(&walk, &z_old, t_try) {
+                    self.state.restore();
+                    self.counters.contact_events += 1;
+                    walk.h = t_c - walk.t;
+                    walk.at_event = true;
+                    continue;
+                }
+            }
+            walk.at_event = false;
+            let advanced = match (trial, breaks) {
+                (Trial::Snapped, _) => {
+                    self.counters.continued_steps += 1;
+                    self.commit(t_try, StateKind::Relaxed);
+                    walk.t = t_try;
+                    self.state.load = load.clone();
+                    self.break_cascade(None, &load, t_try)?;
+                    true
+                }
+                (Trial::Converged, Some((lam, b))) => self.break_within_step(&mut walk, &z_old, lam, b, t_try)?,
+                (Trial::Converged, None) => {
+                    self.commit(t_try, StateKind::Loading);
+                    walk.t = t_try;
+                    true
+                }
+                (Trial::Failed | Trial::Unbalanced, _) => false,
+            };
+            if !advanced {
+                self.state.restore();
+                self.counters.cutbacks += 1;
+                walk.halve(t_try);
+                continue;
+            }
+            self.state.load = walk.load_at(walk.t);
+            walk.h = (2.0 * walk.h).min(walk.step);
+            let (any_broken, fraction) = (!self.state.broken.is_empty(), self.opts.loss_fraction);
+            if watch.as_mut().is_some_and(|w| w.lost(&self.state.records, any_broken, fraction)) {
+                return Ok(StageEnd::LossOfLoad);
+            }
+        }
+        self.state.load = target.clone();
+        self.state.stage += 1;
+        Ok(StageEnd::Completed)
+    }
+
+    /// The trial load step to `t_try` at `load`: Newton's method (from the cut step's response
+    /// after a break, [`super::step_predictor`]); at the smallest increment, continuation; with
+    /// crushing, the energy balance. Errors that no halving can mend end the stage, the
+    /// committed state and its load restored.
+    fn trial_step(&mut self, walk: &StageWalk, load: &LoadPoint, t_try: f64) -> Result<Trial, DemError> {
+        let predictor = walk.predictor.as_ref().filter(|_| self.predicts_steps());
+        match self.equilibrate_predicted(predictor, load, walk.t, t_try) {
+            Ok(()) => {}
+            Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(Trial::Failed),
+            Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
+                // No equilibrium at the smallest increment: past a limit point of the path, the
+                // state after the snap-back (module docs, "Continuation").
+                self.state.restore();
+                if self.continuation(load, None, t_try).is_err() {
+                    return Err(self.abandon(walk, e));
+                }
+                return Ok(Trial::Snapped);
+            }
+            Err(e) => return Err(self.abandon(walk, e)),
+        }
+        // Energy released inside a converged step (crushing only): halve the step; at the
+        // smallest one the release is a snap (module docs, "Snaps inside a step").
+        if self.model.params.crushing.is_some() {
+            let (imbalance, scale) = self.trial_step_imbalance();
+            if imbalance.abs() > MAX_STEP_IMBALANCE * scale {
+                if walk.can_halve() {
+                    return Ok(Trial::Unbalanced);
+                }
+                self.counters.snaps_in_steps += 1;
+                return Ok(Trial::Snapped);
+            }
+        }
+        Ok(Trial::Converged)
+    }
+
+    /// The load parameter of the first contact event inside the converged trial `t → t_try`
+    /// (with [`super::SolverOptions::contact_events`]), when the step is to end there: not a
+    /// trial already ending at an event, and not closer than `MIN_EVENT_STEP` to either end.
+    fn contact_event_within(&self, walk: &StageWalk, z_old: &[f64], t_try: f64) -> Option<f64> {
+        if !self.opts.contact_events || walk.at_event {
+            return None;
+        }
+        let lam = self.first_contact_event(z_old)?;
+        let t_c = walk.t + lam * (t_try - walk.t);
+        let min = MIN_EVENT_STEP * walk.step;
+        (t_c - walk.t >= min && t_try - t_c >= min).then_some(t_c)
+    }
+
+    /// The converged trial `t → t_try` has beam `b` reaching `P = 1` at the fraction `lam`: the
+    /// state there (`z_old + λ Δz`, exact without contacts; Newton's method from it with
+    /// contacts) is committed as "pre-break", the beam breaks and the beams it overloads follow.
+    /// `false`: no equilibrium at the break's load, the trial is to be halved.
+    fn break_within_step(
+        &mut self,
+        walk: &mut StageWalk,
+        z_old: &[f64],
+        lam: f64,
+        b: usize,
+        t_try: f64,
+    ) -> Result<bool, DemError> {
+        let t_l = walk.t + lam * (t_try - walk.t);
+        let load_l = walk.load_at(t_l);
+        let z_end = self.state.z.clone();
+        for (zo, zn) in z_old.iter().zip(self.state.z.iter_mut()) {
+            *zn = zo + lam * (*zn - zo);
+        }
+        if !self.state.contacts.is_empty() {
+            // Newton starts from the interpolated state: exact while the contact forces are
+            // linear along the step, so usually one iteration away.
+            match self.equilibrate(&load_l, t_l) {
+                Ok(()) => {}
+                Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(false),
+                Err(e) => return Err(self.abandon(walk, e)),
+            }
+        }
+        self.commit(t_l, StateKind::PreBreak);
+        walk.predictor = Some(StepPredictor::new(t_l, t_try, &self.state.z, &z_end));
+        walk.t = t_l;
+        self.state.load = load_l.clone();
+        self.break_cascade(Some(b), &load_l, t_l)?;
+        Ok(true)
+    }
+
+    /// Ends the stage on `e`: back to the committed state and its load.
+    fn abandon(&mut self, walk: &StageWalk, e: DemError) -> DemError {
+        self.state.restore();
+        self.state.load = walk.load_at(walk.t);
+        e
+    }
+}
