@@ -184,18 +184,7 @@ pub fn contact(
     let size = pi.area().min(pj.area()).sqrt();
     let tol = 1e-11 * (coord + size);
 
-    // Overlap, without the near-duplicate vertices clipping leaves at corners.
-    let raw = pi.intersection(&pj).vertices;
-    let mut v: Vec<P2> = Vec::with_capacity(raw.len());
-    for p in raw {
-        if v.last().is_none_or(|q: &P2| (p[0] - q[0]).hypot(p[1] - q[1]) > tol) {
-            v.push(p);
-        }
-    }
-    while v.len() > 1 && (v[0][0] - v[v.len() - 1][0]).hypot(v[0][1] - v[v.len() - 1][1]) <= tol {
-        v.pop();
-    }
-    let overlap = Polygon { vertices: v };
+    let overlap = overlap_polygon(&pi, &pj, tol);
     let area = overlap.area();
     // Zero area to round-off. The threshold must stay far below any area the solver resolves:
     // F_n = κ S_r is continuous at S_r = 0 only if contacts appear at (numerically) zero overlap;
@@ -206,50 +195,22 @@ pub fn contact(
         return Ok(None);
     }
     let v = &overlap.vertices;
-    let m = v.len();
     let x_c = overlap.centroid();
-
-    // Edge labels, the chord vector s, the perimeter and the area gradient.
-    let mut sides = Vec::with_capacity(m);
-    let (mut s, mut perimeter, mut ds) = ([0.0; 2], 0.0, [0.0; 6]);
-    for k in 0..m {
-        let (a, b) = (v[k], v[(k + 1) % m]);
-        let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        let nu = [b[1] - a[1], a[0] - b[0]];
-        perimeter += nu[0].hypot(nu[1]);
-        let on_i = boundary_distance(&pi, mid) >= -tol;
-        let on_j = boundary_distance(&pj, mid) >= -tol;
-        let (side, w_i) = match (on_i, on_j) {
-            (true, false) => (Side::I, 1.0),
-            (false, true) => (Side::J, 0.0),
-            _ => (Side::Both, 0.5),
-        };
-        let sign = match side {
-            Side::I => 1.0,
-            Side::J => -1.0,
-            Side::Both => 0.0,
-        };
-        s = [s[0] + sign * nu[0], s[1] + sign * nu[1]];
-        sides.push(side);
-        for (off, w, c) in [(0, w_i, ref_i), (3, 1.0 - w_i, ref_j)] {
-            ds[off] += w * nu[0];
-            ds[off + 1] += w * nu[1];
-            ds[off + 2] += w * cross([mid[0] - c[0], mid[1] - c[1]], nu);
-        }
-    }
-    let s_norm = s[0].hypot(s[1]);
+    let edges = EdgeSums::of(v, (&pi, &pj), (ref_i, ref_j), tol);
     let arm_i = [x_c[0] - ref_i[0], x_c[1] - ref_i[1]];
     let arm_j = [x_c[0] - ref_j[0], x_c[1] - ref_j[1]];
-
-    let (normal, chord, chord_length, from_references) = if s_norm >= 1e-3 * perimeter {
-        let n = [s[0] / s_norm, s[1] / s_norm];
-        let chord = crossing_midpoints(v, &sides).unwrap_or_else(|| {
+    let s_norm = edges.s[0].hypot(edges.s[1]);
+    let (normal, chord, chord_length, from_references, ds) = if s_norm >= 1e-3 * edges.perimeter {
+        let n = [edges.s[0] / s_norm, edges.s[1] / s_norm];
+        let chord = crossing_midpoints(v, &edges.sides).unwrap_or_else(|| {
             let t = perp(n);
             let h = 0.25 * s_norm;
             [[x_c[0] - h * t[0], x_c[1] - h * t[1]], [x_c[0] + h * t[0], x_c[1] + h * t[1]]]
         });
-        (n, chord, 0.5 * s_norm, false)
+        (n, chord, 0.5 * s_norm, false, edges.ds)
     } else {
+        // No chord from the edges (the overlap is cut symmetrically): the normal along the
+        // references, the chord the overlap's extent across it.
         let d = [ref_j[0] - ref_i[0], ref_j[1] - ref_i[1]];
         let dn = d[0].hypot(d[1]);
         let n = if dn > 0.0 { [d[0] / dn, d[1] / dn] } else { [1.0, 0.0] };
@@ -260,8 +221,7 @@ pub fn contact(
         // The exact gradient is meaningless here: use the penalty one, L b.
         let l = hi - lo;
         let b = [n[0], n[1], cross(arm_i, n), -n[0], -n[1], -cross(arm_j, n)];
-        ds = b.map(|x| l * x);
-        (n, chord, l, true)
+        (n, chord, l, true, b.map(|x| l * x))
     };
     let e_t = params.e_bar * params.t_z / l_c;
     let profile = thickness_profile(v, normal, tol);
@@ -283,6 +243,66 @@ pub fn contact(
         wedge_energy,
         profile,
     }))
+}
+
+/// The overlap of `pi` and `pj` without the near-duplicate vertices (within `tol`) that
+/// clipping leaves at corners.
+fn overlap_polygon(pi: &Polygon, pj: &Polygon, tol: f64) -> Polygon {
+    let raw = pi.intersection(pj).vertices;
+    let mut v: Vec<P2> = Vec::with_capacity(raw.len());
+    for p in raw {
+        if v.last().is_none_or(|q: &P2| (p[0] - q[0]).hypot(p[1] - q[1]) > tol) {
+            v.push(p);
+        }
+    }
+    while v.len() > 1 && (v[0][0] - v[v.len() - 1][0]).hypot(v[0][1] - v[v.len() - 1][1]) <= tol {
+        v.pop();
+    }
+    Polygon { vertices: v }
+}
+
+/// Sums over the overlap's edges: each edge's side (on `i`'s boundary, `j`'s, or both), the
+/// chord vector `s = Σ ±ν_k` (outer edge normals of length |edge|, `+` on `i`'s side, `−` on
+/// `j`'s), the perimeter, and the area's gradient `∂S/∂q` over `(q_i, q_j)`.
+struct EdgeSums {
+    sides: Vec<Side>,
+    s: [f64; 2],
+    perimeter: f64,
+    ds: [f64; 6],
+}
+
+impl EdgeSums {
+    fn of(v: &[P2], (pi, pj): (&Polygon, &Polygon), (ref_i, ref_j): (P2, P2), tol: f64) -> EdgeSums {
+        let m = v.len();
+        let mut sides = Vec::with_capacity(m);
+        let (mut s, mut perimeter, mut ds) = ([0.0; 2], 0.0, [0.0; 6]);
+        for k in 0..m {
+            let (a, b) = (v[k], v[(k + 1) % m]);
+            let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            let nu = [b[1] - a[1], a[0] - b[0]];
+            perimeter += nu[0].hypot(nu[1]);
+            let on_i = boundary_distance(pi, mid) >= -tol;
+            let on_j = boundary_distance(pj, mid) >= -tol;
+            let (side, w_i) = match (on_i, on_j) {
+                (true, false) => (Side::I, 1.0),
+                (false, true) => (Side::J, 0.0),
+                _ => (Side::Both, 0.5),
+            };
+            let sign = match side {
+                Side::I => 1.0,
+                Side::J => -1.0,
+                Side::Both => 0.0,
+            };
+            s = [s[0] + sign * nu[0], s[1] + sign * nu[1]];
+            sides.push(side);
+            for (off, w, c) in [(0, w_i, ref_i), (3, 1.0 - w_i, ref_j)] {
+                ds[off] += w * nu[0];
+                ds[off + 1] += w * nu[1];
+                ds[off + 2] += w * cross([mid[0] - c[0], mid[1] - c[1]], nu);
+            }
+        }
+        EdgeSums { sides, s, perimeter, ds }
+    }
 }
 
 /// The thickness function of the convex polygon `v` across the direction `n` (unit),

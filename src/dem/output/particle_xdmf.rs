@@ -30,7 +30,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::dem::sample::Sample;
-use crate::dem::solver::{FailureModeTag, TestResult};
+use crate::dem::solver::{FailureModeTag, ParticleState, TestResult};
 
 /// Writing the particle states failed.
 #[derive(Debug, thiserror::Error)]
@@ -142,22 +142,10 @@ pub fn write_particle_states(
     }
     let h5_name = format!("{stem}.h5");
     let h5_path = dir.join(&h5_name);
-    let h5 = |what: &str| {
-        let file = h5_path.clone();
-        let what = what.to_string();
-        move |source| ParticleOutputError::Hdf5 { file, what, source }
-    };
+    let h5 = |what: &str| h5_error(&h5_path, what);
     let mesh = build_mesh(sample, result);
-    let (n_nodes, n_cells) = (mesh.coordinates.len(), mesh.particle.len());
     let file = hdf5::File::create(&h5_path).map_err(h5("/"))?;
-    let g = file.create_group("mesh").map_err(h5("/mesh"))?;
-    let coords: Vec<f64> = mesh.coordinates.iter().flatten().copied().collect();
-    let coords = ndarray::Array2::from_shape_vec((n_nodes, 3), coords)
-        .map_err(|e| ParticleOutputError::Inconsistent { file: h5_path.clone(), reason: e.to_string() })?;
-    g.new_dataset_builder().with_data(&coords).create("coordinates").map_err(h5("/mesh/coordinates"))?;
-    g.new_dataset_builder().with_data(&mesh.topology[..]).create("topology").map_err(h5("/mesh/topology"))?;
-    g.new_dataset_builder().with_data(&mesh.particle[..]).create("particle").map_err(h5("/mesh/particle"))?;
-    g.new_dataset_builder().with_data(&mesh.beam[..]).create("beam").map_err(h5("/mesh/beam"))?;
+    write_mesh(&file, &mesh, &h5_path)?;
     let steps = file.create_group("steps").map_err(h5("/steps"))?;
     let mut xml_steps = String::new();
     for (k, ps) in result.particle_states.iter().enumerate() {
@@ -181,7 +169,57 @@ pub fn write_particle_states(
             sg.new_attr::<f64>().create(attr).and_then(|a| a.write_scalar(&value)).map_err(h5(&name))?;
         }
         sg.new_attr::<u64>().create("state").and_then(|a| a.write_scalar(&(ps.state as u64))).map_err(h5(&name))?;
-        let mut disp = Vec::with_capacity(3 * n_nodes);
+        StateFields::of(sample, &mesh, ps).write(&sg, &name, &h5_path)?;
+        push_state_grid(&mut xml_steps, &h5_name, &name, ps.state, &mesh);
+    }
+    file.close().map_err(h5("/"))?;
+    let xml = format!(
+        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    \
+         <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n{xml_steps}    </Grid>\n  </Domain>\n</Xdmf>\n"
+    );
+    let xdmf = dir.join(format!("{stem}.xdmf"));
+    std::fs::write(&xdmf, xml).map_err(|source| ParticleOutputError::Io { file: xdmf, source })
+}
+
+/// The error of an HDF5 call on `what` in `file`.
+fn h5_error(file: &Path, what: &str) -> impl FnOnce(hdf5::Error) -> ParticleOutputError {
+    let (file, what) = (file.to_path_buf(), what.to_string());
+    move |source| ParticleOutputError::Hdf5 { file, what, source }
+}
+
+/// `rows × 3` values as an array (an error names `file` when the count does not fit).
+fn rows_of_three(v: Vec<f64>, rows: usize, file: &Path) -> Result<ndarray::Array2<f64>, ParticleOutputError> {
+    ndarray::Array2::from_shape_vec((rows, 3), v)
+        .map_err(|e| ParticleOutputError::Inconsistent { file: file.to_path_buf(), reason: e.to_string() })
+}
+
+/// The `/mesh` group: node coordinates, mixed topology, and each cell's particle and beam.
+fn write_mesh(file: &hdf5::File, mesh: &Mesh, h5_path: &Path) -> Result<(), ParticleOutputError> {
+    let h5 = |what: &str| h5_error(h5_path, what);
+    let g = file.create_group("mesh").map_err(h5("/mesh"))?;
+    let coords: Vec<f64> = mesh.coordinates.iter().flatten().copied().collect();
+    let coords = rows_of_three(coords, mesh.coordinates.len(), h5_path)?;
+    g.new_dataset_builder().with_data(&coords).create("coordinates").map_err(h5("/mesh/coordinates"))?;
+    g.new_dataset_builder().with_data(&mesh.topology[..]).create("topology").map_err(h5("/mesh/topology"))?;
+    g.new_dataset_builder().with_data(&mesh.particle[..]).create("particle").map_err(h5("/mesh/particle"))?;
+    g.new_dataset_builder().with_data(&mesh.beam[..]).create("beam").map_err(h5("/mesh/beam"))?;
+    Ok(())
+}
+
+/// The fields of one kept state on the mesh: node displacements (a crack's nodes follow the
+/// mean of their two stones), each cell's stone displacement and rotation (a crack cell: the
+/// mean of its two stones), and the crack mode of the cells broken by then (−1: none or a stone).
+struct StateFields {
+    displacement: Vec<f64>,
+    particle_displacement: Vec<f64>,
+    rotation: Vec<f64>,
+    crack: Vec<i32>,
+}
+
+impl StateFields {
+    fn of(sample: &Sample, mesh: &Mesh, ps: &ParticleState) -> StateFields {
+        let (n_nodes, n_cells) = (mesh.coordinates.len(), mesh.particle.len());
+        let mut displacement = Vec::with_capacity(3 * n_nodes);
         for (x, &(i, j)) in mesh.coordinates.iter().zip(&mesh.follows) {
             let a = rigid(sample, i, ps.dofs[i], *x);
             let d = match j {
@@ -191,64 +229,50 @@ pub fn write_particle_states(
                 }
                 None => a,
             };
-            disp.extend([d[0], d[1], 0.0]);
+            displacement.extend([d[0], d[1], 0.0]);
         }
-        let (mut pd, mut rot, mut crack) =
+        let (mut particle_displacement, mut rotation, mut crack) =
             (Vec::with_capacity(3 * n_cells), Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
         for &(i, j) in &mesh.stones {
             let (a, b) = (ps.dofs[i], ps.dofs[j]);
-            pd.extend([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0]);
-            rot.push(0.5 * (a[2] + b[2]));
+            particle_displacement.extend([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0]);
+            rotation.push(0.5 * (a[2] + b[2]));
         }
         crack.extend(std::iter::repeat_n(-1i32, sample.particles.len()));
         crack.extend(mesh.cracks.iter().map(|&(at, mode)| if ps.state > at { mode } else { -1 }));
-        let arr = |v: Vec<f64>, rows: usize| {
-            ndarray::Array2::from_shape_vec((rows, 3), v)
-                .map_err(|e| ParticleOutputError::Inconsistent { file: h5_path.clone(), reason: e.to_string() })
-        };
-        let disp = arr(disp, n_nodes)?;
-        let pd = arr(pd, n_cells)?;
-        sg.new_dataset_builder()
-            .with_data(&disp)
-            .create("displacement")
-            .map_err(h5(&format!("{name}/displacement")))?;
-        sg.new_dataset_builder()
-            .with_data(&pd)
-            .create("particle_displacement")
-            .map_err(h5(&format!("{name}/particle_displacement")))?;
-        sg.new_dataset_builder().with_data(&rot[..]).create("rotation").map_err(h5(&format!("{name}/rotation")))?;
-        sg.new_dataset_builder().with_data(&crack[..]).create("crack").map_err(h5(&format!("{name}/crack")))?;
-        let _ = writeln!(xml_steps, "      <Grid Name=\"state_{}\" GridType=\"Uniform\">", ps.state);
-        let _ = writeln!(xml_steps, "        <Time Value=\"{}\"/>", ps.state);
-        push_mesh(&mut xml_steps, &h5_name, n_nodes, n_cells, mesh.topology.len());
-        for (field, center, comps, number, prec) in [
-            ("displacement", "Node", 3, "Float", 8),
-            ("particle_displacement", "Cell", 3, "Float", 8),
-            ("rotation", "Cell", 1, "Float", 8),
-            ("crack", "Cell", 1, "Int", 4),
-        ] {
-            let rows = if center == "Node" { n_nodes } else { n_cells };
-            push_attribute(
-                &mut xml_steps,
-                &h5_name,
-                field,
-                center,
-                rows,
-                comps,
-                number,
-                prec,
-                &format!("{name}/{field}"),
-            );
-        }
-        xml_steps.push_str("      </Grid>\n");
+        StateFields { displacement, particle_displacement, rotation, crack }
     }
-    file.close().map_err(h5("/"))?;
-    let xml = format!(
-        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    \
-         <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n{xml_steps}    </Grid>\n  </Domain>\n</Xdmf>\n"
-    );
-    let xdmf = dir.join(format!("{stem}.xdmf"));
-    std::fs::write(&xdmf, xml).map_err(|source| ParticleOutputError::Io { file: xdmf, source })
+
+    /// The fields as datasets of the step group `sg` (named `name` in `h5_path`).
+    fn write(self, sg: &hdf5::Group, name: &str, h5_path: &Path) -> Result<(), ParticleOutputError> {
+        let rows = (self.displacement.len() / 3, self.rotation.len());
+        let disp = rows_of_three(self.displacement, rows.0, h5_path)?;
+        let pd = rows_of_three(self.particle_displacement, rows.1, h5_path)?;
+        let at = |field: &str| h5_error(h5_path, &format!("{name}/{field}"));
+        sg.new_dataset_builder().with_data(&disp).create("displacement").map_err(at("displacement"))?;
+        sg.new_dataset_builder().with_data(&pd).create("particle_displacement").map_err(at("particle_displacement"))?;
+        sg.new_dataset_builder().with_data(&self.rotation[..]).create("rotation").map_err(at("rotation"))?;
+        sg.new_dataset_builder().with_data(&self.crack[..]).create("crack").map_err(at("crack"))?;
+        Ok(())
+    }
+}
+
+/// The XDMF grid of one kept state (`name` its HDF5 group).
+fn push_state_grid(xml: &mut String, h5_name: &str, name: &str, state: usize, mesh: &Mesh) {
+    let (n_nodes, n_cells) = (mesh.coordinates.len(), mesh.particle.len());
+    let _ = writeln!(xml, "      <Grid Name=\"state_{state}\" GridType=\"Uniform\">");
+    let _ = writeln!(xml, "        <Time Value=\"{state}\"/>");
+    push_mesh(xml, h5_name, n_nodes, n_cells, mesh.topology.len());
+    for (field, center, comps, number, prec) in [
+        ("displacement", "Node", 3, "Float", 8),
+        ("particle_displacement", "Cell", 3, "Float", 8),
+        ("rotation", "Cell", 1, "Float", 8),
+        ("crack", "Cell", 1, "Int", 4),
+    ] {
+        let rows = if center == "Node" { n_nodes } else { n_cells };
+        push_attribute(xml, h5_name, field, center, rows, comps, number, prec, &format!("{name}/{field}"));
+    }
+    xml.push_str("      </Grid>\n");
 }
 
 fn push_mesh(s: &mut String, h5: &str, n_nodes: usize, n_cells: usize, topo_len: usize) {

@@ -63,6 +63,54 @@ pub fn draw_svg(
     broken: &[(usize, u8)],
     style: &SvgStyle,
 ) -> Result<String, SampleError> {
+    let is_broken = check_inputs(sample, displacements, broken)?;
+    let scene = Scene { sample, displacements, exaggeration: style.exaggeration };
+    let shapes: Vec<Vec<P2>> = (0..sample.particles.len())
+        .map(|k| {
+            let p = &sample.particles[k];
+            p.polygon.vertices.iter().map(|&v| p.moved_point(v, scene.motion(k))).collect()
+        })
+        .collect();
+    let frame = Frame::fit(sample, &shapes, style);
+    // Writing to a String cannot fail.
+    let mut out = String::new();
+    let (w, h) = (style.width_px, frame.height_px);
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.1} {h:.1}" font-family="sans-serif" font-size="13">"#
+    );
+    let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    if let Some(t) = &style.title {
+        let _ = writeln!(out, r#"<text x="{}" y="24" font-size="15">{}</text>"#, frame.margin, escape(t));
+    }
+    if displacements.is_some() {
+        // The undeformed outline, dashed.
+        let (a, b) = (frame.map([0.0, sample.height]), frame.map([sample.width, 0.0]));
+        let _ = writeln!(
+            out,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="#999" stroke-dasharray="4 3"/>"##,
+            a.0,
+            a.1,
+            b.0 - a.0,
+            b.1 - a.1
+        );
+    }
+    write_stones(&mut out, &frame, &shapes);
+    if style.draw_beams {
+        write_intact_beams(&mut out, &frame, &scene, &is_broken);
+    }
+    write_cracks(&mut out, &frame, &scene, broken, style);
+    write_scale_and_legend(&mut out, &frame, &scene, broken, style);
+    let _ = writeln!(out, "</svg>");
+    Ok(out)
+}
+
+/// The beam flags `broken` marks, after checking the displacement count and the beam indices.
+fn check_inputs(
+    sample: &Sample,
+    displacements: Option<&[[f64; 3]]>,
+    broken: &[(usize, u8)],
+) -> Result<Vec<bool>, SampleError> {
     let np = sample.particles.len();
     if let Some(d) = displacements {
         if d.len() != np {
@@ -76,85 +124,105 @@ pub fn draw_svg(
         }
         is_broken[b] = true;
     }
-    let e = style.exaggeration;
-    let motion = |k: usize| displacements.map_or([0.0; 3], |d| [e * d[k][0], e * d[k][1], e * d[k][2]]);
-    let shapes: Vec<Vec<P2>> = (0..np)
-        .map(|k| {
-            let p = &sample.particles[k];
-            p.polygon.vertices.iter().map(|&v| p.moved_point(v, motion(k))).collect()
-        })
-        .collect();
+    Ok(is_broken)
+}
 
-    // World bounding box: the domain and every drawn vertex.
-    let (mut x0, mut y0, mut x1, mut y1) = (0.0f64, 0.0f64, sample.width, sample.height);
-    for v in shapes.iter().flatten() {
-        x0 = x0.min(v[0]);
-        y0 = y0.min(v[1]);
-        x1 = x1.max(v[0]);
-        y1 = y1.max(v[1]);
-    }
-    let margin = 30.0;
-    let top = if style.title.is_some() { 40.0 } else { margin };
-    let bottom = 40.0 + 22.0 * (style.categories.len() as f64 / 2.0).ceil().max(1.0) + 20.0;
-    let s = (style.width_px - 2.0 * margin) / (x1 - x0).max(f64::MIN_POSITIVE);
-    let height_px = top + s * (y1 - y0) + bottom;
-    let map = |p: P2| (margin + s * (p[0] - x0), top + s * (y1 - p[1]));
+/// The sample with its (exaggerated) particle motions.
+struct Scene<'s> {
+    sample: &'s Sample,
+    displacements: Option<&'s [[f64; 3]]>,
+    exaggeration: f64,
+}
 
-    let mut out = String::new();
-    let w = style.width_px;
-    // Writing to a String cannot fail.
-    let _ = writeln!(
-        out,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{height_px:.0}" viewBox="0 0 {w:.1} {height_px:.1}" font-family="sans-serif" font-size="13">"#
-    );
-    let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    if let Some(t) = &style.title {
-        let _ = writeln!(out, r#"<text x="{margin}" y="24" font-size="15">{}</text>"#, escape(t));
+impl Scene<'_> {
+    /// `e (u_x, u_y, θ)` of particle `k` (zero undeformed).
+    fn motion(&self, k: usize) -> [f64; 3] {
+        let e = self.exaggeration;
+        self.displacements.map_or([0.0; 3], |d| [e * d[k][0], e * d[k][1], e * d[k][2]])
     }
-    if displacements.is_some() {
-        let (a, b) = (map([0.0, sample.height]), map([sample.width, 0.0]));
-        let _ = writeln!(
-            out,
-            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="#999" stroke-dasharray="4 3"/>"##,
-            a.0,
-            a.1,
-            b.0 - a.0,
-            b.1 - a.1
-        );
+
+    /// Point `v` of particle `k`, moved with it.
+    fn moved(&self, k: usize, v: P2) -> P2 {
+        self.sample.particles[k].moved_point(v, self.motion(k))
     }
+}
+
+/// World to picture: `(x, y) → (margin + s (x − x₀), top + s (y₁ − y))`, the world box holding
+/// the domain and every drawn vertex, with room for the title above and the legend below.
+struct Frame {
+    margin: f64,
+    top: f64,
+    /// Pixels per metre.
+    s: f64,
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+    height_px: f64,
+}
+
+impl Frame {
+    fn fit(sample: &Sample, shapes: &[Vec<P2>], style: &SvgStyle) -> Frame {
+        let (mut x0, mut y0, mut x1, mut y1) = (0.0f64, 0.0f64, sample.width, sample.height);
+        for v in shapes.iter().flatten() {
+            x0 = x0.min(v[0]);
+            y0 = y0.min(v[1]);
+            x1 = x1.max(v[0]);
+            y1 = y1.max(v[1]);
+        }
+        let margin = 30.0;
+        let top = if style.title.is_some() { 40.0 } else { margin };
+        let bottom = 40.0 + 22.0 * (style.categories.len() as f64 / 2.0).ceil().max(1.0) + 20.0;
+        let s = (style.width_px - 2.0 * margin) / (x1 - x0).max(f64::MIN_POSITIVE);
+        let height_px = top + s * (y1 - y0) + bottom;
+        Frame { margin, top, s, x0, y0, x1, y1, height_px }
+    }
+
+    fn map(&self, p: P2) -> (f64, f64) {
+        (self.margin + self.s * (p[0] - self.x0), self.top + self.s * (self.y1 - p[1]))
+    }
+}
+
+/// The stones as filled polygons.
+fn write_stones(out: &mut String, frame: &Frame, shapes: &[Vec<P2>]) {
     let _ = writeln!(out, r##"<g fill="#ebe3d3" stroke="#4a4a4a" stroke-width="0.8" stroke-linejoin="round">"##);
-    for shape in &shapes {
+    for shape in shapes {
         let pts: Vec<String> = shape
             .iter()
             .map(|&v| {
-                let (x, y) = map(v);
+                let (x, y) = frame.map(v);
                 format!("{x:.2},{y:.2}")
             })
             .collect();
         let _ = writeln!(out, r#"<polygon points="{}"/>"#, pts.join(" "));
     }
     let _ = writeln!(out, "</g>");
-    if style.draw_beams {
-        let _ = writeln!(out, r##"<g stroke="#7a8a99" stroke-width="0.6">"##);
-        for b in sample.beams.iter().zip(&is_broken).filter(|(_, &x)| !x).map(|(b, _)| b) {
-            let pi = &sample.particles[b.i];
-            let pj = &sample.particles[b.j];
-            let (a, c) = (map(pi.moved_point(pi.seed, motion(b.i))), map(pj.moved_point(pj.seed, motion(b.j))));
-            let _ = writeln!(out, r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}"/>"#, a.0, a.1, c.0, c.1);
-        }
-        let _ = writeln!(out, "</g>");
+}
+
+/// The intact beams, seed to seed.
+fn write_intact_beams(out: &mut String, frame: &Frame, scene: &Scene<'_>, is_broken: &[bool]) {
+    let sample = scene.sample;
+    let _ = writeln!(out, r##"<g stroke="#7a8a99" stroke-width="0.6">"##);
+    for b in sample.beams.iter().zip(is_broken).filter(|(_, &x)| !x).map(|(b, _)| b) {
+        let (pi, pj) = (&sample.particles[b.i], &sample.particles[b.j]);
+        let (a, c) = (frame.map(scene.moved(b.i, pi.seed)), frame.map(scene.moved(b.j, pj.seed)));
+        let _ = writeln!(out, r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}"/>"#, a.0, a.1, c.0, c.1);
     }
+    let _ = writeln!(out, "</g>");
+}
+
+/// The broken beams as thick segments along their facet, coloured by category.
+fn write_cracks(out: &mut String, frame: &Frame, scene: &Scene<'_>, broken: &[(usize, u8)], style: &SvgStyle) {
     let colour = |c: u8| style.categories.get(c as usize).map_or("#666666", |k| k.colour.as_str());
     let _ = writeln!(out, r#"<g stroke-width="3.5" stroke-linecap="round">"#);
     for &(k, cat) in broken {
-        let b = &sample.beams[k];
-        let (pi, pj) = (&sample.particles[b.i], &sample.particles[b.j]);
+        let b = &scene.sample.beams[k];
         let ends: Vec<(f64, f64)> = b
             .facet
             .iter()
             .map(|&f| {
-                let (a, c) = (pi.moved_point(f, motion(b.i)), pj.moved_point(f, motion(b.j)));
-                map([0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])])
+                let (a, c) = (scene.moved(b.i, f), scene.moved(b.j, f));
+                frame.map([0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])])
             })
             .collect();
         let _ = writeln!(
@@ -168,10 +236,20 @@ pub fn draw_svg(
         );
     }
     let _ = writeln!(out, "</g>");
+}
 
-    // Scale bar: a round length near a fifth of the drawn width.
-    let ybar = top + s * (y1 - y0) + 28.0;
-    let len = nice_length((x1 - x0) / 5.0);
+/// The scale bar (a round length near a fifth of the drawn width), the legend with the count of
+/// each category, and the summary line.
+fn write_scale_and_legend(
+    out: &mut String,
+    frame: &Frame,
+    scene: &Scene<'_>,
+    broken: &[(usize, u8)],
+    style: &SvgStyle,
+) {
+    let (margin, s) = (frame.margin, frame.s);
+    let ybar = frame.top + s * (frame.y1 - frame.y0) + 28.0;
+    let len = nice_length((frame.x1 - frame.x0) / 5.0);
     let _ = writeln!(
         out,
         r#"<line x1="{margin}" y1="{ybar:.1}" x2="{:.1}" y2="{ybar:.1}" stroke="black" stroke-width="3"/>"#,
@@ -179,7 +257,6 @@ pub fn draw_svg(
     );
     let _ =
         writeln!(out, r#"<text x="{:.1}" y="{:.1}">{}</text>"#, margin + s * len + 8.0, ybar + 5.0, length_label(len));
-    // Legend: counts per category, then the totals.
     let mut counts = vec![0usize; style.categories.len()];
     let mut other = 0;
     for &(_, c) in broken {
@@ -208,17 +285,24 @@ pub fn draw_svg(
             cy + 5.0
         );
     }
+    let sample = scene.sample;
     let summary = format!(
         "{} stones, {} beams, {} broken{}",
-        np,
+        sample.particles.len(),
         sample.beams.len(),
         broken.len(),
-        if displacements.is_some() { format!(", displacements × {e}") } else { String::new() }
+        if scene.displacements.is_some() {
+            format!(", displacements × {}", scene.exaggeration)
+        } else {
+            String::new()
+        }
     );
-    let _ =
-        writeln!(out, r##"<text x="{margin}" y="{:.1}" fill="#333">{}</text>"##, height_px - 10.0, escape(&summary));
-    let _ = writeln!(out, "</svg>");
-    Ok(out)
+    let _ = writeln!(
+        out,
+        r##"<text x="{margin}" y="{:.1}" fill="#333">{}</text>"##,
+        frame.height_px - 10.0,
+        escape(&summary)
+    );
 }
 
 /// The largest of `{1, 2, 5} × 10^k` not above `target`.
