@@ -171,14 +171,10 @@ fn church_modes_on_two_ranks_and_the_paraview_picture() {
     }
     let png = dir.join("mode1.png");
     let mut c = Command::new("bash");
-    c.current_dir(root()).args(["scripts/with_display.sh", "pvpython", "scripts/pv_church.py"]).arg(out.join("modes.xdmf")).args([
-        "--mode",
-        "1",
-        "--size",
-        "800x600",
-        "--out",
-        png.to_str().unwrap(),
-    ]);
+    c.current_dir(root())
+        .args(["scripts/with_display.sh", "pvpython", "scripts/pv_church.py"])
+        .arg(out.join("modes.xdmf"))
+        .args(["--mode", "1", "--size", "800x600", "--out", png.to_str().unwrap()]);
     let o = run_with_timeout(c, std::time::Duration::from_secs(120));
     assert!(o.status.success(), "pv_church.py failed:\n{}\n{}", stdout(&o), stderr(&o));
     let img = image::open(&png).expect("a PNG").to_rgb8();

@@ -128,12 +128,10 @@ fn cyclic_shear_job_writes_loops_and_particle_states() {
     let sdir = out.join("sample-000");
     let png = dir.join("states.png");
     let mut c = Command::new("bash");
-    c.current_dir(root()).args(["scripts/with_display.sh", "pvpython", "scripts/pv_dem.py"]).arg(sdir.join("particles.xdmf")).args([
-        "--size",
-        "600x700",
-        "--out",
-        png.to_str().unwrap(),
-    ]);
+    c.current_dir(root())
+        .args(["scripts/with_display.sh", "pvpython", "scripts/pv_dem.py"])
+        .arg(sdir.join("particles.xdmf"))
+        .args(["--size", "600x700", "--out", png.to_str().unwrap()]);
     let o = run_with_timeout(c, std::time::Duration::from_secs(120));
     assert!(o.status.success(), "pv_dem.py failed:\n{}\n{}", stdout(&o), stderr(&o));
     let line = stdout(&o).lines().rev().find(|l| l.starts_with('{')).unwrap_or_default().to_string();
