@@ -8,7 +8,7 @@ use crate::element::{
 use crate::error::Error;
 use crate::mesh::CellKind;
 use crate::mesh::Mesh;
-use crate::model::StructuralModel;
+use crate::model::{ModelCell, StructuralModel};
 use crate::parallel::{agree, partition_cells, Context, DofMap};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -123,6 +123,7 @@ fn point_material(mat: &MaterialConfig) -> Result<(ShellMaterial, f64), String> 
     }
 }
 
+/// The element objects of `local_cells`, the moduli of part `p` scaled by `scale[p]`.
 fn build_elements(
     job: &Job,
     mesh: &Mesh,
@@ -130,128 +131,99 @@ fn build_elements(
     local_cells: &[usize],
     scale: &[f64],
 ) -> Result<Vec<Box<dyn Element>>, Error> {
+    local_cells.iter().map(|&c| build_element(job, mesh, model, model.cells[c], scale[model.cells[c].part])).collect()
+}
+
+/// The element of model cell `mc`: its part's section with its part's material, the moduli
+/// scaled by `scale`. A cell that cannot be built is bad input (exit code 2), as is a bad
+/// geometry or orientation.
+fn build_element(
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    mc: ModelCell,
+    scale: f64,
+) -> Result<Box<dyn Element>, Error> {
     let spec = &job.spec;
-    let mut out: Vec<Box<dyn Element>> = Vec::with_capacity(local_cells.len());
-    for &c in local_cells {
-        let mc = model.cells[c];
-        let cell = &mesh.cells[mc.cell];
-        let part = &spec.parts[mc.part];
-        let scaled;
-        let material = if scale[mc.part] == 1.0 {
-            &spec.materials[&part.material]
-        } else {
-            scaled = spec.materials[&part.material].with_modulus_scaled(scale[mc.part]);
-            &scaled
-        };
-        let element: Box<dyn Element> =
-            match (&spec.sections[&part.section], material) {
-                (SectionConfig::Frame(s), MaterialConfig::Elastic(mat)) => {
-                    let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
-                    let section = FrameSection {
-                        e: mat.e,
-                        g: mat.shear_modulus(),
-                        area: s.area,
-                        iy: s.iy,
-                        iz: s.iz,
-                        j: s.j,
-                        density: mat.density,
-                        nonstructural_mass: s.nonstructural_mass,
-                    };
-                    let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
-                    // Bad geometry or orientation is an input error (exit code 2), as for the other
-                    // element kinds.
-                    Box::new(ElasticFrame3d::new(x1, x2, v, section).map_err(|source| Error::ElementInput {
-                        tag: cell.tag,
-                        group: part.group.clone(),
-                        message: source.to_string(),
-                    })?)
-                }
-                (SectionConfig::Tie(t), MaterialConfig::Elastic(mat)) => {
-                    let section = TieSection {
-                        e: mat.e,
-                        area: t.area,
-                        density: mat.density,
-                        pretension: t.pretension,
-                        tension_only: t.tension_only,
-                    };
-                    let (a, b) = (cell.nodes[0], cell.nodes[1]);
-                    // An end that only ties touch is an anchor (`StructuralModel::anchors`).
-                    let anchored = [a, b].map(|n| model.anchors.binary_search(&n).is_ok());
-                    let tie = Tie::new(mesh.coords[a], mesh.coords[b], section).map_err(|source| {
-                        Error::ElementInput { tag: cell.tag, group: part.group.clone(), message: source.to_string() }
-                    })?;
-                    Box::new(tie.with_anchored_ends(anchored))
-                }
-                (SectionConfig::Frame(_) | SectionConfig::Tie(_), MaterialConfig::Damage(_)) => {
-                    // Rejected when the job is validated; kept as an error, not a panic.
-                    return Err(Error::ElementInput {
-                        tag: cell.tag,
-                        group: part.group.clone(),
-                        message: format!(
-                            "a {} section needs an elastic material",
-                            spec.sections[&part.section].type_name()
-                        ),
-                    });
-                }
-                (SectionConfig::Fiber(fs), mat) => {
-                    let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
-                        tag: cell.tag,
-                        group: part.group.clone(),
-                        message,
-                    })?;
-                    let (x1, x2) = (mesh.coords[cell.nodes[0]], mesh.coords[cell.nodes[1]]);
-                    let section = FiberSection {
-                        width: fs.width,
-                        height: fs.height,
-                        ny: fs.ny,
-                        nz: fs.nz,
-                        integration_points: fs.integration_points,
-                        material,
-                        density,
-                        nonstructural_mass: fs.nonstructural_mass,
-                        torsion_constant: fs.torsion_constant,
-                    };
-                    let v = part.orientation.unwrap_or_else(|| default_orientation(x1, x2));
-                    // A fiber beam that cannot be built is bad input (exit code 2).
-                    Box::new(FiberBeam3d::new(x1, x2, v, section).map_err(|e| Error::ElementInput {
-                        tag: cell.tag,
-                        group: part.group.clone(),
-                        message: e.to_string(),
-                    })?)
-                }
-                (SectionConfig::Shell(sh), mat) => {
-                    let (material, density) = point_material(mat).map_err(|message| Error::ElementInput {
-                        tag: cell.tag,
-                        group: part.group.clone(),
-                        message,
-                    })?;
-                    let section = ShellSection {
-                        thickness: sh.thickness,
-                        layers: sh.layers,
-                        material,
-                        density,
-                        nonstructural_mass_per_area: sh.nonstructural_mass,
-                    };
-                    let err = |e: ShellError| Error::ElementInput {
-                        tag: cell.tag,
-                        group: part.group.clone(),
-                        message: e.to_string(),
-                    };
-                    let x = |k: usize| mesh.coords[cell.nodes[k]];
-                    match cell.kind {
-                        CellKind::Quad4 => Box::new(ShellQuad4::new([x(0), x(1), x(2), x(3)], &section).map_err(err)?),
-                        CellKind::Tri3 => Box::new(ShellTri3::new([x(0), x(1), x(2)], &section).map_err(err)?),
-                        other => {
-                            return Err(Error::ElementInput {
-                                tag: cell.tag,
-                                group: part.group.clone(),
-                                message: format!("a shell section needs triangles or quadrangles, not a {other}"),
-                            })
-                        }
-                    }
-                }
+    let cell = &mesh.cells[mc.cell];
+    let part = &spec.parts[mc.part];
+    let input_error = |message: String| Error::ElementInput { tag: cell.tag, group: part.group.clone(), message };
+    let scaled;
+    let material = if scale == 1.0 {
+        &spec.materials[&part.material]
+    } else {
+        scaled = spec.materials[&part.material].with_modulus_scaled(scale);
+        &scaled
+    };
+    let x = |k: usize| mesh.coords[cell.nodes[k]];
+    let orientation = || part.orientation.unwrap_or_else(|| default_orientation(x(0), x(1)));
+    let element: Box<dyn Element> = match (&spec.sections[&part.section], material) {
+        (SectionConfig::Frame(s), MaterialConfig::Elastic(mat)) => {
+            let section = FrameSection {
+                e: mat.e,
+                g: mat.shear_modulus(),
+                area: s.area,
+                iy: s.iy,
+                iz: s.iz,
+                j: s.j,
+                density: mat.density,
+                nonstructural_mass: s.nonstructural_mass,
             };
-        out.push(element);
-    }
-    Ok(out)
+            Box::new(ElasticFrame3d::new(x(0), x(1), orientation(), section).map_err(|e| input_error(e.to_string()))?)
+        }
+        (SectionConfig::Tie(t), MaterialConfig::Elastic(mat)) => {
+            let section = TieSection {
+                e: mat.e,
+                area: t.area,
+                density: mat.density,
+                pretension: t.pretension,
+                tension_only: t.tension_only,
+            };
+            // An end that only ties touch is an anchor (`StructuralModel::anchors`).
+            let anchored = [cell.nodes[0], cell.nodes[1]].map(|n| model.anchors.binary_search(&n).is_ok());
+            let tie = Tie::new(x(0), x(1), section).map_err(|e| input_error(e.to_string()))?;
+            Box::new(tie.with_anchored_ends(anchored))
+        }
+        (SectionConfig::Frame(_) | SectionConfig::Tie(_), MaterialConfig::Damage(_)) => {
+            // Rejected when the job is validated; kept as an error, not a panic.
+            return Err(input_error(format!(
+                "a {} section needs an elastic material",
+                spec.sections[&part.section].type_name()
+            )));
+        }
+        (SectionConfig::Fiber(fs), mat) => {
+            let (material, density) = point_material(mat).map_err(input_error)?;
+            let section = FiberSection {
+                width: fs.width,
+                height: fs.height,
+                ny: fs.ny,
+                nz: fs.nz,
+                integration_points: fs.integration_points,
+                material,
+                density,
+                nonstructural_mass: fs.nonstructural_mass,
+                torsion_constant: fs.torsion_constant,
+            };
+            Box::new(FiberBeam3d::new(x(0), x(1), orientation(), section).map_err(|e| input_error(e.to_string()))?)
+        }
+        (SectionConfig::Shell(sh), mat) => {
+            let (material, density) = point_material(mat).map_err(input_error)?;
+            let section = ShellSection {
+                thickness: sh.thickness,
+                layers: sh.layers,
+                material,
+                density,
+                nonstructural_mass_per_area: sh.nonstructural_mass,
+            };
+            let err = |e: ShellError| input_error(e.to_string());
+            match cell.kind {
+                CellKind::Quad4 => Box::new(ShellQuad4::new([x(0), x(1), x(2), x(3)], &section).map_err(err)?),
+                CellKind::Tri3 => Box::new(ShellTri3::new([x(0), x(1), x(2)], &section).map_err(err)?),
+                other => {
+                    return Err(input_error(format!("a shell section needs triangles or quadrangles, not a {other}")))
+                }
+            }
+        }
+    };
+    Ok(element)
 }

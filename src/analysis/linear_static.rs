@@ -10,11 +10,10 @@ use crate::config::Job;
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{agree, Context};
-use crate::petsc::{Ksp, Petsc, Vector};
+use crate::parallel::{agree, Context, Phases};
+use crate::petsc::{Ksp, Matrix, Petsc, Vector};
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
-use std::time::Instant;
 
 /// What a linear static run reports (rank 0 writes it as `summary.json`).
 #[derive(Debug, Clone, serde::Serialize)]
@@ -65,7 +64,8 @@ pub struct Timings {
     pub output: f64,
 }
 
-/// Collective. Runs the analysis and writes results into `job.output_dir`.
+/// Collective. Runs the analysis and writes results into `job.output_dir`: setup, assemble,
+/// solve, check, output, each timed.
 pub fn run(
     ctx: &Context,
     petsc: &Petsc,
@@ -75,20 +75,10 @@ pub fn run(
 ) -> Result<LinearStaticSummary, Error> {
     let _ = petsc;
     let log = &ctx.log;
-    let mut t = Timings::default();
-
-    // Setup.
-    let t0 = Instant::now();
-    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
-    let dofs = &disc.dofs;
-    let n_owned = dofs.n_owned_dofs();
+    let mut phases = Phases::default();
     let format = job.spec.solver.matrix;
-    let mut k = disc.new_matrix(ctx, mesh, model, format)?;
-    k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
-    let ghost_dofs = dofs.ghost_dofs();
-    let mut u = Vector::new_ghosted(&ctx.comm, n_owned, &ghost_dofs)?;
-    let mut f = Vector::new_mpi(&ctx.comm, n_owned, None)?;
-    t.setup = t0.elapsed().as_secs_f64();
+    let mut sys = phases.time("setup", || LinearSystem::setup(ctx, job, mesh, model))?;
+    let dofs = &sys.disc.dofs;
     log.info(format!(
         "setup: {} nodes, {} elements, {} equations ({} fixed) on {} rank(s); {:?} matrix",
         dofs.n_global_nodes,
@@ -99,37 +89,132 @@ pub fn run(
         format
     ));
 
-    // Assemble.
     crate::fault::inject("assembly", ctx.rank)?;
-    let t0 = Instant::now();
-    assembly::assemble_stiffness(&mut disc, mesh, model, None, &mut k)?;
-    assembly::assemble_loads(&disc, mesh, model, Rows::Free, &mut f)?;
-    t.assemble = t0.elapsed().as_secs_f64();
-    log.info(format!("assembly: {:.3} s", t.assemble));
+    phases.time("assemble", || sys.assemble(mesh, model))?;
+    log.info(format!("assembly: {:.3} s", phases.seconds("assemble")));
 
-    // Solve.
-    let t0 = Instant::now();
-    let mut ksp = Ksp::new(&ctx.comm, "")?;
-    ksp.set_operators(&k)?;
-    ksp.set_type("preonly")?;
-    ksp.set_pc_type("cholesky")?;
-    ksp.set_factor_solver("mumps")?;
-    ksp.set_from_options()?;
-    // KSP failures are collective (every rank sees the same converged reason): agree on them so
-    // the message is printed once and the ranks exit together.
-    let stats = agree(&ctx.comm, ksp.solve(&f, &mut u).map_err(Error::from), Error::exit_code)?;
-    t.solve = t0.elapsed().as_secs_f64();
-    let ksp_desc = ksp.describe()?;
-    log.info(format!("solve: {:.3} s, {} iteration(s), {ksp_desc}", t.solve, stats.iterations));
-    u.ghost_update()?;
+    let (stats, ksp_desc) = phases.time("solve", || sys.solve(ctx))?;
+    log.info(format!("solve: {:.3} s, {} iteration(s), {ksp_desc}", phases.seconds("solve"), stats.iterations));
+    sys.u.ghost_update()?;
 
-    // Check equilibrium element by element; reactions on the fixed DOFs.
-    let t0 = Instant::now();
-    let u_local = u.with_local_form(|s| s.to_vec())?;
+    let (u_local, eq) = phases.time("check", || -> Result<_, Error> {
+        let u_local = sys.u.with_local_form(|s| s.to_vec())?;
+        let eq = check_equilibrium(ctx, &mut sys.disc, mesh, model, &u_local)?;
+        Ok((u_local, eq))
+    })?;
+    log.info(format!("equilibrium: relative residual {:.3e}", eq.residual));
+    let applied_sum = eq.applied_sum;
+    log.info(format!("applied loads  F = ({:.6e}, {:.6e}, {:.6e}) N", applied_sum[0], applied_sum[1], applied_sum[2]));
+    log.info(format!(
+        "reactions      R = ({:.6e}, {:.6e}, {:.6e}) N",
+        eq.reaction_sum[0], eq.reaction_sum[1], eq.reaction_sum[2]
+    ));
+
+    let (umax, umax_tag) = largest_translation(ctx, mesh, &sys.disc, &u_local);
+    log.info(format!("largest displacement: {umax:.6e} m at node {umax_tag}"));
+
+    // The writer checks its arguments across ranks before each collective call, so its errors
+    // are seen by every rank.
+    phases.time("output", || {
+        let written = output::write_static_results(ctx, job, mesh, model, &sys.disc, &u_local, &eq.r_owned);
+        agree(&ctx.comm, written, Error::exit_code)
+    })?;
+    log.info(format!("results: {}", job.output_dir.join("results.xdmf").display()));
+
+    let disc = &sys.disc;
+    Ok(LinearStaticSummary {
+        ranks: ctx.size,
+        nodes: disc.dofs.n_global_nodes,
+        elements: model.cells.len(),
+        equations: 6 * disc.dofs.n_global_nodes,
+        fixed_dofs: count_fixed(model, &disc.dofs),
+        matrix: format!("{format:?}").to_lowercase(),
+        ksp: ksp_desc,
+        iterations: stats.iterations,
+        seconds: Timings::max_over_ranks(ctx, &phases),
+        equilibrium_residual: eq.residual,
+        applied_sum,
+        reaction_sum: eq.reaction_sum,
+        max_displacement: umax,
+        max_displacement_node: umax_tag,
+    })
+}
+
+impl Timings {
+    /// Collective. The phases' times, each the maximum over ranks.
+    fn max_over_ranks(ctx: &Context, phases: &Phases) -> Timings {
+        let local = phases.seconds_of(["setup", "assemble", "solve", "check", "output"]);
+        let mut t = [0.0; 5];
+        ctx.comm.all_reduce_into(&local[..], &mut t[..], SystemOperation::max());
+        Timings { setup: t[0], assemble: t[1], solve: t[2], check: t[3], output: t[4] }
+    }
+}
+
+/// The discretization with `K u = f`'s matrix and vectors (`u` ghosted).
+struct LinearSystem {
+    disc: Discretization,
+    k: Matrix,
+    u: Vector,
+    f: Vector,
+}
+
+impl LinearSystem {
+    /// Collective. Partition, numbering, elements; the matrix (with the rigid-body modes as its
+    /// near null space) and the vectors.
+    fn setup(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel) -> Result<LinearSystem, Error> {
+        let disc = Discretization::setup(ctx, job, mesh, model)?;
+        let n_owned = disc.dofs.n_owned_dofs();
+        let mut k = disc.new_matrix(ctx, mesh, model, job.spec.solver.matrix)?;
+        k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
+        let u = Vector::new_ghosted(&ctx.comm, n_owned, &disc.dofs.ghost_dofs())?;
+        let f = Vector::new_mpi(&ctx.comm, n_owned, None)?;
+        Ok(LinearSystem { disc, k, u, f })
+    }
+
+    /// Collective. `K` and `f` on the free equations.
+    fn assemble(&mut self, mesh: &Mesh, model: &StructuralModel) -> Result<(), Error> {
+        assembly::assemble_stiffness(&mut self.disc, mesh, model, None, &mut self.k)?;
+        assembly::assemble_loads(&self.disc, mesh, model, Rows::Free, &mut self.f)
+    }
+
+    /// Collective. `u` by a Cholesky factorization (MUMPS) unless the options say otherwise;
+    /// the solver's statistics and description.
+    fn solve(&mut self, ctx: &Context) -> Result<(crate::petsc::KspStats, String), Error> {
+        let mut ksp = Ksp::new(&ctx.comm, "")?;
+        ksp.set_operators(&self.k)?;
+        ksp.set_type("preonly")?;
+        ksp.set_pc_type("cholesky")?;
+        ksp.set_factor_solver("mumps")?;
+        ksp.set_from_options()?;
+        // KSP failures are collective (every rank sees the same converged reason): agree on them
+        // so the message is printed once and the ranks exit together.
+        let stats = agree(&ctx.comm, ksp.solve(&self.f, &mut self.u).map_err(Error::from), Error::exit_code)?;
+        Ok((stats, ksp.describe()?))
+    }
+}
+
+/// The equilibrium check: `r = f_int(u) − f_ext` on every owned equation (the reactions on the
+/// fixed ones), its relative size on the free ones, and the resultants of loads and reactions.
+struct Equilibrium {
+    r_owned: Vec<f64>,
+    residual: f64,
+    reaction_sum: [f64; 6],
+    applied_sum: [f64; 6],
+}
+
+/// Collective. Checks equilibrium element by element at `u_local`; reactions on the fixed DOFs.
+fn check_equilibrium(
+    ctx: &Context,
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    u_local: &[f64],
+) -> Result<Equilibrium, Error> {
+    let n_owned = disc.dofs.n_owned_dofs();
     let mut r = Vector::new_mpi(&ctx.comm, n_owned, None)?;
     let mut f_all = Vector::new_mpi(&ctx.comm, n_owned, None)?;
-    assembly::assemble_internal_forces(&mut disc, mesh, model, &u_local, &mut r)?;
-    assembly::assemble_loads(&disc, mesh, model, Rows::All, &mut f_all)?;
+    assembly::assemble_internal_forces(disc, mesh, model, u_local, &mut r)?;
+    assembly::assemble_loads(disc, mesh, model, Rows::All, &mut f_all)?;
     r.axpy(-1.0, &f_all)?;
     let r_owned = r.owned_values()?;
     let f_owned = f_all.owned_values()?;
@@ -153,17 +238,13 @@ pub fn run(
     let residual = if total[1] > 0.0 { (total[0] / total[1]).sqrt() } else { total[0].sqrt() };
     let reaction_sum: [f64; 6] = total[2..8].try_into().unwrap_or_default();
     let applied_sum: [f64; 6] = total[8..14].try_into().unwrap_or_default();
-    t.check = t0.elapsed().as_secs_f64();
-    log.info(format!("equilibrium: relative residual {residual:.3e}"));
-    log.info(format!("applied loads  F = ({:.6e}, {:.6e}, {:.6e}) N", applied_sum[0], applied_sum[1], applied_sum[2]));
-    log.info(format!(
-        "reactions      R = ({:.6e}, {:.6e}, {:.6e}) N",
-        reaction_sum[0], reaction_sum[1], reaction_sum[2]
-    ));
+    Ok(Equilibrium { r_owned, residual, reaction_sum, applied_sum })
+}
 
-    // Largest translation.
+/// Collective. The largest translation magnitude over the nodes and the Gmsh tag of its node.
+fn largest_translation(ctx: &Context, mesh: &Mesh, disc: &Discretization, u_local: &[f64]) -> (f64, u64) {
     let (mut umax, mut umax_tag) = (0.0f64, 0u64);
-    for (i, &n) in dofs.owned.iter().enumerate() {
+    for (i, &n) in disc.dofs.owned.iter().enumerate() {
         let v = &u_local[6 * i..6 * i + 3];
         let m = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         if m > umax {
@@ -171,37 +252,7 @@ pub fn run(
             umax_tag = mesh.node_tags[n];
         }
     }
-    let (umax, umax_tag) = output::global_max_with_tag(&ctx.comm, umax, umax_tag);
-    log.info(format!("largest displacement: {umax:.6e} m at node {umax_tag}"));
-
-    // Output.
-    let t0 = Instant::now();
-    // The writer checks its arguments across ranks before each collective call, so its errors
-    // are seen by every rank.
-    agree(&ctx.comm, output::write_static_results(ctx, job, mesh, model, &disc, &u_local, &r_owned), Error::exit_code)?;
-    t.output = t0.elapsed().as_secs_f64();
-    log.info(format!("results: {}", job.output_dir.join("results.xdmf").display()));
-
-    let mut tmax = [t.setup, t.assemble, t.solve, t.check, t.output];
-    let local_t = tmax;
-    ctx.comm.all_reduce_into(&local_t[..], &mut tmax[..], SystemOperation::max());
-    let seconds = Timings { setup: tmax[0], assemble: tmax[1], solve: tmax[2], check: tmax[3], output: tmax[4] };
-    Ok(LinearStaticSummary {
-        ranks: ctx.size,
-        nodes: disc.dofs.n_global_nodes,
-        elements: model.cells.len(),
-        equations: 6 * disc.dofs.n_global_nodes,
-        fixed_dofs: count_fixed(model, &disc.dofs),
-        matrix: format!("{format:?}").to_lowercase(),
-        ksp: ksp_desc,
-        iterations: stats.iterations,
-        seconds,
-        equilibrium_residual: residual,
-        applied_sum,
-        reaction_sum,
-        max_displacement: umax,
-        max_displacement_node: umax_tag,
-    })
+    output::global_max_with_tag(&ctx.comm, umax, umax_tag)
 }
 
 fn count_fixed(model: &StructuralModel, dofs: &crate::parallel::DofMap) -> usize {

@@ -11,6 +11,7 @@ pub mod line_search;
 pub mod linear_static;
 pub mod modal;
 pub mod modal_updating;
+mod mode_pairing;
 pub mod newton;
 pub mod nonlocal;
 pub mod output;

@@ -147,8 +147,47 @@ pub fn run_on(
 
     let pairs = phases.time("eigensolve", || lowest_modes(ctx, &k, &m, cfg.modes))?;
     let t_solve = phases.seconds("eigensolve");
+    let Participation { modes, shapes, total_mass } = participation(ctx, disc, &m, pairs)?;
+    log.info(format!(
+        "eigensolve: {t_solve:.3} s; total mass (x, y, z) = ({:.4e}, {:.4e}, {:.4e}) kg",
+        total_mass[0], total_mass[1], total_mass[2]
+    ));
+    log_modes(ctx, &modes, total_mass);
+    phases.time("output", || write_shapes(ctx, job, mesh, model, disc, stem, &modes, &shapes))?;
+    log.info(format!("mode shapes: {}", job.output_dir.join(format!("{stem}.xdmf")).display()));
 
-    // Influence vectors and M ι_d.
+    let summary = ModalSummary {
+        ranks: ctx.size,
+        nodes: disc.dofs.n_global_nodes,
+        elements: model.cells.len(),
+        equations: 6 * disc.dofs.n_global_nodes,
+        mass: format!("{:?}", cfg.mass).to_lowercase(),
+        total_mass,
+        modes,
+        seconds: phases.seconds_of(["setup", "assemble", "eigensolve", "output"]),
+    };
+    Ok((summary, shapes))
+}
+
+/// The modes with their participation, their shapes and the total masses.
+struct Participation {
+    modes: Vec<Mode>,
+    /// Owned values of each mass-normalized mode, in the discretization's numbering.
+    shapes: Vec<Vec<f64>>,
+    /// `ι_dᵀ M ι_d` per direction [kg].
+    total_mass: [f64; 3],
+}
+
+/// Collective. The modes of the eigenpairs `(λ, φ)` (mass-normalized φ) with their
+/// participation: with the influence vectors ι_d (unit translation d at every node), the factor
+/// `Γ_d = φᵀ M ι_d`, the effective mass `Γ_d²` and its cumulative ratio to the total mass
+/// `ι_dᵀ M ι_d`. Also the owned values of each φ, and the total masses.
+fn participation(
+    ctx: &Context,
+    disc: &Discretization,
+    m: &Matrix,
+    pairs: Vec<(f64, Vector)>,
+) -> Result<Participation, Error> {
     let n_owned = disc.dofs.n_owned_dofs();
     let first = (6 * disc.dofs.node_offset()) as i32;
     let idx: Vec<i32> = (0..n_owned as i32).map(|i| first + i).collect();
@@ -189,12 +228,14 @@ pub fn run_on(
         });
         shapes.push(phi.owned_values()?);
     }
-    log.info(format!(
-        "eigensolve: {t_solve:.3} s; total mass (x, y, z) = ({:.4e}, {:.4e}, {:.4e}) kg",
-        total_mass[0], total_mass[1], total_mass[2]
-    ));
+    Ok(Participation { modes, shapes, total_mass })
+}
+
+/// The table of modes: frequency, period, effective mass ratios and their running sums.
+fn log_modes(ctx: &Context, modes: &[Mode], total_mass: [f64; 3]) {
+    let log = &ctx.log;
     log.info("mode  frequency [Hz]   period [s]   eff. mass ratio x     y      z   (cumulative)");
-    for md in &modes {
+    for md in modes {
         log.info(format!(
             "{:4}  {:14.6}  {:11.6}   {:6.3} {:6.3} {:6.3}   ({:.3} {:.3} {:.3})",
             md.mode,
@@ -208,13 +249,26 @@ pub fn run_on(
             md.cumulative_ratio[2]
         ));
     }
+}
 
-    // Mode shapes: one output step per mode, the step's "time" is the mode number.
-    let piece = phases.time("output", || MeshPiece::new(ctx, job, mesh, model, disc));
-    let written: Result<(), Error> = phases.time("output", || {
+/// Collective. The mode shapes in `<stem>.xdmf` + `<stem>.h5`: one output step per mode, the
+/// step's "time" is the mode number.
+#[allow(clippy::too_many_arguments)]
+fn write_shapes(
+    ctx: &Context,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: &Discretization,
+    stem: &str,
+    modes: &[Mode],
+    shapes: &[Vec<f64>],
+) -> Result<(), Error> {
+    let piece = MeshPiece::new(ctx, job, mesh, model, disc);
+    let written: Result<(), Error> = (|| {
         let mut w = ResultsWriter::create(&ctx.comm, &job.output_dir, stem, &piece.view())?;
         let n_nodes = disc.dofs.owned.len();
-        for (md, shape) in modes.iter().zip(&shapes) {
+        for (md, shape) in modes.iter().zip(shapes) {
             w.begin_step(md.mode as f64)?;
             w.write_node_field("mode_translation", 3, &node_triplets(shape, n_nodes, 0))?;
             w.write_node_field("mode_rotation", 3, &node_triplets(shape, n_nodes, 3))?;
@@ -222,19 +276,7 @@ pub fn run_on(
         }
         w.close()?;
         Ok(())
-    });
-    phases.time("output", || agree(&ctx.comm, written, Error::exit_code))?;
-    log.info(format!("mode shapes: {}", job.output_dir.join(format!("{stem}.xdmf")).display()));
-
-    let summary = ModalSummary {
-        ranks: ctx.size,
-        nodes: disc.dofs.n_global_nodes,
-        elements: model.cells.len(),
-        equations: 6 * disc.dofs.n_global_nodes,
-        mass: format!("{:?}", cfg.mass).to_lowercase(),
-        total_mass,
-        modes,
-        seconds: phases.seconds_of(["setup", "assemble", "eigensolve", "output"]),
-    };
-    Ok((summary, shapes))
+    })();
+    agree(&ctx.comm, written, Error::exit_code)?;
+    Ok(())
 }

@@ -19,6 +19,7 @@
 //! pairing by number alone can lock onto the wrong mode.
 use super::assembly;
 use super::modal::lowest_modes;
+use super::mode_pairing::{computed_target_shapes, load_target_shapes, pair_targets, TargetShape};
 use super::Discretization;
 use crate::config::{Job, MaterialConfig, ModalUpdatingConfig};
 use crate::error::Error;
@@ -90,96 +91,6 @@ struct Evaluation {
     paired: Vec<(usize, f64)>,
 }
 
-/// A target shape on this rank's owned DOFs: values (translations, and rotations when the file
-/// has them) and which DOFs it gives.
-struct TargetShape {
-    values: Vec<f64>,
-    given: Vec<bool>,
-}
-
-/// Reads the target shapes (every rank reads the same file) onto the owned DOFs.
-fn load_target_shapes(
-    file: &std::path::Path,
-    cfg: &ModalUpdatingConfig,
-    mesh: &Mesh,
-    disc: &Discretization,
-) -> Result<Vec<TargetShape>, Error> {
-    let err = |what: String| Error::Analysis(format!("target shapes {}: {what}", file.display()));
-    let f = hdf5::File::open(file).map_err(|e| err(e.to_string()))?;
-    let ids: Vec<u64> =
-        f.dataset("mesh/node_ids").and_then(|d| d.read_raw()).map_err(|e| err(format!("mesh/node_ids: {e}")))?;
-    let row: std::collections::HashMap<u64, usize> = ids.iter().enumerate().map(|(i, &t)| (t, i)).collect();
-    let n_owned = disc.dofs.n_owned_dofs();
-    let mut out = Vec::with_capacity(cfg.targets.len());
-    for t in &cfg.targets {
-        let name = format!("steps/{}/mode_translation", t.mode - 1);
-        let v: Vec<f64> = f.dataset(&name).and_then(|d| d.read_raw()).map_err(|e| err(format!("{name}: {e}")))?;
-        if v.len() != 3 * ids.len() {
-            return Err(err(format!("{name} has {} values, expected 3 per node ({})", v.len(), ids.len())));
-        }
-        // Rotations too, when the file has them (a computed mode does; measured shapes rarely).
-        let rot_name = format!("steps/{}/mode_rotation", t.mode - 1);
-        let rot: Option<Vec<f64>> =
-            f.dataset(&rot_name).and_then(|d| d.read_raw()).ok().filter(|r: &Vec<f64>| r.len() == v.len());
-        let mut shape = TargetShape { values: vec![0.0; n_owned], given: vec![false; n_owned] };
-        for (i, &n) in disc.dofs.owned.iter().enumerate() {
-            if let Some(&r) = row.get(&mesh.node_tags[n]) {
-                for d in 0..3 {
-                    shape.values[6 * i + d] = v[3 * r + d];
-                    shape.given[6 * i + d] = true;
-                    if let Some(rot) = &rot {
-                        shape.values[6 * i + 3 + d] = rot[3 * r + d];
-                        shape.given[6 * i + 3 + d] = true;
-                    }
-                }
-            }
-        }
-        out.push(shape);
-    }
-    Ok(out)
-}
-
-/// Collective. MAC of every (target, computed mode) pair, target-major.
-fn mac_matrix(ctx: &Context, shapes: &[TargetShape], modes: &[Vec<f64>]) -> Vec<f64> {
-    use mpi::collective::SystemOperation;
-    use mpi::traits::CommunicatorCollectives;
-    let mut local = Vec::with_capacity(3 * shapes.len() * modes.len());
-    for s in shapes {
-        for phi in modes {
-            let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
-            for i in 0..s.values.len() {
-                if s.given[i] {
-                    ab += s.values[i] * phi[i];
-                    aa += s.values[i] * s.values[i];
-                    bb += phi[i] * phi[i];
-                }
-            }
-            local.extend([ab, aa, bb]);
-        }
-    }
-    let mut sum = vec![0.0; local.len()];
-    ctx.comm.all_reduce_into(&local[..], &mut sum[..], SystemOperation::sum());
-    sum.chunks(3).map(|c| if c[1] > 0.0 && c[2] > 0.0 { c[0] * c[0] / (c[1] * c[2]) } else { 0.0 }).collect()
-}
-
-/// The target shapes from computed modes (owned values in the discretization's numbering, mode
-/// k at index k − 1): each target takes its mode's shape, every DOF given.
-fn computed_target_shapes(cfg: &ModalUpdatingConfig, modes: &[Vec<f64>]) -> Result<Vec<TargetShape>, Error> {
-    cfg.targets
-        .iter()
-        .map(|t| {
-            let values = modes.get(t.mode - 1).cloned().ok_or_else(|| {
-                Error::Analysis(format!(
-                    "modal updating: target mode {} has no computed shape to pair with ({} mode(s))",
-                    t.mode,
-                    modes.len()
-                ))
-            })?;
-            Ok(TargetShape { given: vec![true; values.len()], values })
-        })
-        .collect()
-}
-
 /// Collective. Runs the updating and reports before/after.
 pub fn run(
     ctx: &Context,
@@ -207,24 +118,7 @@ pub fn run_on(
     computed: Option<&[Vec<f64>]>,
 ) -> Result<UpdatingSummary, Error> {
     let log = &ctx.log;
-    let format = job.spec.solver.matrix;
-    let parts = &job.spec.parts;
-    // Part index → parameter index (None: not updated).
-    let param_of: Vec<Option<usize>> =
-        parts.iter().map(|p| cfg.parameters.iter().position(|q| q.group == p.group)).collect();
-    let mut k_rest = disc.new_matrix(ctx, mesh, model, format)?;
-    assembly::assemble_stiffness_of(disc, mesh, model, None, &|p| param_of[p].is_none(), &mut k_rest)?;
-    let mut k_groups = Vec::with_capacity(cfg.parameters.len());
-    for g in 0..cfg.parameters.len() {
-        let mut kg = disc.new_matrix(ctx, mesh, model, format)?;
-        assembly::assemble_stiffness_of(disc, mesh, model, None, &|p| param_of[p] == Some(g), &mut kg)?;
-        k_groups.push(kg);
-    }
-    let mut k = disc.new_matrix(ctx, mesh, model, format)?;
-    assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?; // the full pattern
-    let mut m = disc.new_matrix(ctx, mesh, model, format)?;
-    assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
-
+    let ops = Operators::assemble(ctx, job, cfg, mesh, model, disc)?;
     let shapes = match (&cfg.target_shapes, computed) {
         (Some(file), _) => {
             Some(crate::parallel::agree(&ctx.comm, load_target_shapes(file, cfg, mesh, disc), Error::exit_code)?)
@@ -232,41 +126,126 @@ pub fn run_on(
         (None, Some(modes)) => Some(computed_target_shapes(cfg, modes)?),
         (None, None) => None,
     };
-    let lo: Vec<f64> = cfg.parameters.iter().map(|p| p.min).collect();
-    let hi: Vec<f64> = cfg.parameters.iter().map(|p| p.max).collect();
-    let project = |s: &mut DVector<f64>| {
-        for i in 0..s.len() {
-            s[i] = s[i].clamp(lo[i], hi[i]);
+    let mut problem = Problem { ctx, cfg, ops, shapes, evaluations: 0 };
+
+    let mut s = DVector::from_element(cfg.parameters.len(), 1.0);
+    problem.project(&mut s);
+    let ev = problem.evaluate(&s)?;
+    let before: Vec<f64> = ev.paired.iter().map(|&(j, _)| ev.freqs[j]).collect();
+    let rms_before = rms(&ev.residual);
+    log.info(format!(
+        "modal updating: {} parameter(s), {} target(s); RMS relative error {:.4e}",
+        s.len(),
+        cfg.targets.len(),
+        rms_before
+    ));
+    let fit = levenberg_marquardt(&mut problem, s, ev)?;
+    let rms_after = rms(&fit.ev.residual);
+    let converged = rms_after <= cfg.tolerance;
+    if !converged {
+        log.warn(format!(
+            "modal updating stopped after {} iteration(s) with RMS relative error {rms_after:.3e} > tolerance {:.1e}: \
+             the targets may not be reachable within the bounds, or the parameters may not be identifiable from them",
+            fit.iterations, cfg.tolerance
+        ));
+    }
+    let parameters = updated_parameters(job, cfg, &fit.s);
+    let targets = target_reports(cfg, &before, &fit.ev);
+    log_report(ctx, &targets, &parameters);
+    Ok(UpdatingSummary {
+        iterations: fit.iterations,
+        evaluations: problem.evaluations,
+        rms_error_before: rms_before,
+        rms_error_after: rms_after,
+        converged,
+        parameters,
+        targets,
+        history: fit.history,
+    })
+}
+
+/// RMS of the relative frequency errors.
+fn rms(r: &DVector<f64>) -> f64 {
+    (r.norm_squared() / r.len().max(1) as f64).sqrt()
+}
+
+/// The operators of `K(s) = K_rest + Σ_g s_g K_g` and `M`, with `k` the full pattern that each
+/// evaluation fills.
+struct Operators {
+    k_rest: Matrix,
+    k_groups: Vec<Matrix>,
+    k: Matrix,
+    m: Matrix,
+}
+
+impl Operators {
+    /// Collective. `K_rest` from the parts not updated, `K_g` from each parameter's group, `M`.
+    fn assemble(
+        ctx: &Context,
+        job: &Job,
+        cfg: &ModalUpdatingConfig,
+        mesh: &Mesh,
+        model: &StructuralModel,
+        disc: &mut Discretization,
+    ) -> Result<Operators, Error> {
+        let format = job.spec.solver.matrix;
+        // Part index → parameter index (None: not updated).
+        let param_of: Vec<Option<usize>> =
+            job.spec.parts.iter().map(|p| cfg.parameters.iter().position(|q| q.group == p.group)).collect();
+        let mut k_rest = disc.new_matrix(ctx, mesh, model, format)?;
+        assembly::assemble_stiffness_of(disc, mesh, model, None, &|p| param_of[p].is_none(), &mut k_rest)?;
+        let mut k_groups = Vec::with_capacity(cfg.parameters.len());
+        for g in 0..cfg.parameters.len() {
+            let mut kg = disc.new_matrix(ctx, mesh, model, format)?;
+            assembly::assemble_stiffness_of(disc, mesh, model, None, &|p| param_of[p] == Some(g), &mut kg)?;
+            k_groups.push(kg);
         }
-    };
-    let n_modes = cfg.modes;
-    let mut evaluations = 0;
-    let mut evaluate = |s: &DVector<f64>, k: &mut Matrix| -> Result<Evaluation, Error> {
-        evaluations += 1;
+        let mut k = disc.new_matrix(ctx, mesh, model, format)?;
+        assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?; // the full pattern
+        let mut m = disc.new_matrix(ctx, mesh, model, format)?;
+        assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
+        Ok(Operators { k_rest, k_groups, k, m })
+    }
+}
+
+/// The least-squares problem: residuals and exact Jacobian of the factors `s`, one eigensolve
+/// per evaluation.
+struct Problem<'a> {
+    ctx: &'a Context,
+    cfg: &'a ModalUpdatingConfig,
+    ops: Operators,
+    /// Target shapes to pair by MAC; `None`: pairing by mode number.
+    shapes: Option<Vec<TargetShape>>,
+    /// Eigensolves so far.
+    evaluations: usize,
+}
+
+impl Problem<'_> {
+    /// `s` clamped to the bounds `[min, max]` of each parameter.
+    fn project(&self, s: &mut DVector<f64>) {
+        for (i, p) in self.cfg.parameters.iter().enumerate() {
+            s[i] = s[i].clamp(p.min, p.max);
+        }
+    }
+
+    /// Collective. Frequencies, residuals `r_k = (f_k − f̄_k)/f̄_k` and Jacobian
+    /// `∂r_k/∂s_g = φ_kᵀ K_g φ_k / (8π² f_k f̄_k)` at `s`, the targets paired with modes.
+    fn evaluate(&mut self, s: &DVector<f64>) -> Result<Evaluation, Error> {
+        self.evaluations += 1;
+        let (ctx, cfg) = (self.ctx, self.cfg);
+        let Operators { k_rest, k_groups, k, m } = &mut self.ops;
         k.zero_entries()?;
-        k.axpy(1.0, &k_rest)?;
+        k.axpy(1.0, k_rest)?;
         for (g, kg) in k_groups.iter().enumerate() {
             k.axpy(s[g], kg)?;
         }
-        let pairs = lowest_modes(ctx, k, &m, n_modes)?;
+        let pairs = lowest_modes(ctx, k, m, cfg.modes)?;
         let freqs: Vec<f64> = pairs.iter().map(|(l, _)| l.max(0.0).sqrt() / (2.0 * PI)).collect();
         let nt = cfg.targets.len();
         let mut residual = DVector::zeros(nt);
         let mut jacobian = DMatrix::zeros(nt, k_groups.len());
         let mut kphi: Option<Vector> = None;
-        let paired: Vec<(usize, f64)> = match &shapes {
-            None => cfg.targets.iter().map(|t| (t.mode - 1, 1.0)).collect(),
-            Some(shapes) => {
-                let owned: Vec<Vec<f64>> = pairs.iter().map(|(_, phi)| phi.owned_values()).collect::<Result<_, _>>()?;
-                let mac = mac_matrix(ctx, shapes, &owned);
-                (0..nt)
-                    .map(|i| {
-                        let row = &mac[i * owned.len()..(i + 1) * owned.len()];
-                        row.iter().enumerate().fold((0, -1.0), |b, (j, &m)| if m > b.1 { (j, m) } else { b })
-                    })
-                    .collect()
-            }
-        };
+        let paired = pair_targets(ctx, cfg, self.shapes.as_deref(), &pairs)?;
         for (i, t) in cfg.targets.iter().enumerate() {
             let Some((_, phi)) = pairs.get(paired[i].0) else {
                 return Err(Error::Analysis(format!(
@@ -288,77 +267,86 @@ pub fn run_on(
             }
         }
         Ok(Evaluation { freqs, residual, jacobian, paired })
-    };
-    let rms = |r: &DVector<f64>| (r.norm_squared() / r.len().max(1) as f64).sqrt();
+    }
+}
 
-    let mut s = DVector::from_element(cfg.parameters.len(), 1.0);
-    project(&mut s);
-    let mut ev = evaluate(&s, &mut k)?;
-    let before: Vec<f64> = ev.paired.iter().map(|&(j, _)| ev.freqs[j]).collect();
-    let rms_before = rms(&ev.residual);
-    log.info(format!(
-        "modal updating: {} parameter(s), {} target(s); RMS relative error {:.4e}",
-        s.len(),
-        cfg.targets.len(),
-        rms_before
-    ));
+/// Where the Levenberg–Marquardt iteration ended.
+struct Fit {
+    /// The factors.
+    s: DVector<f64>,
+    /// Their evaluation.
+    ev: Evaluation,
+    /// Accepted steps.
+    iterations: usize,
+    /// RMS relative error before and after each accepted step.
+    history: Vec<f64>,
+}
+
+/// Collective. Levenberg–Marquardt from `s` (evaluated as `ev`) until the RMS error is within
+/// the tolerance, the iterations are spent, or no step decreases the cost.
+fn levenberg_marquardt(problem: &mut Problem, mut s: DVector<f64>, mut ev: Evaluation) -> Result<Fit, Error> {
+    let cfg = problem.cfg;
     let mut mu = 1e-3;
-    let mut history = vec![rms_before];
+    let mut history = vec![rms(&ev.residual)];
     let mut iterations = 0;
     while iterations < cfg.max_iterations && rms(&ev.residual) > cfg.tolerance {
-        let jtj = ev.jacobian.transpose() * &ev.jacobian;
-        let jtr = ev.jacobian.transpose() * &ev.residual;
-        let mut accepted = false;
-        for _ in 0..12 {
-            let mut a = jtj.clone();
-            for i in 0..a.nrows() {
-                a[(i, i)] += mu * jtj[(i, i)].max(1e-12);
-            }
-            let Some(delta) = a.cholesky().map(|c| c.solve(&(-&jtr))) else {
-                mu *= 4.0;
-                continue;
-            };
-            let mut trial = &s + delta;
-            project(&mut trial);
-            if (&trial - &s).norm() < 1e-14 {
-                break;
-            }
-            let ev_trial = evaluate(&trial, &mut k)?;
-            if ev_trial.residual.norm_squared() < ev.residual.norm_squared() {
-                s = trial;
-                ev = ev_trial;
-                mu = (mu / 3.0).max(1e-12);
-                accepted = true;
-                break;
-            }
-            mu *= 4.0;
-        }
-        if !accepted {
-            break;
-        }
+        let Some((trial, ev_trial)) = lm_step(problem, &s, &ev, &mut mu)? else { break };
+        s = trial;
+        ev = ev_trial;
         iterations += 1;
         history.push(rms(&ev.residual));
-        log.info(format!(
+        problem.ctx.log.info(format!(
             "  iteration {iterations}: RMS relative error {:.4e}; factors {:?}",
             rms(&ev.residual),
             s.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>()
         ));
     }
-    let rms_after = rms(&ev.residual);
-    let converged = rms_after <= cfg.tolerance;
-    if !converged {
-        log.warn(format!(
-            "modal updating stopped after {iterations} iteration(s) with RMS relative error {rms_after:.3e} > tolerance {:.1e}: \
-             the targets may not be reachable within the bounds, or the parameters may not be identifiable from them",
-            cfg.tolerance
-        ));
+    Ok(Fit { s, ev, iterations, history })
+}
+
+/// Collective. One Levenberg–Marquardt step from `s`: `(JᵀJ + μ diag JᵀJ) δ = −Jᵀ r`, projected
+/// onto the bounds, accepted when the cost decreases (μ ÷ 3), else retried with μ × 4, up to 12
+/// tries. `None` when no try decreased the cost or the projected step vanished.
+fn lm_step(
+    problem: &mut Problem,
+    s: &DVector<f64>,
+    ev: &Evaluation,
+    mu: &mut f64,
+) -> Result<Option<(DVector<f64>, Evaluation)>, Error> {
+    let jtj = ev.jacobian.transpose() * &ev.jacobian;
+    let jtr = ev.jacobian.transpose() * &ev.residual;
+    for _ in 0..12 {
+        let mut a = jtj.clone();
+        for i in 0..a.nrows() {
+            a[(i, i)] += *mu * jtj[(i, i)].max(1e-12);
+        }
+        let Some(delta) = a.cholesky().map(|c| c.solve(&(-&jtr))) else {
+            *mu *= 4.0;
+            continue;
+        };
+        let mut trial = s + delta;
+        problem.project(&mut trial);
+        if (&trial - s).norm() < 1e-14 {
+            return Ok(None);
+        }
+        let ev_trial = problem.evaluate(&trial)?;
+        if ev_trial.residual.norm_squared() < ev.residual.norm_squared() {
+            *mu = (*mu / 3.0).max(1e-12);
+            return Ok(Some((trial, ev_trial)));
+        }
+        *mu *= 4.0;
     }
-    let parameters = cfg
-        .parameters
+    Ok(None)
+}
+
+/// The fitted factors with their groups' moduli before and after, and whether each ended on a
+/// bound.
+fn updated_parameters(job: &Job, cfg: &ModalUpdatingConfig, s: &DVector<f64>) -> Vec<UpdatedParameter> {
+    cfg.parameters
         .iter()
         .enumerate()
         .map(|(g, p)| {
-            let part = parts.iter().find(|q| q.group == p.group);
+            let part = job.spec.parts.iter().find(|q| q.group == p.group);
             let e = part
                 .and_then(|q| job.spec.materials.get(&q.material))
                 .and_then(MaterialConfig::young_modulus)
@@ -371,9 +359,13 @@ pub fn run_on(
                 at_bound: s[g] <= p.min * (1.0 + 1e-12) || s[g] >= p.max * (1.0 - 1e-12),
             }
         })
-        .collect::<Vec<_>>();
-    let targets = cfg
-        .targets
+        .collect()
+}
+
+/// Each target's frequency before (`before`, paired at the start) and after (`ev`), with its
+/// final pairing.
+fn target_reports(cfg: &ModalUpdatingConfig, before: &[f64], ev: &Evaluation) -> Vec<TargetReport> {
+    cfg.targets
         .iter()
         .enumerate()
         .map(|(i, t)| TargetReport {
@@ -384,9 +376,14 @@ pub fn run_on(
             paired_mode: ev.paired[i].0 + 1,
             mac: ev.paired[i].1,
         })
-        .collect::<Vec<_>>();
+        .collect()
+}
+
+/// The tables of targets and of parameters, before and after.
+fn log_report(ctx: &Context, targets: &[TargetReport], parameters: &[UpdatedParameter]) {
+    let log = &ctx.log;
     log.info("target  [Hz]          before [Hz]   after [Hz]   error after   paired mode   MAC");
-    for t in &targets {
+    for t in targets {
         log.info(format!(
             "{:4}  {:12.6}  {:12.6}  {:11.6}   {:+.3e}   {:6}      {:.4}",
             t.mode,
@@ -399,7 +396,7 @@ pub fn run_on(
         ));
     }
     log.info("group                factor     E before [Pa]   E after [Pa]");
-    for p in &parameters {
+    for p in parameters {
         log.info(format!(
             "{:20} {:8.5}   {:13.5e}   {:12.5e}{}",
             p.group,
@@ -409,14 +406,4 @@ pub fn run_on(
             if p.at_bound { "   (at a bound)" } else { "" }
         ));
     }
-    Ok(UpdatingSummary {
-        iterations,
-        evaluations,
-        rms_error_before: rms_before,
-        rms_error_after: rms_after,
-        converged,
-        parameters,
-        targets,
-        history,
-    })
 }

@@ -246,7 +246,22 @@ pub fn scheme_parameters(d: &DynamicsConfig) -> (f64, f64, f64) {
 
 /// Checks `[dynamics]` and reads its records (paths relative to `folder`). Errors name the key.
 pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Result<(), ConfigError> {
-    let at = |k: &str| vec![Seg::key("dynamics"), Seg::key(k)];
+    check_time_and_scheme(src, d)?;
+    check_iterations_and_output(src, d)?;
+    check_damping(src, &d.damping)?;
+    read_ground_motions(src, folder, d)?;
+    check_monitors(src, &d.monitor)?;
+    let c = &d.checkpoint;
+    if !(c.every_minutes.is_finite() && c.every_minutes >= 0.0) {
+        return Err(src.error_at(&Seg::path(&["dynamics", "checkpoint", "every_minutes"]), "expected minutes >= 0"));
+    }
+    Ok(())
+}
+
+/// The time step and duration, and the scheme's parameters after defaults: HHT α in
+/// [−1/3, 0], and Newmark's β, γ within its unconditional stability.
+fn check_time_and_scheme(src: &Source, d: &DynamicsConfig) -> Result<(), ConfigError> {
+    let at = |k: &str| Seg::path(&["dynamics", k]);
     if !(d.dt.is_finite() && d.dt > 0.0) {
         return Err(src.error_at(&at("dt"), format!("expected a time step > 0 [s], got {}", d.dt)));
     }
@@ -277,6 +292,13 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
             ),
         ));
     }
+    Ok(())
+}
+
+/// The Newton iteration's settings (iterations, subspace, tolerance, halvings) and the output
+/// and gravity step counts.
+fn check_iterations_and_output(src: &Source, d: &DynamicsConfig) -> Result<(), ConfigError> {
+    let at = |k: &str| Seg::path(&["dynamics", k]);
     if d.max_iterations == 0 {
         return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
     }
@@ -300,8 +322,12 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     if d.gravity_steps == 0 {
         return Err(src.error_at(&at("gravity_steps"), "expected at least 1"));
     }
-    let dam = &d.damping;
-    let dat = |k: &str| vec![Seg::key("dynamics"), Seg::key("damping"), Seg::key(k)];
+    Ok(())
+}
+
+/// `[dynamics.damping]`: two frequencies with a ratio, or the Rayleigh coefficients (≥ 0).
+fn check_damping(src: &Source, dam: &DampingConfig) -> Result<(), ConfigError> {
+    let dat = |k: &str| Seg::path(&["dynamics", "damping", k]);
     match (dam.frequencies, dam.ratio, dam.alpha, dam.beta) {
         (None, None, _, _) => {
             for (k, v) in [("alpha", dam.alpha), ("beta", dam.beta)] {
@@ -324,11 +350,17 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         }
         _ => {
             return Err(src.error_at(
-                &[Seg::key("dynamics"), Seg::key("damping")],
+                &Seg::path(&["dynamics", "damping"]),
                 "give either frequencies = [f1, f2] with ratio, or alpha and/or beta",
             ))
         }
     }
+    Ok(())
+}
+
+/// `[[dynamics.ground_motion]]`: one to three components in distinct directions, each record
+/// read, scaled and long enough for the duration, kept in its `record`.
+fn read_ground_motions(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Result<(), ConfigError> {
     if d.ground_motion.is_empty() {
         return Err(
             src.error_at(&[Seg::key("dynamics")], "a time history needs at least one [[dynamics.ground_motion]]")
@@ -353,12 +385,18 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
             .map_err(|e| src.error_at(&at("file"), format!("{e} (dynamics.duration = {duration} s)")))?;
         d.ground_motion[i].record = Some(record);
     }
-    for (i, m) in d.monitor.iter().enumerate() {
+    Ok(())
+}
+
+/// `[[dynamics.monitor]]`: distinct names fit for a CSV header and a file name; a node, or a
+/// group with a point.
+fn check_monitors(src: &Source, monitors: &[MonitorConfig]) -> Result<(), ConfigError> {
+    for (i, m) in monitors.iter().enumerate() {
         let at = |k: &str| vec![Seg::key("dynamics"), Seg::key("monitor"), Seg::Index(i), Seg::key(k)];
         if m.name.is_empty() || m.name.contains([',', '/', '\\', '"']) {
             return Err(src.error_at(&at("name"), "expected a non-empty name without , / \\ or quotes"));
         }
-        if d.monitor[..i].iter().any(|o| o.name == m.name) {
+        if monitors[..i].iter().any(|o| o.name == m.name) {
             return Err(src.error_at(&at("name"), format!("monitor '{}' is given twice", m.name)));
         }
         match (m.node, &m.group, m.near) {
@@ -370,13 +408,6 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
                 ))
             }
         }
-    }
-    let c = &d.checkpoint;
-    if !(c.every_minutes.is_finite() && c.every_minutes >= 0.0) {
-        return Err(src.error_at(
-            &[Seg::key("dynamics"), Seg::key("checkpoint"), Seg::key("every_minutes")],
-            "expected minutes >= 0",
-        ));
     }
     Ok(())
 }

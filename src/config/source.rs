@@ -18,6 +18,11 @@ impl Seg {
     pub fn key(k: &str) -> Seg {
         Seg::Key(k.to_string())
     }
+
+    /// The path of nested table keys: `Seg::path(&["analysis", "control"])` is `analysis.control`.
+    pub fn path(keys: &[&str]) -> Vec<Seg> {
+        keys.iter().map(|k| Seg::key(k)).collect()
+    }
 }
 
 /// Formats a key path the way a user writes it: `parts[2].group`.

@@ -1,14 +1,29 @@
 //! Checks of a job file that need no mesh: positive moduli and sections, names that resolve.
+//!
+//! [`validate_structural`] runs the checks table by table, in the file's order of concern
+//! (materials, sections, the analysis, parts, supports, loads, masses, gravity, solver options),
+//! and returns the first problem found.
 use super::analysis::*;
 use super::job::*;
 use super::source::{Seg, Source};
 use super::ConfigError;
+use std::collections::BTreeMap;
 
 fn positive(src: &Source, path: &[Seg], what: &str, v: f64) -> Result<(), ConfigError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
         Err(src.error_at(path, format!("{what} must be a finite number > 0, got {v}")))
+    }
+}
+
+/// `Ok` when `v` is finite and ≥ 0 (a density, a mass, a pretension), else the error at `path`
+/// with `message`.
+fn non_negative(src: &Source, path: &[Seg], v: f64, message: impl FnOnce() -> String) -> Result<(), ConfigError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(src.error_at(path, message()))
     }
 }
 
@@ -20,7 +35,7 @@ fn finite3(src: &Source, path: &[Seg], v: &[f64; 3]) -> Result<(), ConfigError> 
     }
 }
 
-fn names<T>(m: &std::collections::BTreeMap<String, T>) -> String {
+fn names<T>(m: &BTreeMap<String, T>) -> String {
     if m.is_empty() {
         "none is defined".to_string()
     } else {
@@ -44,185 +59,202 @@ fn has_mass(job: &StructuralJobFile) -> bool {
 /// Validates a structural job file; the first problem found is returned.
 pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
     for (name, m) in &job.materials {
-        let at = |k: &str| vec![Seg::key("materials"), Seg::key(name), Seg::key(k)];
-        match m {
-            MaterialConfig::Elastic(ElasticMaterial { e, nu, g, density }) => {
-                positive(src, &at("E"), "Young's modulus E [Pa]", *e)?;
-                match (nu, g) {
-                    (Some(_), Some(_)) => return Err(src.error_at(&at("G"), "give either nu or G, not both")),
-                    (None, None) => {
-                        return Err(src.error_at(
-                            &[Seg::key("materials"), Seg::key(name)],
-                            "an elastic material needs nu (Poisson ratio) or G (shear modulus [Pa])",
-                        ))
-                    }
-                    (Some(nu), None) => {
-                        if !(nu.is_finite() && *nu > -1.0 && *nu < 0.5) {
-                            return Err(
-                                src.error_at(&at("nu"), format!("Poisson ratio nu must lie in (-1, 0.5), got {nu}"))
-                            );
-                        }
-                    }
-                    (None, Some(g)) => positive(src, &at("G"), "shear modulus G [Pa]", *g)?,
-                }
-                if !(density.is_finite() && *density >= 0.0) {
-                    return Err(src.error_at(
-                        &at("density"),
-                        format!("density [kg/m^3] must be a finite number >= 0, got {density}"),
-                    ));
-                }
-            }
-            MaterialConfig::Damage(d) => {
-                if !(d.density.is_finite() && d.density >= 0.0) {
-                    return Err(src.error_at(
-                        &at("density"),
-                        format!("density [kg/m^3] must be a finite number >= 0, got {}", d.density),
-                    ));
-                }
-                match (&d.law, &d.law_file) {
-                    (Some(_), Some(_)) => {
-                        return Err(src.error_at(&at("law_file"), "give either [law] or law_file, not both"))
-                    }
-                    (None, None) => {
-                        return Err(src.error_at(
-                            &[Seg::key("materials"), Seg::key(name)],
-                            "a damage material needs its [law] table or a law_file",
-                        ))
-                    }
-                    (Some(law), None) => law.validate().map_err(|e| src.error_at(&at("law"), e.to_string()))?,
-                    (None, Some(_)) => {} // read and validated when the job is loaded
-                }
-            }
-        }
+        validate_material(src, name, m)?;
     }
     for (name, s) in &job.sections {
-        let at = |k: &str| vec![Seg::key("sections"), Seg::key(name), Seg::key(k)];
-        match s {
-            SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j, nonstructural_mass }) => {
-                positive(src, &at("area"), "section area [m^2]", *area)?;
-                positive(src, &at("iy"), "second moment iy [m^4]", *iy)?;
-                positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
-                positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
-                if !(nonstructural_mass.is_finite() && *nonstructural_mass >= 0.0) {
-                    return Err(src.error_at(
-                        &at("nonstructural_mass"),
-                        format!("expected a finite mass per length >= 0 [kg/m], got {nonstructural_mass}"),
-                    ));
+        validate_section(src, name, s)?;
+    }
+    validate_analysis(src, job)?;
+    validate_parts(src, job)?;
+    validate_supports_and_loads(src, job)?;
+    for (i, m) in job.masses.iter().enumerate() {
+        validate_point_mass(src, i, m)?;
+    }
+    if let Some(g) = &job.gravity {
+        finite3(src, &Seg::path(&["gravity", "acceleration"]), &g.acceleration)?;
+    }
+    validate_petsc_options(src, &job.solver.petsc)
+}
+
+/// `[materials.NAME]`: an elastic material's moduli and density, or a damage material's
+/// density and its law (inline, checked here, or in a file, checked when the job is loaded).
+fn validate_material(src: &Source, name: &str, m: &MaterialConfig) -> Result<(), ConfigError> {
+    let table = Seg::path(&["materials", name]);
+    let at = |k: &str| Seg::path(&["materials", name, k]);
+    match m {
+        MaterialConfig::Elastic(ElasticMaterial { e, nu, g, density }) => {
+            positive(src, &at("E"), "Young's modulus E [Pa]", *e)?;
+            match (nu, g) {
+                (Some(_), Some(_)) => return Err(src.error_at(&at("G"), "give either nu or G, not both")),
+                (None, None) => {
+                    return Err(
+                        src.error_at(&table, "an elastic material needs nu (Poisson ratio) or G (shear modulus [Pa])")
+                    )
                 }
-            }
-            SectionConfig::Fiber(f) => {
-                positive(src, &at("width"), "section width [m]", f.width)?;
-                positive(src, &at("height"), "section height [m]", f.height)?;
-                let max = crate::element::MAX_FIBERS_PER_SIDE;
-                for (k, n) in [("ny", f.ny), ("nz", f.nz)] {
-                    if n < 2 || n > max {
-                        return Err(src.error_at(&at(k), format!("expected 2 to {max} fibers (one fiber across a side has no bending stiffness), got {n}")));
+                (Some(nu), None) => {
+                    if !(nu.is_finite() && *nu > -1.0 && *nu < 0.5) {
+                        return Err(
+                            src.error_at(&at("nu"), format!("Poisson ratio nu must lie in (-1, 0.5), got {nu}"))
+                        );
                     }
                 }
-                if !(2..=5).contains(&f.integration_points) {
+                (None, Some(g)) => positive(src, &at("G"), "shear modulus G [Pa]", *g)?,
+            }
+            non_negative(src, &at("density"), *density, || {
+                format!("density [kg/m^3] must be a finite number >= 0, got {density}")
+            })
+        }
+        MaterialConfig::Damage(d) => {
+            non_negative(src, &at("density"), d.density, || {
+                format!("density [kg/m^3] must be a finite number >= 0, got {}", d.density)
+            })?;
+            match (&d.law, &d.law_file) {
+                (Some(_), Some(_)) => Err(src.error_at(&at("law_file"), "give either [law] or law_file, not both")),
+                (None, None) => Err(src.error_at(&table, "a damage material needs its [law] table or a law_file")),
+                (Some(law), None) => law.validate().map_err(|e| src.error_at(&at("law"), e.to_string())),
+                (None, Some(_)) => Ok(()), // read and validated when the job is loaded
+            }
+        }
+    }
+}
+
+/// `[sections.NAME]`: positive dimensions, fiber and layer counts in range, non-negative
+/// non-structural masses and pretensions.
+fn validate_section(src: &Source, name: &str, s: &SectionConfig) -> Result<(), ConfigError> {
+    let at = |k: &str| Seg::path(&["sections", name, k]);
+    let mass_per = |v: f64, per: &str, unit: &str| {
+        non_negative(src, &at("nonstructural_mass"), v, || {
+            format!("expected a finite mass per {per} >= 0 [{unit}], got {v}")
+        })
+    };
+    match s {
+        SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j, nonstructural_mass }) => {
+            positive(src, &at("area"), "section area [m^2]", *area)?;
+            positive(src, &at("iy"), "second moment iy [m^4]", *iy)?;
+            positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
+            positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
+            mass_per(*nonstructural_mass, "length", "kg/m")
+        }
+        SectionConfig::Fiber(f) => {
+            positive(src, &at("width"), "section width [m]", f.width)?;
+            positive(src, &at("height"), "section height [m]", f.height)?;
+            let max = crate::element::MAX_FIBERS_PER_SIDE;
+            for (k, n) in [("ny", f.ny), ("nz", f.nz)] {
+                if n < 2 || n > max {
                     return Err(src.error_at(
-                        &at("integration_points"),
-                        format!("expected 2 to 5 Gauss points, got {}", f.integration_points),
+                        &at(k),
+                        format!(
+                            "expected 2 to {max} fibers (one fiber across a side has no bending stiffness), got {n}"
+                        ),
                     ));
                 }
-                if let Some(j) = f.torsion_constant {
-                    positive(src, &at("torsion_constant"), "torsion constant [m^4]", j)?;
-                }
-                if !(f.nonstructural_mass.is_finite() && f.nonstructural_mass >= 0.0) {
-                    return Err(src.error_at(
-                        &at("nonstructural_mass"),
-                        format!("expected a finite mass per length >= 0 [kg/m], got {}", f.nonstructural_mass),
-                    ));
-                }
             }
-            SectionConfig::Tie(TieSectionConfig { area, pretension, .. }) => {
-                positive(src, &at("area"), &format!("area [m^2] of tie section '{name}'"), *area)?;
-                if !(pretension.is_finite() && *pretension >= 0.0) {
-                    return Err(src.error_at(
-                        &at("pretension"),
-                        format!("pretension [N] of tie section '{name}' must be a finite number >= 0 (tension positive), got {pretension}"),
-                    ));
-                }
+            if !(2..=5).contains(&f.integration_points) {
+                return Err(src.error_at(
+                    &at("integration_points"),
+                    format!("expected 2 to 5 Gauss points, got {}", f.integration_points),
+                ));
             }
-            SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
-                positive(src, &at("thickness"), "shell thickness [m]", *thickness)?;
-                if *layers == 0 || *layers > 99 {
-                    return Err(src.error_at(&at("layers"), format!("expected 1 to 99 layers, got {layers}")));
-                }
-                if !(nonstructural_mass.is_finite() && *nonstructural_mass >= 0.0) {
-                    return Err(src.error_at(
-                        &at("nonstructural_mass"),
-                        format!("expected a finite mass per area >= 0 [kg/m^2], got {nonstructural_mass}"),
-                    ));
-                }
+            if let Some(j) = f.torsion_constant {
+                positive(src, &at("torsion_constant"), "torsion constant [m^4]", j)?;
             }
+            mass_per(f.nonstructural_mass, "length", "kg/m")
+        }
+        SectionConfig::Tie(TieSectionConfig { area, pretension, .. }) => {
+            positive(src, &at("area"), &format!("area [m^2] of tie section '{name}'"), *area)?;
+            non_negative(src, &at("pretension"), *pretension, || {
+                format!("pretension [N] of tie section '{name}' must be a finite number >= 0 (tension positive), got {pretension}")
+            })
+        }
+        SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
+            positive(src, &at("thickness"), "shell thickness [m]", *thickness)?;
+            if *layers == 0 || *layers > 99 {
+                return Err(src.error_at(&at("layers"), format!("expected 1 to 99 layers, got {layers}")));
+            }
+            mass_per(*nonstructural_mass, "area", "kg/m^2")
         }
     }
-    if let AnalysisConfig::Modal(m) = &job.analysis {
-        if m.modes == 0 {
-            return Err(src.error_at(&[Seg::key("analysis"), Seg::key("modes")], "expected at least 1 mode"));
+}
+
+/// `[analysis]`: what each analysis type needs beyond its defaults (modes and mass, load
+/// steps and tolerances, updating targets, the assessment's stages).
+fn validate_analysis(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
+    match &job.analysis {
+        AnalysisConfig::Modal(m) => {
+            if m.modes == 0 {
+                return Err(src.error_at(&Seg::path(&["analysis", "modes"]), "expected at least 1 mode"));
+            }
+            if !has_mass(job) {
+                return Err(src.error_at(
+                    &Seg::path(&["materials"]),
+                    "a modal analysis needs mass: give at least one material a density > 0 (or a non-structural or point mass)",
+                ));
+            }
+            Ok(())
         }
-        if !has_mass(job) {
-            return Err(src.error_at(
-                &[Seg::key("materials")],
-                "a modal analysis needs mass: give at least one material a density > 0 (or a non-structural or point mass)",
-            ));
-        }
+        AnalysisConfig::StaticNonlinear(c) => validate_static_nonlinear(src, c),
+        AnalysisConfig::ModalUpdating(u) => validate_updating(src, job, u, &Seg::path(&["analysis"])),
+        AnalysisConfig::SeismicAssessment(a) => super::assessment::validate_assessment(src, job, a),
+        _ => Ok(()),
     }
-    if let AnalysisConfig::StaticNonlinear(c) = &job.analysis {
-        let at = |k: &str| vec![Seg::key("analysis"), Seg::key(k)];
-        if c.steps == 0 {
-            return Err(src.error_at(&at("steps"), "expected at least 1 load step"));
-        }
-        if c.max_iterations == 0 {
-            return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
-        }
-        positive(src, &at("force_tolerance"), "force tolerance", c.force_tolerance)?;
-        positive(src, &at("energy_tolerance"), "energy tolerance", c.energy_tolerance)?;
-        if let Some(tau) = c.damage_relaxation_time {
-            positive(src, &at("damage_relaxation_time"), "damage relaxation time", tau)?;
-        }
-        if let Some(r) = c.nonlocal_radius {
-            positive(src, &at("nonlocal_radius"), "nonlocal radius (m)", r)?;
-        }
-        if let Some(ctl) = &c.control {
-            let at = |k: &str| vec![Seg::key("analysis"), Seg::key("control"), Seg::key(k)];
-            match (&ctl.group, &ctl.node) {
-                (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
-                (None, None) => {
-                    return Err(src.error_at(
-                        &[Seg::key("analysis"), Seg::key("control")],
-                        "the control needs a group or a node (Gmsh node tag)",
-                    ))
-                }
-                _ => {}
-            }
-            if matches!(ctl.dof, DofName::All) {
-                return Err(src.error_at(&at("dof"), "expected one DOF: ux, uy, uz, rx, ry or rz"));
-            }
-            if !(ctl.target.is_finite() && ctl.target != 0.0) {
-                return Err(
-                    src.error_at(&at("target"), format!("expected a finite, non-zero target, got {}", ctl.target))
-                );
-            }
-            if ctl.steps == 0 {
-                return Err(src.error_at(&at("steps"), "expected at least 1 step"));
-            }
-            for (i, p) in ctl.pattern.iter().enumerate() {
-                let at = |k: &str| {
-                    vec![Seg::key("analysis"), Seg::key("control"), Seg::key("pattern"), Seg::Index(i), Seg::key(k)]
-                };
-                finite3(src, &at("force"), &p.force)?;
-                finite3(src, &at("moment"), &p.moment)?;
-            }
-        }
+}
+
+/// `[analysis] type = "static_nonlinear"`: steps, iterations and tolerances, the optional
+/// regularizations, and the displacement control.
+fn validate_static_nonlinear(src: &Source, c: &StaticNonlinearConfig) -> Result<(), ConfigError> {
+    let at = |k: &str| Seg::path(&["analysis", k]);
+    if c.steps == 0 {
+        return Err(src.error_at(&at("steps"), "expected at least 1 load step"));
     }
-    if let AnalysisConfig::ModalUpdating(u) = &job.analysis {
-        validate_updating(src, job, u, &[Seg::key("analysis")])?;
+    if c.max_iterations == 0 {
+        return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
     }
-    if let AnalysisConfig::SeismicAssessment(a) = &job.analysis {
-        super::assessment::validate_assessment(src, job, a)?;
+    positive(src, &at("force_tolerance"), "force tolerance", c.force_tolerance)?;
+    positive(src, &at("energy_tolerance"), "energy tolerance", c.energy_tolerance)?;
+    if let Some(tau) = c.damage_relaxation_time {
+        positive(src, &at("damage_relaxation_time"), "damage relaxation time", tau)?;
     }
+    if let Some(r) = c.nonlocal_radius {
+        positive(src, &at("nonlocal_radius"), "nonlocal radius (m)", r)?;
+    }
+    match &c.control {
+        Some(ctl) => validate_control(src, ctl),
+        None => Ok(()),
+    }
+}
+
+/// `[analysis.control]`: a group or a node, one DOF, a non-zero target, and a finite pattern.
+fn validate_control(src: &Source, ctl: &DisplacementControlConfig) -> Result<(), ConfigError> {
+    let at = |k: &str| Seg::path(&["analysis", "control", k]);
+    match (&ctl.group, &ctl.node) {
+        (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
+        (None, None) => {
+            return Err(src
+                .error_at(&Seg::path(&["analysis", "control"]), "the control needs a group or a node (Gmsh node tag)"))
+        }
+        _ => {}
+    }
+    if matches!(ctl.dof, DofName::All) {
+        return Err(src.error_at(&at("dof"), "expected one DOF: ux, uy, uz, rx, ry or rz"));
+    }
+    if !(ctl.target.is_finite() && ctl.target != 0.0) {
+        return Err(src.error_at(&at("target"), format!("expected a finite, non-zero target, got {}", ctl.target)));
+    }
+    if ctl.steps == 0 {
+        return Err(src.error_at(&at("steps"), "expected at least 1 step"));
+    }
+    for (i, p) in ctl.pattern.iter().enumerate() {
+        let at =
+            |k: &str| vec![Seg::key("analysis"), Seg::key("control"), Seg::key("pattern"), Seg::Index(i), Seg::key(k)];
+        finite3(src, &at("force"), &p.force)?;
+        finite3(src, &at("moment"), &p.moment)?;
+    }
+    Ok(())
+}
+
+/// `[[parts]]`: at least one; each names a section and a material that exist and suit each
+/// other, and a finite, non-zero orientation where one is allowed.
+fn validate_parts(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
     if job.parts.is_empty() {
         return Err(
             src.error_at(&[], "the job has no [[parts]]: map at least one physical group to a section and a material")
@@ -230,32 +262,31 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
     }
     for (i, p) in job.parts.iter().enumerate() {
         let at = |k: &str| vec![Seg::key("parts"), Seg::Index(i), Seg::key(k)];
-        if !job.sections.contains_key(&p.section) {
+        let Some(section) = job.sections.get(&p.section) else {
             return Err(
                 src.error_at(&at("section"), format!("no section named '{}' ({})", p.section, names(&job.sections)))
             );
-        }
-        if !job.materials.contains_key(&p.material) {
+        };
+        let Some(material) = job.materials.get(&p.material) else {
             return Err(src
                 .error_at(&at("material"), format!("no material named '{}' ({})", p.material, names(&job.materials))));
+        };
+        match (section, material) {
+            (SectionConfig::Frame(_), MaterialConfig::Damage(_)) => {
+                return Err(src.error_at(
+                    &at("material"),
+                    format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers and fiber sections)", p.section, p.material),
+                ));
+            }
+            (SectionConfig::Tie(_), MaterialConfig::Damage(_)) => {
+                return Err(src.error_at(
+                    &at("material"),
+                    format!("tie section '{}' needs an elastic material (type = \"elastic\": E, density); '{}' is a damage material", p.section, p.material),
+                ));
+            }
+            _ => {}
         }
-        if let (SectionConfig::Frame(_), MaterialConfig::Damage(_)) =
-            (&job.sections[&p.section], &job.materials[&p.material])
-        {
-            return Err(src.error_at(
-                &at("material"),
-                format!("frame section '{}' needs an elastic material; '{}' is a damage material (damage goes in shell layers and fiber sections)", p.section, p.material),
-            ));
-        }
-        if let (SectionConfig::Tie(_), MaterialConfig::Damage(_)) =
-            (&job.sections[&p.section], &job.materials[&p.material])
-        {
-            return Err(src.error_at(
-                &at("material"),
-                format!("tie section '{}' needs an elastic material (type = \"elastic\": E, density); '{}' is a damage material", p.section, p.material),
-            ));
-        }
-        if let (SectionConfig::Tie(_), Some(_)) = (&job.sections[&p.section], &p.orientation) {
+        if let (SectionConfig::Tie(_), Some(_)) = (section, &p.orientation) {
             return Err(src.error_at(
                 &at("orientation"),
                 format!(
@@ -271,6 +302,11 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             }
         }
     }
+    Ok(())
+}
+
+/// `[[supports]]` fix at least one DOF; `[[loads]]` are finite.
+fn validate_supports_and_loads(src: &Source, job: &StructuralJobFile) -> Result<(), ConfigError> {
     for (i, s) in job.supports.iter().enumerate() {
         if s.dofs.is_empty() {
             return Err(src.error_at(
@@ -287,35 +323,38 @@ pub fn validate_structural(src: &Source, job: &StructuralJobFile) -> Result<(), 
             }
         }
     }
-    for (i, m) in job.masses.iter().enumerate() {
-        let at = |k: &str| vec![Seg::key("masses"), Seg::Index(i), Seg::key(k)];
-        match (&m.group, &m.node) {
-            (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
-            (None, None) => {
-                return Err(src.error_at(
-                    &[Seg::key("masses"), Seg::Index(i)],
-                    "a point mass needs a group or a node (Gmsh node tag)",
-                ))
-            }
-            _ => {}
-        }
-        if !(m.mass.is_finite() && m.mass >= 0.0) {
-            return Err(src.error_at(&at("mass"), format!("expected a finite mass >= 0 [kg], got {}", m.mass)));
-        }
-        if m.rotary_inertia.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+    Ok(())
+}
+
+/// `[[masses]]` entry `i`: a group or a node, a mass and inertias that are finite and ≥ 0.
+fn validate_point_mass(src: &Source, i: usize, m: &PointMassConfig) -> Result<(), ConfigError> {
+    let at = |k: &str| vec![Seg::key("masses"), Seg::Index(i), Seg::key(k)];
+    match (&m.group, &m.node) {
+        (Some(_), Some(_)) => return Err(src.error_at(&at("node"), "give either group or node, not both")),
+        (None, None) => {
             return Err(src.error_at(
-                &at("rotary_inertia"),
-                format!("expected three finite inertias >= 0 [kg m^2], got {:?}", m.rotary_inertia),
-            ));
+                &[Seg::key("masses"), Seg::Index(i)],
+                "a point mass needs a group or a node (Gmsh node tag)",
+            ))
         }
+        _ => {}
     }
-    if let Some(g) = &job.gravity {
-        finite3(src, &[Seg::key("gravity"), Seg::key("acceleration")], &g.acceleration)?;
+    non_negative(src, &at("mass"), m.mass, || format!("expected a finite mass >= 0 [kg], got {}", m.mass))?;
+    if m.rotary_inertia.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+        return Err(src.error_at(
+            &at("rotary_inertia"),
+            format!("expected three finite inertias >= 0 [kg m^2], got {:?}", m.rotary_inertia),
+        ));
     }
-    for (k, v) in &job.solver.petsc {
+    Ok(())
+}
+
+/// `[solver.petsc]`: every option value is a string, a number or a boolean.
+fn validate_petsc_options(src: &Source, petsc: &BTreeMap<String, toml::Value>) -> Result<(), ConfigError> {
+    for (k, v) in petsc {
         if matches!(v, toml::Value::Array(_) | toml::Value::Table(_) | toml::Value::Datetime(_)) {
             return Err(src.error_at(
-                &[Seg::key("solver"), Seg::key("petsc"), Seg::key(k)],
+                &Seg::path(&["solver", "petsc", k]),
                 "a PETSc option value must be a string, a number or a boolean",
             ));
         }

@@ -84,7 +84,7 @@ where
     let m = tasks_per_point.max(1);
     let n = points.len() * m;
     // A log line at most every PROGRESS_SECONDS (a batch of 16 points × 8 samples of the
-    // paper's wall takes minutes), and at the end.
+    // paper's wall takes minutes), and at the end: a progress clock, not a phase timer.
     let mut last = std::time::Instant::now();
     let progress = |done: usize, total: usize| {
         if done == total || last.elapsed().as_secs_f64() >= PROGRESS_SECONDS {

@@ -1,6 +1,6 @@
 //! Resolving a job's parts, supports and loads against the mesh.
+use super::ties::{add_pretension_loads, check_ties};
 use crate::config::{AnalysisConfig, Job, LoadConfig, NodalLoadConfig, SectionConfig, Seg};
-use crate::element::{pretension_load, tie_axis, ElementError};
 use crate::mesh::{CellKind, Mesh};
 
 /// A mesh cell that is a structural element.
@@ -64,229 +64,29 @@ pub struct StructuralModel {
 }
 
 impl StructuralModel {
-    /// Resolves the job against the mesh.
+    /// Resolves the job against the mesh, in steps: the parts' cells, the nodes they reach, the
+    /// supports and the ties' anchors, the nodal loads, the point masses, the displacement control.
     pub fn build(job: &Job, mesh: &Mesh) -> Result<StructuralModel, ModelError> {
         let spec = &job.spec;
-        let mut part_of = vec![usize::MAX; mesh.cells.len()];
+        let cells = part_cells(job, mesh)?;
         let tie_part: Vec<bool> =
             spec.parts.iter().map(|p| matches!(spec.sections[&p.section], SectionConfig::Tie(_))).collect();
-        for (ip, p) in spec.parts.iter().enumerate() {
-            let at = [Seg::key("parts"), Seg::Index(ip), Seg::key("group")];
-            let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
-            let want: &[CellKind] = match &spec.sections[&p.section] {
-                SectionConfig::Frame(_) | SectionConfig::Fiber(_) | SectionConfig::Tie(_) => &[CellKind::Line2],
-                SectionConfig::Shell(_) => &[CellKind::Tri3, CellKind::Quad4],
-            };
-            let want_text = want.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ");
-            let mut n = 0;
-            for c in mesh.cells_in_group(g) {
-                let kind = mesh.cells[c].kind;
-                if !want.contains(&kind) {
-                    return Err(job
-                        .error_at(
-                            &at,
-                            format!(
-                                "group '{}' holds a {kind} (element {}), but section '{}' of type '{}' \
-                                 needs {want_text} cells",
-                                p.group,
-                                mesh.cells[c].tag,
-                                p.section,
-                                spec.sections[&p.section].type_name()
-                            ),
-                        )
-                        .into());
-                }
-                if part_of[c] != usize::MAX {
-                    let other = &spec.parts[part_of[c]].group;
-                    return Err(job
-                        .error_at(
-                            &at,
-                            format!(
-                                "element {} of group '{}' is already modelled by part {} (group '{other}'): \
-                                 a cell belongs to one part only",
-                                mesh.cells[c].tag, p.group, part_of[c]
-                            ),
-                        )
-                        .into());
-                }
-                part_of[c] = ip;
-                n += 1;
-            }
-            if n == 0 {
-                return Err(job
-                    .error_at(&at, format!("group '{}' has no cells of dimension {}", p.group, want[0].dim()))
-                    .into());
-            }
-        }
-        let cells: Vec<ModelCell> = part_of
-            .iter()
-            .enumerate()
-            .filter(|(_, &p)| p != usize::MAX)
-            .map(|(cell, &part)| ModelCell { cell, part })
-            .collect();
         let is_tie: Vec<bool> = cells.iter().map(|c| tie_part[c.part]).collect();
-        let mut active = vec![false; mesh.coords.len()];
-        // Nodes of a shell or beam: those whose rotations and transverse translations have stiffness.
-        let mut structural = vec![false; mesh.coords.len()];
-        for (c, &tie) in cells.iter().zip(&is_tie) {
-            for &n in &mesh.cells[c.cell].nodes {
-                active[n] = true;
-                structural[n] |= !tie;
-            }
-        }
+        let (active, structural) = node_roles(mesh, &cells, &is_tie);
+        let nodes = NodeLookup { job, mesh, active: &active };
 
-        let group_nodes = |at: &[Seg], name: &str| -> Result<Vec<usize>, ModelError> {
-            let g = mesh.group(name).map_err(|e| job.error_at(at, e.to_string()))?;
-            let nodes = mesh.nodes_in_group(g);
-            if let Some(&n) = nodes.iter().find(|&&n| !active[n]) {
-                return Err(job
-                    .error_at(
-                        at,
-                        format!(
-                            "node {} of group '{name}' belongs to no element of the model's parts",
-                            mesh.node_tags[n]
-                        ),
-                    )
-                    .into());
-            }
-            if nodes.is_empty() {
-                return Err(job.error_at(at, format!("group '{name}' has no nodes")).into());
-            }
-            Ok(nodes)
-        };
-
-        let mut fixed = vec![0u8; mesh.coords.len()];
-        for (i, s) in spec.supports.iter().enumerate() {
-            let at = [Seg::key("supports"), Seg::Index(i), Seg::key("group")];
-            let mut mask = 0u8;
-            for d in &s.dofs {
-                for k in d.indices() {
-                    mask |= 1 << k;
-                }
-            }
-            for n in group_nodes(&at, &s.group)? {
-                fixed[n] |= mask;
-            }
-        }
-
+        let mut fixed = nodes.supported_dofs()?;
         let anchors = check_ties(job, mesh, &cells, &is_tie, &structural, &fixed)?;
         for &n in &anchors {
             fixed[n] |= 0b111000;
         }
-
-        let sum_loads = |prefix: &[Seg],
-                         loads: &mut dyn Iterator<Item = &NodalLoadConfig>|
-         -> Result<Vec<(usize, [f64; 6])>, ModelError> {
-            let mut load = vec![[0.0f64; 6]; mesh.coords.len()];
-            let mut loaded = vec![false; mesh.coords.len()];
-            for (i, NodalLoadConfig { group, force, moment }) in loads.enumerate() {
-                let mut at = prefix.to_vec();
-                at.extend([Seg::Index(i), Seg::key("group")]);
-                for n in group_nodes(&at, group)? {
-                    for k in 0..3 {
-                        load[n][k] += force[k];
-                        load[n][3 + k] += moment[k];
-                    }
-                    loaded[n] = true;
-                }
-            }
-            Ok((0..mesh.coords.len()).filter(|&n| loaded[n]).map(|n| (n, load[n])).collect())
-        };
-        let nodal_loads = sum_loads(
-            &[Seg::key("loads")],
-            &mut spec.loads.iter().map(|l| match l {
-                LoadConfig::Nodal(n) => n,
-            }),
-        )?;
+        let job_loads = spec.loads.iter().map(|l| match l {
+            LoadConfig::Nodal(n) => n,
+        });
+        let nodal_loads = nodes.sum_loads(&[Seg::key("loads")], job_loads)?;
         let nodal_loads = add_pretension_loads(job, mesh, &cells, nodal_loads)?;
-
-        let mut masses = vec![[0.0f64; 6]; mesh.coords.len()];
-        let mut massive = vec![false; mesh.coords.len()];
-        for (i, m) in spec.masses.iter().enumerate() {
-            let nodes = match (&m.group, m.node) {
-                (Some(group), _) => group_nodes(&[Seg::key("masses"), Seg::Index(i), Seg::key("group")], group)?,
-                (None, Some(tag)) => {
-                    let at = [Seg::key("masses"), Seg::Index(i), Seg::key("node")];
-                    let n = mesh
-                        .node_tags
-                        .iter()
-                        .position(|&t| t == tag)
-                        .ok_or_else(|| job.error_at(&at, format!("the mesh has no node with tag {tag}")))?;
-                    if !active[n] {
-                        return Err(job
-                            .error_at(&at, format!("node {tag} belongs to no element of the model's parts"))
-                            .into());
-                    }
-                    vec![n]
-                }
-                // Rejected by validation; kept as an error, not a panic.
-                (None, None) => {
-                    return Err(job
-                        .error_at(&[Seg::key("masses"), Seg::Index(i)], "a point mass needs a group or a node")
-                        .into())
-                }
-            };
-            for n in nodes {
-                for k in 0..3 {
-                    masses[n][k] += m.mass;
-                    masses[n][3 + k] += m.rotary_inertia[k];
-                }
-                massive[n] = true;
-            }
-        }
-        let point_masses = (0..mesh.coords.len()).filter(|&n| massive[n]).map(|n| (n, masses[n])).collect();
-
-        let control = match &spec.analysis {
-            AnalysisConfig::StaticNonlinear(c) => match &c.control {
-                Some(ctl) => {
-                    let base = [Seg::key("analysis"), Seg::key("control")];
-                    let nodes = match (&ctl.group, ctl.node) {
-                        (Some(group), _) => {
-                            group_nodes(&[Seg::key("analysis"), Seg::key("control"), Seg::key("group")], group)?
-                        }
-                        (None, Some(tag)) => {
-                            let at = [Seg::key("analysis"), Seg::key("control"), Seg::key("node")];
-                            let n = mesh
-                                .node_tags
-                                .iter()
-                                .position(|&t| t == tag)
-                                .ok_or_else(|| job.error_at(&at, format!("the mesh has no node with tag {tag}")))?;
-                            if !active[n] {
-                                return Err(job
-                                    .error_at(&at, format!("node {tag} belongs to no element of the model's parts"))
-                                    .into());
-                            }
-                            vec![n]
-                        }
-                        (None, None) => return Err(job.error_at(&base, "the control needs a group or a node").into()),
-                    };
-                    let dof = ctl.dof.indices().start;
-                    let pattern = sum_loads(
-                        &[Seg::key("analysis"), Seg::key("control"), Seg::key("pattern")],
-                        &mut ctl.pattern.iter(),
-                    )?;
-                    if !pattern.is_empty() && nodes.len() != 1 {
-                        return Err(job
-                            .error_at(&base, format!("with a load pattern the control is one node; the group has {} nodes (use node = <tag>)", nodes.len()))
-                            .into());
-                    }
-                    if let Some(&n) = nodes.iter().find(|&&n| fixed[n] & (1 << dof) != 0) {
-                        return Err(job
-                            .error_at(
-                                &[Seg::key("analysis"), Seg::key("control"), Seg::key("dof")],
-                                format!(
-                                    "DOF {:?} of control node {} is fixed by a support",
-                                    ctl.dof, mesh.node_tags[n]
-                                ),
-                            )
-                            .into());
-                    }
-                    Some(ControlSpec { nodes, dof, target: ctl.target, steps: ctl.steps, pattern })
-                }
-                None => None,
-            },
-            _ => None,
-        };
+        let point_masses = nodes.point_masses()?;
+        let control = nodes.control(&fixed)?;
         // Imposed control DOFs are supports that move: fixed in the DOF numbering.
         if let Some(c) = control.as_ref().filter(|c| c.pattern.is_empty()) {
             for &n in &c.nodes {
@@ -336,103 +136,230 @@ impl StructuralModel {
     }
 }
 
-/// The message of a tie element that cannot be used: "tie element 1234 of group nave_ties: …".
-fn tie_error(job: &Job, mesh: &Mesh, c: &ModelCell, what: String) -> ModelError {
-    let part = &job.spec.parts[c.part];
-    let at = [Seg::key("parts"), Seg::Index(c.part), Seg::key("group")];
-    job.error_at(&at, format!("tie element {} of group {}: {what}", mesh.cells[c.cell].tag, part.group)).into()
-}
-
-/// Checks of the ties against the mesh and the supports: a non-zero length, and both ends
-/// attached to a shell or beam (`structural`) or held by supports in ux uy uz (`fixed`). Returns
-/// the anchors: the end nodes that only ties touch, ascending.
-fn check_ties(
-    job: &Job,
-    mesh: &Mesh,
-    cells: &[ModelCell],
-    is_tie: &[bool],
-    structural: &[bool],
-    fixed: &[u8],
-) -> Result<Vec<usize>, ModelError> {
-    const DOF: [&str; 3] = ["ux", "uy", "uz"];
-    let mut anchors = Vec::new();
-    for (c, _) in cells.iter().zip(is_tie).filter(|(_, &t)| t) {
-        let nodes = &mesh.cells[c.cell].nodes;
-        let (a, b) = (nodes[0], nodes[1]);
-        match tie_axis(mesh.coords[a], mesh.coords[b]) {
-            Ok(_) => {}
-            Err(ElementError::ZeroLength { node1: [x, y, z], length, .. }) => {
-                return Err(tie_error(
-                    job,
-                    mesh,
-                    c,
-                    format!(
-                        "its end nodes {} and {} coincide at ({x:.2}, {y:.2}, {z:.2}) (length {length:e} m): a tie joins two distinct points",
-                        mesh.node_tags[a], mesh.node_tags[b]
-                    ),
-                ))
-            }
-            Err(e) => return Err(tie_error(job, mesh, c, e.to_string())),
-        }
-        for n in [a, b] {
-            if structural[n] {
-                continue;
-            }
-            let [x, y, z] = mesh.coords[n];
-            let node = format!("its end node {} at ({x:.2}, {y:.2}, {z:.2})", mesh.node_tags[n]);
-            let free: Vec<&str> = (0..3).filter(|&d| fixed[n] & (1 << d) == 0).map(|d| DOF[d]).collect();
-            if free.len() == 3 {
-                return Err(tie_error(
-                    job,
-                    mesh,
-                    c,
-                    format!("{node} is attached to no shell or beam and to no support"),
-                ));
-            }
-            if !free.is_empty() {
-                return Err(tie_error(
-                    job,
-                    mesh,
-                    c,
-                    format!(
-                        "{node} is attached to no shell or beam, and its supports leave {} free: a tie holds its end along its axis only, \
-                         so a node that only ties reach must be supported in ux, uy and uz",
-                        free.join(", ")
-                    ),
-                ));
-            }
-            anchors.push(n);
-        }
-    }
-    anchors.sort_unstable();
-    anchors.dedup();
-    Ok(anchors)
-}
-
-/// `loads` (summed per node, node order) with the pretension loads of the ties added
-/// (`element::pretension_load`: N₀ along the tie at both ends, pulling them together).
-fn add_pretension_loads(
-    job: &Job,
-    mesh: &Mesh,
-    cells: &[ModelCell],
-    loads: Vec<(usize, [f64; 6])>,
-) -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+/// The structural cells, in mesh order: each part's group holds cells of the kind its section
+/// needs (lines for beams and ties, triangles and quadrangles for shells), at least one, and a
+/// cell belongs to one part only.
+fn part_cells(job: &Job, mesh: &Mesh) -> Result<Vec<ModelCell>, ModelError> {
     let spec = &job.spec;
-    let mut by_node: std::collections::BTreeMap<usize, [f64; 6]> = loads.into_iter().collect();
-    for c in cells {
-        let SectionConfig::Tie(t) = &spec.sections[&spec.parts[c.part].section] else { continue };
-        if t.pretension == 0.0 {
-            continue;
-        }
-        let nodes = &mesh.cells[c.cell].nodes;
-        let f = pretension_load(mesh.coords[nodes[0]], mesh.coords[nodes[1]], t.pretension)
-            .map_err(|e| tie_error(job, mesh, c, e.to_string()))?;
-        for (k, &n) in nodes.iter().enumerate() {
-            let load = by_node.entry(n).or_insert([0.0; 6]);
-            for d in 0..3 {
-                load[d] += f[k][d];
+    let mut part_of = vec![usize::MAX; mesh.cells.len()];
+    for (ip, p) in spec.parts.iter().enumerate() {
+        let at = [Seg::key("parts"), Seg::Index(ip), Seg::key("group")];
+        let g = mesh.group(&p.group).map_err(|e| job.error_at(&at, e.to_string()))?;
+        let want: &[CellKind] = match &spec.sections[&p.section] {
+            SectionConfig::Frame(_) | SectionConfig::Fiber(_) | SectionConfig::Tie(_) => &[CellKind::Line2],
+            SectionConfig::Shell(_) => &[CellKind::Tri3, CellKind::Quad4],
+        };
+        let want_text = want.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(" or ");
+        let mut n = 0;
+        for c in mesh.cells_in_group(g) {
+            let kind = mesh.cells[c].kind;
+            if !want.contains(&kind) {
+                return Err(job
+                    .error_at(
+                        &at,
+                        format!(
+                            "group '{}' holds a {kind} (element {}), but section '{}' of type '{}' \
+                             needs {want_text} cells",
+                            p.group,
+                            mesh.cells[c].tag,
+                            p.section,
+                            spec.sections[&p.section].type_name()
+                        ),
+                    )
+                    .into());
             }
+            if part_of[c] != usize::MAX {
+                let other = &spec.parts[part_of[c]].group;
+                return Err(job
+                    .error_at(
+                        &at,
+                        format!(
+                            "element {} of group '{}' is already modelled by part {} (group '{other}'): \
+                             a cell belongs to one part only",
+                            mesh.cells[c].tag, p.group, part_of[c]
+                        ),
+                    )
+                    .into());
+            }
+            part_of[c] = ip;
+            n += 1;
+        }
+        if n == 0 {
+            return Err(job
+                .error_at(&at, format!("group '{}' has no cells of dimension {}", p.group, want[0].dim()))
+                .into());
         }
     }
-    Ok(by_node.into_iter().collect())
+    Ok(part_of
+        .iter()
+        .enumerate()
+        .filter(|(_, &p)| p != usize::MAX)
+        .map(|(cell, &part)| ModelCell { cell, part })
+        .collect())
+}
+
+/// Per mesh node: whether a model cell reaches it (`active`), and whether a shell or beam does
+/// (`structural`: its rotations and transverse translations have stiffness).
+fn node_roles(mesh: &Mesh, cells: &[ModelCell], is_tie: &[bool]) -> (Vec<bool>, Vec<bool>) {
+    let mut active = vec![false; mesh.coords.len()];
+    let mut structural = vec![false; mesh.coords.len()];
+    for (c, &tie) in cells.iter().zip(is_tie) {
+        for &n in &mesh.cells[c.cell].nodes {
+            active[n] = true;
+            structural[n] |= !tie;
+        }
+    }
+    (active, structural)
+}
+
+/// The job's groups and node tags resolved to mesh nodes that the model's cells reach; every
+/// error names the job-file key at hand.
+struct NodeLookup<'a> {
+    job: &'a Job,
+    mesh: &'a Mesh,
+    /// Per mesh node: whether a model cell reaches it.
+    active: &'a [bool],
+}
+
+impl NodeLookup<'_> {
+    /// The nodes of group `name` (named at `at`): at least one, each reached by the model.
+    fn group_nodes(&self, at: &[Seg], name: &str) -> Result<Vec<usize>, ModelError> {
+        let (job, mesh) = (self.job, self.mesh);
+        let g = mesh.group(name).map_err(|e| job.error_at(at, e.to_string()))?;
+        let nodes = mesh.nodes_in_group(g);
+        if let Some(&n) = nodes.iter().find(|&&n| !self.active[n]) {
+            return Err(job
+                .error_at(
+                    at,
+                    format!("node {} of group '{name}' belongs to no element of the model's parts", mesh.node_tags[n]),
+                )
+                .into());
+        }
+        if nodes.is_empty() {
+            return Err(job.error_at(at, format!("group '{name}' has no nodes")).into());
+        }
+        Ok(nodes)
+    }
+
+    /// The node of Gmsh tag `tag` (named at `at`), reached by the model.
+    fn tagged_node(&self, at: &[Seg], tag: u64) -> Result<usize, ModelError> {
+        let job = self.job;
+        let n = self
+            .mesh
+            .node_tags
+            .iter()
+            .position(|&t| t == tag)
+            .ok_or_else(|| job.error_at(at, format!("the mesh has no node with tag {tag}")))?;
+        if !self.active[n] {
+            return Err(job.error_at(at, format!("node {tag} belongs to no element of the model's parts")).into());
+        }
+        Ok(n)
+    }
+
+    /// The nodes of the table at `base` that names a `group` (which wins) or a `node`; `what`
+    /// names the table in the error when it names neither.
+    fn group_or_node(
+        &self,
+        base: &[Seg],
+        group: Option<&str>,
+        node: Option<u64>,
+        what: &str,
+    ) -> Result<Vec<usize>, ModelError> {
+        let at = |k: &str| [base, &[Seg::key(k)]].concat();
+        match (group, node) {
+            (Some(group), _) => self.group_nodes(&at("group"), group),
+            (None, Some(tag)) => Ok(vec![self.tagged_node(&at("node"), tag)?]),
+            // Rejected by validation; kept as an error, not a panic.
+            (None, None) => Err(self.job.error_at(base, format!("{what} needs a group or a node")).into()),
+        }
+    }
+
+    /// Fixed-DOF bit mask per mesh node from the `[[supports]]`.
+    fn supported_dofs(&self) -> Result<Vec<u8>, ModelError> {
+        let mut fixed = vec![0u8; self.mesh.coords.len()];
+        for (i, s) in self.job.spec.supports.iter().enumerate() {
+            let at = [Seg::key("supports"), Seg::Index(i), Seg::key("group")];
+            let mask = s.dofs.iter().flat_map(|d| d.indices()).fold(0u8, |m, k| m | (1 << k));
+            for n in self.group_nodes(&at, &s.group)? {
+                fixed[n] |= mask;
+            }
+        }
+        Ok(fixed)
+    }
+
+    /// Nodal loads `(mesh node, [Fx Fy Fz Mx My Mz])` of the load tables listed under `prefix`,
+    /// summed per node, in node order.
+    fn sum_loads<'l>(
+        &self,
+        prefix: &[Seg],
+        loads: impl Iterator<Item = &'l NodalLoadConfig>,
+    ) -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+        let nn = self.mesh.coords.len();
+        let mut load = vec![[0.0f64; 6]; nn];
+        let mut loaded = vec![false; nn];
+        for (i, NodalLoadConfig { group, force, moment }) in loads.enumerate() {
+            let at = [prefix, &[Seg::Index(i), Seg::key("group")]].concat();
+            for n in self.group_nodes(&at, group)? {
+                for k in 0..3 {
+                    load[n][k] += force[k];
+                    load[n][3 + k] += moment[k];
+                }
+                loaded[n] = true;
+            }
+        }
+        Ok((0..nn).filter(|&n| loaded[n]).map(|n| (n, load[n])).collect())
+    }
+
+    /// Point masses `(mesh node, [m, m, m, Ix, Iy, Iz])` of the `[[masses]]`, summed per node, in
+    /// node order.
+    fn point_masses(&self) -> Result<Vec<(usize, [f64; 6])>, ModelError> {
+        let nn = self.mesh.coords.len();
+        let mut masses = vec![[0.0f64; 6]; nn];
+        let mut massive = vec![false; nn];
+        for (i, m) in self.job.spec.masses.iter().enumerate() {
+            let base = [Seg::key("masses"), Seg::Index(i)];
+            for n in self.group_or_node(&base, m.group.as_deref(), m.node, "a point mass")? {
+                for k in 0..3 {
+                    masses[n][k] += m.mass;
+                    masses[n][3 + k] += m.rotary_inertia[k];
+                }
+                massive[n] = true;
+            }
+        }
+        Ok((0..nn).filter(|&n| massive[n]).map(|n| (n, masses[n])).collect())
+    }
+
+    /// The displacement control of a nonlinear static analysis, if any: its nodes (one with a
+    /// load pattern), its DOF free of supports (`fixed`), and the pattern's loads.
+    fn control(&self, fixed: &[u8]) -> Result<Option<ControlSpec>, ModelError> {
+        let AnalysisConfig::StaticNonlinear(c) = &self.job.spec.analysis else { return Ok(None) };
+        let Some(ctl) = &c.control else { return Ok(None) };
+        let base = [Seg::key("analysis"), Seg::key("control")];
+        let nodes = self.group_or_node(&base, ctl.group.as_deref(), ctl.node, "the control")?;
+        let dof = ctl.dof.indices().start;
+        let pattern =
+            self.sum_loads(&[Seg::key("analysis"), Seg::key("control"), Seg::key("pattern")], ctl.pattern.iter())?;
+        if !pattern.is_empty() && nodes.len() != 1 {
+            return Err(self
+                .job
+                .error_at(
+                    &base,
+                    format!(
+                        "with a load pattern the control is one node; the group has {} nodes (use node = <tag>)",
+                        nodes.len()
+                    ),
+                )
+                .into());
+        }
+        if let Some(&n) = nodes.iter().find(|&&n| fixed[n] & (1 << dof) != 0) {
+            return Err(self
+                .job
+                .error_at(
+                    &[Seg::key("analysis"), Seg::key("control"), Seg::key("dof")],
+                    format!("DOF {:?} of control node {} is fixed by a support", ctl.dof, self.mesh.node_tags[n]),
+                )
+                .into());
+        }
+        Ok(Some(ControlSpec { nodes, dof, target: ctl.target, steps: ctl.steps, pattern }))
+    }
 }

@@ -4,6 +4,7 @@
 //! rank that owns each cell (see [`crate::analysis`]).
 mod build;
 mod stability;
+mod ties;
 
 pub use build::{ControlSpec, ModelCell, ModelError, StructuralModel};
 pub use stability::{find_mechanisms, find_mechanisms_with_ties, Mechanism};

@@ -18,4 +18,4 @@ pub use batch::{run_batch, BatchError, TaskResult};
 pub use context::{Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
 pub use partition::{partition_cells, PartitionError};
-pub use phases::Phases;
+pub use phases::{timed, Phases};

@@ -7,8 +7,17 @@
 //! let pairs = phases.time("solve", || solve(&k))?;
 //! let [t_assemble, t_solve] = phases.seconds_of(["assemble", "solve"]);
 //! ```
-//! A phase timed several times adds up. The times are this rank's wall times.
+//! A phase timed several times adds up. The times are this rank's wall times. Where the timed
+//! code borrows the value that holds the `Phases` (a solver timing its own calls), [`timed`]
+//! returns the time for [`Phases::add`].
 use std::time::Instant;
+
+/// Runs `f`; its value and its wall time [s].
+pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let out = f();
+    (out, start.elapsed().as_secs_f64())
+}
 
 /// Wall times of named phases [s], in the order first timed.
 #[derive(Clone, Debug, Default)]
@@ -19,9 +28,8 @@ pub struct Phases {
 impl Phases {
     /// Runs `f` as the phase `name` and adds its wall time to the phase's.
     pub fn time<T>(&mut self, name: &'static str, f: impl FnOnce() -> T) -> T {
-        let start = Instant::now();
-        let out = f();
-        self.add(name, start.elapsed().as_secs_f64());
+        let (out, seconds) = timed(f);
+        self.add(name, seconds);
         out
     }
 

@@ -22,7 +22,7 @@ use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
 use crate::error::Error;
-use crate::parallel::{agree, run_batch, Context};
+use crate::parallel::{agree, run_batch, Context, Phases};
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -105,7 +105,7 @@ fn sample_config(job: &DemJob, k: usize) -> crate::dem::sample::SampleConfig {
 /// Collective. Runs the batch and writes the outputs.
 pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
     let n = job.spec.analysis.samples;
-    let t0 = std::time::Instant::now();
+    let mut phases = Phases::default();
     ctx.log.info(format!("DEM: {n} sample(s) of {:?}, over {} rank(s)", job.spec.test, ctx.size));
     let states = job.spec.analysis.particle_states;
     // Runs on the rank that got sample k; that rank writes the sample's particle states.
@@ -123,9 +123,11 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
         Ok(result)
     };
     let log = &ctx.log;
-    let batch = run_batch(&ctx.comm, n, work, |done, total| log.info(format!("  {done}/{total} samples done")));
-    let results = agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)?;
-    let seconds = t0.elapsed().as_secs_f64();
+    let results = phases.time("batch", || {
+        let batch = run_batch(&ctx.comm, n, work, |done, total| log.info(format!("  {done}/{total} samples done")));
+        agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)
+    })?;
+    let seconds = phases.seconds("batch");
     let written = match results {
         Some(results) => write_outputs(ctx, job, &results, seconds).map(Some),
         None => Ok(None),

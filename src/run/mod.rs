@@ -6,7 +6,7 @@
 //! | file                | job                                                              |
 //! |---------------------|------------------------------------------------------------------|
 //! | `dem.rs`            | `[analysis] type = "dem"`: virtual tests of the DEM lab, batched over ranks |
-//! | `identify.rs`       | `"identification"`: calibration, virtual tests, law fit, material file |
+//! | `identify/`         | `"identification"`: calibration, virtual tests, law fit, material file |
 //! | `spectrum.rs`       | `"spectrum"`: a record's response spectra against Eurocode 8     |
 //! | `material_point.rs` | `"material_point"`: one integration point along a strain path   |
 //! | `output_dir.rs`     | the results folder: backup, overwrite or refuse                  |

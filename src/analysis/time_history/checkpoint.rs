@@ -16,9 +16,15 @@
 //! vectors u, v, a, f_int, C v; per element its state length (u64) then all states (f64); the
 //! envelopes; an FNV-1a checksum of everything before it. A restart needs the same rank count
 //! (the partition, hence the owned DOFs and elements, depends on it).
+use super::driver::SavedEnvelopes;
+use super::envelope::Envelopes;
+use super::petsc_system::PetscSystem;
+use super::stepper::State;
+use super::system::DynamicSystem;
+use super::EnergyBalance;
 use crate::element::Element;
 use crate::error::Error;
-use crate::parallel::Context;
+use crate::parallel::{agree, Context};
 use mpi::traits::CommunicatorCollectives;
 use std::path::{Path, PathBuf};
 
@@ -223,6 +229,65 @@ pub fn read_latest(ctx: &Context, results: &Path) -> Result<Checkpoint, Error> {
         decode(&bytes, ctx.size, ctx.rank).map_err(|e| io_err(&file, e))
     })();
     Ok(crate::parallel::agree(&ctx.comm, read, Error::exit_code)?)
+}
+
+/// Collective. Restores a checkpoint into the system's elements; the state and envelopes.
+pub(super) fn restore(
+    ctx: &Context,
+    sys: &mut PetscSystem,
+    c: Checkpoint,
+) -> Result<(State, Option<SavedEnvelopes>), Error> {
+    let n = sys.len();
+    let loaded = (|| -> Result<(), Error> {
+        if c.vectors[0].len() != n || c.states.len() != sys.disc.elements.len() {
+            return Err(Error::Analysis(format!(
+                "the checkpoint holds {} DOFs and {} elements on rank {}, the model {} and {}: was the mesh or the job changed?",
+                c.vectors[0].len(),
+                c.states.len(),
+                ctx.rank,
+                n,
+                sys.disc.elements.len()
+            )));
+        }
+        for (e, s) in sys.disc.elements.iter_mut().zip(&c.states) {
+            if s.len() != e.n_state() {
+                return Err(Error::Analysis(format!(
+                    "the checkpoint's {} state has {} values, the element {}",
+                    e.kind_name(),
+                    s.len(),
+                    e.n_state()
+                )));
+            }
+            e.load_state(s).map_err(|source| Error::Analysis(format!("checkpoint: {source}")))?;
+        }
+        Ok(())
+    })();
+    agree(&ctx.comm, loaded, Error::exit_code)?;
+    let [u, v, a, f_int, cv] = c.vectors;
+    let state = State { step: c.step, t: c.t, u, v, a, f_int, cv, energy: EnergyBalance::from_array(c.energy) };
+    Ok((state, Some((c.node_envelope, c.cell_envelope))))
+}
+
+/// Collective. Checkpoints the committed state with the envelopes; the checkpoint's folder.
+pub(super) fn save(
+    ctx: &Context,
+    sys: &PetscSystem,
+    state: &State,
+    env: &Envelopes,
+    dir: &std::path::Path,
+) -> Result<std::path::PathBuf, Error> {
+    let states = element_states(&sys.disc.elements);
+    let states = agree(&ctx.comm, states, Error::exit_code)?;
+    let c = Checkpoint {
+        step: state.step,
+        t: state.t,
+        energy: state.energy.to_array(),
+        vectors: [state.u.clone(), state.v.clone(), state.a.clone(), state.f_int.clone(), state.cv.clone()],
+        states,
+        node_envelope: env.node.clone(),
+        cell_envelope: env.cell.clone(),
+    };
+    write(ctx, dir, &c)
 }
 
 #[cfg(test)]

@@ -2,9 +2,10 @@
 //! largest (node and DOF), and which elements' state the failed iteration changed (trial against
 //! committed state, compared through [`Element::save_state`]).
 use crate::element::Element;
+use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{Context, DofMap};
+use crate::parallel::{agree, Context, DofMap};
 use mpi::traits::CommunicatorCollectives;
 
 const DOF_NAMES: [&str; 6] = ["ux", "uy", "uz", "rx", "ry", "rz"];
@@ -77,4 +78,12 @@ pub fn changed_elements(
     all.sort_by(|a, b| b.1.total_cmp(&a.1));
     all.truncate(LISTED);
     (count, all)
+}
+
+/// Collective. An error every rank has, as an agreed one (printed once, no abort).
+pub(super) fn agreed(ctx: &Context, e: Error) -> Error {
+    match agree(&ctx.comm, Err::<(), Error>(e), Error::exit_code) {
+        Err(a) => Error::from(a),
+        Ok(()) => Error::Analysis("internal error: an error was lost in agreement".into()),
+    }
 }

@@ -18,9 +18,11 @@
 //! | `energy.rs`        | the energy balance                                                |
 //! | `petsc_system.rs`  | [`PetscSystem`]: the distributed model (PETSc matrices, KSP reuse) |
 //! | `gravity.rs`       | the static gravity step the earthquake starts from               |
+//! | `gravity_failure.rs` | the diagnosis of a gravity step the model cannot carry         |
 //! | `checkpoint.rs`    | atomic checkpoints and `--restart`                               |
 //! | `diagnosis.rs`     | where a failed step is out of balance, which elements changed     |
 //! | `monitor.rs`       | monitored nodes to CSV and PNG                                   |
+//! | `step_output.rs`   | results every k steps, CSV rows every step, envelopes at the end  |
 //! | `envelope.rs`      | peak displacement, drift and damage                              |
 //! | `progress.rs`      | progress lines with ETA on rank 0                                |
 //! | `driver.rs`        | the `time_history` job and the reusable stepping loop            |
@@ -31,12 +33,14 @@ mod driver;
 mod energy;
 mod envelope;
 mod gravity;
+mod gravity_failure;
 mod ground;
 mod krylov;
 mod monitor;
 mod petsc_system;
 mod progress;
 mod scheme;
+mod step_output;
 mod stepper;
 mod system;
 #[cfg(test)]

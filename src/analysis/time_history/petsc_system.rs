@@ -24,11 +24,10 @@ use crate::element::{ElementOutput, EvalRequest, MassKind};
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{agree, Context};
+use crate::parallel::{agree, timed, Context, Phases};
 use crate::petsc::{Ksp, Matrix, Vector};
 use mpi::traits::CommunicatorCollectives;
 use std::collections::HashMap;
-use std::time::Instant;
 
 /// The model as a dynamic system on the ranks of `ctx`.
 pub struct PetscSystem<'a> {
@@ -57,10 +56,9 @@ pub struct PetscSystem<'a> {
     pub factorizations: usize,
     /// Linear solves so far.
     pub solves: usize,
-    /// Seconds spent assembling Jacobians.
-    pub assemble_seconds: f64,
-    /// Seconds spent in KSP solves (factorizations included).
-    pub solve_seconds: f64,
+    /// Wall time of the Jacobian assemblies (`"assemble"`) and of the KSP solves, factorizations
+    /// included (`"solve"`).
+    pub phases: Phases,
 }
 
 /// The linear solver: MUMPS LU (Cholesky for a linear model), then the options.
@@ -161,8 +159,7 @@ impl<'a> PetscSystem<'a> {
             key: None,
             factorizations: 0,
             solves: 0,
-            assemble_seconds: 0.0,
-            solve_seconds: 0.0,
+            phases: Phases::default(),
         })
     }
 
@@ -219,6 +216,44 @@ impl<'a> PetscSystem<'a> {
         }
         self.j.assemble()?;
         agree(&self.ctx.comm, first_err.map_or(Ok(()), Err), Error::exit_code)?;
+        Ok(())
+    }
+
+    /// Collective. `J = K + c_m M + c_c (α M + β K₀)` with `K` the tangent at `tangent_at` (`K₀`
+    /// without one, or for a linear model), set as the solver's operator.
+    fn assemble_jacobian(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error> {
+        let Rayleigh { alpha, beta } = self.rayleigh;
+        match tangent_at {
+            Some(u) if !self.linear => {
+                let u_local = self.local_form(u)?;
+                self.assemble_tangent(&u_local)?;
+                self.j.axpy(c_c * beta, &self.k0)?;
+            }
+            _ => {
+                self.j.zero_entries()?;
+                self.j.axpy(1.0 + c_c * beta, &self.k0)?;
+            }
+        }
+        self.j.axpy(c_m + c_c * alpha, &self.m)?;
+        self.ksp.set_operators(&self.j)?;
+        Ok(())
+    }
+
+    /// Collective. Solves `J x = r` (owned values). A failed solve replaces the solver.
+    fn solve_owned(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        self.x.copy_owned_from(r)?;
+        let solved = self.ksp.solve(&self.x, &mut self.y).map_err(Error::from);
+        if let Err(e) = agree(&self.ctx.comm, solved, Error::exit_code) {
+            // A failed factorization poisons the solver: PETSc's MUMPS interface skips every
+            // later numeric factorization of the same factor once one has failed (INFOG(1) < 0
+            // stays set), so every retry of a cut step would fail at its first solve. A fresh
+            // solver (and the next `prepare` assembling J again) starts clean.
+            self.ksp = new_solver(self.ctx, self.linear)?;
+            self.key = None;
+            return Err(e.into());
+        }
+        self.y.with_owned_values(|s| x.copy_from_slice(s))?;
+        self.solves += 1;
         Ok(())
     }
 }
@@ -323,44 +358,18 @@ impl DynamicSystem for PetscSystem<'_> {
         if initial && self.key == Some(key) {
             return Ok(());
         }
-        let t0 = Instant::now();
-        let Rayleigh { alpha, beta } = self.rayleigh;
-        match tangent_at {
-            Some(u) if !self.linear => {
-                let u_local = self.local_form(u)?;
-                self.assemble_tangent(&u_local)?;
-                self.j.axpy(c_c * beta, &self.k0)?;
-            }
-            _ => {
-                self.j.zero_entries()?;
-                self.j.axpy(1.0 + c_c * beta, &self.k0)?;
-            }
-        }
-        self.j.axpy(c_m + c_c * alpha, &self.m)?;
-        self.ksp.set_operators(&self.j)?;
-        self.assemble_seconds += t0.elapsed().as_secs_f64();
+        let (assembled, seconds) = timed(|| self.assemble_jacobian(tangent_at, c_m, c_c));
+        self.phases.add("assemble", seconds);
+        assembled?;
         self.factorizations += 1;
         self.key = Some(key);
         Ok(())
     }
 
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
-        let t0 = Instant::now();
-        self.x.copy_owned_from(r)?;
-        let solved = self.ksp.solve(&self.x, &mut self.y).map_err(Error::from);
-        if let Err(e) = agree(&self.ctx.comm, solved, Error::exit_code) {
-            // A failed factorization poisons the solver: PETSc's MUMPS interface skips every
-            // later numeric factorization of the same factor once one has failed (INFOG(1) < 0
-            // stays set), so every retry of a cut step would fail at its first solve. A fresh
-            // solver (and the next `prepare` assembling J again) starts clean.
-            self.ksp = new_solver(self.ctx, self.linear)?;
-            self.key = None;
-            return Err(e.into());
-        }
-        self.y.with_owned_values(|s| x.copy_from_slice(s))?;
-        self.solves += 1;
-        self.solve_seconds += t0.elapsed().as_secs_f64();
-        Ok(())
+        let (solved, seconds) = timed(|| self.solve_owned(r, x));
+        self.phases.add("solve", seconds);
+        solved
     }
 
     fn dissipated_energy(&self) -> f64 {

@@ -3,6 +3,8 @@
 //! place between them.
 use crate::parallel::Log;
 use std::io::{IsTerminal, Write};
+// A progress clock (ETA, spacing of the log lines), not a phase timer: the phases are
+// timed by the driver (`parallel::Phases`).
 use std::time::Instant;
 
 /// Progress reporter.

@@ -1,0 +1,313 @@
+//! The identification's files, written by rank 0: the calibration's (`calibration.json`, `.csv`,
+//! `.png`, `calibration_elastic.csv`), the virtual tests' curves, and the law's (`law.csv`, its
+//! pictures, `material.toml` with its provenance).
+use super::provenance::provenance;
+use super::IdentifySummary;
+use crate::config::IdentifyJob;
+use crate::error::Error;
+use crate::identify::calibration::{CalibrationResult, QUANTITIES};
+use crate::identify::curves::{Curve, MeanKind};
+use crate::identify::material_file::{write_material_file, Provenance};
+use crate::identify::{CurveError, LawFit, LawResult};
+use crate::material::DamageParams;
+use crate::parallel::Context;
+use crate::plot::{LineChart, SeriesStyle};
+use std::fmt::Write as _;
+use std::path::Path;
+
+fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::OutputDir { path: path.to_path_buf(), source }
+}
+
+/// Rank 0: the calibration's files and log lines.
+pub(super) fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) -> Result<(), Error> {
+    let dir = &job.output_dir;
+    let p = &r.parameters;
+    ctx.log.info(format!(
+        "calibrated DEM ({:?}): alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e}{} (mu = {} fixed); J = {:.4e} after {} evaluations",
+        r.strategy,
+        p.alpha,
+        p.e_bar,
+        p.eps_cr,
+        p.theta_cr,
+        p.crushing_stress.map_or(String::new(), |s| format!(", crushing_stress = {s:.4e} Pa")),
+        p.mu,
+        r.objective,
+        r.evaluations
+    ));
+    let t = r.targets.as_array();
+    let scale = [1e9, 1.0, 1e6, 1e6];
+    let unit = ["GPa", "", "MPa", "MPa"];
+    for k in 0..4 {
+        ctx.log.info(format!(
+            "  {:20} {:10.4} ± {:.4} {} (n = {})   target {:.4}   error {:+.1}%",
+            QUANTITIES[k],
+            r.stats[k].mean / scale[k],
+            r.stats[k].std / scale[k],
+            unit[k],
+            r.stats[k].n,
+            t[k] / scale[k],
+            100.0 * r.relative_errors[k]
+        ));
+    }
+    if let Some(el) = &r.elastic {
+        ctx.log.info(format!(
+            "  stage 1 (elastic): {} alpha value(s) evaluated, nu {} its tolerance{}",
+            el.points.len(),
+            if el.converged { "within" } else { "NOT within" },
+            el.note.as_ref().map_or(String::new(), |n| format!(": {n}"))
+        ));
+        let mut csv = String::from("round,alpha,poisson_mean,poisson_std,e_over_e_bar_mean,e_over_e_bar_std,n,error\n");
+        for p in &el.points {
+            let _ = match &p.value {
+                Ok(m) => writeln!(
+                    csv,
+                    "{},{:e},{:e},{:e},{:e},{:e},{},",
+                    p.round, p.alpha, m.poisson.mean, m.poisson.std, m.e_ratio.mean, m.e_ratio.std, m.poisson.n
+                ),
+                Err(e) => writeln!(csv, "{},{:e},,,,,,{}", p.round, p.alpha, e.replace([',', '\n'], ";")),
+            };
+        }
+        let f = dir.join("calibration_elastic.csv");
+        std::fs::write(&f, csv).map_err(io_err(&f))?;
+    }
+    let crushing = r.history.first().is_some_and(|h| h.1.len() > 4);
+    let mut csv = String::from(if crushing {
+        "evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,crushing_stress,objective,error\n"
+    } else {
+        "evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,objective,error\n"
+    });
+    for (i, (it, x, v)) in r.history.iter().enumerate() {
+        let (val, err) = match v {
+            Ok(v) => (format!("{v:e}"), String::new()),
+            Err(e) => (String::new(), e.replace([',', '\n'], ";")),
+        };
+        let extra = x.get(4).map_or(String::new(), |v| format!("{v:e},"));
+        let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{extra}{val},{err}", x[0], x[1], x[2], x[3]);
+    }
+    let f = dir.join("calibration.csv");
+    std::fs::write(&f, csv).map_err(io_err(&f))?;
+    let f = dir.join("calibration.json");
+    let text = serde_json::to_string_pretty(r)
+        .map_err(|e| Error::Analysis(format!("{}: the calibration cannot be written as JSON: {e}", f.display())))?;
+    std::fs::write(&f, text + "\n").map_err(io_err(&f))?;
+    // The calibrated DEM's curves against the experimental points.
+    let mut chart =
+        LineChart::new("Calibrated DEM against the experiment", "strain ε [-] (test direction)", "stress σ [MPa]");
+    for (i, run) in r.best_runs.iter().enumerate() {
+        let pts = run.curve.x.iter().zip(&run.curve.y).map(|(&x, &y)| (x, y / 1e6)).collect();
+        chart = chart.series(if i == 0 { "DEM samples at the optimum" } else { "" }, pts, SeriesStyle::Line);
+    }
+    let tg = &r.targets;
+    let top = tg.peak_stress.max(r.stats[3].mean);
+    chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / tg.young_modulus, top / 1e6)], SeriesStyle::Dashed);
+    chart = chart.series(
+        "experiment: first crack, peak",
+        vec![
+            (tg.first_crack_stress / tg.young_modulus, tg.first_crack_stress / 1e6),
+            (tg.peak_stress / tg.young_modulus, tg.peak_stress / 1e6),
+        ],
+        SeriesStyle::Markers,
+    );
+    let f = dir.join("calibration.png");
+    chart.save_png(&f).map_err(|e| Error::Analysis(e.to_string()))
+}
+
+/// Rank 0: writes `text` to `file`.
+pub(super) fn write_text(file: &Path, text: &str) -> Result<(), Error> {
+    std::fs::write(file, text).map_err(io_err(file))
+}
+
+/// Rank 0: the virtual tests' curves (mean, then each sample) as CSV.
+pub(super) fn write_dem_curves(job: &IdentifyJob, samples: &[Curve], mean: &Curve, name: &str) -> Result<(), Error> {
+    let mut s = String::from("strain,stress");
+    for k in 0..samples.len() {
+        let _ = write!(s, ",stress_sample_{k}");
+    }
+    s.push('\n');
+    for (i, (&x, &y)) in mean.x.iter().zip(&mean.y).enumerate() {
+        let _ = write!(s, "{x:e},{y:e}");
+        for c in samples {
+            let _ = write!(s, ",{:e}", c.at(mean.x[i]));
+        }
+        s.push('\n');
+    }
+    let f = job.output_dir.join(name);
+    std::fs::write(&f, s).map_err(io_err(&f))
+}
+
+/// Rank 0: the law's files (history, charts, material file); returns the material file's path.
+pub(super) fn write_law(
+    ctx: &Context,
+    path: &Path,
+    job: &IdentifyJob,
+    fit: &LawFit,
+    r: &LawResult,
+    summary: &IdentifySummary,
+    samples: Option<&(Vec<Curve>, Vec<Curve>)>,
+) -> Result<String, Error> {
+    log_law(ctx, fit, r);
+    let f = job.output_dir.join("law.csv");
+    std::fs::write(&f, law_history_csv(fit, r)).map_err(io_err(&f))?;
+    draw_law(job, fit, r, samples)?;
+    write_material_files(ctx, job, &r.params, &provenance(path, job, fit, r, summary))
+}
+
+/// The identified law in the log: its parameters, the peaks of the DEM and of the law, every
+/// error measure, and the fitted one.
+fn log_law(ctx: &Context, fit: &LawFit, r: &LawResult) {
+    let p = &r.params;
+    ctx.log.info(format!(
+        "identified law: eps0_t = {:.4e}, eps0_c = {:.4e}, gf_t = {:.4} J/m² ({}; softening energy f_t h/B_t {:.4} J/m²), a_c = {:.4}, b_c = {:.4}{} (E = {:.4e} Pa, nu = {:.3}, h = {} m)",
+        p.eps0_t,
+        p.eps0_c,
+        p.gf_t,
+        p.regularization.name(),
+        fit.softening_energy(p),
+        p.a_c,
+        p.b_c,
+        p.gf_c.map_or(String::new(), |g| format!(", gf_c = {g:.4} J/m²")),
+        p.e,
+        p.nu,
+        fit.element_size
+    ));
+    ctx.log.info(format!(
+        "  peaks: DEM tension {:.4e} Pa, law {:.4e} Pa; DEM compression {:.4e} Pa, law {:.4e} Pa{}",
+        r.dem_peaks[0],
+        r.law_peaks[0],
+        r.dem_peaks[1],
+        r.law_peaks[1],
+        r.dem_sample_peaks.map_or(String::new(), |s| format!(
+            " (samples: tension {:.4e} ± {:.2e}, compression {:.4e} ± {:.2e})",
+            s[0].mean, s[0].std, s[1].mean, s[1].std
+        ))
+    ));
+    for m in &r.measures {
+        let v = |e: &Option<CurveError>| e.map_or("-".to_string(), |e| format!("{:.4}", e.value));
+        let parts = |e: &Option<CurveError>| {
+            e.and_then(|e| e.parts).map_or(String::new(), |p| {
+                format!(
+                    " [envelope {:.4}, peak {:+.4}, peak strain {:+.4}, post-peak energy {}: DEM {:.4e}, law {:.4e} J/m³]",
+                    p.envelope,
+                    p.peak,
+                    p.peak_strain,
+                    p.energy.map_or("-".into(), |x| format!("{x:+.4}")),
+                    p.reference_energy,
+                    p.model_energy
+                )
+            })
+        };
+        ctx.log.info(format!(
+            "  {:13} tension {}{}, compression {}{}",
+            m.measure,
+            v(&m.tension),
+            parts(&m.tension),
+            v(&m.compression),
+            parts(&m.compression)
+        ));
+    }
+    ctx.log.info(format!(
+        "  error ({:?}): tension {:.4} over {} points, compression {:.4} over {} points; peak error tension {:+.2}%, compression {:+.2}%",
+        fit.measure,
+        r.fit.tension.value,
+        r.fit.tension.points,
+        r.fit.compression.value,
+        r.fit.compression.points,
+        100.0 * r.tension_peak_error,
+        100.0 * r.compression_peak_error
+    ));
+}
+
+/// `law.csv`: every evaluation of the search with its point, its error (or why it failed) and
+/// the best error so far.
+fn law_history_csv(fit: &LawFit, r: &LawResult) -> String {
+    let names = fit.space.names();
+    let mut csv = format!("evaluation,iteration,{},objective,best_so_far,error\n", names.join(","));
+    for (i, ((it, x, v), best)) in r.history.iter().zip(&r.best_so_far).enumerate() {
+        let (val, err) = match v {
+            Ok(v) => (format!("{v:e}"), String::new()),
+            Err(e) => (String::new(), e.replace([',', '\n'], ";")),
+        };
+        let xs: Vec<String> = x.iter().map(|v| format!("{v:e}")).collect();
+        let _ = writeln!(csv, "{i},{it},{},{val},{best:e},{err}", xs.join(","));
+    }
+    csv
+}
+
+/// `law_error.png` (the error history) and `law_tension.png`, `law_compression.png` (the DEM's
+/// samples and mean against the law).
+fn draw_law(
+    job: &IdentifyJob,
+    fit: &LawFit,
+    r: &LawResult,
+    samples: Option<&(Vec<Curve>, Vec<Curve>)>,
+) -> Result<(), Error> {
+    let dir = &job.output_dir;
+    let plot = |c: LineChart, name: &str| -> Result<(), Error> {
+        c.save_png(&dir.join(name)).map_err(|e| Error::Analysis(e.to_string()))
+    };
+    let evals: Vec<(f64, f64)> =
+        r.history.iter().enumerate().filter_map(|(i, (_, _, v))| v.as_ref().ok().map(|v| (i as f64, *v))).collect();
+    let best: Vec<(f64, f64)> =
+        r.best_so_far.iter().enumerate().filter(|(_, v)| v.is_finite()).map(|(i, v)| (i as f64, *v)).collect();
+    plot(
+        LineChart::new(
+            "Damage-law identification: error history",
+            "evaluation",
+            &format!("error F ({:?})", fit.measure),
+        )
+        .series("each evaluation", evals, SeriesStyle::Markers)
+        .series("best so far", best, SeriesStyle::Line),
+        "law_error.png",
+    )?;
+    let mean_name = match job.spec.law.as_ref().map(|l| l.mean) {
+        Some(MeanKind::Pointwise) => "DEM: mean of the samples",
+        _ => "DEM: peak-aligned mean of the samples",
+    };
+    for (k, (name, dem, law, file)) in [
+        ("tension", &fit.tension, &r.law_curves.0, "law_tension.png"),
+        ("compression", &fit.compression, &r.law_curves.1, "law_compression.png"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let end = dem.x[dem.x.len() - 1];
+        let pts =
+            |c: &Curve| c.x.iter().zip(&c.y).filter(|p| *p.0 <= end).map(|(&x, &y)| (x, y / 1e6)).collect::<Vec<_>>();
+        let mut chart = LineChart::new(
+            &format!("Uniaxial {name}: DEM against the identified law"),
+            "strain ε [-] (test direction)",
+            "stress σ [MPa]",
+        );
+        let own = samples.map(|s| if k == 0 { &s.0 } else { &s.1 });
+        for (i, c) in own.into_iter().flatten().enumerate() {
+            chart = chart.series(if i == 0 { "DEM samples" } else { "" }, pts(c), SeriesStyle::Dashed);
+        }
+        chart =
+            chart.series(mean_name, pts(dem), SeriesStyle::Markers).series("damage law", pts(law), SeriesStyle::Line);
+        plot(chart, file)?;
+    }
+    Ok(())
+}
+
+/// `material.toml` in the results folder, and its copy at `[law] material_file` if given;
+/// returns the path of the copy, else of the results' file.
+fn write_material_files(
+    ctx: &Context,
+    job: &IdentifyJob,
+    law: &DamageParams,
+    provenance: &Provenance,
+) -> Result<String, Error> {
+    let f = job.output_dir.join("material.toml");
+    write_material_file(&f, law, provenance).map_err(Error::Analysis)?;
+    if let Some(copy) = &job.material_copy {
+        if let Some(parent) = copy.parent() {
+            std::fs::create_dir_all(parent).map_err(io_err(parent))?;
+        }
+        write_material_file(copy, law, provenance).map_err(Error::Analysis)?;
+        ctx.log.info(format!("material file: {} (and {})", f.display(), copy.display()));
+        return Ok(copy.display().to_string());
+    }
+    ctx.log.info(format!("material file: {}", f.display()));
+    Ok(f.display().to_string())
+}
