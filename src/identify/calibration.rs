@@ -89,6 +89,11 @@ impl Stat {
         let var = if n > 1 { v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64 } else { 0.0 };
         Stat { mean, std: var.sqrt(), n }
     }
+
+    /// Of `v`; `None` when `v` is empty (serialized as `null`).
+    pub fn of_nonempty(v: &[f64]) -> Option<Stat> {
+        (!v.is_empty()).then(|| Stat::of(v))
+    }
 }
 
 /// The sample statistics of the four quantities over the successful runs: E, ν over all, the

@@ -67,6 +67,69 @@ pub struct ResultsWriter {
     n_comp_of: HashMap<(String, bool), usize>,
 }
 
+/// The error of an HDF5 call on `dataset` of `file`.
+fn h5_error(file: &Path, dataset: &str) -> impl FnOnce(hdf5::Error) -> IoError {
+    let (file, dataset) = (file.to_path_buf(), dataset.to_string());
+    move |source| IoError::Hdf5 { file, dataset, source }
+}
+
+/// Collective. Creates `dir` (on every rank; an error names the ranks that failed).
+fn make_dir(comm: &SimpleCommunicator, dir: &Path, xdmf_path: &Path) -> Result<(), IoError> {
+    let made = std::fs::create_dir_all(dir);
+    let v = agree(comm, made.is_ok(), 0);
+    if v.ok() {
+        return Ok(());
+    }
+    Err(IoError::Xdmf {
+        file: xdmf_path.to_path_buf(),
+        reason: match made {
+            Err(e) => format!("cannot create directory {}: {e}", dir.display()),
+            Ok(()) => format!("directory {} failed on rank(s) {:?}", dir.display(), v.failed),
+        },
+    })
+}
+
+/// Collective. The `/mesh` group (coordinates, node ids, mixed topology, cell ids, groups and
+/// Gmsh types: each rank its own rows; `topology` = this rank's piece, its offset and the global
+/// length) and the empty `/steps/times`.
+fn write_mesh(
+    file: &hdf5::File,
+    xfer: &CollectiveXfer,
+    mesh: &OutputMesh,
+    (topo, topo_at, topo_len): (&[i64], usize, usize),
+    h5_path: &Path,
+) -> Result<(), IoError> {
+    let h5err = |dataset: &str| h5_error(h5_path, dataset);
+    let (n, c) = (mesh.n_nodes_global, mesh.n_cells_global);
+    let g = file.create_group("mesh").map_err(h5err("/mesh"))?;
+    let flat: Vec<f64> = mesh.coords.iter().flatten().copied().collect();
+    let put = |path: &str, ds: hdf5::Result<Dataset>, write: &dyn Fn(&Dataset) -> hdf5::Result<()>| {
+        ds.and_then(|d| write(&d)).map_err(h5err(path))
+    };
+    let (no, co) = (mesh.node_offset, mesh.cell_offset);
+    put("/mesh/coordinates", g.new_dataset::<f64>().shape([n, 3]).create("coordinates"), &|d| {
+        write_rows(d, xfer, no, 3, &flat)
+    })?;
+    put("/mesh/node_ids", g.new_dataset::<u64>().shape([n]).create("node_ids"), &|d| {
+        write_rows(d, xfer, no, 1, mesh.node_ids)
+    })?;
+    put("/mesh/topology", g.new_dataset::<i64>().shape([topo_len]).create("topology"), &|d| {
+        write_rows(d, xfer, topo_at, 1, topo)
+    })?;
+    put("/mesh/cell_ids", g.new_dataset::<u64>().shape([c]).create("cell_ids"), &|d| {
+        write_rows(d, xfer, co, 1, mesh.cell_ids)
+    })?;
+    put("/mesh/cell_group", g.new_dataset::<i32>().shape([c]).create("cell_group"), &|d| {
+        write_rows(d, xfer, co, 1, mesh.cell_groups)
+    })?;
+    put("/mesh/cell_types", g.new_dataset::<i32>().shape([c]).create("cell_types"), &|d| {
+        write_rows(d, xfer, co, 1, &mesh.gmsh_types())
+    })?;
+    let steps = file.create_group("steps").map_err(h5err("/steps"))?;
+    steps.new_dataset::<f64>().chunk(64).shape(0..).create("times").map_err(h5err("/steps/times"))?;
+    Ok(())
+}
+
 impl ResultsWriter {
     /// Collective. Creates `<dir>/<stem>.h5` and `<dir>/<stem>.xdmf` (replacing older ones) and
     /// writes the mesh once. Creates `dir` if needed.
@@ -80,79 +143,21 @@ impl ResultsWriter {
         let (topo, topo_at, topo_len) = agree_on_layout(&comm, mesh, stem, &h5_path)?;
 
         // 2. The directory, then the file (collective create with the MPI-IO driver).
-        let made = std::fs::create_dir_all(dir);
-        let v = agree(&comm, made.is_ok(), 0);
-        if !v.ok() {
-            return Err(IoError::Xdmf {
-                file: xdmf_path,
-                reason: match made {
-                    Err(e) => format!("cannot create directory {}: {e}", dir.display()),
-                    Ok(()) => format!("directory {} failed on rank(s) {:?}", dir.display(), v.failed),
-                },
-            });
-        }
-        let h5err = |dataset: &str| {
-            let file = h5_path.clone();
-            let dataset = dataset.to_string();
-            move |source| IoError::Hdf5 { file, dataset, source }
-        };
+        make_dir(&comm, dir, &xdmf_path)?;
+        let h5err = |dataset: &str| h5_error(&h5_path, dataset);
         let file = hdf5::File::with_options()
             .with_fapl(|p| p.mpio(comm.as_raw(), None))
             .create(&h5_path)
             .map_err(h5err("/"))?;
         let xfer = CollectiveXfer::new().map_err(h5err("/"))?;
 
-        // 3. The mesh, each rank its own rows.
-        let (n, c) = (mesh.n_nodes_global, mesh.n_cells_global);
-        let g = file.create_group("mesh").map_err(h5err("/mesh"))?;
-        let flat: Vec<f64> = mesh.coords.iter().flatten().copied().collect();
-        let put = |path: &str, ds: hdf5::Result<Dataset>, write: &dyn Fn(&Dataset) -> hdf5::Result<()>| {
-            ds.and_then(|d| write(&d)).map_err(h5err(path))
-        };
-        let (no, co) = (mesh.node_offset, mesh.cell_offset);
-        put("/mesh/coordinates", g.new_dataset::<f64>().shape([n, 3]).create("coordinates"), &|d| {
-            write_rows(d, &xfer, no, 3, &flat)
-        })?;
-        put("/mesh/node_ids", g.new_dataset::<u64>().shape([n]).create("node_ids"), &|d| {
-            write_rows(d, &xfer, no, 1, mesh.node_ids)
-        })?;
-        put("/mesh/topology", g.new_dataset::<i64>().shape([topo_len]).create("topology"), &|d| {
-            write_rows(d, &xfer, topo_at, 1, &topo)
-        })?;
-        put("/mesh/cell_ids", g.new_dataset::<u64>().shape([c]).create("cell_ids"), &|d| {
-            write_rows(d, &xfer, co, 1, mesh.cell_ids)
-        })?;
-        put("/mesh/cell_group", g.new_dataset::<i32>().shape([c]).create("cell_group"), &|d| {
-            write_rows(d, &xfer, co, 1, mesh.cell_groups)
-        })?;
-        put("/mesh/cell_types", g.new_dataset::<i32>().shape([c]).create("cell_types"), &|d| {
-            write_rows(d, &xfer, co, 1, &mesh.gmsh_types())
-        })?;
-        let steps = file.create_group("steps").map_err(h5err("/steps"))?;
-        steps.new_dataset::<f64>().chunk(64).shape(0..).create("times").map_err(h5err("/steps/times"))?;
-        drop((g, steps));
+        // 3. The mesh, each rank its own rows; the index of the XDMF file.
+        let topology = (topo.as_slice(), topo_at, topo_len);
+        write_mesh(&file, &xfer, mesh, topology, &h5_path)?;
         debug_assert_eq!(topo.len(), mesh.cell_kinds.iter().map(|&k| mixed_len(k)).sum::<usize>());
-
-        let field = |name: &str, center, number, h5_path: &str| FieldRef {
-            name: name.into(),
-            center,
-            n_comp: 1,
-            number,
-            h5_path: h5_path.into(),
-        };
-        let index = XdmfIndex {
-            h5_name,
-            n_nodes: n,
-            n_cells: c,
-            topology_len: topo_len,
-            mesh_fields: vec![
-                field("node_id", Center::Node, Number::U64, "/mesh/node_ids"),
-                field("cell_id", Center::Cell, Number::U64, "/mesh/cell_ids"),
-                field("group", Center::Cell, Number::I32, "/mesh/cell_group"),
-                field("gmsh_type", Center::Cell, Number::I32, "/mesh/cell_types"),
-            ],
-            steps: Vec::new(),
-        };
+        let (n, c) = (mesh.n_nodes_global, mesh.n_cells_global);
+        let (no, co) = (mesh.node_offset, mesh.cell_offset);
+        let index = XdmfIndex::for_mesh(h5_name, n, c, topo_len);
         let mut w = ResultsWriter {
             comm,
             file,

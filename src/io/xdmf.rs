@@ -108,6 +108,31 @@ pub(crate) fn xml_escape(s: &str) -> String {
 }
 
 impl XdmfIndex {
+    /// The index of a new file: the mesh of `n_nodes` nodes and `n_cells` cells (mixed topology
+    /// of `topology_len` entries) with its id, group and type fields, no step yet.
+    pub(crate) fn for_mesh(h5_name: String, n_nodes: usize, n_cells: usize, topology_len: usize) -> XdmfIndex {
+        let field = |name: &str, center, number, h5_path: &str| FieldRef {
+            name: name.into(),
+            center,
+            n_comp: 1,
+            number,
+            h5_path: h5_path.into(),
+        };
+        XdmfIndex {
+            h5_name,
+            n_nodes,
+            n_cells,
+            topology_len,
+            mesh_fields: vec![
+                field("node_id", Center::Node, Number::U64, "/mesh/node_ids"),
+                field("cell_id", Center::Cell, Number::U64, "/mesh/cell_ids"),
+                field("group", Center::Cell, Number::I32, "/mesh/cell_group"),
+                field("gmsh_type", Center::Cell, Number::I32, "/mesh/cell_types"),
+            ],
+            steps: Vec::new(),
+        }
+    }
+
     /// The XML text (UTF-8, one element per line).
     pub(crate) fn render(&self) -> String {
         let mut s = String::new();

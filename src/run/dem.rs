@@ -22,32 +22,11 @@ use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
 use crate::error::Error;
+use crate::identify::calibration::Stat;
 use crate::parallel::{agree, run_batch, Context, Phases};
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// Mean and sample standard deviation.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
-pub struct Stat {
-    /// Mean.
-    pub mean: f64,
-    /// Sample standard deviation (0 for one sample).
-    pub std: f64,
-    /// Number of values.
-    pub n: usize,
-}
-
-/// Mean and sample standard deviation of `v`; `None` when `v` is empty (serialized as `null`).
-fn stat(v: &[f64]) -> Option<Stat> {
-    let n = v.len();
-    if n == 0 {
-        return None;
-    }
-    let mean = v.iter().sum::<f64>() / n as f64;
-    let var = if n > 1 { v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64 } else { 0.0 };
-    Some(Stat { mean, std: var.sqrt(), n })
-}
 
 /// One sample's numbers.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -152,132 +131,169 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::OutputDir { path: path.to_path_buf(), source }
 }
 
+/// The axes of the stress–strain pictures: labels and the sign that plots compression positive.
+struct Axes<'j> {
+    title: &'j str,
+    x: &'static str,
+    y: &'static str,
+    sign: f64,
+}
+
+impl<'j> Axes<'j> {
+    fn of(job: &'j DemJob) -> Axes<'j> {
+        let compression = matches!(job.spec.test, VirtualTest::Compression { .. });
+        let (x, y) = match (compression, job.spec.test.is_shear()) {
+            (true, _) => ("shortening ε [-]", "compressive stress σ [MPa]"),
+            (_, true) => ("shear strain γ = U_x/H [-]", "shear stress τ [MPa]"),
+            _ => ("strain ε [-]", "stress σ [MPa] (tension positive)"),
+        };
+        let title = job.spec.title.as_deref().unwrap_or("DEM virtual test");
+        Axes { title, x, y, sign: if compression { -1.0 } else { 1.0 } }
+    }
+}
+
+/// The derived numbers of the counted samples, by quantity, with the batch's break count and
+/// test time.
+#[derive(Default)]
+struct Tally {
+    young_modulus: Vec<f64>,
+    poisson: Vec<f64>,
+    first_crack_stress: Vec<f64>,
+    peak_stress: Vec<f64>,
+    strain_at_peak: Vec<f64>,
+    events: usize,
+    test_seconds: f64,
+}
+
+impl Tally {
+    /// Adds the test `t` (its numbers only when they count; no Poisson ratio for shear).
+    fn add(&mut self, t: &TestResult, shear: bool) {
+        self.events += t.stats.events;
+        self.test_seconds += t.stats.seconds;
+        if !t.end.is_valid() {
+            return;
+        }
+        let d = &t.derived;
+        self.young_modulus.push(d.young_modulus);
+        if !shear {
+            self.poisson.push(d.poisson);
+        }
+        self.first_crack_stress.extend(d.first_crack_stress);
+        self.peak_stress.push(d.peak_stress);
+        self.strain_at_peak.push(d.strain_at_peak.abs());
+    }
+}
+
+/// Rank 0. Writes each sample's files, the batch's picture and summary numbers, and logs them.
 fn write_outputs(
     ctx: &Context,
     job: &DemJob,
     results: &[Result<TestResult, String>],
     seconds: f64,
 ) -> Result<DemSummary, Error> {
-    let dir = &job.output_dir;
-    let compression = matches!(job.spec.test, VirtualTest::Compression { .. });
+    let axes = Axes::of(job);
     let shear = job.spec.test.is_shear();
-    let cyclic = job.spec.test.is_cyclic();
-    let sign = if compression { -1.0 } else { 1.0 };
-    let (x_label, y_label) = match (compression, shear) {
-        (true, _) => ("shortening ε [-]", "compressive stress σ [MPa]"),
-        (_, true) => ("shear strain γ = U_x/H [-]", "shear stress τ [MPa]"),
-        _ => ("strain ε [-]", "stress σ [MPa] (tension positive)"),
-    };
-    let title = job.spec.title.as_deref().unwrap_or("DEM virtual test");
-    let mut chart = LineChart::new(title, x_label, y_label);
+    let mut chart = LineChart::new(axes.title, axes.x, axes.y);
+    let mut tally = Tally::default();
     let mut reports = Vec::with_capacity(results.len());
-    let (mut e, mut nu, mut fc, mut pk, mut sp) = (vec![], vec![], vec![], vec![], vec![]);
-    let (mut events, mut test_seconds) = (0usize, 0.0f64);
     for (k, r) in results.iter().enumerate() {
         let seed = sample_config(job, k).seed;
-        match r {
+        let report = match r {
             Err(msg) => {
                 ctx.log.warn(msg);
-                reports.push(SampleReport {
-                    sample: k,
-                    seed,
-                    result: Err(msg.clone()),
-                    end: None,
-                    counted: false,
-                    events: 0,
-                    seconds: 0.0,
-                });
+                let result = Err(msg.clone());
+                SampleReport { sample: k, seed, result, end: None, counted: false, events: 0, seconds: 0.0 }
             }
             Ok(t) => {
-                let sdir = dir.join(format!("sample-{k:03}"));
-                std::fs::create_dir_all(&sdir).map_err(io_err(&sdir))?;
-                write_curve(&sdir.join("curve.csv"), t)?;
-                write_cracks(job, k, &sdir, t)?;
-                let pts: Vec<(f64, f64)> = t.curve.iter().map(|c| (sign * c.strain, sign * c.stress / 1e6)).collect();
-                if cyclic {
-                    let f = sdir.join("curve.png");
-                    LineChart::new(&format!("{title}: sample {k}"), x_label, y_label)
-                        .series("DEM (hysteresis loops)", pts.clone(), SeriesStyle::Line)
-                        .save_png(&f)
-                        .map_err(|e| Error::Analysis(format!("{}: {e}", f.display())))?;
-                }
+                let pts = write_sample(ctx, job, k, t, &axes)?;
                 chart = chart.series(if k == 0 { "DEM samples" } else { "" }, pts, SeriesStyle::Line);
-                let d = &t.derived;
-                let counted = t.end.is_valid();
-                events += t.stats.events;
-                test_seconds += t.stats.seconds;
-                match &t.end {
-                    TestEnd::Failed { message } => ctx.log.warn(format!(
-                        "sample {k}: stopped before the peak after {} events ({message}); its curve is kept in {}, its numbers are not counted",
-                        t.stats.events,
-                        sdir.display()
-                    )),
-                    TestEnd::Collapse { message } => ctx.log.info(format!(
-                        "sample {k}: no equilibrium after the peak (collapse) after {} events: {message}",
-                        t.stats.events
-                    )),
-                    _ => {}
-                }
-                reports.push(SampleReport {
+                tally.add(t, shear);
+                SampleReport {
                     sample: k,
                     seed,
-                    result: Ok(d.clone()),
+                    result: Ok(t.derived.clone()),
                     end: Some(t.end.clone()),
-                    counted,
+                    counted: t.end.is_valid(),
                     events: t.stats.events,
                     seconds: t.stats.seconds,
-                });
-                if !counted {
-                    continue;
                 }
-                e.push(d.young_modulus);
-                if !shear {
-                    nu.push(d.poisson);
-                }
-                if let Some(f) = d.first_crack_stress {
-                    fc.push(f);
-                }
-                pk.push(d.peak_stress);
-                sp.push(d.strain_at_peak.abs());
             }
-        }
+        };
+        reports.push(report);
     }
-    if e.is_empty() {
+    if tally.young_modulus.is_empty() {
         return Err(Error::Analysis(
             "DEM: every sample failed (see the warnings above; the curves recorded so far are in the sample folders)"
                 .into(),
         ));
     }
-    if let Some(x) = job.spec.experiment.as_ref().filter(|_| !shear) {
-        if let Some(ex) = x.young_modulus {
-            let top = x.peak_stress.or(x.first_crack_stress).unwrap_or(pk.iter().cloned().fold(0.0, f64::max));
-            chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / ex, top / 1e6)], SeriesStyle::Dashed);
-            let mut pts = Vec::new();
-            if let Some(f) = x.first_crack_stress {
-                pts.push((f / ex, f / 1e6));
-            }
-            if let Some(p) = x.peak_stress {
-                pts.push((p / ex, p / 1e6));
-            }
-            if !pts.is_empty() {
-                chart = chart.series("experiment: first crack, peak", pts, SeriesStyle::Markers);
-            }
-        }
-    }
-    chart.save_png(&dir.join("stress_strain.png")).map_err(|e| Error::Analysis(e.to_string()))?;
+    chart = with_experiment(chart, job, &tally.peak_stress);
+    chart.save_png(&job.output_dir.join("stress_strain.png")).map_err(|e| Error::Analysis(e.to_string()))?;
+    let t = &tally;
     let s = DemSummary {
         test: job.spec.test.clone(),
         ranks: ctx.size,
         samples: reports,
-        young_modulus: stat(&e),
-        poisson: stat(&nu),
-        first_crack_stress: stat(&fc),
-        peak_stress: stat(&pk),
-        strain_at_peak: stat(&sp),
+        young_modulus: Stat::of_nonempty(&t.young_modulus),
+        poisson: Stat::of_nonempty(&t.poisson),
+        first_crack_stress: Stat::of_nonempty(&t.first_crack_stress),
+        peak_stress: Stat::of_nonempty(&t.peak_stress),
+        strain_at_peak: Stat::of_nonempty(&t.strain_at_peak),
         experiment: job.spec.experiment.clone(),
         seconds,
-        events_per_second: if test_seconds > 0.0 { events as f64 / test_seconds } else { 0.0 },
+        events_per_second: if t.test_seconds > 0.0 { t.events as f64 / t.test_seconds } else { 0.0 },
     };
+    log_summary(ctx, job, &s, &tally);
+    Ok(s)
+}
+
+/// Sample `k`'s folder: its curve (CSV, and PNG for a cyclic test) and its cracks; says how it
+/// ended when it stopped early. Returns its curve for the batch's picture.
+fn write_sample(ctx: &Context, job: &DemJob, k: usize, t: &TestResult, axes: &Axes) -> Result<Vec<(f64, f64)>, Error> {
+    let sdir = job.output_dir.join(format!("sample-{k:03}"));
+    std::fs::create_dir_all(&sdir).map_err(io_err(&sdir))?;
+    write_curve(&sdir.join("curve.csv"), t)?;
+    write_cracks(job, k, &sdir, t)?;
+    let pts: Vec<(f64, f64)> = t.curve.iter().map(|c| (axes.sign * c.strain, axes.sign * c.stress / 1e6)).collect();
+    if job.spec.test.is_cyclic() {
+        let f = sdir.join("curve.png");
+        LineChart::new(&format!("{}: sample {k}", axes.title), axes.x, axes.y)
+            .series("DEM (hysteresis loops)", pts.clone(), SeriesStyle::Line)
+            .save_png(&f)
+            .map_err(|e| Error::Analysis(format!("{}: {e}", f.display())))?;
+    }
+    match &t.end {
+        TestEnd::Failed { message } => ctx.log.warn(format!(
+            "sample {k}: stopped before the peak after {} events ({message}); its curve is kept in {}, its numbers are not counted",
+            t.stats.events,
+            sdir.display()
+        )),
+        TestEnd::Collapse { message } => ctx.log.info(format!(
+            "sample {k}: no equilibrium after the peak (collapse) after {} events: {message}",
+            t.stats.events
+        )),
+        _ => {}
+    }
+    Ok(pts)
+}
+
+/// The experiment's modulus line and its first-crack and peak points (not for shear tests); the
+/// line reaches the experiment's peak (or first crack, or the samples' largest peak `peaks`).
+fn with_experiment(chart: LineChart, job: &DemJob, peaks: &[f64]) -> LineChart {
+    let Some(x) = job.spec.experiment.as_ref().filter(|_| !job.spec.test.is_shear()) else { return chart };
+    let Some(ex) = x.young_modulus else { return chart };
+    let top = x.peak_stress.or(x.first_crack_stress).unwrap_or(peaks.iter().cloned().fold(0.0, f64::max));
+    let mut chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / ex, top / 1e6)], SeriesStyle::Dashed);
+    let pts: Vec<(f64, f64)> =
+        [x.first_crack_stress, x.peak_stress].into_iter().flatten().map(|f| (f / ex, f / 1e6)).collect();
+    if !pts.is_empty() {
+        chart = chart.series("experiment: first crack, peak", pts, SeriesStyle::Markers);
+    }
+    chart
+}
+
+/// The batch's numbers in the log, beside the experiment's.
+fn log_summary(ctx: &Context, job: &DemJob, s: &DemSummary, tally: &Tally) {
     let line = |name: &str, st: &Option<Stat>, scale: f64, unit: &str, exp: Option<f64>| {
         let x = exp.map(|v| format!("   experiment {:.4} {unit}", v / scale)).unwrap_or_default();
         match st {
@@ -291,7 +307,7 @@ fn write_outputs(
         }
     };
     let ex = job.spec.experiment.clone().unwrap_or_default();
-    if shear {
+    if job.spec.test.is_shear() {
         line("initial τ/γ", &s.young_modulus, 1e9, "GPa", None);
         let (w, h) = job.spec.sample.layout.domain();
         if let (Some(pk), Some(sp)) = (&s.peak_stress, &s.strain_at_peak) {
@@ -317,10 +333,9 @@ fn write_outputs(
     line("peak stress", &s.peak_stress, 1e6, "MPa", ex.peak_stress);
     line("strain at peak", &s.strain_at_peak, 1.0, "", None);
     ctx.log.info(format!(
-        "{events} events in {test_seconds:.2} s of test time ({:.0} events/s); batch wall time {seconds:.2} s",
-        s.events_per_second
+        "{} events in {:.2} s of test time ({:.0} events/s); batch wall time {:.2} s",
+        tally.events, tally.test_seconds, s.events_per_second, s.seconds
     ));
-    Ok(s)
 }
 
 fn write_curve(file: &Path, t: &TestResult) -> Result<(), Error> {
