@@ -36,7 +36,7 @@ use mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use super::collective::{agree, fnv1a, Verdict};
 use super::hyperslab::{write_rows, CollectiveXfer};
 use super::output_mesh::{mixed_len, OutputMesh};
-use super::xdmf::{write_atomic, Center, FieldRef, Number, StepRef, XdmfIndex};
+use super::xdmf::{read_steps, write_atomic, Center, FieldRef, Number, StepRef, XdmfIndex};
 use super::IoError;
 
 /// Attribute names the writer itself puts in every grid: fields may not use them.
@@ -61,6 +61,8 @@ pub struct ResultsWriter {
     cells: (usize, usize),
     /// What the XDMF index lists (completed steps only).
     index: XdmfIndex,
+    /// The leading steps of the index that live in earlier files (a restarted run's).
+    kept_steps: usize,
     /// The step between `begin_step` and `end_step`, if any.
     current: Option<StepRef>,
     /// Components of every field written so far, to keep them constant across steps.
@@ -169,14 +171,62 @@ impl ResultsWriter {
             index,
             current: None,
             n_comp_of: HashMap::new(),
+            kept_steps: 0,
         };
         w.publish()?;
         Ok(w)
     }
 
+    /// Collective. As [`Self::create`], for a restarted time history: its steps go to
+    /// `<dir>/<stem>.h5`, and the run's index `prior` (its XDMF file) goes on with them. The index
+    /// keeps its steps up to the time `until` (the checkpoint's; those after it were written before
+    /// the run stopped and are computed again), each pointing at its own HDF5 file, so the whole
+    /// run stays one series. Errors: `prior` unreadable, not in the layout this writer writes, or
+    /// written for another mesh.
+    pub fn create_continuing(
+        comm: &SimpleCommunicator,
+        dir: &Path,
+        stem: &str,
+        mesh: &OutputMesh,
+        prior: &Path,
+        until: f64,
+    ) -> Result<Self, IoError> {
+        let read = std::fs::read_to_string(prior)
+            .map_err(|e| e.to_string())
+            .and_then(|text| read_steps(&text))
+            .and_then(|r| {
+                let sizes = (mesh.n_nodes_global, mesh.n_cells_global);
+                if (r.n_nodes, r.n_cells) == sizes || r.steps.is_empty() {
+                    Ok(r.steps)
+                } else {
+                    Err(format!("written for {} nodes and {} cells, not this mesh's {sizes:?}", r.n_nodes, r.n_cells))
+                }
+            });
+        let v = agree(comm, read.is_ok(), 0);
+        let steps = match read {
+            Ok(steps) if v.ok() => steps,
+            Ok(_) => {
+                let reason = format!("unreadable on rank(s) {:?}", v.failed);
+                return Err(IoError::Xdmf { file: prior.to_path_buf(), reason });
+            }
+            Err(reason) => return Err(IoError::Xdmf { file: prior.to_path_buf(), reason }),
+        };
+        let mut w = Self::create(comm, dir, stem, mesh)?;
+        let own_index = std::mem::replace(&mut w.xdmf_path, prior.to_path_buf());
+        let until = until + 1e-9 * (1.0 + until.abs()); // the checkpoint's own step, to round-off
+        w.index.steps = steps.into_iter().filter(|s| s.time <= until).collect();
+        w.kept_steps = w.index.steps.len();
+        w.publish()?;
+        if w.comm.rank() == 0 {
+            // The restarted part's own index, written by `create`, is not needed: `prior` lists it.
+            let _ = std::fs::remove_file(own_index);
+        }
+        Ok(w)
+    }
+
     /// Collective. Starts output step `time` (the `k`-th call to `begin_step` writes `/steps/<k>`).
     pub fn begin_step(&mut self, time: f64) -> Result<(), IoError> {
-        let k = self.index.steps.len();
+        let k = self.own_steps();
         let group = format!("/steps/{k}");
         let problem = if self.current.is_some() {
             Some("begin_step called again before end_step".to_string())
@@ -203,7 +253,7 @@ impl ResultsWriter {
             write_rows(&d, &self.xfer, k, 1, mine)
         });
         times.map_err(self.h5err("/steps/times"))?;
-        self.current = Some(StepRef { time, fields: Vec::new() });
+        self.current = Some(StepRef { time, fields: Vec::new(), h5_name: None });
         Ok(())
     }
 
@@ -223,7 +273,7 @@ impl ResultsWriter {
     /// rename) so the pair stays readable up to the last completed step even if the run is killed
     /// later.
     pub fn end_step(&mut self) -> Result<(), IoError> {
-        let k = self.index.steps.len();
+        let k = self.own_steps();
         let Some(step) = self.current.take() else {
             return Err(self.usage(&format!("/steps/{k}"), "end_step called without begin_step".into()));
         };
@@ -231,9 +281,14 @@ impl ResultsWriter {
         self.publish()
     }
 
-    /// Number of completed steps.
+    /// Number of completed steps in the index (with those kept from before a restart).
     pub fn n_steps(&self) -> usize {
         self.index.steps.len()
+    }
+
+    /// Number of completed steps in this writer's own file.
+    fn own_steps(&self) -> usize {
+        self.index.steps.len() - self.kept_steps
     }
 
     /// Path of the HDF5 file.
@@ -255,7 +310,7 @@ impl ResultsWriter {
 
     /// Checks, agrees on and writes one field of the current step.
     fn write_field(&mut self, center: Center, name: &str, n_comp: usize, values: &[f64]) -> Result<(), IoError> {
-        let k = self.index.steps.len();
+        let k = self.own_steps();
         let dataset = format!("/steps/{k}/{name}");
         let owned = match center {
             Center::Node => self.nodes,

@@ -15,6 +15,12 @@
 //!
 //! Times are written with Rust's shortest round-trip formatting (`{:?}`), so `float(text)` gives
 //! back the exact `f64`.
+//!
+//! **Restarts.** A restarted time history writes its steps to an HDF5 file of its own and
+//! continues the run's index: the steps up to the checkpoint keep pointing at the earlier files
+//! (each step grid names its file), so ParaView opens the whole run as one series. The earlier
+//! steps are read back from the index by [`read_steps`], which reads the layout [`XdmfIndex::render`]
+//! writes (one element per line), nothing more general.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -72,6 +78,9 @@ pub(crate) struct StepRef {
     pub time: f64,
     /// Its fields, in the order written.
     pub fields: Vec<FieldRef>,
+    /// The HDF5 file that holds the step and its mesh, when it is not the index's own (the steps
+    /// a restarted run keeps from before its restart).
+    pub h5_name: Option<String>,
 }
 
 /// Everything the XDMF index says.
@@ -141,16 +150,17 @@ impl XdmfIndex {
         s.push_str("  <Domain>\n");
         if self.steps.is_empty() {
             s.push_str("    <Grid Name=\"mesh\" GridType=\"Uniform\">\n");
-            self.push_mesh(&mut s, "      ");
+            self.push_mesh(&mut s, "      ", &self.h5_name);
             s.push_str("    </Grid>\n");
         } else {
             s.push_str("    <Grid Name=\"results\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
             for (k, step) in self.steps.iter().enumerate() {
+                let h5 = step.h5_name.as_deref().unwrap_or(&self.h5_name);
                 let _ = writeln!(s, "      <Grid Name=\"step_{k}\" GridType=\"Uniform\">");
                 let _ = writeln!(s, "        <Time Value=\"{:?}\"/>", step.time);
-                self.push_mesh(&mut s, "        ");
+                self.push_mesh(&mut s, "        ", h5);
                 for f in &step.fields {
-                    self.push_attribute(&mut s, "        ", f);
+                    self.push_attribute(&mut s, "        ", f, h5);
                 }
                 s.push_str("      </Grid>\n");
             }
@@ -160,9 +170,9 @@ impl XdmfIndex {
         s
     }
 
-    /// Topology, geometry and the mesh attributes.
-    fn push_mesh(&self, s: &mut String, ind: &str) {
-        let h5 = xml_escape(&self.h5_name);
+    /// Topology, geometry and the mesh attributes, in the HDF5 file `h5_name`.
+    fn push_mesh(&self, s: &mut String, ind: &str, h5_name: &str) {
+        let h5 = xml_escape(h5_name);
         let _ = writeln!(s, "{ind}<Topology TopologyType=\"Mixed\" NumberOfElements=\"{}\">", self.n_cells);
         let _ = writeln!(
             s,
@@ -180,12 +190,12 @@ impl XdmfIndex {
         );
         let _ = writeln!(s, "{ind}</Geometry>");
         for f in &self.mesh_fields {
-            self.push_attribute(s, ind, f);
+            self.push_attribute(s, ind, f, h5_name);
         }
     }
 
-    /// One `<Attribute>` with its HDF5 data item.
-    fn push_attribute(&self, s: &mut String, ind: &str, f: &FieldRef) {
+    /// One `<Attribute>` with its data item in the HDF5 file `h5_name`.
+    fn push_attribute(&self, s: &mut String, ind: &str, f: &FieldRef, h5_name: &str) {
         let (center, rows) = match f.center {
             Center::Node => ("Node", self.n_nodes),
             Center::Cell => ("Cell", self.n_cells),
@@ -205,11 +215,125 @@ impl XdmfIndex {
             s,
             "{ind}  <DataItem Dimensions=\"{dims}\" NumberType=\"{number}\" Precision=\"{precision}\" \
              Format=\"HDF\">{}:{}</DataItem>",
-            xml_escape(&self.h5_name),
+            xml_escape(h5_name),
             xml_escape(&f.h5_path)
         );
         let _ = writeln!(s, "{ind}</Attribute>");
     }
+}
+
+/// What an index says about the run so far: its mesh's sizes and its steps, each with the HDF5
+/// file that holds it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct IndexedSteps {
+    /// Number of nodes.
+    pub n_nodes: usize,
+    /// Number of cells.
+    pub n_cells: usize,
+    /// Length of the Mixed topology array.
+    pub topology_len: usize,
+    /// The steps, in order, each with `h5_name` set.
+    pub steps: Vec<StepRef>,
+}
+
+/// The steps of an index written by [`XdmfIndex::render`] (module docs, "Restarts"). Errors: a
+/// line that does not have the layout `render` writes, a step without time or file.
+pub(crate) fn read_steps(text: &str) -> Result<IndexedSteps, String> {
+    let mut out = IndexedSteps { n_nodes: 0, n_cells: 0, topology_len: 0, steps: Vec::new() };
+    let mut step: Option<StepRef> = None;
+    // The element whose data item comes next: topology, geometry, or an attribute (name, center).
+    let mut pending: Option<Option<(String, Center)>> = None;
+    let mut in_topology = false;
+    for (n, line) in text.lines().enumerate() {
+        let at = |what: &str| format!("line {}: {what}: {}", n + 1, line.trim());
+        let l = line.trim();
+        if l.starts_with("<Grid Name=\"step_") {
+            step = Some(StepRef { time: f64::NAN, fields: Vec::new(), h5_name: None });
+        } else if let Some(v) = l.strip_prefix("<Time Value=\"") {
+            let t = v.split('"').next().and_then(|x| x.parse::<f64>().ok()).ok_or_else(|| at("a time"))?;
+            step.as_mut().ok_or_else(|| at("a time outside a step"))?.time = t;
+        } else if l.starts_with("<Topology ") {
+            out.n_cells = attribute(l, "NumberOfElements").and_then(|x| x.parse().ok()).ok_or_else(|| at("cells"))?;
+            (pending, in_topology) = (Some(None), true);
+        } else if l.starts_with("<Geometry ") {
+            (pending, in_topology) = (Some(None), false);
+        } else if l.starts_with("<Attribute ") {
+            let name = attribute(l, "Name").map(xml_unescape).ok_or_else(|| at("an attribute name"))?;
+            let center = match attribute(l, "Center") {
+                Some("Node") => Center::Node,
+                Some("Cell") => Center::Cell,
+                _ => return Err(at("a center")),
+            };
+            pending = Some(Some((name, center)));
+        } else if l.starts_with("<DataItem ") {
+            let item = data_item(l).ok_or_else(|| at("a data item"))?;
+            match pending.take() {
+                Some(None) if in_topology => {
+                    out.topology_len = item.dims[0];
+                    in_topology = false;
+                    if let Some(s) = step.as_mut() {
+                        s.h5_name = Some(item.file);
+                    }
+                }
+                Some(None) => out.n_nodes = item.dims[0],
+                Some(Some((name, center))) if !item.path.starts_with("/mesh/") => {
+                    let s = step.as_mut().ok_or_else(|| at("a field outside a step"))?;
+                    let n_comp = item.dims.get(1).copied().unwrap_or(1);
+                    s.fields.push(FieldRef { name, center, n_comp, number: item.number, h5_path: item.path });
+                }
+                Some(Some(_)) => {} // a mesh field: the writer adds its own
+                None => return Err(at("a data item outside a topology, geometry or attribute")),
+            }
+        } else if l == "</Grid>" {
+            if let Some(s) = step.take() {
+                if s.time.is_nan() || s.h5_name.is_none() {
+                    return Err(at("a step without its time or its file"));
+                }
+                out.steps.push(s);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A data item: its dimensions, number type, file and dataset path.
+struct DataItem {
+    dims: Vec<usize>,
+    number: Number,
+    file: String,
+    path: String,
+}
+
+/// `<DataItem Dimensions=".." NumberType=".." Precision=".." Format="HDF">file:/path</DataItem>`.
+fn data_item(l: &str) -> Option<DataItem> {
+    let dims = attribute(l, "Dimensions")?.split_whitespace().map(|d| d.parse().ok()).collect::<Option<Vec<_>>>()?;
+    let number = match (attribute(l, "NumberType")?, attribute(l, "Precision")?) {
+        ("Float", "8") => Number::F64,
+        ("Int", "4") => Number::I32,
+        ("UInt", "8") => Number::U64,
+        ("Int", "8") => Number::I32, // the topology's; its number type is not kept
+        _ => return None,
+    };
+    let text = l.split_once('>')?.1.strip_suffix("</DataItem>")?;
+    let (file, path) = text.rsplit_once(":/")?;
+    (!dims.is_empty()).then(|| DataItem {
+        dims,
+        number,
+        file: xml_unescape(file),
+        path: format!("/{}", xml_unescape(path)),
+    })
+}
+
+/// The value of the XML attribute `key` in the start tag `l` (escaped as written).
+fn attribute<'l>(l: &'l str, key: &str) -> Option<&'l str> {
+    let pat = format!(" {key}=\"");
+    let start = l.find(&pat)? + pat.len();
+    l[start..].split('"').next()
+}
+
+/// Undoes [`xml_escape`].
+fn xml_unescape(s: &str) -> String {
+    s.replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", "\"").replace("&apos;", "'").replace("&amp;", "&")
 }
 
 /// Writes `text` to `path` atomically: a temporary file in the same directory, flushed to disk,
@@ -269,6 +393,7 @@ mod tests {
         for (k, &time) in times.iter().enumerate() {
             x.steps.push(StepRef {
                 time,
+                h5_name: None,
                 fields: vec![
                     FieldRef {
                         name: "u".into(),
@@ -305,6 +430,50 @@ mod tests {
             assert_eq!(p.to_bits(), e.to_bits(), "time {e} printed as {p}");
         }
         assert_eq!(t.matches("<Grid").count(), t.matches("</Grid>").count());
+    }
+
+    #[test]
+    fn an_index_reads_back_as_its_steps_with_their_files() {
+        // What a restarted run keeps: every step of a rendered index, its time to the bit, its
+        // fields (names escaped and back, centre, components, number type, path) and its file:
+        // the index's own for new steps, another one for steps kept from before a restart.
+        let mut x = index();
+        let field = |k: usize, name: &str, center, n_comp, number| FieldRef {
+            name: name.into(),
+            center,
+            n_comp,
+            number,
+            h5_path: format!("/steps/{k}/{name}"),
+        };
+        for (k, (time, file)) in [(0.0, Some("run-0.h5")), (0.1 + 0.2, None)].into_iter().enumerate() {
+            x.steps.push(StepRef {
+                time,
+                h5_name: file.map(String::from),
+                fields: vec![
+                    field(k, "u", Center::Node, 3, Number::F64),
+                    field(k, "s<6>", Center::Cell, 6, Number::F64),
+                    field(k, "d", Center::Cell, 1, Number::F64),
+                ],
+            });
+        }
+        let read = read_steps(&x.render()).unwrap();
+        assert_eq!((read.n_nodes, read.n_cells, read.topology_len), (9, 4, 20));
+        assert_eq!(read.steps.len(), 2);
+        for (r, w) in read.steps.iter().zip(&x.steps) {
+            assert_eq!(r.time.to_bits(), w.time.to_bits());
+            assert_eq!(r.fields, w.fields);
+        }
+        assert_eq!(read.steps[0].h5_name.as_deref(), Some("run-0.h5"));
+        assert_eq!(read.steps[1].h5_name.as_deref(), Some("run.h5"));
+        // Rendered again with the steps read back, the index is the same text.
+        let mut y = index();
+        y.steps = read.steps.clone();
+        y.steps[1].h5_name = None;
+        assert_eq!(y.render(), x.render());
+        // A broken line is named.
+        let bad = x.render().replacen("<Time Value=\"0.0\"/>", "<Time Value=\"zero\"/>", 1);
+        let e = read_steps(&bad).unwrap_err();
+        assert!(e.contains("a time") && e.starts_with("line "), "{e}");
     }
 
     #[test]

@@ -35,6 +35,10 @@ use crate::parallel::{Context, Phases};
 use mpi::traits::{Communicator, Root};
 use std::time::Instant;
 
+/// The time history's results: `<stem>.h5` and `<stem>.xdmf` (a restart adds
+/// `<stem>-restart-<step>.h5`, listed in the same index).
+pub(super) const RESULTS_STEM: &str = "results";
+
 /// What a time-history run reports (`summary.json`).
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct TimeHistorySummary {
@@ -164,7 +168,7 @@ pub fn run_on(
         }
     })?;
     let first_step = state.step;
-    let stem = if restart { format!("results-restart-{first_step:06}") } else { "results".to_string() };
+    let stem = if restart { format!("{RESULTS_STEM}-restart-{first_step:06}") } else { RESULTS_STEM.to_string() };
     let it = Integration { cfg, job, mesh, model, ground: &ground, stem, restart };
     let settings = StepSettings {
         scheme: Scheme { beta, gamma, alpha },

@@ -1,7 +1,7 @@
 //! What a time history writes as it goes: `results.xdmf` every `output_every` steps (relative
 //! and absolute motion, cell outputs), a row of `energy.csv` and `monitors.csv` every step, the
 //! envelopes updated from both, and at the end `envelopes.xdmf` and the monitors' pictures.
-use super::driver::{Integration, SavedEnvelopes};
+use super::driver::{Integration, SavedEnvelopes, RESULTS_STEM};
 use super::envelope::Envelopes;
 use super::monitor::{self, CsvLog, Monitor};
 use super::petsc_system::PetscSystem;
@@ -53,11 +53,18 @@ impl StepOutputs {
         let energy_csv = CsvLog::open(ctx, &dir.join("energy.csv"), EnergyBalance::CSV_HEADER, restart_step)?;
         let monitor_csv = CsvLog::open(ctx, &dir.join("monitors.csv"), &monitor::header(&monitors), restart_step)?;
         let piece = MeshPiece::new(ctx, it.job, it.mesh, it.model, &sys.disc);
-        let writer = agree(
-            &ctx.comm,
-            ResultsWriter::create(&ctx.comm, dir, &it.stem, &piece.view()).map_err(Error::from),
-            Error::exit_code,
-        )?;
+        // A restart continues the run's index (one series in ParaView); its own steps go to a file
+        // of their own. Without the index (removed by hand) the restart gets an index of its own.
+        let index = dir.join(format!("{RESULTS_STEM}.xdmf"));
+        let created = if it.restart && index.exists() {
+            ResultsWriter::create_continuing(&ctx.comm, dir, &it.stem, &piece.view(), &index, state.t)
+        } else {
+            if it.restart {
+                ctx.log.warn(format!("{} not found: the restarted part gets an index of its own", index.display()));
+            }
+            ResultsWriter::create(&ctx.comm, dir, &it.stem, &piece.view())
+        };
+        let writer = agree(&ctx.comm, created.map_err(Error::from), Error::exit_code)?;
         Ok(StepOutputs { env, monitors, energy_csv, monitor_csv, piece, writer })
     }
 
