@@ -91,6 +91,10 @@ pub struct TimeHistorySummary {
     pub seconds: [f64; 5],
     /// Stepping seconds per step.
     pub seconds_per_step: f64,
+    /// Where the stepping's time goes in the system, per rank 0 [s]: Jacobian assembly
+    /// (`assemble`), numeric factorization with its first solve (`factorize`), the other solves
+    /// (`solve`), the elements' state updates and force assembly (`internal_force`).
+    pub system_seconds: std::collections::BTreeMap<String, f64>,
     /// Results file of this run.
     pub results: String,
 }
@@ -284,6 +288,7 @@ pub fn integrate(
     let mut progress = Progress::new(log, state.step, n_steps, 5.0);
     let mut clock = CheckpointClock::default();
     let factorizations0 = sys.factorizations;
+    let system0 = sys.phases.clone();
     log.info(format!("time history: {n_steps} step(s) of {dt} s from step {} (t = {} s)", state.step, state.t));
     while state.step < n_steps {
         phases.time("stepping", || -> Result<(), Error> {
@@ -308,6 +313,9 @@ pub fn integrate(
         }
     }
     summary.factorizations = sys.factorizations - factorizations0;
+    for &(name, seconds) in sys.phases.all() {
+        summary.system_seconds.insert(name.to_string(), seconds - system0.seconds(name));
+    }
     let [t_stepping, t_output, t_checkpoint] = phases.seconds_of(["stepping", "output", "checkpoint"]);
     summary.seconds[2..5].copy_from_slice(&[t_stepping, t_output, t_checkpoint]);
     finish(ctx, sys, it, &state, out, summary)

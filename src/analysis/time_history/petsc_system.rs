@@ -56,9 +56,13 @@ pub struct PetscSystem<'a> {
     pub factorizations: usize,
     /// Linear solves so far.
     pub solves: usize,
-    /// Wall time of the Jacobian assemblies (`"assemble"`) and of the KSP solves, factorizations
-    /// included (`"solve"`).
+    /// Wall time of the system's work: the Jacobian assemblies (`"assemble"`), the first solve
+    /// after each (`"factorize"`: the numeric factorization and one solve), the other solves
+    /// (`"solve"`), and the internal-force evaluations (`"internal_force"`: the elements' state
+    /// updates and the assembly of their forces).
     pub phases: Phases,
+    /// The next solve is the first with a new operator (it factorizes).
+    fresh_operator: bool,
 }
 
 /// The linear solver: MUMPS LU (Cholesky for a linear model), then the options.
@@ -159,6 +163,7 @@ impl<'a> PetscSystem<'a> {
             key: None,
             factorizations: 0,
             solves: 0,
+            fresh_operator: false,
             phases: Phases::default(),
         })
     }
@@ -239,6 +244,45 @@ impl<'a> PetscSystem<'a> {
         Ok(())
     }
 
+    /// Collective. `f_int(u)` on the owned equations ([`DynamicSystem::internal_force`]).
+    fn internal_force_owned(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
+        if self.linear {
+            // No element has state: f_int(u) = K₀ u on the free rows (K₀'s fixed rows hold only
+            // their diagonal and u vanishes there), one sparse product instead of an element loop.
+            self.x.copy_owned_from(u)?;
+            self.k0.mult(&self.x, &mut self.y)?;
+            self.y.with_owned_values(|s| f.copy_from_slice(s))?;
+            for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
+                for d in 0..6 {
+                    if self.disc.dofs.is_fixed(node, d) {
+                        f[6 * i + d] = 0.0;
+                    }
+                }
+            }
+            return Ok(());
+        }
+        let u_local = self.local_form(u)?;
+        self.y.set_all(0.0)?;
+        let mut out = ElementOutput::new(12);
+        let (mut free, mut all, mut u_e) = (Vec::new(), Vec::new(), Vec::new());
+        let mut first_err: Option<Error> = None;
+        for i in 0..self.disc.local_cells.len() {
+            let cell = &self.mesh.cells[self.model.cells[self.disc.local_cells[i]].cell];
+            self.disc.element_equations(&cell.nodes, &mut free, &mut all);
+            self.gather(i, &u_local, &mut u_e);
+            match self.disc.elements[i].evaluate(&u_e, EvalRequest::Force, &mut out) {
+                Ok(()) => self.y.add_values(&free, out.f_int.as_slice())?,
+                Err(source) => {
+                    first_err.get_or_insert(Error::Element { tag: cell.tag, group: String::new(), source });
+                }
+            }
+        }
+        self.y.assemble()?;
+        agree(&self.ctx.comm, first_err.map_or(Ok(()), Err), Error::exit_code)?;
+        self.y.with_owned_values(|s| f.copy_from_slice(s))?;
+        Ok(())
+    }
+
     /// Collective. Solves `J x = r` (owned values). A failed solve replaces the solver.
     fn solve_owned(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
         self.x.copy_owned_from(r)?;
@@ -315,41 +359,9 @@ impl DynamicSystem for PetscSystem<'_> {
     }
 
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
-        if self.linear {
-            // No element has state: f_int(u) = K₀ u on the free rows (K₀'s fixed rows hold only
-            // their diagonal and u vanishes there), one sparse product instead of an element loop.
-            self.x.copy_owned_from(u)?;
-            self.k0.mult(&self.x, &mut self.y)?;
-            self.y.with_owned_values(|s| f.copy_from_slice(s))?;
-            for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
-                for d in 0..6 {
-                    if self.disc.dofs.is_fixed(node, d) {
-                        f[6 * i + d] = 0.0;
-                    }
-                }
-            }
-            return Ok(());
-        }
-        let u_local = self.local_form(u)?;
-        self.y.set_all(0.0)?;
-        let mut out = ElementOutput::new(12);
-        let (mut free, mut all, mut u_e) = (Vec::new(), Vec::new(), Vec::new());
-        let mut first_err: Option<Error> = None;
-        for i in 0..self.disc.local_cells.len() {
-            let cell = &self.mesh.cells[self.model.cells[self.disc.local_cells[i]].cell];
-            self.disc.element_equations(&cell.nodes, &mut free, &mut all);
-            self.gather(i, &u_local, &mut u_e);
-            match self.disc.elements[i].evaluate(&u_e, EvalRequest::Force, &mut out) {
-                Ok(()) => self.y.add_values(&free, out.f_int.as_slice())?,
-                Err(source) => {
-                    first_err.get_or_insert(Error::Element { tag: cell.tag, group: String::new(), source });
-                }
-            }
-        }
-        self.y.assemble()?;
-        agree(&self.ctx.comm, first_err.map_or(Ok(()), Err), Error::exit_code)?;
-        self.y.with_owned_values(|s| f.copy_from_slice(s))?;
-        Ok(())
+        let (done, seconds) = timed(|| self.internal_force_owned(u, f));
+        self.phases.add("internal_force", seconds);
+        done
     }
 
     fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error> {
@@ -362,13 +374,15 @@ impl DynamicSystem for PetscSystem<'_> {
         self.phases.add("assemble", seconds);
         assembled?;
         self.factorizations += 1;
+        self.fresh_operator = true;
         self.key = Some(key);
         Ok(())
     }
 
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
         let (solved, seconds) = timed(|| self.solve_owned(r, x));
-        self.phases.add("solve", seconds);
+        self.phases.add(if self.fresh_operator { "factorize" } else { "solve" }, seconds);
+        self.fresh_operator = false;
         solved
     }
 
