@@ -22,7 +22,7 @@
 //! internal forces and control multiplier, must not loosen its own test.
 //!
 //! The system's operations (f_int, the residual, the solves) are in analysis::nonlinear_system;
-//! this file is the method: one [`NewtonSolve`] per increment, an iteration being
+//! this file is the method: one `NewtonSolve` per increment, an iteration being
 //! `residual → convergence test → direction → energy test → update (line search)`.
 use super::line_search::{self, LineSearchSettings};
 use super::Discretization;
