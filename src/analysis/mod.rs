@@ -13,6 +13,7 @@ pub mod modal;
 pub mod modal_updating;
 mod mode_pairing;
 pub mod newton;
+mod nonlinear_system;
 pub mod nonlocal;
 pub mod output;
 mod rigid_modes;

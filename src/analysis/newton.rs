@@ -21,20 +21,17 @@
 //! its value at the increment's start ([`bounded_reference`]): a runaway iterate, with huge
 //! internal forces and control multiplier, must not loosen its own test.
 //!
-//! Elements evaluate from their committed state at the total displacement and keep the result
-//! as their trial state; [`NonlinearSystem::commit`] makes sure the trial state is that of the
-//! converged u before committing.
-use super::assembly::{self, Rows};
+//! The system's operations (f_int, the residual, the solves) are in analysis::nonlinear_system;
+//! this file is the method: one `NewtonSolve` per increment, an iteration being
+//! `residual → convergence test → direction → energy test → update (line search)`.
 use super::line_search::{self, LineSearchSettings};
 use super::Discretization;
-use crate::element::EvalRequest;
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{agree, Context};
-use crate::petsc::{Ksp, Matrix, Vector};
-use mpi::collective::SystemOperation;
-use mpi::traits::CommunicatorCollectives;
+use crate::parallel::Context;
+
+pub use super::nonlinear_system::{global_sum, NonlinearSystem};
 
 /// Settings of one Newton solve.
 #[derive(Clone, Copy, Debug)]
@@ -78,262 +75,73 @@ pub struct NewtonOutcome {
     pub reason: String,
 }
 
-/// The system of one rank: owned values of u and of the load vectors, PETSc objects, the control.
-pub struct NonlinearSystem {
-    /// Owned DOF count.
-    pub n_owned: usize,
-    /// First owned global equation.
-    pub first: usize,
-    /// Owned DOF is free (not a support, not imposed).
-    pub free: Vec<bool>,
-    /// The job's loads and gravity, owned free rows.
-    pub f_loads: Vec<f64>,
-    /// The control pattern, owned free rows (zeros without a pattern).
-    pub f_pattern: Vec<f64>,
-    /// Owned local indices of the imposed control DOFs.
-    pub imposed: Vec<usize>,
-    /// Owned local index of the control DOF under a pattern (on its owner rank).
-    pub control: Option<usize>,
-    /// Current displacement (owned).
-    pub u: Vec<f64>,
-    /// Committed displacement (owned).
-    pub u_committed: Vec<f64>,
-    /// Current pattern factor μ, and its committed value.
-    pub mu: f64,
-    /// Committed μ.
-    pub mu_committed: f64,
-    /// Internal forces at `u` on all rows (owned), valid when `fresh`.
-    pub f_int: Vec<f64>,
-    fresh: bool,
-    ug: Vector,
-    fint_vec: Vector,
-    rhs: Vector,
-    sol: Vector,
-    k: Matrix,
-    ksp: Ksp,
-    options_set: bool,
-    /// Nonlocal averaging of the damage-driving strains, if the analysis asks for it
-    /// ([`NonlinearSystem::enable_nonlocal`]); refreshed before every element evaluation.
-    nonlocal: Option<super::nonlocal::NonlocalAveraging>,
+impl NewtonOutcome {
+    /// Not converged yet, no iteration made.
+    fn start() -> Self {
+        NewtonOutcome {
+            converged: false,
+            iterations: 0,
+            residual: f64::INFINITY,
+            line_search_evaluations: 0,
+            reason: String::new(),
+        }
+    }
+
+    /// Converged.
+    fn converged(mut self) -> Self {
+        self.converged = true;
+        self
+    }
+
+    /// Failed, for `reason`.
+    fn failed(mut self, reason: String) -> Self {
+        self.reason = reason;
+        self
+    }
 }
 
-/// Collective. Σ over ranks.
-pub fn global_sum(ctx: &Context, x: f64) -> f64 {
-    let mut out = 0.0;
-    ctx.comm.all_reduce_into(&x, &mut out, SystemOperation::sum());
-    out
+/// A Newton direction (δu, δμ), or why none could be computed (the increment fails, the run
+/// goes on).
+type Direction = Result<(Vec<f64>, f64), String>;
+
+/// The scales the convergence test keeps from the increment's first iteration: the force
+/// scale F₀ and the energy |δu₀ · r₀|.
+#[derive(Default)]
+struct FirstIteration {
+    /// F₀.
+    force: f64,
+    /// |δu₀ · r₀|, at least `f64::MIN_POSITIVE`.
+    energy: f64,
 }
 
-/// Collective. The linear solver: MUMPS LU (the options database is applied at the first solve).
-fn new_solver(ctx: &Context) -> Result<Ksp, Error> {
-    let mut ksp = Ksp::new(&ctx.comm, "")?;
-    ksp.set_type("preonly")?;
-    ksp.set_pc_type("lu")?;
-    ksp.set_factor_solver("mumps")?;
-    Ok(ksp)
+impl FirstIteration {
+    /// The force scale of iteration `it` from its `max(‖f_ext‖, ‖f_int‖)` ([`bounded_reference`]);
+    /// the first iteration's is F₀.
+    fn force_scale(&mut self, it: usize, current: f64) -> f64 {
+        if it == 0 {
+            self.force = current;
+        }
+        bounded_reference(current, self.force)
+    }
+
+    /// Whether the energy |δu · r| of iteration `it` is within `tolerance` of the first one's
+    /// (which the first iteration records; never converged there).
+    fn energy_converged(&mut self, it: usize, energy: f64, tolerance: f64) -> bool {
+        if it == 0 {
+            self.energy = energy.max(f64::MIN_POSITIVE);
+            false
+        } else {
+            energy <= tolerance * self.energy
+        }
+    }
 }
 
+/// `a · b` over the owned rows.
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl NonlinearSystem {
-    /// Collective. Vectors, matrix and solver for `disc`; loads assembled; u = 0.
-    pub fn new(
-        ctx: &Context,
-        mesh: &Mesh,
-        model: &StructuralModel,
-        disc: &Discretization,
-        matrix: crate::config::MatrixFormat,
-    ) -> Result<Self, Error> {
-        let n_owned = disc.dofs.n_owned_dofs();
-        let first = 6 * disc.dofs.node_offset();
-        let mut k = disc.new_matrix(ctx, mesh, model, matrix)?;
-        // The damage law's consistent tangent is not symmetric: no solver may assume it.
-        k.set_option_symmetric(false)?;
-        k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
-        let mut f = Vector::new_mpi(&ctx.comm, n_owned, None)?;
-        assembly::assemble_loads(disc, mesh, model, Rows::Free, &mut f)?;
-        let f_loads = f.owned_values()?;
-        let mut f_pattern = vec![0.0; n_owned];
-        let (mut imposed, mut control) = (Vec::new(), None);
-        if let Some(ctl) = &model.control {
-            if !ctl.pattern.is_empty() {
-                let pattern_model = StructuralModel {
-                    nodal_loads: ctl.pattern.clone(),
-                    gravity: None,
-                    point_masses: Vec::new(),
-                    ..model.clone()
-                };
-                assembly::assemble_loads(disc, mesh, &pattern_model, Rows::Free, &mut f)?;
-                f_pattern = f.owned_values()?;
-            }
-            for &n in &ctl.nodes {
-                if disc.dofs.owner[n] == disc.dofs.rank {
-                    let i = disc.dofs.dof(n, ctl.dof) as usize - first;
-                    if ctl.pattern.is_empty() {
-                        imposed.push(i);
-                    } else {
-                        control = Some(i);
-                    }
-                }
-            }
-        }
-        let free: Vec<bool> = disc
-            .dofs
-            .owned
-            .iter()
-            .flat_map(|&n| (0..6).map(move |d| (n, d)))
-            .map(|(n, d)| disc.dofs.equation(n, d) >= 0)
-            .collect();
-        let ksp = new_solver(ctx)?;
-        Ok(NonlinearSystem {
-            n_owned,
-            first,
-            free,
-            f_loads,
-            f_pattern,
-            imposed,
-            control,
-            u: vec![0.0; n_owned],
-            u_committed: vec![0.0; n_owned],
-            mu: 0.0,
-            mu_committed: 0.0,
-            f_int: vec![0.0; n_owned],
-            fresh: false,
-            ug: Vector::new_ghosted(&ctx.comm, n_owned, &disc.dofs.ghost_dofs())?,
-            fint_vec: Vector::new_mpi(&ctx.comm, n_owned, None)?,
-            rhs: Vector::new_mpi(&ctx.comm, n_owned, None)?,
-            sol: Vector::new_mpi(&ctx.comm, n_owned, None)?,
-            k,
-            ksp,
-            options_set: false,
-            nonlocal: None,
-        })
-    }
-
-    /// Collective. `u` into the ghosted vector; returns its local form (owned, then ghosts).
-    pub fn local_form(&mut self, u: &[f64]) -> Result<Vec<f64>, Error> {
-        let idx: Vec<i32> = (0..self.n_owned).map(|i| (self.first + i) as i32).collect();
-        self.ug.set_values(&idx, u)?;
-        self.ug.assemble()?;
-        self.ug.ghost_update()?;
-        Ok(self.ug.with_local_form(|s| s.to_vec())?)
-    }
-
-    /// Collective. Switch the damage shells to nonlocal driving strains averaged within
-    /// `radius` (analysis::nonlocal); every later evaluation refreshes the averages first.
-    pub fn enable_nonlocal(
-        &mut self,
-        ctx: &Context,
-        disc: &mut Discretization,
-        mesh: &Mesh,
-        model: &StructuralModel,
-        radius: f64,
-    ) -> Result<(), Error> {
-        self.nonlocal = Some(super::nonlocal::NonlocalAveraging::setup(ctx, disc, mesh, model, radius)?);
-        Ok(())
-    }
-
-    /// Collective. The averaged driving strains at the displacement of `local` (no-op for the
-    /// local law).
-    fn refresh_nonlocal(
-        &self,
-        ctx: &Context,
-        disc: &mut Discretization,
-        mesh: &Mesh,
-        model: &StructuralModel,
-        local: &[f64],
-    ) -> Result<(), Error> {
-        match &self.nonlocal {
-            Some(nl) => nl.update(ctx, disc, mesh, model, local),
-            None => Ok(()),
-        }
-    }
-
-    /// Collective. f_int at `u` (all rows, owned) into `self.f_int`; elements' trial state at `u`.
-    fn internal_force_at(
-        &mut self,
-        ctx: &Context,
-        disc: &mut Discretization,
-        mesh: &Mesh,
-        model: &StructuralModel,
-        u: &[f64],
-    ) -> Result<(), Error> {
-        let local = self.local_form(u)?;
-        self.refresh_nonlocal(ctx, disc, mesh, model, &local)?;
-        assembly::assemble_internal_forces_on(disc, mesh, model, &local, Rows::All, &mut self.fint_vec)?;
-        self.f_int = self.fint_vec.owned_values()?;
-        Ok(())
-    }
-
-    /// The residual on free rows, f_ext − f_int, for load factor λ and pattern factor μ.
-    fn residual(&self, lambda: f64, mu: f64) -> Vec<f64> {
-        (0..self.n_owned)
-            .map(|i| if self.free[i] { lambda * self.f_loads[i] + mu * self.f_pattern[i] - self.f_int[i] } else { 0.0 })
-            .collect()
-    }
-
-    /// Collective. The value of the pattern-control DOF (from its owner rank).
-    pub fn control_value(&self, ctx: &Context, u: &[f64]) -> f64 {
-        global_sum(ctx, self.control.map_or(0.0, |i| u[i]))
-    }
-
-    /// Collective. Tangent at `u`, factored; solves K x = b for each b.
-    #[allow(clippy::too_many_arguments)]
-    fn solve(
-        &mut self,
-        ctx: &Context,
-        disc: &mut Discretization,
-        mesh: &Mesh,
-        model: &StructuralModel,
-        u: &[f64],
-        rhs: &[&[f64]],
-        secant: bool,
-    ) -> Result<Vec<Vec<f64>>, Error> {
-        let local = self.local_form(u)?;
-        self.refresh_nonlocal(ctx, disc, mesh, model, &local)?;
-        self.k.zero_entries()?;
-        let request = if secant { EvalRequest::ForceAndSecant } else { EvalRequest::ForceAndTangent };
-        assembly::assemble_secant_or_tangent(disc, mesh, model, Some(&local), request, &mut self.k)?;
-        self.fresh = true; // the stiffness evaluation left the trial state at u
-        self.ksp.set_operators(&self.k)?;
-        if !self.options_set {
-            self.ksp.set_from_options()?;
-            self.options_set = true;
-        }
-        let idx: Vec<i32> = (0..self.n_owned).map(|i| (self.first + i) as i32).collect();
-        let mut out = Vec::with_capacity(rhs.len());
-        for b in rhs {
-            self.rhs.set_values(&idx, b)?;
-            self.rhs.assemble()?;
-            if let Err(e) =
-                agree(&ctx.comm, self.ksp.solve(&self.rhs, &mut self.sol).map_err(Error::from), Error::exit_code)
-            {
-                // A failed factorization poisons the solver: PETSc's MUMPS interface skips every
-                // later numeric factorization once one has failed, so every retry of a cut
-                // increment would fail at its first solve. A fresh solver starts clean.
-                self.ksp = new_solver(ctx)?;
-                self.options_set = false;
-                return Err(e.into());
-            }
-            out.push(self.sol.owned_values()?);
-        }
-        Ok(out)
-    }
-
-    /// Start an increment from the committed state: u ← u_committed with the imposed values set.
-    fn start(&mut self, inc: &Increment) {
-        self.u.copy_from_slice(&self.u_committed);
-        self.mu = self.mu_committed;
-        if let Some(v) = inc.imposed {
-            for &i in &self.imposed {
-                self.u[i] = v;
-            }
-        }
-        self.fresh = false;
-    }
-
     /// Collective. Newton's method for one increment (module docs), from the committed state.
     pub fn solve_increment(
         &mut self,
@@ -345,153 +153,152 @@ impl NonlinearSystem {
         set: &NewtonSettings,
     ) -> Result<NewtonOutcome, Error> {
         self.start(inc);
-        let mut outcome = NewtonOutcome {
-            converged: false,
-            iterations: 0,
-            residual: f64::INFINITY,
-            line_search_evaluations: 0,
-            reason: String::new(),
-        };
-        let mut energy0 = 0.0f64;
-        let mut reference0 = 0.0f64;
-        for it in 0..set.max_iterations {
+        NewtonSolve { sys: self, ctx, disc, mesh, model, inc, set }.run()
+    }
+}
+
+/// One increment's Newton solve: the system, and what every evaluation of it takes.
+struct NewtonSolve<'a> {
+    sys: &'a mut NonlinearSystem,
+    ctx: &'a Context,
+    disc: &'a mut Discretization,
+    mesh: &'a Mesh,
+    model: &'a StructuralModel,
+    inc: &'a Increment,
+    set: &'a NewtonSettings,
+}
+
+impl NewtonSolve<'_> {
+    /// Collective. The iterations, from the started increment: converged, failed with a reason,
+    /// or out of iterations.
+    fn run(mut self) -> Result<NewtonOutcome, Error> {
+        let mut outcome = NewtonOutcome::start();
+        let mut first = FirstIteration::default();
+        for it in 0..self.set.max_iterations {
             outcome.iterations = it + 1;
-            if !self.fresh {
-                let u = self.u.clone();
-                self.internal_force_at(ctx, disc, mesh, model, &u)?;
+            if !self.sys.fresh {
+                let u = self.sys.u.clone();
+                self.internal_force_at(&u)?;
             }
-            let r = self.residual(inc.lambda, self.mu);
-            let rn = global_sum(ctx, dot(&r, &r)).sqrt();
-            let ext: Vec<f64> =
-                (0..self.n_owned).map(|i| inc.lambda * self.f_loads[i] + self.mu * self.f_pattern[i]).collect();
-            let current =
-                global_sum(ctx, dot(&ext, &ext)).sqrt().max(global_sum(ctx, dot(&self.f_int, &self.f_int)).sqrt());
-            if it == 0 {
-                reference0 = current;
-            }
-            let reference = bounded_reference(current, reference0);
+            let r = self.sys.residual(self.inc.lambda, self.sys.mu);
+            let rn = global_sum(self.ctx, dot(&r, &r)).sqrt();
+            let reference = first.force_scale(it, self.force_scale());
             outcome.residual = if reference > 0.0 { rn / reference } else { rn };
             if !outcome.residual.is_finite() {
-                outcome.reason = "the residual is not finite".into();
-                return Ok(outcome);
+                return Ok(outcome.failed("the residual is not finite".into()));
             }
-            // The control constraint holds after the first iteration (to round-off).
-            let gap_ok =
-                inc.control_target.is_none_or(|t| (t - self.control_value(ctx, &self.u)).abs() <= 1e-12 * t.abs());
-            if gap_ok && (rn == 0.0 || outcome.residual <= set.force_tolerance) {
-                outcome.converged = true;
-                return Ok(outcome);
+            let gap_ok = self.control_gap_closed();
+            if gap_ok && (rn == 0.0 || outcome.residual <= self.set.force_tolerance) {
+                return Ok(outcome.converged());
             }
-            let u = self.u.clone();
-            let pattern = self.f_pattern.clone();
-            let sols = match inc.control_target {
-                Some(_) => self.solve(ctx, disc, mesh, model, &u, &[&r, &pattern], set.secant),
-                None => self.solve(ctx, disc, mesh, model, &u, &[&r], set.secant),
+            let (du, dmu) = match self.direction(&r)? {
+                Ok(step) => step,
+                Err(reason) => return Ok(outcome.failed(reason)),
             };
-            let sols = match sols {
-                Ok(s) => s,
-                // The only agreed error of `solve` is the linear solve's (a singular or
-                // indefinite matrix in a softening state): the increment fails, the run goes on.
-                Err(Error::Solver(e)) => {
-                    outcome.reason = format!("linear solve failed: {e}");
-                    return Ok(outcome);
-                }
-                Err(Error::Agreed(e)) => {
-                    outcome.reason = format!("linear solve failed: {}", e.message);
-                    return Ok(outcome);
-                }
-                Err(e) => return Err(e),
-            };
-            let mut du = sols[0].clone();
-            let mut dmu = 0.0;
-            if let Some(target) = inc.control_target {
-                let (dr_c, dp_c) = (self.control_value(ctx, &sols[0]), self.control_value(ctx, &sols[1]));
-                if dp_c == 0.0 || !dp_c.is_finite() {
-                    outcome.reason = "the load pattern does not move the control DOF (K⁻¹ f_p is zero there)".into();
-                    return Ok(outcome);
-                }
-                dmu = (target - self.control_value(ctx, &self.u) - dr_c) / dp_c;
-                for (d, p) in du.iter_mut().zip(&sols[1]) {
-                    *d += dmu * p;
-                }
+            let energy = global_sum(self.ctx, dot(&du, &r)).abs();
+            if first.energy_converged(it, energy, self.set.energy_tolerance) && gap_ok {
+                return Ok(outcome.converged());
             }
-            let energy = global_sum(ctx, dot(&du, &r)).abs();
-            if it == 0 {
-                energy0 = energy.max(f64::MIN_POSITIVE);
-            } else if energy <= set.energy_tolerance * energy0 && gap_ok {
-                outcome.converged = true;
-                return Ok(outcome);
-            }
-            // Full step, then the line search if the full step is not good enough.
-            let s0 = global_sum(ctx, dot(&du, &r));
-            let trial: Vec<f64> = self.u.iter().zip(&du).map(|(a, b)| a + b).collect();
-            self.mu += dmu;
-            self.internal_force_at(ctx, disc, mesh, model, &trial)?;
-            self.u = trial;
-            self.fresh = true;
-            if let (Some(ls), None) = (set.line_search, inc.control_target) {
-                let r1 = self.residual(inc.lambda, self.mu);
-                let s1 = global_sum(ctx, dot(&du, &r1));
-                let base: Vec<f64> = self.u.iter().zip(&du).map(|(a, b)| a - b).collect();
-                let mut last_eta = 1.0;
-                let found = line_search::secant(s0, s1, &ls, |eta| -> Result<f64, Error> {
-                    let x: Vec<f64> = base.iter().zip(&du).map(|(a, b)| a + eta * b).collect();
-                    self.internal_force_at(ctx, disc, mesh, model, &x)?;
-                    last_eta = eta;
-                    let r = self.residual(inc.lambda, self.mu);
-                    Ok(global_sum(ctx, dot(&du, &r)))
-                })?;
-                outcome.line_search_evaluations += found.evaluations;
-                self.u = base.iter().zip(&du).map(|(a, b)| a + found.eta * b).collect();
-                // The elements' trial state (and f_int) are those of the last evaluation.
-                self.fresh = last_eta == found.eta;
-            }
+            outcome.line_search_evaluations += self.update(&du, dmu, &r)?;
         }
-        outcome.reason = format!("no convergence in {} iterations", set.max_iterations);
-        Ok(outcome)
+        Ok(outcome.failed(format!("no convergence in {} iterations", self.set.max_iterations)))
     }
 
-    /// Collective. Accept the current state: trial state brought to u, then committed.
-    pub fn commit(
-        &mut self,
-        ctx: &Context,
-        disc: &mut Discretization,
-        mesh: &Mesh,
-        model: &StructuralModel,
-    ) -> Result<(), Error> {
-        if !self.fresh {
-            let u = self.u.clone();
-            self.internal_force_at(ctx, disc, mesh, model, &u)?;
-        }
-        for e in disc.elements.iter_mut() {
-            e.commit();
-        }
-        self.u_committed.copy_from_slice(&self.u);
-        self.mu_committed = self.mu;
-        Ok(())
+    /// Collective. f_int at `u` into the system; the elements' trial state at `u`.
+    fn internal_force_at(&mut self, u: &[f64]) -> Result<(), Error> {
+        self.sys.internal_force_at(self.ctx, self.disc, self.mesh, self.model, u)
     }
 
-    /// Discard the increment: elements back to their committed state.
-    pub fn revert(&mut self, disc: &mut Discretization) {
-        for e in disc.elements.iter_mut() {
-            e.revert();
-        }
-        self.fresh = false;
+    /// Collective. The current force scale `max(‖f_ext‖, ‖f_int‖)`, f_ext = λ f_c + μ f_p.
+    fn force_scale(&self) -> f64 {
+        let (sys, lambda) = (&*self.sys, self.inc.lambda);
+        let ext: Vec<f64> = (0..sys.n_owned).map(|i| lambda * sys.f_loads[i] + sys.mu * sys.f_pattern[i]).collect();
+        global_sum(self.ctx, dot(&ext, &ext)).sqrt().max(global_sum(self.ctx, dot(&sys.f_int, &sys.f_int)).sqrt())
     }
 
-    /// Collective. The force at the control: the sum of f_int over the imposed DOFs (the reaction
-    /// the imposed displacement needs), or μ times the pattern's resultant along the DOF.
-    pub fn control_force(&self, ctx: &Context, pattern_resultant: f64) -> f64 {
-        if self.control.is_some() || pattern_resultant != 0.0 {
-            self.mu * pattern_resultant
-        } else {
-            global_sum(ctx, self.imposed.iter().map(|&i| self.f_int[i]).sum())
+    /// Collective. Whether the control constraint u_c = u_c* holds (to round-off; it does after
+    /// the first iteration); true without pattern control.
+    fn control_gap_closed(&self) -> bool {
+        self.inc
+            .control_target
+            .is_none_or(|t| (t - self.sys.control_value(self.ctx, &self.sys.u)).abs() <= 1e-12 * t.abs())
+    }
+
+    /// Collective. The Newton direction for the residual `r`: `K δu_r = r`, and under pattern
+    /// control also `K δu_p = f_p` with the correction [`Self::control_correction`]. A failed
+    /// linear solve fails the increment.
+    fn direction(&mut self, r: &[f64]) -> Result<Direction, Error> {
+        let u = self.sys.u.clone();
+        let pattern = self.sys.f_pattern.clone();
+        let rhs: &[&[f64]] = match self.inc.control_target {
+            Some(_) => &[r, &pattern],
+            None => &[r],
+        };
+        let sols = match self.sys.solve(self.ctx, self.disc, self.mesh, self.model, &u, rhs, self.set.secant) {
+            Ok(s) => s,
+            // The only agreed error of `solve` is the linear solve's (a singular or
+            // indefinite matrix in a softening state): the increment fails, the run goes on.
+            Err(Error::Solver(e)) => return Ok(Err(format!("linear solve failed: {e}"))),
+            Err(Error::Agreed(e)) => return Ok(Err(format!("linear solve failed: {}", e.message))),
+            Err(e) => return Err(e),
+        };
+        Ok(match self.inc.control_target {
+            Some(target) => self.control_correction(target, &sols[0], &sols[1]),
+            None => Ok((sols[0].clone(), 0.0)),
+        })
+    }
+
+    /// Collective. Pattern control: `δμ = (u_c* − u_c − δu_r,c) / δu_p,c` and
+    /// `δu = δu_r + δμ δu_p`, so that the step lands on the target `u_c*`.
+    fn control_correction(&self, target: f64, du_r: &[f64], du_p: &[f64]) -> Direction {
+        let (dr_c, dp_c) = (self.sys.control_value(self.ctx, du_r), self.sys.control_value(self.ctx, du_p));
+        if dp_c == 0.0 || !dp_c.is_finite() {
+            return Err("the load pattern does not move the control DOF (K⁻¹ f_p is zero there)".into());
+        }
+        let dmu = (target - self.sys.control_value(self.ctx, &self.sys.u) - dr_c) / dp_c;
+        let mut du = du_r.to_vec();
+        for (d, p) in du.iter_mut().zip(du_p) {
+            *d += dmu * p;
+        }
+        Ok((du, dmu))
+    }
+
+    /// Collective. The full step `u += δu, μ += δμ` (f_int evaluated there), then, without pattern
+    /// control, the line search if the full step is not good enough. Returns the line search's
+    /// extra residual evaluations.
+    fn update(&mut self, du: &[f64], dmu: f64, r: &[f64]) -> Result<usize, Error> {
+        let s0 = global_sum(self.ctx, dot(du, r));
+        let trial: Vec<f64> = self.sys.u.iter().zip(du).map(|(a, b)| a + b).collect();
+        self.sys.mu += dmu;
+        self.internal_force_at(&trial)?;
+        self.sys.u = trial;
+        self.sys.fresh = true;
+        match (self.set.line_search, self.inc.control_target) {
+            (Some(ls), None) => self.line_search(&ls, du, s0),
+            _ => Ok(0),
         }
     }
 
-    /// The residual at the current state (owned, free rows).
-    pub fn current_residual(&self, lambda: f64) -> Vec<f64> {
-        self.residual(lambda, self.mu)
+    /// Collective. From the full step's u (= base + δu), the η with `δu · r(base + η δu) ≈ 0`
+    /// (analysis::line_search; `s0` = δu · r at the base); u ← base + η δu. Returns the extra
+    /// residual evaluations.
+    fn line_search(&mut self, ls: &LineSearchSettings, du: &[f64], s0: f64) -> Result<usize, Error> {
+        let lambda = self.inc.lambda;
+        let r1 = self.sys.residual(lambda, self.sys.mu);
+        let s1 = global_sum(self.ctx, dot(du, &r1));
+        let base: Vec<f64> = self.sys.u.iter().zip(du).map(|(a, b)| a - b).collect();
+        let mut last_eta = 1.0;
+        let found = line_search::secant(s0, s1, ls, |eta| -> Result<f64, Error> {
+            let x: Vec<f64> = base.iter().zip(du).map(|(a, b)| a + eta * b).collect();
+            self.internal_force_at(&x)?;
+            last_eta = eta;
+            let r = self.sys.residual(lambda, self.sys.mu);
+            Ok(global_sum(self.ctx, dot(du, &r)))
+        })?;
+        self.sys.u = base.iter().zip(du).map(|(a, b)| a + found.eta * b).collect();
+        // The elements' trial state (and f_int) are those of the last evaluation.
+        self.sys.fresh = last_eta == found.eta;
+        Ok(found.evaluations)
     }
 }
 

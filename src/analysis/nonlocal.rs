@@ -64,97 +64,20 @@ impl NonlocalAveraging {
         model: &StructuralModel,
         radius: f64,
     ) -> Result<Self, Error> {
-        let mut mine = Vec::new(); // x, y, z, V, layer per point
-        let mut per_element = Vec::with_capacity(disc.elements.len());
-        let mut failure = None;
-        for (i, &c) in disc.local_cells.iter().enumerate() {
-            match disc.elements[i].enable_nonlocal(radius) {
-                Ok(points) => {
-                    per_element.push(points.len());
-                    for p in points {
-                        mine.extend_from_slice(&[p.x[0], p.x[1], p.x[2], p.volume, p.layer as f64]);
-                    }
-                }
-                Err(e) => {
-                    let cell = &mesh.cells[model.cells[c].cell];
-                    failure = Some(Error::ElementInput {
-                        tag: cell.tag,
-                        group: String::new(),
-                        message: format!(
-                            "nonlocal_radius = {radius} m used as the regularization length of the damage law: {e}"
-                        ),
-                    });
-                    break;
-                }
-            }
-        }
-        crate::parallel::agree(&ctx.comm, failure.map_or(Ok(()), Err), Error::exit_code)?;
+        let enabled = enable_elements(disc, mesh, model, radius);
+        let (mine, per_element) = crate::parallel::agree(&ctx.comm, enabled, Error::exit_code)?;
         let all = all_gather(ctx, &mine);
-        let counts: Vec<usize> = all.1.iter().map(|n| n / 5).collect();
-        let offsets: Vec<usize> = counts
-            .iter()
-            .scan(0, |acc, &n| {
-                let o = *acc;
-                *acc += n;
-                Some(o)
-            })
-            .collect();
-        let pts: Vec<&[f64]> = all.0.chunks_exact(5).collect();
+        let counts: Vec<usize> = all.1.iter().map(|n| n / POINT_FIELDS).collect();
+        let offsets = offsets(&counts);
+        let pts: Vec<&[f64]> = all.0.chunks_exact(POINT_FIELDS).collect();
         if pts.is_empty() {
             // The same on every rank (the list is global): an agreed input error.
-            return Err(Error::Agreed(crate::parallel::Agreed {
-                message: format!(
-                    "[analysis] nonlocal_radius = {radius}: no element of the model has a damage law that can be averaged (only shells with a `damage` material take part)"
-                ),
-                exit_code: 2,
-                rank: 0,
-            }));
+            return Err(no_points(radius));
         }
-        // Bucket grid of cell size R.
-        let key = |p: &[f64]| {
-            ((p[0] / radius).floor() as i64, (p[1] / radius).floor() as i64, (p[2] / radius).floor() as i64)
-        };
-        let mut grid: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();
-        for (j, p) in pts.iter().enumerate() {
-            grid.entry(key(p)).or_default().push(j as u32);
-        }
+        let grid = BucketGrid::new(&pts, radius);
         let first = offsets[ctx.rank];
-        let (mut start, mut neighbour, mut weight, mut self_share) = (vec![0], Vec::new(), Vec::new(), Vec::new());
-        for i in first..first + counts[ctx.rank] {
-            let p = pts[i];
-            let (kx, ky, kz) = key(p);
-            let begin = neighbour.len();
-            let mut total = 0.0;
-            let mut own = 0.0;
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let Some(bucket) = grid.get(&(kx + dx, ky + dy, kz + dz)) else { continue };
-                        for &j in bucket {
-                            let q = pts[j as usize];
-                            if q[4] != p[4] {
-                                continue;
-                            }
-                            let r = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
-                            let a = bell(r, radius) * q[3];
-                            if a > 0.0 {
-                                neighbour.push(j);
-                                weight.push(a);
-                                total += a;
-                                if j as usize == i {
-                                    own = a;
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            for w in &mut weight[begin..] {
-                *w /= total;
-            }
-            self_share.push(own / total);
-            start.push(neighbour.len());
-        }
+        let Neighbours { start, neighbour, weight, self_share } =
+            Neighbours::of_points(&pts, &grid, first..first + counts[ctx.rank]);
         let n_global = pts.len();
         let pairs = crate::analysis::newton::global_sum(ctx, neighbour.len() as f64);
         ctx.log.info(format!(
@@ -213,6 +136,157 @@ impl NonlocalAveraging {
             }
         }
         Ok(())
+    }
+}
+
+/// Values per point in the gathered lists: x, y, z, V, layer.
+const POINT_FIELDS: usize = 5;
+
+/// Switches the owned elements to their nonlocal law of length `radius`: their points (x, y, z,
+/// V, layer each, [`POINT_FIELDS`]) and the number of points per element; the first element
+/// whose law cannot be built stops it with an input error naming its tag.
+fn enable_elements(
+    disc: &mut Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    radius: f64,
+) -> Result<(Vec<f64>, Vec<usize>), Error> {
+    let mut mine = Vec::new();
+    let mut per_element = Vec::with_capacity(disc.elements.len());
+    for (i, &c) in disc.local_cells.iter().enumerate() {
+        match disc.elements[i].enable_nonlocal(radius) {
+            Ok(points) => {
+                per_element.push(points.len());
+                for p in points {
+                    mine.extend_from_slice(&[p.x[0], p.x[1], p.x[2], p.volume, p.layer as f64]);
+                }
+            }
+            Err(e) => {
+                let cell = &mesh.cells[model.cells[c].cell];
+                return Err(Error::ElementInput {
+                    tag: cell.tag,
+                    group: String::new(),
+                    message: format!(
+                        "nonlocal_radius = {radius} m used as the regularization length of the damage law: {e}"
+                    ),
+                });
+            }
+        }
+    }
+    Ok((mine, per_element))
+}
+
+/// Where each rank's points start in the gathered list: the running sums of `counts`.
+fn offsets(counts: &[usize]) -> Vec<usize> {
+    counts
+        .iter()
+        .scan(0, |acc, &n| {
+            let o = *acc;
+            *acc += n;
+            Some(o)
+        })
+        .collect()
+}
+
+/// The agreed input error of a model in which no element takes part.
+fn no_points(radius: f64) -> Error {
+    Error::Agreed(crate::parallel::Agreed {
+        message: format!(
+            "[analysis] nonlocal_radius = {radius}: no element of the model has a damage law that can be averaged (only shells with a `damage` material take part)"
+        ),
+        exit_code: 2,
+        rank: 0,
+    })
+}
+
+/// A bucket grid of cell size R over the points: the points within R of a point are in the 27
+/// buckets around (and including) its own.
+struct BucketGrid {
+    /// R.
+    radius: f64,
+    /// The indices of the points in each bucket, in increasing order.
+    buckets: HashMap<(i64, i64, i64), Vec<u32>>,
+}
+
+impl BucketGrid {
+    /// The grid of cell size `radius` over `pts`.
+    fn new(pts: &[&[f64]], radius: f64) -> Self {
+        let mut grid = BucketGrid { radius, buckets: HashMap::new() };
+        for (j, p) in pts.iter().enumerate() {
+            grid.buckets.entry(grid.key(p)).or_default().push(j as u32);
+        }
+        grid
+    }
+
+    /// The bucket of point `p`: ⌊x/R⌋, ⌊y/R⌋, ⌊z/R⌋.
+    fn key(&self, p: &[f64]) -> (i64, i64, i64) {
+        let r = self.radius;
+        ((p[0] / r).floor() as i64, (p[1] / r).floor() as i64, (p[2] / r).floor() as i64)
+    }
+
+    /// The candidate neighbours of `p`: the points of the 27 buckets around its own, bucket by
+    /// bucket (x offset slowest, z fastest).
+    fn around(&self, p: &[f64]) -> impl Iterator<Item = u32> + '_ {
+        let (kx, ky, kz) = self.key(p);
+        (-1..=1)
+            .flat_map(move |dx| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| (kx + dx, ky + dy, kz + dz))))
+            .filter_map(|k| self.buckets.get(&k))
+            .flatten()
+            .copied()
+    }
+}
+
+/// CSR neighbour lists of a range of points: global point indices j and weights a_ij (module
+/// docs), and the own share a_ii of each point.
+struct Neighbours {
+    /// Where each point's list starts in `neighbour` and `weight` (one more entry: the end).
+    start: Vec<usize>,
+    /// Global point indices j.
+    neighbour: Vec<u32>,
+    /// Weights a_ij.
+    weight: Vec<f64>,
+    /// a_ii.
+    self_share: Vec<f64>,
+}
+
+impl Neighbours {
+    /// The lists of the points `range` of `pts`, found through `grid`.
+    fn of_points(pts: &[&[f64]], grid: &BucketGrid, range: std::ops::Range<usize>) -> Self {
+        let mut n = Neighbours { start: vec![0], neighbour: Vec::new(), weight: Vec::new(), self_share: Vec::new() };
+        for i in range {
+            n.push_point(pts, grid, i);
+        }
+        n
+    }
+
+    /// Point i's list: the points j of its layer with `α(|x_i − x_j|) V_j > 0`, their weights
+    /// normalized by their sum.
+    fn push_point(&mut self, pts: &[&[f64]], grid: &BucketGrid, i: usize) {
+        let p = pts[i];
+        let begin = self.neighbour.len();
+        let mut total = 0.0;
+        let mut own = 0.0;
+        for j in grid.around(p) {
+            let q = pts[j as usize];
+            if q[4] != p[4] {
+                continue;
+            }
+            let r = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+            let a = bell(r, grid.radius) * q[3];
+            if a > 0.0 {
+                self.neighbour.push(j);
+                self.weight.push(a);
+                total += a;
+                if j as usize == i {
+                    own = a;
+                }
+            }
+        }
+        for w in &mut self.weight[begin..] {
+            *w /= total;
+        }
+        self.self_share.push(own / total);
+        self.start.push(self.neighbour.len());
     }
 }
 

@@ -218,18 +218,44 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
     let folder = file.parent().filter(|f| !f.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let job = relative_path(folder, &p.job);
     let job = job.to_string_lossy().replace('\\', "/");
+    let mut s = header(&job, p.notes.as_deref());
+    s.push('\n');
+    s.push_str(&law_table(law)?);
+    provenance_table(&mut s, &job, p);
+    if let Some(d) = &p.dem {
+        dem_table(&mut s, d);
+    }
+    if !p.calibration.is_empty() {
+        calibration_table(&mut s, &p.calibration);
+    }
+    if !p.measures.is_empty() {
+        law_fit_table(&mut s, &p.measures);
+    }
+    if let Some(peaks) = &p.peaks {
+        peaks_table(&mut s, peaks);
+    }
+    Ok(s)
+}
+
+/// `NAME VERSION` of this software.
+fn software() -> String {
+    format!("{} {}", env!("CARGO_PKG_NAME"), env!("CARGO_PKG_VERSION"))
+}
+
+/// The header comment: what wrote the file (the job, at `job` from the file's folder), how to
+/// regenerate it, how to read it, then the job's notes, one comment line each.
+fn header(job: &str, notes: Option<&str>) -> String {
     let mut s = String::new();
     let _ = write!(
         s,
         "# Masonry damage law identified from DEM virtual tests (SPEC §3), written by the identification job\n\
-         # {job} (path from this file's folder) of {} {}: do not edit by hand.\n\
+         # {job} (path from this file's folder) of {}: do not edit by hand.\n\
          # Regenerate it by running that job again: from the same seeds it writes this file again, byte\n\
          # for byte. Structural jobs read the [law] table: [materials.NAME] type = \"damage\",\n\
          # law_file = \"<path of this file>\"; [provenance] says where the numbers come from.\n",
-        env!("CARGO_PKG_NAME"),
-        env!("CARGO_PKG_VERSION")
+        software()
     );
-    if let Some(notes) = &p.notes {
+    if let Some(notes) = notes {
         s.push_str("#\n");
         for line in notes.trim_end().lines() {
             let line = line.trim_end();
@@ -240,12 +266,15 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
             }
         }
     }
-    s.push('\n');
-    s.push_str(&law_table(law)?);
+    s
+}
 
+/// The `[provenance]` table: the job, the software, the method, the seeds, where the curves and
+/// the elastic constants come from, the regularization's h, the final errors and the failures.
+fn provenance_table(s: &mut String, job: &str, p: &Provenance) {
     s.push_str("\n[provenance]\n");
-    let _ = writeln!(s, "job = {}", quoted(&job));
-    let _ = writeln!(s, "software = {}", quoted(&format!("{} {}", env!("CARGO_PKG_NAME"), env!("CARGO_PKG_VERSION"))));
+    let _ = writeln!(s, "job = {}", quoted(job));
+    let _ = writeln!(s, "software = {}", quoted(&software()));
     let _ = writeln!(s, "method = {}", quoted(&p.method));
     let seeds = |v: &[u64]| format!("[{}]", v.iter().map(u64::to_string).collect::<Vec<_>>().join(", "));
     let _ = writeln!(s, "seed = {}                      # [analysis] seed: designs and surrogates", p.seed);
@@ -267,74 +296,75 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
         let items: Vec<String> = p.virtual_test_failures.iter().map(|f| quoted(f)).collect();
         let _ = writeln!(s, "virtual_test_failures = [{}]", items.join(", "));
     }
+}
 
-    if let Some(d) = &p.dem {
-        s.push_str("\n[provenance.dem]                       # the calibrated lattice (round-trip digits)\n");
-        for (k, v) in [
-            ("alpha", d.alpha),
-            ("e_bar", d.e_bar),
-            ("eps_cr", d.eps_cr),
-            ("theta_cr", d.theta_cr),
-            ("mu", d.mu),
-            ("kt_over_kn", d.kt_over_kn),
-        ] {
-            let _ = writeln!(s, "{k} = {}", exact(v));
-        }
-        if let Some(v) = d.crushing_stress {
-            let _ = writeln!(s, "crushing_stress = {}", exact(v));
-        }
-        if let Some(v) = d.crushing_energy {
-            let _ = writeln!(s, "crushing_energy = {}", exact(v));
-        }
+/// `[provenance.dem]`: the calibrated lattice's parameters, round-trip digits.
+fn dem_table(s: &mut String, d: &super::dem_adapter::DemParameters) {
+    s.push_str("\n[provenance.dem]                       # the calibrated lattice (round-trip digits)\n");
+    for (k, v) in [
+        ("alpha", d.alpha),
+        ("e_bar", d.e_bar),
+        ("eps_cr", d.eps_cr),
+        ("theta_cr", d.theta_cr),
+        ("mu", d.mu),
+        ("kt_over_kn", d.kt_over_kn),
+    ] {
+        let _ = writeln!(s, "{k} = {}", exact(v));
     }
+    if let Some(v) = d.crushing_stress {
+        let _ = writeln!(s, "crushing_stress = {}", exact(v));
+    }
+    if let Some(v) = d.crushing_energy {
+        let _ = writeln!(s, "crushing_energy = {}", exact(v));
+    }
+}
 
-    if !p.calibration.is_empty() {
-        s.push_str(
-            "\n[provenance.calibration]               # Table 1 against the calibrated DEM: sample mean ± std (n)\n",
+/// `[provenance.calibration]`: Table 1, each quantity's target, sample mean ± std (n) and
+/// relative error.
+fn calibration_table(s: &mut String, calibration: &[TargetFigure]) {
+    s.push_str(
+        "\n[provenance.calibration]               # Table 1 against the calibrated DEM: sample mean ± std (n)\n",
+    );
+    for c in calibration {
+        let _ = writeln!(
+            s,
+            "{} = {{ target = {}, mean = {}, std = {}, n = {}, relative_error = {} }}",
+            c.name,
+            exact(c.target),
+            figure(c.mean),
+            figure(c.std),
+            c.n,
+            relative(c.relative_error)
         );
-        for c in &p.calibration {
-            let _ = writeln!(
-                s,
-                "{} = {{ target = {}, mean = {}, std = {}, n = {}, relative_error = {} }}",
-                c.name,
-                exact(c.target),
-                figure(c.mean),
-                figure(c.std),
-                c.n,
-                relative(c.relative_error)
-            );
-        }
     }
+}
 
-    if !p.measures.is_empty() {
-        s.push_str(
-            "\n[provenance.law_fit]                   # every measure at the law (the fitted one: error_measure)\n",
-        );
-        let opt = |v: Option<f64>| v.map_or_else(|| quoted("-"), figure);
-        for m in &p.measures {
-            let _ =
-                writeln!(s, "{} = {{ tension = {}, compression = {} }}", m.measure, opt(m.tension), opt(m.compression));
-        }
+/// `[provenance.law_fit]`: every error measure at the law, in tension and compression (`"-"`:
+/// not computable).
+fn law_fit_table(s: &mut String, measures: &[MeasureFigure]) {
+    s.push_str("\n[provenance.law_fit]                   # every measure at the law (the fitted one: error_measure)\n");
+    let opt = |v: Option<f64>| v.map_or_else(|| quoted("-"), figure);
+    for m in measures {
+        let _ = writeln!(s, "{} = {{ tension = {}, compression = {} }}", m.measure, opt(m.tension), opt(m.compression));
     }
+}
 
-    if let Some(peaks) = &p.peaks {
-        s.push_str(
-            "\n[provenance.peaks]                     # [Pa]: the law's against the DEM mean curves' (relative)\n",
+/// `[provenance.peaks]`: the law's tension and compression peaks against the DEM mean curves'
+/// (and the samples' own peaks when known).
+fn peaks_table(s: &mut String, peaks: &[PeakFigure; 2]) {
+    s.push_str("\n[provenance.peaks]                     # [Pa]: the law's against the DEM mean curves' (relative)\n");
+    for (name, pk) in ["tension", "compression"].iter().zip(peaks) {
+        let samples = pk.samples.map_or(String::new(), |(m, sd, n)| {
+            format!(", dem_samples = {{ mean = {}, std = {}, n = {n} }}", figure(m), figure(sd))
+        });
+        let _ = writeln!(
+            s,
+            "{name} = {{ dem = {}, law = {}, relative_error = {}{samples} }}",
+            figure(pk.dem),
+            figure(pk.law),
+            relative(pk.relative_error)
         );
-        for (name, pk) in ["tension", "compression"].iter().zip(peaks) {
-            let samples = pk.samples.map_or(String::new(), |(m, sd, n)| {
-                format!(", dem_samples = {{ mean = {}, std = {}, n = {n} }}", figure(m), figure(sd))
-            });
-            let _ = writeln!(
-                s,
-                "{name} = {{ dem = {}, law = {}, relative_error = {}{samples} }}",
-                figure(pk.dem),
-                figure(pk.law),
-                relative(pk.relative_error)
-            );
-        }
     }
-    Ok(s)
 }
 
 /// Writes the file.

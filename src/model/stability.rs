@@ -21,6 +21,7 @@
 //! each round adding the ties that reach a piece held by then, until no more pieces are held.
 //! Pieces that only hold each other (neither held first) are reported, which is conservative:
 //! a support in the right places settles it.
+use super::rigid_pieces::RigidPieces;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix6, Vector3, Vector6};
 
@@ -52,14 +53,6 @@ impl std::fmt::Display for Mechanism {
     }
 }
 
-fn find(parent: &mut [usize], mut a: usize) -> usize {
-    while parent[a] != a {
-        parent[a] = parent[parent[a]];
-        a = parent[a];
-    }
-    a
-}
-
 impl super::StructuralModel {
     /// The pieces of the model that its supports (and ties, module docs) do not hold.
     pub fn find_mechanisms(&self, mesh: &Mesh) -> Vec<Mechanism> {
@@ -77,150 +70,16 @@ pub fn find_mechanisms(mesh: &Mesh, cells: &[&[usize]], fixed: &[u8]) -> Vec<Mec
 /// 2-node cells that are ties (empty: none).
 pub fn find_mechanisms_with_ties(mesh: &Mesh, cells: &[&[usize]], is_tie: &[bool], fixed: &[u8]) -> Vec<Mechanism> {
     let tie = |c: usize| is_tie.get(c).copied().unwrap_or(false);
-    let n = mesh.coords.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    for (_, c) in cells.iter().enumerate().filter(|(i, _)| !tie(*i)) {
-        for w in c.windows(2) {
-            let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
-        }
-    }
-    let mut roots: Vec<usize> = Vec::new();
-    let mut piece = vec![usize::MAX; n];
-    let mut active = vec![false; n];
-    for c in cells {
-        for &a in c.iter() {
-            active[a] = true;
-        }
-    }
-    for a in 0..n {
-        if active[a] {
-            let r = find(&mut parent, a);
-            let idx = match roots.iter().position(|&x| x == r) {
-                Some(i) => i,
-                None => {
-                    roots.push(r);
-                    roots.len() - 1
-                }
-            };
-            piece[a] = idx;
-        }
-    }
-    let np = roots.len();
-    let mut centroid = vec![Vector3::zeros(); np];
-    let mut count = vec![0usize; np];
-    let mut lo = vec![Vector3::repeat(f64::INFINITY); np];
-    let mut hi = vec![Vector3::repeat(f64::NEG_INFINITY); np];
-    for a in 0..n {
-        if active[a] {
-            let x = Vector3::from(mesh.coords[a]);
-            let p = piece[a];
-            centroid[p] += x;
-            count[p] += 1;
-            lo[p] = lo[p].inf(&x);
-            hi[p] = hi[p].sup(&x);
-        }
-    }
-    for p in 0..np {
-        centroid[p] /= count[p] as f64;
-    }
-    // A translation restrained along the unit vector e at node a of piece p: r = (e, rel × e).
-    let restraint = |a: usize, p: usize, e: Vector3<f64>| -> Vector6<f64> {
-        let size = (hi[p] - lo[p]).norm().max(f64::MIN_POSITIVE);
-        let rel = (Vector3::from(mesh.coords[a]) - centroid[p]) / size;
-        let mut r = Vector6::zeros();
-        r.fixed_rows_mut::<3>(0).copy_from(&e);
-        r.fixed_rows_mut::<3>(3).copy_from(&rel.cross(&e));
-        r
-    };
-    let mut gram = vec![Matrix6::<f64>::zeros(); np];
-    for a in 0..n {
-        if !active[a] || fixed[a] == 0 {
-            continue;
-        }
-        let p = piece[a];
-        for d in 0..6 {
-            if fixed[a] & (1 << d) == 0 {
-                continue;
-            }
-            let r = if d < 3 {
-                restraint(a, p, Vector3::ith(d, 1.0))
-            } else {
-                let mut r = Vector6::zeros();
-                r[d] = 1.0;
-                r
-            };
-            gram[p] += r * r.transpose();
-        }
-    }
-    let is_held = |g: &Matrix6<f64>| g.symmetric_eigen().eigenvalues.iter().all(|&l| l >= 1e-10);
+    let pieces = RigidPieces::of(mesh, cells, |c| !tie(c));
+    let mut gram = support_gram(&pieces, fixed);
     let mut held: Vec<bool> = gram.iter().map(is_held).collect();
-    // Ties between pieces, in rounds: a tie reaching a held piece restrains the other end.
-    let mut pending: Vec<(usize, usize)> = cells
-        .iter()
-        .enumerate()
-        .filter(|(i, c)| tie(*i) && c.len() == 2 && piece[c[0]] != piece[c[1]])
-        .map(|(_, c)| (c[0], c[1]))
-        .collect();
-    loop {
-        let mut progress = false;
-        pending.retain(|&(a, b)| {
-            let (pa, pb) = (piece[a], piece[b]);
-            let (end, p) = match (held[pa], held[pb]) {
-                (true, true) => return false,
-                (true, false) => (b, pb),
-                (false, true) => (a, pa),
-                (false, false) => return true,
-            };
-            let d = Vector3::from(mesh.coords[b]) - Vector3::from(mesh.coords[a]);
-            if d.norm() > 0.0 {
-                let r = restraint(end, p, d.normalize());
-                gram[p] += r * r.transpose();
-            }
-            progress = true;
-            false
-        });
-        let mut newly = false;
-        for p in 0..np {
-            if !held[p] && is_held(&gram[p]) {
-                held[p] = true;
-                newly = true;
-            }
-        }
-        if !progress && !newly {
-            break;
-        }
-    }
-    let mut n_cells = vec![0usize; np];
-    for (_, c) in cells.iter().enumerate().filter(|(i, _)| !tie(*i)) {
-        n_cells[piece[c[0]]] += 1;
-    }
-    let names = [
-        "translation along x",
-        "translation along y",
-        "translation along z",
-        "rotation about x",
-        "rotation about y",
-        "rotation about z",
-    ];
+    hold_through_ties(&pieces, tie_ends(cells, tie, &pieces), &mut gram, &mut held);
+    let n_cells = cells_per_piece(cells, tie, &pieces);
     let mut out = Vec::new();
-    for p in 0..np {
-        if held[p] {
-            continue;
-        }
-        let eig = gram[p].symmetric_eigen();
-        let mut free = Vec::new();
-        for k in 0..6 {
-            if eig.eigenvalues[k] < 1e-10 {
-                let v = eig.eigenvectors.column(k);
-                let parts: Vec<String> = (0..6).filter(|&i| v[i].abs() > 0.1).map(|i| names[i].to_string()).collect();
-                free.push(parts.join(" combined with "));
-            }
-        }
+    for p in (0..pieces.len()).filter(|&p| !held[p]) {
+        let free = free_motions(&gram[p]);
         if !free.is_empty() {
-            let node = roots[p];
+            let node = pieces.root(p);
             out.push(Mechanism {
                 n_cells: n_cells[p],
                 node_tag: mesh.node_tags[node],
@@ -230,6 +89,122 @@ pub fn find_mechanisms_with_ties(mesh: &Mesh, cells: &[&[usize]], is_tie: &[bool
         }
     }
     out
+}
+
+/// Smallest eigenvalue of the (dimensionless) Gram matrix below which a rigid motion is free.
+const FREE_EIGENVALUE: f64 = 1e-10;
+
+/// The rigid motions in the order of `(t, θ)`, in words.
+const MOTION_NAMES: [&str; 6] = [
+    "translation along x",
+    "translation along y",
+    "translation along z",
+    "rotation about x",
+    "rotation about y",
+    "rotation about z",
+];
+
+/// Whether the restraints of Gram matrix `g` hold all six rigid motions (no eigenvalue below
+/// [`FREE_EIGENVALUE`]).
+fn is_held(g: &Matrix6<f64>) -> bool {
+    g.symmetric_eigen().eigenvalues.iter().all(|&l| l >= FREE_EIGENVALUE)
+}
+
+/// The restraint `r = (0, e_d)` of the rotation DOF `d` (3, 4, 5: about x, y, z).
+fn rotation_restraint(d: usize) -> Vector6<f64> {
+    let mut r = Vector6::zeros();
+    r[d] = 1.0;
+    r
+}
+
+/// `G = Σ r rᵀ` of each piece over the fixed DOFs of its nodes (`fixed[a]` bit d: DOF d fixed).
+fn support_gram(pieces: &RigidPieces, fixed: &[u8]) -> Vec<Matrix6<f64>> {
+    let mut gram = vec![Matrix6::<f64>::zeros(); pieces.len()];
+    for a in 0..pieces.n_nodes() {
+        let Some(p) = pieces.of_node(a).filter(|_| fixed[a] != 0) else {
+            continue;
+        };
+        for d in (0..6).filter(|d| fixed[a] & (1 << d) != 0) {
+            let r = if d < 3 { pieces.translation_restraint(a, Vector3::ith(d, 1.0)) } else { rotation_restraint(d) };
+            gram[p] += r * r.transpose();
+        }
+    }
+    gram
+}
+
+/// The end nodes of the ties that join two different pieces.
+fn tie_ends(cells: &[&[usize]], tie: impl Fn(usize) -> bool, pieces: &RigidPieces) -> Vec<(usize, usize)> {
+    cells
+        .iter()
+        .enumerate()
+        .filter(|(i, c)| tie(*i) && c.len() == 2 && pieces.of_cell_node(c[0]) != pieces.of_cell_node(c[1]))
+        .map(|(_, c)| (c[0], c[1]))
+        .collect()
+}
+
+/// Ties between pieces, in rounds (module docs): a tie reaching a held piece restrains the
+/// translation of its other end along its axis; pieces held by then join `held`, until a round
+/// neither uses a tie nor holds a piece.
+fn hold_through_ties(
+    pieces: &RigidPieces,
+    mut pending: Vec<(usize, usize)>,
+    gram: &mut [Matrix6<f64>],
+    held: &mut [bool],
+) {
+    loop {
+        let mut progress = false;
+        pending.retain(|&(a, b)| {
+            let (pa, pb) = (pieces.of_cell_node(a), pieces.of_cell_node(b));
+            let (end, p) = match (held[pa], held[pb]) {
+                (true, true) => return false,
+                (true, false) => (b, pb),
+                (false, true) => (a, pa),
+                (false, false) => return true,
+            };
+            let d = pieces.position(b) - pieces.position(a);
+            if d.norm() > 0.0 {
+                let r = pieces.translation_restraint(end, d.normalize());
+                gram[p] += r * r.transpose();
+            }
+            progress = true;
+            false
+        });
+        let mut newly = false;
+        for p in 0..gram.len() {
+            if !held[p] && is_held(&gram[p]) {
+                held[p] = true;
+                newly = true;
+            }
+        }
+        if !progress && !newly {
+            break;
+        }
+    }
+}
+
+/// Number of cells (ties excepted) in each piece.
+fn cells_per_piece(cells: &[&[usize]], tie: impl Fn(usize) -> bool, pieces: &RigidPieces) -> Vec<usize> {
+    let mut n_cells = vec![0usize; pieces.len()];
+    for (_, c) in cells.iter().enumerate().filter(|(i, _)| !tie(*i)) {
+        n_cells[pieces.of_cell_node(c[0])] += 1;
+    }
+    n_cells
+}
+
+/// The free rigid motions of a piece with Gram matrix `g`, in words: each eigenvector of a zero
+/// eigenvalue named by its components above 0.1 ("rotation about x combined with ...").
+fn free_motions(g: &Matrix6<f64>) -> Vec<String> {
+    let eig = g.symmetric_eigen();
+    let mut free = Vec::new();
+    for k in 0..6 {
+        if eig.eigenvalues[k] < FREE_EIGENVALUE {
+            let v = eig.eigenvectors.column(k);
+            let parts: Vec<String> =
+                (0..6).filter(|&i| v[i].abs() > 0.1).map(|i| MOTION_NAMES[i].to_string()).collect();
+            free.push(parts.join(" combined with "));
+        }
+    }
+    free
 }
 
 #[cfg(test)]

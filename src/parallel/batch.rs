@@ -57,97 +57,164 @@ where
     F: Fn(usize) -> TaskResult<R> + Sync,
     P: FnMut(usize, usize),
 {
-    let encode = |task: usize, r: &TaskResult<R>| -> Result<Vec<u8>, BatchError> {
-        let mut bytes = (task as u64).to_le_bytes().to_vec();
-        let body = serde_json::to_vec(r).map_err(|e| BatchError::Transfer { task, message: e.to_string() })?;
-        bytes.extend(body);
-        Ok(bytes)
-    };
     if comm.rank() != 0 {
-        let root = comm.process_at_rank(0);
-        root.send_with_tag(&[0u8; 0][..], TAG_READY);
-        loop {
-            let (task, _) = root.receive_with_tag::<u64>(TAG_TASK);
-            if task == STOP {
-                return Ok(None);
-            }
-            let k = task as usize;
-            let r = work(k);
-            root.send_with_tag(&encode(k, &r)?[..], TAG_RESULT);
+        work_for_root(comm, &work)?;
+        return Ok(None);
+    }
+    let board = Board::new(n_tasks);
+    let outcome = std::thread::scope(|s| {
+        s.spawn(|| work_locally(&board, &work));
+        // Remote ranks are done when `serve` returns; the local worker finishes what it took.
+        serve(comm, &board, &mut progress)
+    });
+    outcome?;
+    Ok(Some(board.results()))
+}
+
+/// A task's result as the bytes of a `TAG_RESULT` message: the task index (8 bytes, little
+/// endian), then the result as JSON.
+fn encode<R: Serialize>(task: usize, r: &TaskResult<R>) -> Result<Vec<u8>, BatchError> {
+    let mut bytes = (task as u64).to_le_bytes().to_vec();
+    let body = serde_json::to_vec(r).map_err(|e| BatchError::Transfer { task, message: e.to_string() })?;
+    bytes.extend(body);
+    Ok(bytes)
+}
+
+/// The task index and the result of a `TAG_RESULT` message ([`encode`]'s bytes, at least 8).
+fn decode<R: DeserializeOwned>(msg: &[u8]) -> (usize, serde_json::Result<TaskResult<R>>) {
+    let mut id = [0u8; 8];
+    id.copy_from_slice(&msg[..8]);
+    (u64::from_le_bytes(id) as usize, serde_json::from_slice::<TaskResult<R>>(&msg[8..]))
+}
+
+/// Rank r > 0: "ready", then task → compute → result (also a request) until rank 0 says STOP.
+fn work_for_root<R: Serialize>(
+    comm: &SimpleCommunicator,
+    work: &impl Fn(usize) -> TaskResult<R>,
+) -> Result<(), BatchError> {
+    let root = comm.process_at_rank(0);
+    root.send_with_tag(&[0u8; 0][..], TAG_READY);
+    loop {
+        let (task, _) = root.receive_with_tag::<u64>(TAG_TASK);
+        if task == STOP {
+            return Ok(());
+        }
+        let k = task as usize;
+        let r = work(k);
+        root.send_with_tag(&encode(k, &r)?[..], TAG_RESULT);
+    }
+}
+
+/// Rank 0's bookkeeping, shared by the scheduler and the local worker: the counter that hands
+/// out task indices, the results by task, and how many have come in.
+struct Board<R> {
+    n_tasks: usize,
+    /// The next task index to hand out (≥ `n_tasks`: none left).
+    next: AtomicUsize,
+    slots: Mutex<Vec<Option<TaskResult<R>>>>,
+    /// Results come in (decoded or not).
+    done: AtomicUsize,
+}
+
+impl<R> Board<R> {
+    /// No task handed out yet.
+    fn new(n_tasks: usize) -> Self {
+        Board {
+            n_tasks,
+            next: AtomicUsize::new(0),
+            slots: Mutex::new((0..n_tasks).map(|_| None).collect()),
+            done: AtomicUsize::new(0),
         }
     }
 
-    // Rank 0.
-    let next = AtomicUsize::new(0);
-    let slots: Mutex<Vec<Option<TaskResult<R>>>> = Mutex::new((0..n_tasks).map(|_| None).collect());
-    let done = AtomicUsize::new(0);
-    let n_remote = (comm.size() - 1) as usize;
-    let mut outcome: Result<(), BatchError> = Ok(());
-    std::thread::scope(|s| {
-        // The local worker: no MPI calls here.
-        s.spawn(|| loop {
-            let k = next.fetch_add(1, Ordering::SeqCst);
-            if k >= n_tasks {
-                break;
-            }
-            let r = work(k);
-            if let Ok(mut v) = slots.lock() {
+    /// The next task index (≥ `n_tasks`: none left).
+    fn take(&self) -> usize {
+        self.next.fetch_add(1, Ordering::SeqCst)
+    }
+
+    /// Keeps the result of task `k` (one out of range is dropped).
+    fn store(&self, k: usize, r: TaskResult<R>) {
+        if let Ok(mut v) = self.slots.lock() {
+            if k < self.n_tasks {
                 v[k] = Some(r);
             }
-            done.fetch_add(1, Ordering::SeqCst);
-        });
-        // The scheduler: serve remote ranks until each has been told to stop and the local
-        // worker has finished, reporting progress as results come in from either.
-        let mut stopped = 0;
-        let mut reported = 0;
-        while stopped < n_remote || done.load(Ordering::SeqCst) < n_tasks.min(next.load(Ordering::SeqCst)) {
-            let d = done.load(Ordering::SeqCst);
-            if d > reported {
-                reported = d;
-                progress(d, n_tasks);
-            }
-            let Some(probed) = comm.any_process().immediate_matched_probe() else {
-                std::thread::sleep(std::time::Duration::from_millis(2));
-                continue;
-            };
-            let (msg, status) = probed.matched_receive_vec::<u8>();
-            let from = comm.process_at_rank(status.source_rank());
-            if status.tag() == TAG_RESULT && msg.len() >= 8 {
-                let mut id = [0u8; 8];
-                id.copy_from_slice(&msg[..8]);
-                let k = u64::from_le_bytes(id) as usize;
-                match serde_json::from_slice::<TaskResult<R>>(&msg[8..]) {
-                    Ok(r) => {
-                        if let Ok(mut v) = slots.lock() {
-                            if k < n_tasks {
-                                v[k] = Some(r);
-                            }
-                        }
-                    }
-                    Err(e) => {
-                        outcome = Err(BatchError::Transfer { task: k, message: e.to_string() });
-                    }
-                }
-                done.fetch_add(1, Ordering::SeqCst);
-            }
-            let k = next.fetch_add(1, Ordering::SeqCst);
-            if k < n_tasks {
-                from.send_with_tag(&(k as u64), TAG_TASK);
-            } else {
-                from.send_with_tag(&STOP, TAG_TASK);
-                stopped += 1;
-            }
         }
-        // Remote ranks are done; the local worker finishes what it took.
-    });
-    outcome?;
-    // A worker that panicked poisons the lock: keep the results it did store (the missing ones
-    // are reported per task below) rather than lose them all.
-    let v = slots.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner());
-    Ok(Some(
+    }
+
+    /// Counts a result come in.
+    fn count_done(&self) {
+        self.done.fetch_add(1, Ordering::SeqCst);
+    }
+
+    /// Whether a task handed out has not reported yet.
+    fn waiting(&self) -> bool {
+        self.done.load(Ordering::SeqCst) < self.n_tasks.min(self.next.load(Ordering::SeqCst))
+    }
+
+    /// The results in task order; a task without one gets an `Err` saying so.
+    fn results(self) -> Vec<TaskResult<R>> {
+        // A worker that panicked poisons the lock: keep the results it did store (the missing ones
+        // are reported per task below) rather than lose them all.
+        let v = self.slots.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner());
         v.into_iter()
             .enumerate()
             .map(|(k, r)| r.unwrap_or_else(|| Err(format!("task {k} produced no result"))))
-            .collect(),
-    ))
+            .collect()
+    }
+}
+
+/// Rank 0's worker thread: takes task indices from the board and computes them until none is
+/// left. It makes no MPI call.
+fn work_locally<R>(board: &Board<R>, work: &impl Fn(usize) -> TaskResult<R>) {
+    loop {
+        let k = board.take();
+        if k >= board.n_tasks {
+            break;
+        }
+        board.store(k, work(k));
+        board.count_done();
+    }
+}
+
+/// Rank 0's scheduler: serves remote ranks (stores the result a message carries, replies with
+/// the next task or STOP) until each has been told to stop and the local worker has finished,
+/// reporting progress as results come in from either. A result that cannot be decoded is the
+/// batch's error, after the loop.
+fn serve<R: DeserializeOwned>(
+    comm: &SimpleCommunicator,
+    board: &Board<R>,
+    progress: &mut impl FnMut(usize, usize),
+) -> Result<(), BatchError> {
+    let n_remote = (comm.size() - 1) as usize;
+    let mut outcome: Result<(), BatchError> = Ok(());
+    let mut stopped = 0;
+    let mut reported = 0;
+    while stopped < n_remote || board.waiting() {
+        let d = board.done.load(Ordering::SeqCst);
+        if d > reported {
+            reported = d;
+            progress(d, board.n_tasks);
+        }
+        let Some(probed) = comm.any_process().immediate_matched_probe() else {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+            continue;
+        };
+        let (msg, status) = probed.matched_receive_vec::<u8>();
+        let from = comm.process_at_rank(status.source_rank());
+        if status.tag() == TAG_RESULT && msg.len() >= 8 {
+            match decode::<R>(&msg) {
+                (k, Ok(r)) => board.store(k, r),
+                (k, Err(e)) => outcome = Err(BatchError::Transfer { task: k, message: e.to_string() }),
+            }
+            board.count_done();
+        }
+        let k = board.take();
+        if k < board.n_tasks {
+            from.send_with_tag(&(k as u64), TAG_TASK);
+        } else {
+            from.send_with_tag(&STOP, TAG_TASK);
+            stopped += 1;
+        }
+    }
+    outcome
 }

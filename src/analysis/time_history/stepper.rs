@@ -153,6 +153,93 @@ struct Scratch {
     f1: Vec<f64>,
 }
 
+impl Scratch {
+    /// The step `state → t1` (size `h`) set up: the vectors sized, the loads `f_n`, `f_{n+1}`,
+    /// the constant part of the residual `rhs = (1+α) f_{n+1} − α f_n + α (C v_n + f_int,n)`, and
+    /// the predictor `u = u_n` with the scheme's v and a. Returns the size of the terms that
+    /// cancel in r: the loads, the start's forces and the inertia of the predictor,
+    /// `M (v_n/(βh) + (1/(2β) − 1) a_n)`; the tolerance is relative to it, so that a step whose
+    /// forces all pass through zero is not asked for more than round-off.
+    fn start_step<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        ground: &dyn Fn(f64) -> [f64; 3],
+        state: &State,
+        t1: f64,
+        h: f64,
+        sc: Scheme,
+    ) -> Result<f64, crate::error::Error> {
+        let n = sys.len();
+        let s = self;
+        for v in [&mut s.u, &mut s.v, &mut s.a, &mut s.fi, &mut s.cv, &mut s.ma, &mut s.r, &mut s.du, &mut s.rhs] {
+            v.resize(n, 0.0);
+        }
+        external_force(sys, ground(state.t), &mut s.f0);
+        external_force(sys, ground(t1), &mut s.f1);
+        let al = sc.alpha;
+        for i in 0..n {
+            s.rhs[i] = (1.0 + al) * s.f1[i] - al * s.f0[i] + al * (state.cv[i] + state.f_int[i]);
+        }
+        for i in 0..n {
+            s.du[i] = state.v[i] / (sc.beta * h) + (0.5 / sc.beta - 1.0) * state.a[i];
+        }
+        sys.mass_mult(&s.du, &mut s.ma)?;
+        let rhs_norm: f64 = sys
+            .dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)])
+            .iter()
+            .map(|x| x.sqrt())
+            .sum();
+        s.u.copy_from_slice(&state.u);
+        sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
+        Ok(rhs_norm)
+    }
+
+    /// The forces at the trial (u, v, a) and the residual
+    /// `r = rhs − M a − (1+α)(C v + f_int(u))` (module docs). Returns `‖r‖` and the force scale of
+    /// the convergence test, `rhs_norm + ‖M a‖ + (1+α)(‖C v‖ + ‖f_int‖)`.
+    fn residual_at_trial<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        al: f64,
+        rhs_norm: f64,
+    ) -> Result<(f64, f64), crate::error::Error> {
+        let s = self;
+        sys.internal_force(&s.u, &mut s.fi)?;
+        sys.damping_mult(&s.v, &mut s.cv).and_then(|_| sys.mass_mult(&s.a, &mut s.ma))?;
+        for i in 0..s.r.len() {
+            s.r[i] = s.rhs[i] - s.ma[i] - (1.0 + al) * (s.cv[i] + s.fi[i]);
+        }
+        let d = sys.dots(&[(&s.r, &s.r), (&s.ma, &s.ma), (&s.cv, &s.cv), (&s.fi, &s.fi)]);
+        Ok((d[0].sqrt(), rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt())))
+    }
+}
+
+/// The Jacobian for iteration `it` of the Newton variant (module docs): refactored at the trial
+/// `u` every iteration (`tangent`), at the first (`modified`), at the first and whenever the
+/// Krylov subspace is full (`krylov`, which then starts a new subspace), or the initial
+/// stiffness (`initial`).
+fn prepare_jacobian<S: DynamicSystem>(
+    sys: &mut S,
+    kind: NewtonKind,
+    it: usize,
+    krylov: &mut KrylovAccelerator,
+    u: &[f64],
+    c_m: f64,
+    c_c: f64,
+) -> Result<(), crate::error::Error> {
+    match kind {
+        NewtonKind::Tangent => sys.prepare(Some(u), c_m, c_c),
+        NewtonKind::Modified if it == 0 => sys.prepare(Some(u), c_m, c_c),
+        NewtonKind::Modified => Ok(()),
+        NewtonKind::Initial => sys.prepare(None, c_m, c_c),
+        NewtonKind::Krylov if it == 0 || krylov.is_full() => {
+            krylov.clear();
+            sys.prepare(Some(u), c_m, c_c)
+        }
+        NewtonKind::Krylov => Ok(()),
+    }
+}
+
 /// `f(t) = f_static − Σ_d M ι_d a_g,d(t)`.
 pub fn external_force<S: DynamicSystem>(sys: &S, ag: [f64; 3], f: &mut Vec<f64>) {
     f.clear();
@@ -232,51 +319,18 @@ impl Stepper {
         h: f64,
     ) -> Attempt {
         let st = self.settings;
-        let sc = st.scheme;
-        let n = sys.len();
-        let s = &mut self.s;
-        let krylov = &mut self.krylov;
-        for v in [&mut s.u, &mut s.v, &mut s.a, &mut s.fi, &mut s.cv, &mut s.ma, &mut s.r, &mut s.du, &mut s.rhs] {
-            v.resize(n, 0.0);
-        }
-        external_force(sys, ground(state.t), &mut s.f0);
-        external_force(sys, ground(t1), &mut s.f1);
-        let al = sc.alpha;
-        for i in 0..n {
-            s.rhs[i] = (1.0 + al) * s.f1[i] - al * s.f0[i] + al * (state.cv[i] + state.f_int[i]);
-        }
-        // The size of the terms that cancel in r: the loads, the start's forces and the inertia
-        // of the predictor, M (v_n/(βh) + (1/(2β) − 1) a_n); the tolerance is relative to it, so
-        // that a step whose forces all pass through zero is not asked for more than round-off.
-        for i in 0..n {
-            s.du[i] = state.v[i] / (sc.beta * h) + (0.5 / sc.beta - 1.0) * state.a[i];
-        }
-        if let Err(e) = sys.mass_mult(&s.du, &mut s.ma) {
-            return Attempt::Failed { residual: f64::INFINITY, reason: e.to_string() };
-        }
-        let rhs_norm: f64 = sys
-            .dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)])
-            .iter()
-            .map(|x| x.sqrt())
-            .sum();
-        let (c_m, c_c) = sc.jacobian_coefficients(h);
-        s.u.copy_from_slice(&state.u);
-        sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
+        let rhs_norm = match self.s.start_step(sys, ground, state, t1, h, st.scheme) {
+            Ok(norm) => norm,
+            Err(e) => return Attempt::Failed { residual: f64::INFINITY, reason: e.to_string() },
+        };
+        let jacobian = st.scheme.jacobian_coefficients(h);
         let mut residual = f64::INFINITY;
         let mut scale0 = 0.0f64;
         for it in 0..=st.max_iterations {
-            if let Err(e) = sys.internal_force(&s.u, &mut s.fi) {
-                return Attempt::Failed { residual, reason: e.to_string() };
-            }
-            if let Err(e) = sys.damping_mult(&s.v, &mut s.cv).and_then(|_| sys.mass_mult(&s.a, &mut s.ma)) {
-                return Attempt::Failed { residual, reason: e.to_string() };
-            }
-            for i in 0..n {
-                s.r[i] = s.rhs[i] - s.ma[i] - (1.0 + al) * (s.cv[i] + s.fi[i]);
-            }
-            let d = sys.dots(&[(&s.r, &s.r), (&s.ma, &s.ma), (&s.cv, &s.cv), (&s.fi, &s.fi)]);
-            let rn = d[0].sqrt();
-            let current = rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt());
+            let (rn, current) = match self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm) {
+                Ok(norms) => norms,
+                Err(e) => return Attempt::Failed { residual, reason: e.to_string() },
+            };
             if it == 0 {
                 scale0 = current;
             }
@@ -295,32 +349,39 @@ impl Stepper {
             if it == st.max_iterations {
                 break;
             }
-            let prepared = match st.newton {
-                NewtonKind::Tangent => sys.prepare(Some(&s.u), c_m, c_c),
-                NewtonKind::Modified if it == 0 => sys.prepare(Some(&s.u), c_m, c_c),
-                NewtonKind::Modified => Ok(()),
-                NewtonKind::Initial => sys.prepare(None, c_m, c_c),
-                NewtonKind::Krylov if it == 0 || krylov.is_full() => {
-                    krylov.clear();
-                    sys.prepare(Some(&s.u), c_m, c_c)
-                }
-                NewtonKind::Krylov => Ok(()),
-            };
-            for x in s.r.iter_mut() {
-                *x /= 1.0 + al;
-            }
-            if let Err(e) = prepared.and_then(|_| sys.solve(&s.r, &mut s.du)) {
+            if let Err(e) = self.correct(sys, state, h, it, jacobian) {
                 return Attempt::Failed { residual, reason: e.to_string() };
             }
-            if st.newton == NewtonKind::Krylov {
-                krylov.correct(sys, &mut s.du);
-            }
-            for i in 0..n {
-                s.u[i] += s.du[i];
-            }
-            sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
         }
         Attempt::Failed { residual, reason: format!("no convergence in {} iterations", st.max_iterations) }
+    }
+
+    /// The Newton correction of iteration `it`: the Jacobian `K + c_m M + c_c C` of the variant
+    /// ([`prepare_jacobian`]), `Δu = J⁻¹ r / (1+α)` (accelerated under `krylov`), `u ← u + Δu`
+    /// with the scheme's v and a. `r` is left divided by 1+α, also when the solve fails.
+    fn correct<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        state: &State,
+        h: f64,
+        it: usize,
+        (c_m, c_c): (f64, f64),
+    ) -> Result<(), crate::error::Error> {
+        let (st, s) = (self.settings, &mut self.s);
+        let sc = st.scheme;
+        let prepared = prepare_jacobian(sys, st.newton, it, &mut self.krylov, &s.u, c_m, c_c);
+        for x in s.r.iter_mut() {
+            *x /= 1.0 + sc.alpha;
+        }
+        prepared.and_then(|_| sys.solve(&s.r, &mut s.du))?;
+        if st.newton == NewtonKind::Krylov {
+            self.krylov.correct(sys, &mut s.du);
+        }
+        for i in 0..s.u.len() {
+            s.u[i] += s.du[i];
+        }
+        sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
+        Ok(())
     }
 
     /// Moves the converged trial solution into `state` and updates the energies.

@@ -7,6 +7,7 @@ use crate::config::IdentifyJob;
 use crate::error::Error;
 use crate::identify::calibration::{CalibrationResult, QUANTITIES};
 use crate::identify::curves::{Curve, MeanKind};
+use crate::identify::elastic_fit::ElasticFit;
 use crate::identify::material_file::{write_material_file, Provenance};
 use crate::identify::{CurveError, LawFit, LawResult};
 use crate::material::DamageParams;
@@ -19,9 +20,28 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::OutputDir { path: path.to_path_buf(), source }
 }
 
-/// Rank 0: the calibration's files and log lines.
+/// Rank 0: the calibration's files and log lines: the calibrated parameters and Table 1,
+/// stage 1 (`calibration_elastic.csv`), the search's history (`calibration.csv`), the result
+/// (`calibration.json`) and its curves (`calibration.png`).
 pub(super) fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &CalibrationResult) -> Result<(), Error> {
     let dir = &job.output_dir;
+    log_calibration(ctx, r);
+    if let Some(el) = &r.elastic {
+        log_elastic_stage(ctx, el);
+        write_text(&dir.join("calibration_elastic.csv"), &elastic_stage_csv(el))?;
+    }
+    write_text(&dir.join("calibration.csv"), &calibration_history_csv(r))?;
+    let f = dir.join("calibration.json");
+    let text = serde_json::to_string_pretty(r)
+        .map_err(|e| Error::Analysis(format!("{}: the calibration cannot be written as JSON: {e}", f.display())))?;
+    write_text(&f, &(text + "\n"))?;
+    let f = dir.join("calibration.png");
+    calibration_chart(r).save_png(&f).map_err(|e| Error::Analysis(e.to_string()))
+}
+
+/// The calibrated DEM in the log: its parameters and objective, then Table 1 (each quantity's
+/// sample mean ± std against its target).
+fn log_calibration(ctx: &Context, r: &CalibrationResult) {
     let p = &r.parameters;
     ctx.log.info(format!(
         "calibrated DEM ({:?}): alpha = {:.4}, e_bar = {:.4e} Pa, eps_cr = {:.4e}, theta_cr = {:.4e}{} (mu = {} fixed); J = {:.4e} after {} evaluations",
@@ -50,27 +70,38 @@ pub(super) fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &Calibratio
             100.0 * r.relative_errors[k]
         ));
     }
-    if let Some(el) = &r.elastic {
-        ctx.log.info(format!(
-            "  stage 1 (elastic): {} alpha value(s) evaluated, nu {} its tolerance{}",
-            el.points.len(),
-            if el.converged { "within" } else { "NOT within" },
-            el.note.as_ref().map_or(String::new(), |n| format!(": {n}"))
-        ));
-        let mut csv = String::from("round,alpha,poisson_mean,poisson_std,e_over_e_bar_mean,e_over_e_bar_std,n,error\n");
-        for p in &el.points {
-            let _ = match &p.value {
-                Ok(m) => writeln!(
-                    csv,
-                    "{},{:e},{:e},{:e},{:e},{:e},{},",
-                    p.round, p.alpha, m.poisson.mean, m.poisson.std, m.e_ratio.mean, m.e_ratio.std, m.poisson.n
-                ),
-                Err(e) => writeln!(csv, "{},{:e},,,,,,{}", p.round, p.alpha, e.replace([',', '\n'], ";")),
-            };
-        }
-        let f = dir.join("calibration_elastic.csv");
-        std::fs::write(&f, csv).map_err(io_err(&f))?;
+}
+
+/// Stage 1 (the elastic fit of alpha) in the log: points evaluated, whether ν met its tolerance.
+fn log_elastic_stage(ctx: &Context, el: &ElasticFit) {
+    ctx.log.info(format!(
+        "  stage 1 (elastic): {} alpha value(s) evaluated, nu {} its tolerance{}",
+        el.points.len(),
+        if el.converged { "within" } else { "NOT within" },
+        el.note.as_ref().map_or(String::new(), |n| format!(": {n}"))
+    ));
+}
+
+/// `calibration_elastic.csv`: each alpha of stage 1 with its ν and E/Ē statistics (or why it
+/// failed).
+fn elastic_stage_csv(el: &ElasticFit) -> String {
+    let mut csv = String::from("round,alpha,poisson_mean,poisson_std,e_over_e_bar_mean,e_over_e_bar_std,n,error\n");
+    for p in &el.points {
+        let _ = match &p.value {
+            Ok(m) => writeln!(
+                csv,
+                "{},{:e},{:e},{:e},{:e},{:e},{},",
+                p.round, p.alpha, m.poisson.mean, m.poisson.std, m.e_ratio.mean, m.e_ratio.std, m.poisson.n
+            ),
+            Err(e) => writeln!(csv, "{},{:e},,,,,,{}", p.round, p.alpha, e.replace([',', '\n'], ";")),
+        };
     }
+    csv
+}
+
+/// `calibration.csv`: every evaluation of the search with its point (crushing stress included
+/// when searched), its objective (or why it failed).
+fn calibration_history_csv(r: &CalibrationResult) -> String {
     let crushing = r.history.first().is_some_and(|h| h.1.len() > 4);
     let mut csv = String::from(if crushing {
         "evaluation,iteration,alpha,e_bar,eps_cr,theta_cr,crushing_stress,objective,error\n"
@@ -85,13 +116,12 @@ pub(super) fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &Calibratio
         let extra = x.get(4).map_or(String::new(), |v| format!("{v:e},"));
         let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{extra}{val},{err}", x[0], x[1], x[2], x[3]);
     }
-    let f = dir.join("calibration.csv");
-    std::fs::write(&f, csv).map_err(io_err(&f))?;
-    let f = dir.join("calibration.json");
-    let text = serde_json::to_string_pretty(r)
-        .map_err(|e| Error::Analysis(format!("{}: the calibration cannot be written as JSON: {e}", f.display())))?;
-    std::fs::write(&f, text + "\n").map_err(io_err(&f))?;
-    // The calibrated DEM's curves against the experimental points.
+    csv
+}
+
+/// `calibration.png`: the calibrated DEM's curves against the experimental points (E, first
+/// crack, peak).
+fn calibration_chart(r: &CalibrationResult) -> LineChart {
     let mut chart =
         LineChart::new("Calibrated DEM against the experiment", "strain ε [-] (test direction)", "stress σ [MPa]");
     for (i, run) in r.best_runs.iter().enumerate() {
@@ -101,16 +131,14 @@ pub(super) fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &Calibratio
     let tg = &r.targets;
     let top = tg.peak_stress.max(r.stats[3].mean);
     chart = chart.series("experiment: E", vec![(0.0, 0.0), (top / tg.young_modulus, top / 1e6)], SeriesStyle::Dashed);
-    chart = chart.series(
+    chart.series(
         "experiment: first crack, peak",
         vec![
             (tg.first_crack_stress / tg.young_modulus, tg.first_crack_stress / 1e6),
             (tg.peak_stress / tg.young_modulus, tg.peak_stress / 1e6),
         ],
         SeriesStyle::Markers,
-    );
-    let f = dir.join("calibration.png");
-    chart.save_png(&f).map_err(|e| Error::Analysis(e.to_string()))
+    )
 }
 
 /// Rank 0: writes `text` to `file`.
