@@ -150,3 +150,90 @@ fn modules_import_downwards_only_and_without_cycles() {
         imports("use crate::run::Error;\nfn f() { crate::analysis::x(); }\n// crate::dem in a comment\n", &modules);
     assert_eq!(planted, ["analysis", "run"].iter().map(|s| s.to_string()).collect());
 }
+
+/// The sibling files a file's code names, through `super::<file>` or `crate::<folder>::<file>`
+/// (comments, doc links and the tests after `#[cfg(test)]` excluded).
+fn sibling_imports(text: &str, folder_path: &str, siblings: &BTreeSet<String>) -> BTreeSet<String> {
+    let code: Vec<&str> = text
+        .lines()
+        .take_while(|l| !l.trim_start().starts_with("#[cfg(test)]"))
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect();
+    let code = code.join("\n");
+    let mut found = BTreeSet::new();
+    for prefix in ["super::".to_string(), format!("crate::{folder_path}::")] {
+        let mut rest = code.as_str();
+        while let Some(i) = rest.find(&prefix) {
+            rest = &rest[i + prefix.len()..];
+            let names: Vec<String> = match rest.strip_prefix('{') {
+                Some(group) => group[..group.find('}').unwrap_or(group.len())]
+                    .split(',')
+                    .map(|p| p.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect())
+                    .collect(),
+                None => vec![rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect()],
+            };
+            found.extend(names.into_iter().filter(|n| siblings.contains(n)));
+        }
+    }
+    found
+}
+
+/// Inside a folder, files import each other in a cycle only where the folder is one concept and
+/// its module doc says so: every cycle among a folder's files is named, each file as `name.rs`,
+/// in a paragraph of its `mod.rs` that starts with `**Cycles.**`.
+#[test]
+fn cycles_inside_a_folder_are_named_in_its_module_doc() {
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let folders: BTreeSet<PathBuf> = files
+        .iter()
+        .filter(|f| f.file_name().is_some_and(|n| n == "mod.rs"))
+        .map(|f| f.parent().unwrap().into())
+        .collect();
+    let mut unnamed = Vec::new();
+    for folder in &folders {
+        let own: Vec<&PathBuf> = files.iter().filter(|f| f.parent() == Some(folder.as_path())).collect();
+        let stem = |f: &Path| f.file_stem().unwrap().to_string_lossy().into_owned();
+        let siblings: BTreeSet<String> = own.iter().map(|f| stem(f)).filter(|s| s != "mod").collect();
+        let folder_path = folder.strip_prefix(&src).unwrap().to_string_lossy().replace('/', "::");
+        let edges: BTreeMap<String, BTreeSet<String>> = own
+            .iter()
+            .filter(|f| stem(f) != "mod")
+            .map(|f| {
+                let mut to = sibling_imports(&std::fs::read_to_string(f).unwrap(), &folder_path, &siblings);
+                to.remove(&stem(f));
+                (stem(f), to)
+            })
+            .collect();
+        // A file is in a cycle with every file that reaches it and that it reaches.
+        let reach = |from: &str| -> BTreeSet<String> {
+            let (mut seen, mut todo) = (BTreeSet::new(), vec![from.to_string()]);
+            while let Some(m) = todo.pop() {
+                for n in edges.get(&m).into_iter().flatten() {
+                    if seen.insert(n.clone()) {
+                        todo.push(n.clone());
+                    }
+                }
+            }
+            seen
+        };
+        let reaches: BTreeMap<&String, BTreeSet<String>> = edges.keys().map(|m| (m, reach(m))).collect();
+        let doc = std::fs::read_to_string(folder.join("mod.rs")).unwrap();
+        let cycles_doc: String = doc
+            .split("\n//!\n")
+            .filter(|p| p.trim_start().trim_start_matches("//!").trim_start().starts_with("**Cycles.**"))
+            .collect();
+        for (m, r) in &reaches {
+            if r.contains(*m) && !cycles_doc.contains(&format!("`{m}.rs`")) {
+                let with: Vec<&String> = r.iter().filter(|n| reaches[n].contains(*m)).collect();
+                unnamed.push(format!("{}/{m}.rs (in a cycle with {with:?})", folder.display()));
+            }
+        }
+    }
+    assert!(
+        unnamed.is_empty(),
+        "files in an import cycle that their folder's mod.rs does not name under **Cycles.**:\n{}",
+        unnamed.join("\n")
+    );
+}

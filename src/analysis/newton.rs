@@ -31,7 +31,7 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
 
-pub use super::nonlinear_system::{global_sum, NonlinearSystem};
+pub use super::nonlinear_system::{global_sum, Increment, NonlinearSystem};
 
 /// Settings of one Newton solve.
 #[derive(Clone, Copy, Debug)]
@@ -47,17 +47,6 @@ pub struct NewtonSettings {
     /// Iterate on the secant stiffness (damage: (1 − d) C₀, positive definite; linear but
     /// robust convergence through softening) instead of the consistent tangent.
     pub secant: bool,
-}
-
-/// What one increment asks for.
-#[derive(Clone, Copy, Debug)]
-pub struct Increment {
-    /// Factor λ of the job's loads.
-    pub lambda: f64,
-    /// Value of the imposed control DOFs (control without a pattern), if any.
-    pub imposed: Option<f64>,
-    /// Target value of the control DOF (control with a pattern), if any.
-    pub control_target: Option<f64>,
 }
 
 /// How a Newton solve ended.

@@ -7,7 +7,6 @@
 //! as their trial state; `fresh` says whether that trial state (and f_int) is the one of `u`,
 //! and [`NonlinearSystem::commit`] makes sure it is before committing.
 use super::assembly::{self, Rows};
-use super::newton::Increment;
 use super::Discretization;
 use crate::element::EvalRequest;
 use crate::error::Error;
@@ -15,8 +14,6 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
 use crate::petsc::{Ksp, Matrix, Vector};
-use mpi::collective::SystemOperation;
-use mpi::traits::CommunicatorCollectives;
 
 /// The system of one rank: owned values of u and of the load vectors, PETSc objects, the control.
 pub struct NonlinearSystem {
@@ -58,11 +55,17 @@ pub struct NonlinearSystem {
     nonlocal: Option<super::nonlocal::NonlocalAveraging>,
 }
 
-/// Collective. Σ over ranks.
-pub fn global_sum(ctx: &Context, x: f64) -> f64 {
-    let mut out = 0.0;
-    ctx.comm.all_reduce_into(&x, &mut out, SystemOperation::sum());
-    out
+pub use crate::parallel::global_sum;
+
+/// What one increment asks for.
+#[derive(Clone, Copy, Debug)]
+pub struct Increment {
+    /// Factor λ of the job's loads.
+    pub lambda: f64,
+    /// Value of the imposed control DOFs (control without a pattern), if any.
+    pub imposed: Option<f64>,
+    /// Target value of the control DOF (control with a pattern), if any.
+    pub control_target: Option<f64>,
 }
 
 /// Collective. The linear solver: MUMPS LU (the options database is applied at the first solve).

@@ -79,7 +79,7 @@ impl NonlocalAveraging {
         let Neighbours { start, neighbour, weight, self_share } =
             Neighbours::of_points(&pts, &grid, first..first + counts[ctx.rank]);
         let n_global = pts.len();
-        let pairs = crate::analysis::newton::global_sum(ctx, neighbour.len() as f64);
+        let pairs = crate::parallel::global_sum(ctx, neighbour.len() as f64);
         ctx.log.info(format!(
             "nonlocal averaging: radius {radius} m, {n_global} points, {:.1} neighbours per point on average",
             pairs / n_global as f64

@@ -2,6 +2,11 @@
 //!
 //! Every error names the file, the line and column, the key and what was expected
 //! ([`ConfigError`]). Relative paths resolve against the job file's folder.
+//!
+//! **Cycles.** The files are one concept, the job file, split by table: `job.rs` holds the whole
+//! file and `analysis.rs` its `[analysis]` table, which names the job's DOFs and loads; `validate.rs`
+//! checks the structural tables and hands the assessment's stages to `assessment.rs`, whose
+//! updating check is `validate.rs`'s.
 mod analysis;
 mod assessment;
 mod dem;

@@ -28,8 +28,8 @@
 //! The search is ask-and-tell ([`ElasticSearch::first`], [`ElasticSearch::tell`],
 //! [`ElasticSearch::ask`]), so the evaluations run as MPI batches between questions
 //! ([`super::collective::run_rounds`]) and the logic is tested without the DEM.
-use super::calibration::Stat;
 use super::error::IdentifyError;
+use super::stat::Stat;
 use serde::Serialize;
 
 /// α values of the initial grid (bounds included).

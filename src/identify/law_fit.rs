@@ -98,7 +98,7 @@ pub struct LawFit {
     pub space: Space,
     /// The DEM samples' peak stresses (tension, compression), when known: reported beside the
     /// mean curves' peaks.
-    pub sample_peaks: Option<[super::calibration::Stat; 2]>,
+    pub sample_peaks: Option<[super::stat::Stat; 2]>,
     /// Factorial levels in the unit cube.
     pub levels: [f64; 2],
     /// The EGO loop.
@@ -148,7 +148,7 @@ pub struct LawResult {
     /// Law peaks (tension, compression) [Pa], on the law's refined path.
     pub law_peaks: [f64; 2],
     /// The DEM samples' peaks (tension, compression), mean ± std, when known.
-    pub dem_sample_peaks: Option<[super::calibration::Stat; 2]>,
+    pub dem_sample_peaks: Option<[super::stat::Stat; 2]>,
     /// Every measure (eq. 15, relative RMS, peak_energy) at the identified law.
     pub measures: Vec<MeasureReport>,
     /// Every point: iteration, physical coordinates, objective.

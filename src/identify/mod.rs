@@ -9,6 +9,7 @@
 //! | `ego.rs`           | [`Ego`]: kriging + expected improvement (egobox), ask-and-tell, q-EI    |
 //! | `collective.rs`    | the EGO loop over MPI ranks (rank 0 asks, every rank evaluates)         |
 //! | `curves.rs`        | [`Curve`]: resampling, mean curves over samples                         |
+//! | `stat.rs`          | [`Stat`]: mean and sample standard deviation                            |
 //! | `error_measure.rs` | paper eq. 15 and the relative RMS                                       |
 //! | `dem_adapter.rs`   | the one adapter to the DEM virtual lab                                  |
 //! | `calibration.rs`   | (a) DEM calibration against E, ν, first-crack and peak stresses         |
@@ -35,9 +36,10 @@ pub mod law_fit;
 pub mod material_file;
 pub mod polish;
 pub mod space;
+pub mod stat;
 pub mod virtual_tests;
 
-pub use calibration::{calibrate, Calibration, CalibrationResult, Stat, Strategy, Targets};
+pub use calibration::{calibrate, Calibration, CalibrationResult, Strategy, Targets};
 pub use curves::Curve;
 pub use dem_adapter::{DemParameters, DemRun};
 pub use ego::{Ego, EgoSettings, Evaluation};
@@ -45,3 +47,4 @@ pub use error::IdentifyError;
 pub use error_measure::{curve_error, CurveError, ErrorMeasure};
 pub use law_fit::{identify, LawFit, LawResult};
 pub use space::Space;
+pub use stat::Stat;

@@ -4,11 +4,11 @@
 //! A sample whose solver stopped before its peak (the DEM's `failed` end) has no valid post-peak
 //! branch and is left out of the mean, as the DEM job leaves it out of its statistics; it is
 //! reported with the failures. A post-peak collapse counts, with zero stress after its end.
-use super::calibration::Stat;
 use super::collective::evaluate_points;
 use super::curves::{mean_of, Curve, MeanKind};
 use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
 use super::error::IdentifyError;
+use super::stat::Stat;
 use crate::dem::sample::SampleConfig;
 use crate::dem::solver::VirtualTest;
 use crate::parallel::Context;

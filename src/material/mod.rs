@@ -1,6 +1,11 @@
 //! The continuum masonry damage law: isotropic damage with separate tension and compression
 //! variables and the unilateral effect (SPEC §2; paper eqs. 6–14 in consistent form).
 //!
+//! **Cycles.** The law's files are one concept, the damage law at a point, split by what a
+//! reader looks for: [`PointLaw`] (`law.rs`) is built from the parameters of `params.rs` and
+//! reads the damage sides of `state.rs`, whose evolution in `state.rs`, `response.rs` and
+//! `plane_stress.rs` is computed with the point's law.
+//!
 //! | file              | concept                                                                  |
 //! |-------------------|--------------------------------------------------------------------------|
 //! | `params.rs`       | [`DamageParams`], [`Regularization`]: input, validation, B_t(h)          |

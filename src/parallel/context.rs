@@ -66,3 +66,12 @@ impl Context {
         Context { comm, rank, size, log: Log::new(rank as i32, quiet) }
     }
 }
+
+/// Collective. Σ over the ranks of `ctx` of each rank's `x`.
+pub fn global_sum(ctx: &Context, x: f64) -> f64 {
+    use mpi::collective::SystemOperation;
+    use mpi::traits::CommunicatorCollectives;
+    let mut out = 0.0;
+    ctx.comm.all_reduce_into(&x, &mut out, SystemOperation::sum());
+    out
+}

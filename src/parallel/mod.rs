@@ -15,7 +15,7 @@ mod phases;
 
 pub use agree::{agree, Agreed};
 pub use batch::{run_batch, BatchError, TaskResult};
-pub use context::{Context, Log};
+pub use context::{global_sum, Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
 pub use partition::{partition_cells, PartitionError};
 pub use phases::{timed, Phases};

@@ -17,6 +17,9 @@
 //!
 //! Lifetimes: `mpi::initialize()` → [`Petsc::initialize`] → objects → drop objects → drop the
 //! [`Petsc`] guard → drop rsmpi's `Universe`.
+//!
+//! **Cycles.** `runtime.rs` (the initialized library) and `options.rs` (its options database) are
+//! one concept: PETSc starts with the options, and setting an option needs the started library.
 
 pub mod eps;
 pub mod error;

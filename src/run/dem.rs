@@ -22,7 +22,7 @@ use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
 use crate::error::Error;
-use crate::identify::calibration::Stat;
+use crate::identify::Stat;
 use crate::parallel::{agree, run_batch, Context, Phases};
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;

@@ -16,8 +16,8 @@
 //! vectors u, v, a, f_int, C v; per element its state length (u64) then all states (f64); the
 //! envelopes; an FNV-1a checksum of everything before it. A restart needs the same rank count
 //! (the partition, hence the owned DOFs and elements, depends on it).
-use super::driver::SavedEnvelopes;
 use super::envelope::Envelopes;
+use super::integration::SavedEnvelopes;
 use super::petsc_system::PetscSystem;
 use super::stepper::State;
 use super::system::DynamicSystem;

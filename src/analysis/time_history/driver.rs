@@ -20,6 +20,7 @@ use super::diagnosis::{self, agreed};
 use super::gravity::{solve_gravity, GravitySettings};
 use super::gravity_failure::gravity_failure;
 use super::ground::GroundMotion;
+use super::integration::{Integration, SavedEnvelopes, RESULTS_STEM};
 use super::petsc_system::PetscSystem;
 use super::progress::Progress;
 use super::scheme::Scheme;
@@ -34,10 +35,6 @@ use crate::model::StructuralModel;
 use crate::parallel::{Context, Phases};
 use mpi::traits::{Communicator, Root};
 use std::time::Instant;
-
-/// The time history's results: `<stem>.h5` and `<stem>.xdmf` (a restart adds
-/// `<stem>-restart-<step>.h5`, listed in the same index).
-pub(super) const RESULTS_STEM: &str = "results";
 
 /// What a time-history run reports (`summary.json`).
 #[derive(Debug, Clone, Default, serde::Serialize)]
@@ -98,28 +95,6 @@ pub struct TimeHistorySummary {
     /// Results file of this run.
     pub results: String,
 }
-
-/// Everything the stepping loop needs besides the system and the state (with the envelopes
-/// saved in a checkpoint, if continuing one: node and cell values).
-pub struct Integration<'a> {
-    /// Settings.
-    pub cfg: &'a DynamicsConfig,
-    /// The job (output folder, parts).
-    pub job: &'a Job,
-    /// Mesh.
-    pub mesh: &'a Mesh,
-    /// Model.
-    pub model: &'a StructuralModel,
-    /// Ground motion.
-    pub ground: &'a GroundMotion,
-    /// Results file stem.
-    pub stem: String,
-    /// True when continuing from a checkpoint.
-    pub restart: bool,
-}
-
-/// Envelopes read from a checkpoint: node values, cell values (see [`Envelopes`]).
-pub type SavedEnvelopes = (Vec<f64>, Vec<f64>);
 
 /// The ground motion of the job's components.
 pub fn ground_motion(cfg: &DynamicsConfig) -> GroundMotion {

@@ -25,6 +25,7 @@
 //! | `step_output.rs`   | results every k steps, CSV rows every step, envelopes at the end  |
 //! | `envelope.rs`      | peak displacement, drift and damage                              |
 //! | `progress.rs`      | progress lines with ETA on rank 0                                |
+//! | `integration.rs`   | what the stepping loop reads: settings, job, mesh, model, ground  |
 //! | `driver.rs`        | the `time_history` job and the reusable stepping loop            |
 mod checkpoint;
 mod damping;
@@ -35,6 +36,7 @@ mod envelope;
 mod gravity;
 mod gravity_failure;
 mod ground;
+mod integration;
 mod krylov;
 mod monitor;
 mod petsc_system;
@@ -48,11 +50,12 @@ mod tests;
 
 pub use checkpoint::Checkpoint;
 pub use damping::Rayleigh;
-pub use driver::{ground_motion, integrate, run, run_on, Integration, TimeHistorySummary};
+pub use driver::{ground_motion, integrate, run, run_on, TimeHistorySummary};
 pub use energy::EnergyBalance;
 pub use envelope::Envelopes;
 pub use gravity::{solve_gravity, GravityFailure, GravitySettings};
 pub use ground::GroundMotion;
+pub use integration::Integration;
 pub use petsc_system::PetscSystem;
 pub use scheme::Scheme;
 pub use stepper::{external_force, State, StepFailure, StepReport, StepSettings, Stepper};

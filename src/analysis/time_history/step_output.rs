@@ -1,8 +1,8 @@
 //! What a time history writes as it goes: `results.xdmf` every `output_every` steps (relative
 //! and absolute motion, cell outputs), a row of `energy.csv` and `monitors.csv` every step, the
 //! envelopes updated from both, and at the end `envelopes.xdmf` and the monitors' pictures.
-use super::driver::{Integration, SavedEnvelopes, RESULTS_STEM};
 use super::envelope::Envelopes;
+use super::integration::{Integration, SavedEnvelopes, RESULTS_STEM};
 use super::monitor::{self, CsvLog, Monitor};
 use super::petsc_system::PetscSystem;
 use super::stepper::State;

@@ -17,21 +17,6 @@
 use super::records::{FailureModeTag, StateKind, StateRecord};
 use super::solver::Solver;
 
-/// The running totals (J).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Energy {
-    /// External work.
-    pub external: f64,
-    /// Fracture: each broken beam's energy when it broke.
-    pub fracture: f64,
-    /// Friction: the contacts' return-map dissipation.
-    pub friction: f64,
-    /// Relaxation: what re-equilibrations at fixed load release beyond the broken beams' energy.
-    pub relaxation: f64,
-    /// Crushing: the plastic work of crushing contacts.
-    pub crushing: f64,
-}
-
 /// Platen generalized values `(U_x, U_y, Θ)` or forces, bottom then top.
 type PlatenValues = [[f64; 3]; 2];
 

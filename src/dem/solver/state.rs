@@ -17,7 +17,6 @@
 //! regularization's anchor `z_commit` and the contact set of the contact events.
 //! [`SolverState::restore`] goes back to it after a failed trial.
 use super::contact_set::{self, ActiveContact, Histories};
-use super::energy::Energy;
 use super::records::{BrokenBeam, LoadPoint, StateRecord};
 
 /// The mechanical state of one virtual test (module docs).
@@ -103,4 +102,19 @@ impl SolverState {
     pub fn events(&self) -> usize {
         self.broken.len()
     }
+}
+
+/// The energy account's running totals (J), [`super::energy`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Energy {
+    /// External work.
+    pub external: f64,
+    /// Fracture: each broken beam's energy when it broke.
+    pub fracture: f64,
+    /// Friction: the contacts' return-map dissipation.
+    pub friction: f64,
+    /// Relaxation: what re-equilibrations at fixed load release beyond the broken beams' energy.
+    pub relaxation: f64,
+    /// Crushing: the plastic work of crushing contacts.
+    pub crushing: f64,
 }

@@ -18,10 +18,11 @@ mod provenance;
 use crate::config::{CalibrationConfig, ElasticSource, ExperimentConfig, IdentifyJob, LawIdentConfig};
 use crate::dem::solver::VirtualTest;
 use crate::error::Error;
-use crate::identify::calibration::{CalibrationResult, Stat};
+use crate::identify::calibration::CalibrationResult;
 use crate::identify::collective::broadcast_json;
 use crate::identify::curves::{mean_of, sample_curves_csv, Curve};
 use crate::identify::virtual_tests::run_virtual_tests;
+use crate::identify::Stat;
 use crate::identify::{
     calibrate, identify, Calibration, DemParameters, EgoSettings, IdentifyError, LawFit, LawResult, Space, Targets,
 };
