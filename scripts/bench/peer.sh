@@ -44,7 +44,8 @@
 # 2.7; OpenBLAS SkylakeX kernels under both programs): modal 2.3 s (1 rank) and 3.6 s (2 ranks)
 # against OpenSees' 23.6 s; Newmark 21.7 s and 28.4 s against 60.8 s (0.104 s and 0.30 s per
 # step). masonry-hpc's stepping then spent 9.3 s of its 20.9 s in the system (solve 6.3 s,
-# internal forces 2.4 s, factorization 0.5 s): the rest is the step's own vector work and records.
+# internal forces 2.4 s, factorization 0.5 s); where the other 11.6 s go (the step's vector
+# updates, energy, envelopes, monitors) is not measured here.
 # One JSON line per case, then a line for the machine (CPU, the BLAS behind libblas.so.3 and the
 # libraries each program loads). Run through scripts/bench.sh (which builds first):
 #   scripts/bench.sh peer
