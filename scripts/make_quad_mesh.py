@@ -8,6 +8,12 @@
         the paper's wall (1.0 m wide along x, 1.2 m high along z, in the x-z plane); groups:
         surface "wall", curve "platen" (2-node lines along the top edge), points "base", "top",
         "all".
+    scripts/make_quad_mesh.py uwalls --nx 54 --ny 34 --nz 68 -o u.msh
+        three walls in a U on a fixed base, of height --height (10 m) along z: the back wall
+        along x at y = 0, --a long (8 m), and two side walls along y at x = 0 and x = a, --b long
+        (5 m), open at y = b; --nx divisions along the back wall, --ny along each side wall, --nz
+        up the height; groups: surface "walls", points "base" (z = 0), "top" (z = height), "all".
+        The nodes run along the U (from (0, b) to (0, 0), (a, 0), (a, b)), row by row up z.
 
 Node tags are 1-based in row-major order (x fastest); element tags follow the points, then the
 lines, then the quadrangles. No Gmsh is needed.
@@ -68,11 +74,13 @@ def grid(nx, ny, place):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("kind", choices=["plate", "wall"])
+    p.add_argument("kind", choices=["plate", "wall", "uwalls"])
     p.add_argument("--nx", type=int, default=10)
     p.add_argument("--ny", type=int, default=12)
     p.add_argument("--a", type=float, default=None, help="length along x [m] (plate 1.0, wall 1.0)")
     p.add_argument("--b", type=float, default=None, help="length along y (plate) or z (wall) [m] (1.0 / 1.2)")
+    p.add_argument("--nz", type=int, default=68, help="divisions up the height (uwalls)")
+    p.add_argument("--height", type=float, default=10.0, help="height along z [m] (uwalls)")
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args()
     nx, ny = args.nx, args.ny
@@ -86,6 +94,20 @@ def main():
             ("clamped", [idx(0, j) for j in range(ny + 1)]),
         ]
         write(args.output, nodes, [("plate", quads)], [], points)
+    elif args.kind == "uwalls":
+        a, b, h, nz = args.a or 8.0, args.b or 5.0, args.height, args.nz
+        # Arc length along the U -> plan position: side wall x = 0 (y from b to 0), back wall
+        # y = 0 (x from 0 to a), side wall x = a (y from 0 to b).
+        path = [(0.0, b - b * k / ny) for k in range(ny)] + [(a * k / nx, 0.0) for k in range(nx)]
+        path += [(a, b * k / ny) for k in range(ny + 1)]
+        n_s = len(path) - 1
+        idx, nodes, quads = grid(n_s, nz, lambda s, t: (*path[round(s * n_s)], h * t))
+        points = [
+            ("base", [idx(i, 0) for i in range(n_s + 1)]),
+            ("top", [idx(i, nz) for i in range(n_s + 1)]),
+            ("all", list(range(len(nodes)))),
+        ]
+        write(args.output, nodes, [("walls", quads)], [], points)
     else:
         a, b = args.a or 1.0, args.b or 1.2
         idx, nodes, quads = grid(nx, ny, lambda s, t: (a * s, 0.0, b * t))
