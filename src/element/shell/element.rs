@@ -130,6 +130,9 @@ pub struct ShellElement<const N: usize, const D: usize> {
     averaged: Vec<[f64; 2]>,
     /// The points' own shares of their averages (same layout as `averaged`).
     self_share: Vec<f64>,
+    /// The element tangent (global axes) while every point is in its virgin elastic state
+    /// (module docs of [`Self::evaluate`]'s cache), once computed.
+    elastic_k: Option<Box<SMatrix<f64, D, D>>>,
 }
 
 impl<const N: usize, const D: usize> ShellElement<N, D> {
@@ -172,7 +175,20 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             trial_dissipated: 0.0,
             averaged: Vec::new(),
             self_share: Vec::new(),
+            elastic_k: None,
         })
+    }
+
+    /// Whether every layer point's trial state is elastic and undamaged (or the section is
+    /// elastic): d_t = d_c = 0 and κ at the law's thresholds.
+    fn trial_is_elastic(&self) -> bool {
+        match &self.law {
+            SectionLaw::Elastic(_) => true,
+            SectionLaw::Damage(law) => {
+                let v = DamageState::virgin(law);
+                self.trial.iter().all(|s| *s == v)
+            }
+        }
     }
 
     /// Node coordinates the element was built from (global).
@@ -333,6 +349,12 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         N
     }
 
+    /// The tangent `Gᵀ (Σ_p w_p [Bᵀ S B + B_sᵀ k_s B_s + B_dᵀ k_d B_d]) G` is the same in every
+    /// evaluation where each layer point of the element is elastic and undamaged (trial
+    /// d_t = d_c = 0, κ at its thresholds: S is then the elastic section) or the section is
+    /// elastic: it is computed once and kept, and evaluations in that state copy it. The forces
+    /// and the states are computed at every evaluation. Not with nonlocal averaging (its inputs
+    /// come from the neighbours).
     fn evaluate(&mut self, u_e: &[f64], request: EvalRequest, out: &mut ElementOutput) -> Result<(), ElementError> {
         let uf = self.flat_displacement(u_e)?;
         out.prepare(D);
@@ -340,8 +362,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let nz = self.rule.len();
         let has_state = !self.committed.is_empty();
         let mut f = SVector::<f64, D>::zeros();
-        let mut k = SMatrix::<f64, D, D>::zeros();
         let mut dissipation = 0.0;
+        // The section tangents of the points (at most 4), for the tangent after the loop.
+        let mut tangents = [Matrix6::zeros(); 4];
+        debug_assert!(self.points.len() <= tangents.len());
         for (p, pt) in self.points.iter().enumerate() {
             let range = if has_state { p * nz..(p + 1) * nz } else { 0..0 };
             let r = Self::section_at(
@@ -368,17 +392,30 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
             nm.fixed_rows_mut::<3>(0).copy_from(&r.n);
             nm.fixed_rows_mut::<3>(3).copy_from(&r.m);
             f += (pt.b.tr_mul(&nm) + pt.b_s.tr_mul(&q) + pt.b_d.transpose() * drill) * w;
-            if want_k {
-                k += (pt.b.tr_mul(&(r.tangent * pt.b)) * w)
-                    + pt.b_s.tr_mul(&pt.b_s) * (w * self.shear_stiffness)
-                    + pt.b_d.tr_mul(&pt.b_d) * (w * self.drilling_stiffness);
-            }
+            tangents[p] = r.tangent;
             dissipation += w * r.dissipation;
         }
         self.trial_dissipated = self.dissipated + dissipation;
         out.f_int.copy_from(&self.g.tr_mul(&f));
         if want_k {
-            out.k_t.copy_from(&self.g.tr_mul(&(k * self.g)));
+            let elastic = !request.wants_secant() && self.averaged.is_empty() && self.trial_is_elastic();
+            match (&self.elastic_k, elastic) {
+                (Some(k), true) => out.k_t.copy_from(&**k),
+                _ => {
+                    let mut k = SMatrix::<f64, D, D>::zeros();
+                    for (pt, t) in self.points.iter().zip(&tangents) {
+                        let w = pt.weight;
+                        k += (pt.b.tr_mul(&(t * pt.b)) * w)
+                            + pt.b_s.tr_mul(&pt.b_s) * (w * self.shear_stiffness)
+                            + pt.b_d.tr_mul(&pt.b_d) * (w * self.drilling_stiffness);
+                    }
+                    let kg = self.g.tr_mul(&(k * self.g));
+                    out.k_t.copy_from(&kg);
+                    if elastic {
+                        self.elastic_k = Some(Box::new(kg));
+                    }
+                }
+            }
             out.has_tangent = true;
         }
         Ok(())

@@ -588,6 +588,37 @@ fn damage_below_threshold_equals_elastic() {
     assert!(dm.committed_states().iter().all(|s| s.d_t == 0.0 && s.d_c == 0.0));
 }
 
+/// The kept elastic tangent (`ShellElement::evaluate`): below the threshold every evaluation
+/// returns the tangent computed afresh by an element that never kept one, bit for bit (the
+/// elastic section does not depend on the strain); past the threshold the element computes its
+/// tangent again and returns the damaged one, which differs from the elastic one by more than
+/// 1 %; a reverted trial (virgin again) returns the elastic tangent again.
+#[test]
+fn kept_elastic_tangent_equals_the_computed_one_until_damage() {
+    let x = test_quad();
+    let small = [
+        strain_field(&x, [3e-5, -1e-5, 2e-5], [1e-4, -5e-5], 1e-7),
+        strain_field(&x, [-2e-5, 1e-5, -3e-5], [-5e-5, 1e-4], 2e-7),
+    ];
+    let mut kept = ShellQuad4::new(x, &damage_section(0.2)).unwrap();
+    let mut out = ElementOutput::new(24);
+    for u in &small {
+        let mut fresh = ShellQuad4::new(x, &damage_section(0.2)).unwrap();
+        let mut expect = ElementOutput::new(24);
+        fresh.evaluate(u, EvalRequest::ForceAndTangent, &mut expect).unwrap();
+        kept.evaluate(u, EvalRequest::ForceAndTangent, &mut out).unwrap();
+        assert_eq!(out.k_t, expect.k_t);
+        assert_eq!(out.f_int, expect.f_int);
+    }
+    let elastic = out.k_t.clone();
+    let big = strain_field(&x, [3e-4, 1e-4, 0.5e-4], [5e-4, 2e-4], 1e-6);
+    kept.evaluate(&big, EvalRequest::ForceAndTangent, &mut out).unwrap();
+    assert!((&out.k_t - &elastic).amax() > 1e-2 * elastic.amax());
+    kept.revert();
+    kept.evaluate(&small[0], EvalRequest::ForceAndTangent, &mut out).unwrap();
+    assert_eq!(out.k_t, elastic);
+}
+
 /// Beyond the threshold (all 4 × 15 layer points loading in tension, away from the kinks of the
 /// law): the element tangent equals central differences of f_int, step 1e-7 max|u|, 1e-6 relative
 /// (max norm). Then from the committed damaged state: at 0.8 u (every point unloading: secant) and
