@@ -14,6 +14,8 @@
 //! mass = "consistent"             # or "lumped"
 //! newton = "modified"             # tangent | modified | initial | krylov
 //! krylov_dimension = 3            # newton = "krylov": subspace size before a tangent refresh
+//! refresh_cost = 8                # newton = "krylov": extra iterations that pay for a fresh
+//!                                 # tangent at a step's start (0: at every step)
 //! max_iterations = 20
 //! force_tolerance = 1e-6          # ‖r‖ ≤ tol · max(‖M ι a_g‖, ‖f_grav‖, ‖f_int‖)
 //! max_substeps = 4                # halvings of a failing step
@@ -182,6 +184,11 @@ pub struct DynamicsConfig {
     /// tangent is refreshed (default 3, as OpenSees).
     #[serde(default = "three")]
     pub krylov_dimension: usize,
+    /// With `newton = "krylov"`: the extra iterations a kept tangent may cost before a step
+    /// starts on a fresh one (default 8: an assembly and a factorization cost about 8 iterations
+    /// on the church; 0 forms it at every step's start, as OpenSees).
+    #[serde(default = "eight")]
+    pub refresh_cost: usize,
     /// Newton iterations per (sub)step (default 20).
     #[serde(default = "twenty")]
     pub max_iterations: usize,
@@ -219,6 +226,9 @@ fn one_usize() -> usize {
 }
 fn three() -> usize {
     3
+}
+fn eight() -> usize {
+    8
 }
 fn twenty() -> usize {
     20

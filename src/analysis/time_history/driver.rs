@@ -69,6 +69,11 @@ pub struct TimeHistorySummary {
     pub substepped_steps: usize,
     /// Jacobian factorizations (operator changes).
     pub factorizations: usize,
+    /// Krylov–Newton: steps that started on the tangent kept from an earlier step, and steps
+    /// that started on a fresh one (`refresh.rs`).
+    pub tangents_kept: usize,
+    /// See `tangents_kept`.
+    pub tangents_fresh: usize,
     /// Output steps written.
     pub output_steps: usize,
     /// Checkpoints written.
@@ -153,6 +158,7 @@ pub fn run_on(
         scheme: Scheme { beta, gamma, alpha },
         newton: cfg.newton,
         krylov_dimension: cfg.krylov_dimension,
+        refresh_cost: cfg.refresh_cost,
         max_iterations: cfg.max_iterations,
         tolerance: cfg.force_tolerance,
         max_substeps: cfg.max_substeps,
@@ -288,6 +294,7 @@ pub fn integrate(
         }
     }
     summary.factorizations = sys.factorizations - factorizations0;
+    (summary.tangents_kept, summary.tangents_fresh) = (stepper.refresh.kept, stepper.refresh.refreshed);
     for &(name, seconds) in sys.phases.all() {
         summary.system_seconds.insert(name.to_string(), seconds - system0.seconds(name));
     }
@@ -399,10 +406,11 @@ fn finish(
         [global_max_with_tag(&ctx.comm, env.cell_max(0), 0).0, global_max_with_tag(&ctx.comm, env.cell_max(1), 0).0];
     out.close(ctx, sys, dir, state.t)?;
     log.info(format!(
-        "time history done: t = {:.4} s, {} iteration(s), {} factorization(s), {:.4} s per step; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",
+        "time history done: t = {:.4} s, {} iteration(s), {} factorization(s) ({} step(s) on a kept tangent), {:.4} s per step; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",
         state.t,
         summary.iterations,
         summary.factorizations,
+        summary.tangents_kept,
         summary.seconds_per_step,
         peak[0],
         peak[1],

@@ -15,6 +15,8 @@
 //! | `system.rs`        | the [`DynamicSystem`] trait and a dense implementation            |
 //! | `stepper.rs`       | one step: Newton (tangent, modified, initial, krylov), substepping |
 //! | `krylov.rs`        | Krylov subspace acceleration of modified Newton (Carlson–Miller)  |
+//! | `linear_step.rs`   | the step of a linear system: one solve, two products              |
+//! | `refresh.rs`       | when Krylov–Newton forms the tangent again: a cost in iterations |
 //! | `energy.rs`        | the energy balance                                                |
 //! | `petsc_system.rs`  | [`PetscSystem`]: the distributed model (PETSc matrices, KSP reuse) |
 //! | `gravity.rs`       | the static gravity step the earthquake starts from               |
@@ -38,9 +40,11 @@ mod gravity_failure;
 mod ground;
 mod integration;
 mod krylov;
+mod linear_step;
 mod monitor;
 mod petsc_system;
 mod progress;
+mod refresh;
 mod scheme;
 mod step_output;
 mod stepper;

@@ -244,6 +244,53 @@ impl<'a> PetscSystem<'a> {
         Ok(())
     }
 
+    /// Collective. `M x`, `K₀ x` (fixed rows zeroed, as `f_int`) and `C x = α M x + β K₀ x`
+    /// ([`DynamicSystem::products`]). From a solve of a linear model, `J x = r` with
+    /// `J = (1 + c_c β) K₀ + (c_m + c_c α) M` gives `K₀ x = (r − (c_m + c_c α) M x) / (1 + c_c β)`:
+    /// `M x` is the only product. Otherwise two.
+    fn products_owned(
+        &mut self,
+        x: &[f64],
+        solved: Option<&[f64]>,
+        mx: &mut [f64],
+        kx: &mut [f64],
+        cx: &mut [f64],
+    ) -> Result<(), Error> {
+        self.x.copy_owned_from(x)?;
+        self.m.mult(&self.x, &mut self.y)?;
+        self.y.with_owned_values(|s| mx.copy_from_slice(s))?;
+        let Rayleigh { alpha, beta } = self.rayleigh;
+        match (solved, self.key) {
+            (Some(r), Some((c_m, c_c, true))) if self.linear => {
+                let (c_m, c_c) = (f64::from_bits(c_m), f64::from_bits(c_c));
+                let (a, b) = (c_m + c_c * alpha, 1.0 + c_c * beta);
+                for i in 0..kx.len() {
+                    kx[i] = (r[i] - a * mx[i]) / b;
+                }
+            }
+            _ => {
+                self.k0.mult(&self.x, &mut self.y)?;
+                self.y.with_owned_values(|s| kx.copy_from_slice(s))?;
+            }
+        }
+        for i in 0..cx.len() {
+            cx[i] = alpha * mx[i] + beta * kx[i];
+        }
+        self.zero_fixed(kx);
+        Ok(())
+    }
+
+    /// Zeroes the fixed DOFs' entries of an owned vector.
+    fn zero_fixed(&self, f: &mut [f64]) {
+        for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
+            for d in 0..6 {
+                if self.disc.dofs.is_fixed(node, d) {
+                    f[6 * i + d] = 0.0;
+                }
+            }
+        }
+    }
+
     /// Collective. `f_int(u)` on the owned equations ([`DynamicSystem::internal_force`]).
     fn internal_force_owned(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
         if self.linear {
@@ -252,13 +299,7 @@ impl<'a> PetscSystem<'a> {
             self.x.copy_owned_from(u)?;
             self.k0.mult(&self.x, &mut self.y)?;
             self.y.with_owned_values(|s| f.copy_from_slice(s))?;
-            for (i, &node) in self.disc.dofs.owned.iter().enumerate() {
-                for d in 0..6 {
-                    if self.disc.dofs.is_fixed(node, d) {
-                        f[6 * i + d] = 0.0;
-                    }
-                }
-            }
+            self.zero_fixed(f);
             return Ok(());
         }
         let u_local = self.local_form(u)?;
@@ -356,6 +397,23 @@ impl DynamicSystem for PetscSystem<'_> {
 
     fn static_load(&self) -> &[f64] {
         &self.f_static
+    }
+
+    fn is_linear(&self) -> bool {
+        self.linear
+    }
+
+    fn products(
+        &mut self,
+        x: &[f64],
+        solved: Option<&[f64]>,
+        mx: &mut [f64],
+        kx: &mut [f64],
+        cx: &mut [f64],
+    ) -> Result<(), Error> {
+        let (done, seconds) = timed(|| self.products_owned(x, solved, mx, kx, cx));
+        self.phases.add("products", seconds);
+        done
     }
 
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {

@@ -14,12 +14,17 @@
 //! corrections accelerated in the subspace of the previous ones ([`super::krylov`]), the tangent
 //! refreshed at the current iterate when that subspace is full.
 //!
+//! A linear system (no element with state) takes the step of [`super::linear_step`] instead: one
+//! solve and two products, its residual checked with fresh products every few steps.
+//!
 //! A step that does not converge (too many iterations, a non-finite residual, an element or solver
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
 //! (for the diagnosis) and the caller decides.
 use super::energy::EnergyBalance;
 use super::krylov::KrylovAccelerator;
+use super::linear_step::{LinearStep, Outcome};
+use super::refresh::RefreshPolicy;
 use super::scheme::Scheme;
 use super::system::DynamicSystem;
 use crate::config::NewtonKind;
@@ -33,6 +38,9 @@ pub struct StepSettings {
     pub newton: NewtonKind,
     /// Subspace size of [`NewtonKind::Krylov`].
     pub krylov_dimension: usize,
+    /// [`NewtonKind::Krylov`]: extra iterations that pay for a tangent refresh
+    /// ([`super::refresh`]; 0: a fresh tangent at every step).
+    pub refresh_cost: usize,
     /// Iterations per (sub)step.
     pub max_iterations: usize,
     /// Relative force tolerance.
@@ -111,7 +119,8 @@ pub struct StepReport {
     pub iterations: usize,
     /// Substeps (1 when the step converged whole).
     pub substeps: usize,
-    /// Relative residual at convergence (largest over substeps).
+    /// Relative residual at convergence (largest over substeps); for a linear step, the one of
+    /// its last check.
     pub residual: f64,
 }
 
@@ -136,6 +145,9 @@ pub struct Stepper {
     pub settings: StepSettings,
     s: Scratch,
     krylov: KrylovAccelerator,
+    linear: LinearStep,
+    /// When Krylov–Newton forms the tangent again.
+    pub refresh: RefreshPolicy,
 }
 
 #[derive(Default)]
@@ -196,15 +208,21 @@ impl Scratch {
 
     /// The forces at the trial (u, v, a) and the residual
     /// `r = rhs − M a − (1+α)(C v + f_int(u))` (module docs). Returns `‖r‖` and the force scale of
-    /// the convergence test, `rhs_norm + ‖M a‖ + (1+α)(‖C v‖ + ‖f_int‖)`.
+    /// the convergence test, `rhs_norm + ‖M a‖ + (1+α)(‖C v‖ + ‖f_int‖)`. `known` is `f_int(u)`
+    /// when the caller has it: at the predictor `u = u_n` it is the state's (the elements' stress
+    /// at their committed strain, from their committed state), so no element is evaluated.
     fn residual_at_trial<S: DynamicSystem>(
         &mut self,
         sys: &mut S,
         al: f64,
         rhs_norm: f64,
+        known: Option<&[f64]>,
     ) -> Result<(f64, f64), crate::error::Error> {
         let s = self;
-        sys.internal_force(&s.u, &mut s.fi)?;
+        match known {
+            Some(fi) => s.fi.copy_from_slice(fi),
+            None => sys.internal_force(&s.u, &mut s.fi)?,
+        }
         sys.damping_mult(&s.v, &mut s.cv).and_then(|_| sys.mass_mult(&s.a, &mut s.ma))?;
         for i in 0..s.r.len() {
             s.r[i] = s.rhs[i] - s.ma[i] - (1.0 + al) * (s.cv[i] + s.fi[i]);
@@ -215,29 +233,40 @@ impl Scratch {
 }
 
 /// The Jacobian for iteration `it` of the Newton variant (module docs): refactored at the trial
-/// `u` every iteration (`tangent`), at the first (`modified`), at the first and whenever the
-/// Krylov subspace is full (`krylov`, which then starts a new subspace), or the initial
-/// stiffness (`initial`).
+/// `u` every iteration (`tangent`), at the first (`modified`), the initial stiffness (`initial`);
+/// `krylov` starts a new subspace at the first iteration, on the tangent kept from earlier steps
+/// or on a fresh one as the [`RefreshPolicy`] decides, and refreshes it whenever the subspace is
+/// full. Returns whether the tangent was formed at the trial.
+#[allow(clippy::too_many_arguments)]
 fn prepare_jacobian<S: DynamicSystem>(
     sys: &mut S,
     kind: NewtonKind,
-    it: usize,
+    (it, h): (usize, f64),
     krylov: &mut KrylovAccelerator,
+    refresh: &mut RefreshPolicy,
     u: &[f64],
     c_m: f64,
     c_c: f64,
-) -> Result<(), crate::error::Error> {
-    match kind {
-        NewtonKind::Tangent => sys.prepare(Some(u), c_m, c_c),
-        NewtonKind::Modified if it == 0 => sys.prepare(Some(u), c_m, c_c),
-        NewtonKind::Modified => Ok(()),
-        NewtonKind::Initial => sys.prepare(None, c_m, c_c),
-        NewtonKind::Krylov if it == 0 || krylov.is_full() => {
+) -> Result<bool, crate::error::Error> {
+    let fresh = match kind {
+        NewtonKind::Tangent => true,
+        NewtonKind::Modified => it == 0,
+        NewtonKind::Initial => return sys.prepare(None, c_m, c_c).map(|_| false),
+        NewtonKind::Krylov if it == 0 => {
             krylov.clear();
-            sys.prepare(Some(u), c_m, c_c)
+            refresh.refresh_at_start(h)
         }
-        NewtonKind::Krylov => Ok(()),
+        NewtonKind::Krylov if krylov.is_full() => {
+            krylov.clear();
+            refresh.refreshed_within();
+            true
+        }
+        NewtonKind::Krylov => false,
+    };
+    if fresh {
+        sys.prepare(Some(u), c_m, c_c)?;
     }
+    Ok(fresh)
 }
 
 /// `f(t) = f_static − Σ_d M ι_d a_g,d(t)`.
@@ -261,7 +290,13 @@ enum Attempt {
 impl Stepper {
     /// A stepper.
     pub fn new(settings: StepSettings) -> Stepper {
-        Stepper { settings, s: Scratch::default(), krylov: KrylovAccelerator::new(settings.krylov_dimension) }
+        Stepper {
+            settings,
+            s: Scratch::default(),
+            krylov: KrylovAccelerator::new(settings.krylov_dimension),
+            linear: LinearStep::default(),
+            refresh: RefreshPolicy::new(settings.refresh_cost),
+        }
     }
 
     /// Advances `state` to time `target` (one nominal step), substepping if needed. On success
@@ -282,6 +317,14 @@ impl Stepper {
         if (h - dt).abs() <= 1e-9 * dt {
             h = dt;
         }
+        if sys.is_linear() && target - state.t <= h * (1.0 + 1e-9) {
+            let sc = self.settings.scheme;
+            match self.linear.step(sys, ground, state, (target, h), sc, self.settings.tolerance) {
+                Ok(Outcome::Done { residual }) => return Ok(StepReport { iterations: 1, substeps: 1, residual }),
+                // The Newton path iterates the step to the tolerance, or substeps and reports.
+                Ok(Outcome::Missed) | Err(_) => self.linear.invalidate(),
+            }
+        }
         let mut report = StepReport::default();
         loop {
             let last = target - state.t <= h * (1.0 + 1e-9);
@@ -299,6 +342,7 @@ impl Stepper {
                     }
                 }
                 Attempt::Failed { residual, reason } => {
+                    self.refresh.failed();
                     if h / 2.0 < h_min * (1.0 - 1e-9) {
                         return Err(StepFailure { t: state.t, h, residual, r: self.s.r.clone(), reason });
                     }
@@ -326,8 +370,11 @@ impl Stepper {
         let jacobian = st.scheme.jacobian_coefficients(h);
         let mut residual = f64::INFINITY;
         let mut scale0 = 0.0f64;
+        // Whether the first correction formed the tangent, and how often the others did.
+        let (mut fresh, mut within) = (false, 0);
         for it in 0..=st.max_iterations {
-            let (rn, current) = match self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm) {
+            let known = (it == 0).then_some(state.f_int.as_slice());
+            let (rn, current) = match self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm, known) {
                 Ok(norms) => norms,
                 Err(e) => return Attempt::Failed { residual, reason: e.to_string() },
             };
@@ -344,13 +391,18 @@ impl Stepper {
                 return Attempt::Failed { residual, reason: format!("iteration {it}: the iterate diverged") };
             }
             if rn == 0.0 || residual <= st.tolerance {
+                if it > 0 {
+                    self.refresh.converged(it, fresh, within);
+                }
                 return Attempt::Converged { iterations: it, residual };
             }
             if it == st.max_iterations {
                 break;
             }
-            if let Err(e) = self.correct(sys, state, h, it, jacobian) {
-                return Attempt::Failed { residual, reason: e.to_string() };
+            match self.correct(sys, state, h, it, jacobian) {
+                Ok(formed) if it == 0 => fresh = formed,
+                Ok(formed) => within += formed as usize,
+                Err(e) => return Attempt::Failed { residual, reason: e.to_string() },
             }
         }
         Attempt::Failed { residual, reason: format!("no convergence in {} iterations", st.max_iterations) }
@@ -358,7 +410,8 @@ impl Stepper {
 
     /// The Newton correction of iteration `it`: the Jacobian `K + c_m M + c_c C` of the variant
     /// ([`prepare_jacobian`]), `Δu = J⁻¹ r / (1+α)` (accelerated under `krylov`), `u ← u + Δu`
-    /// with the scheme's v and a. `r` is left divided by 1+α, also when the solve fails.
+    /// with the scheme's v and a. `r` is left divided by 1+α, also when the solve fails. Returns
+    /// whether the tangent was formed.
     fn correct<S: DynamicSystem>(
         &mut self,
         sys: &mut S,
@@ -366,14 +419,15 @@ impl Stepper {
         h: f64,
         it: usize,
         (c_m, c_c): (f64, f64),
-    ) -> Result<(), crate::error::Error> {
+    ) -> Result<bool, crate::error::Error> {
         let (st, s) = (self.settings, &mut self.s);
         let sc = st.scheme;
-        let prepared = prepare_jacobian(sys, st.newton, it, &mut self.krylov, &s.u, c_m, c_c);
+        let prepared = prepare_jacobian(sys, st.newton, (it, h), &mut self.krylov, &mut self.refresh, &s.u, c_m, c_c);
         for x in s.r.iter_mut() {
             *x /= 1.0 + sc.alpha;
         }
-        prepared.and_then(|_| sys.solve(&s.r, &mut s.du))?;
+        let formed = prepared?;
+        sys.solve(&s.r, &mut s.du)?;
         if st.newton == NewtonKind::Krylov {
             self.krylov.correct(sys, &mut s.du);
         }
@@ -381,31 +435,41 @@ impl Stepper {
             s.u[i] += s.du[i];
         }
         sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
-        Ok(())
+        Ok(formed)
     }
 
-    /// Moves the converged trial solution into `state` and updates the energies.
+    /// Moves the converged trial solution into `state` and updates the energies (the
+    /// trapezoidal sums of [`super::energy`], no allocation: the correction and the trial's
+    /// inertia vectors are free once the step has converged).
     fn accept<S: DynamicSystem>(&mut self, sys: &mut S, ground: &dyn Fn(f64) -> [f64; 3], state: &mut State, t1: f64) {
         let s = &mut self.s;
-        let n = s.u.len();
-        let du: Vec<f64> = (0..n).map(|i| s.u[i] - state.u[i]).collect();
-        let e = &mut state.energy;
         // f_0, f_1 were evaluated at the attempt's times: recompute for exactness of t1.
         external_force(sys, ground(t1), &mut s.f1);
-        let avg = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect() };
-        let (f_avg, cv_avg, fi_avg) = (avg(&s.f0, &s.f1), avg(&state.cv, &s.cv), avg(&state.f_int, &s.fi));
-        let mut mv = vec![0.0; n];
+        for i in 0..s.u.len() {
+            s.du[i] = s.u[i] - state.u[i];
+        }
         // A failure here would have shown in the iterations (same operator).
-        let mv_ok = sys.mass_mult(&s.v, &mut mv).is_ok();
-        let d = sys.dots(&[(&du, &f_avg), (&du, &cv_avg), (&du, &fi_avg), (&s.u, &s.fi), (&s.v, &mv)]);
-        e.input += d[0];
-        e.damping += d[1];
-        e.internal_work += d[2];
-        e.strain = 0.5 * d[3];
+        let mv_ok = sys.mass_mult(&s.v, &mut s.ma).is_ok();
+        let du = &s.du;
+        let d = sys.dots(&[
+            (du, &s.f0),
+            (du, &s.f1),
+            (du, &state.cv),
+            (du, &s.cv),
+            (du, &state.f_int),
+            (du, &s.fi),
+            (&s.u, &s.fi),
+            (&s.v, &s.ma),
+        ]);
+        let e = &mut state.energy;
+        e.input += 0.5 * (d[0] + d[1]);
+        e.damping += 0.5 * (d[2] + d[3]);
+        e.internal_work += 0.5 * (d[4] + d[5]);
+        e.strain = 0.5 * d[6];
         // The elements were committed before `accept`: their dissipation is the step's end's.
         e.damage = sys.dissipated_energy();
         if mv_ok {
-            e.kinetic = 0.5 * d[4];
+            e.kinetic = 0.5 * d[7];
         }
         state.u.copy_from_slice(&s.u);
         state.v.copy_from_slice(&s.v);

@@ -41,6 +41,29 @@ pub trait DynamicSystem {
     fn prepare(&mut self, tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error>;
     /// `x = J⁻¹ r` with the last prepared `J`. Collective.
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error>;
+    /// Whether `f_int(u) = K₀ u` for every `u` (no element has state): one solve with the
+    /// Jacobian then ends a step exactly ([`super::linear_step`]).
+    fn is_linear(&self) -> bool {
+        false
+    }
+    /// `M x`, `K₀ x` and `C x`, for a linear system. Collective. When `solved` is given, `x` is
+    /// the solution of `J x = solved` with the last prepared `J = K₀ + c_m M + c_c C`, and an
+    /// implementation may take `K₀ x = solved − c_m M x − c_c C x` from it instead of a product
+    /// (with Rayleigh damping, `M x` is then the only product). The default makes the three
+    /// products.
+    fn products(
+        &mut self,
+        x: &[f64],
+        solved: Option<&[f64]>,
+        mx: &mut [f64],
+        kx: &mut [f64],
+        cx: &mut [f64],
+    ) -> Result<(), Error> {
+        let _ = solved;
+        self.mass_mult(x, mx)?;
+        self.internal_force(x, kx)?;
+        self.damping_mult(x, cx)
+    }
     /// The energy the material law has dissipated up to the committed state, summed over all
     /// elements of all ranks (`Element::dissipated_energy`) [J]; 0 for a linear system. Collective.
     fn dissipated_energy(&self) -> f64 {
@@ -67,6 +90,8 @@ pub struct DenseSystem {
     lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
     /// Factorizations done (to test reuse).
     pub factorizations: usize,
+    /// Whether [`DynamicSystem::is_linear`] says so (true; false to run the Newton path).
+    pub linear: bool,
     key: Option<(u64, u64)>,
 }
 
@@ -77,7 +102,18 @@ impl DenseSystem {
         let mut iota = iota;
         iota.resize(3, vec![0.0; n]);
         let m_iota = iota.iter().map(|i| (&m * DVector::from_column_slice(i)).as_slice().to_vec()).collect();
-        DenseSystem { m, c, k, f_static: vec![0.0; n], iota, m_iota, lu: None, factorizations: 0, key: None }
+        DenseSystem {
+            m,
+            c,
+            k,
+            f_static: vec![0.0; n],
+            iota,
+            m_iota,
+            lu: None,
+            factorizations: 0,
+            linear: true,
+            key: None,
+        }
     }
 }
 
@@ -89,6 +125,9 @@ fn mult(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
 impl DynamicSystem for DenseSystem {
     fn len(&self) -> usize {
         self.m.nrows()
+    }
+    fn is_linear(&self) -> bool {
+        self.linear
     }
     fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
         a.iter().zip(b).map(|(x, y)| x * y).sum()
@@ -112,6 +151,27 @@ impl DynamicSystem for DenseSystem {
     }
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
         mult(&self.k, u, f);
+        Ok(())
+    }
+    fn products(
+        &mut self,
+        x: &[f64],
+        solved: Option<&[f64]>,
+        mx: &mut [f64],
+        kx: &mut [f64],
+        cx: &mut [f64],
+    ) -> Result<(), Error> {
+        mult(&self.m, x, mx);
+        mult(&self.c, x, cx);
+        match (solved, self.key) {
+            (Some(r), Some((c_m, c_c))) => {
+                let (c_m, c_c) = (f64::from_bits(c_m), f64::from_bits(c_c));
+                for i in 0..kx.len() {
+                    kx[i] = r[i] - c_m * mx[i] - c_c * cx[i];
+                }
+            }
+            _ => mult(&self.k, x, kx),
+        }
         Ok(())
     }
     fn prepare(&mut self, _tangent_at: Option<&[f64]>, c_m: f64, c_c: f64) -> Result<(), Error> {

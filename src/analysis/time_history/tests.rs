@@ -11,6 +11,7 @@ fn settings(scheme: Scheme) -> StepSettings {
         scheme,
         newton: NewtonKind::Modified,
         krylov_dimension: 3,
+        refresh_cost: 0,
         max_iterations: 10,
         tolerance: 1e-12,
         max_substeps: 3,
@@ -222,6 +223,48 @@ fn a_linear_system_factors_once_per_step_size() {
 }
 
 #[test]
+fn the_linear_step_equals_newton_on_a_linear_system() {
+    // The one-solve step of `linear_step.rs` (products kept from step to step, the residual
+    // checked with fresh products every CHECK_EVERY steps) against the Newton path iterated to
+    // 1e-12 on the same damped 2-DOF system (Rayleigh 0.3 M + 0.001 K) under a two-harmonic
+    // ground motion, with HHT α = −0.1 and a short last step (1.0 s is 99 steps of 0.0101 s plus
+    // one of 0.0001 s): both are the same linear recurrence, so they agree to round-off (1e-10 of
+    // the largest value) in u, v, a and in every energy term. Both take one solve per step, and
+    // factor twice (h = 0.0101 s, then the last step's h).
+    let ag = |t: f64| (3.0 * t).sin() + 0.5 * (11.0 * t).cos();
+    let go = |linear: bool| {
+        let mut sys = two_dof(0.3, 0.001);
+        sys.linear = linear;
+        let mut st = State::new(&mut sys, vec![0.01, -0.02], vec![0.1, 0.0], vec![0.0, 0.0]).unwrap();
+        let mut stepper = Stepper::new(settings(Scheme::hht(-0.1)));
+        let (mut out, mut its) = (vec![], 0);
+        for k in 1..=100 {
+            let target = (k as f64 * 0.0101).min(1.0);
+            its += stepper.advance(&mut sys, &|t| [ag(t), 0.0, 0.0], &mut st, target, 0.0101).unwrap().iterations;
+            out.push(st.clone());
+        }
+        (out, its, sys.factorizations)
+    };
+    let ((lin, its_lin, fact_lin), (newton, its_newton, fact_newton)) = (go(true), go(false));
+    assert_eq!((its_lin, its_newton, fact_lin, fact_newton), (100, 100, 2, 2));
+    let big = |f: &dyn Fn(&State) -> Vec<f64>| newton.iter().flat_map(|s| f(s)).fold(0.0, |m: f64, x| m.max(x.abs()));
+    let fields: [&dyn Fn(&State) -> Vec<f64>; 4] = [&|s| s.u.clone(), &|s| s.v.clone(), &|s| s.a.clone(), &|s| {
+        let e = s.energy;
+        vec![e.input, e.kinetic, e.strain, e.damping, e.internal_work]
+    }];
+    for f in fields {
+        let scale = big(f);
+        for (a, b) in lin.iter().zip(&newton) {
+            assert_eq!((a.step, a.t), (b.step, b.t));
+            for (x, y) in f(a).iter().zip(f(b)) {
+                assert!((x - y).abs() <= 1e-10 * scale, "step {}: {x} vs {y} (scale {scale})", a.step);
+            }
+        }
+    }
+    assert!((lin.last().unwrap().t - 1.0).abs() < 1e-15);
+}
+
+#[test]
 fn hht_dissipates_high_frequencies_and_keeps_the_low() {
     // HHT-α with α = −0.1: spectral radius at Ω → ∞ is (1 + α)/(1 − α) = 0.818 per step (Hilber et
     // al. 1977); at Ω = 0.05 the damping ratio is below 0.2 %. An undamped SDOF at Ω = 10 loses
@@ -298,6 +341,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
             scheme: Scheme::default(),
             newton: NewtonKind::Modified,
             krylov_dimension: 3,
+            refresh_cost: 0,
             max_iterations,
             tolerance: 1e-12,
             max_substeps,
@@ -334,6 +378,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
             scheme: Scheme::default(),
             newton,
             krylov_dimension: 3,
+            refresh_cost: 0,
             max_iterations: 40,
             tolerance: 1e-12,
             max_substeps: 0,
@@ -353,4 +398,32 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
     }
     assert!(ik < im, "krylov {ik} iterations, modified {im}");
     println!("iterations over 40 steps: modified {im}, krylov {ik}");
+}
+
+#[test]
+fn a_kept_tangent_reaches_the_same_steps_with_fewer_refreshes() {
+    // The hardening spring of the test above under Krylov–Newton, the tangent formed at every
+    // step's start (refresh_cost 0) or kept while its extra iterations stay below 8 (the
+    // default, `refresh.rs`): both converge every step to 1e-12, so the trajectories agree to
+    // 1e-9 of the amplitude, and the kept tangent starts fewer steps on a fresh one.
+    let go = |refresh_cost: usize| {
+        let mut sys = Duffing { lin: sdof(1.0, 0.0, 1.0), k3: 5.0, lu: 1.0 };
+        let mut st = State::new(&mut sys, vec![1.0], vec![0.0], vec![-6.0]).unwrap();
+        let mut stepper =
+            Stepper::new(StepSettings { refresh_cost, newton: NewtonKind::Krylov, ..settings(Scheme::default()) });
+        stepper.settings.max_iterations = 40;
+        let mut us = Vec::new();
+        for k in 1..=40 {
+            stepper.advance(&mut sys, &|_| [0.0; 3], &mut st, k as f64 * 0.1, 0.1).unwrap();
+            us.push(st.u[0]);
+        }
+        (us, stepper.refresh.refreshed, stepper.refresh.kept)
+    };
+    let (u_every, fresh_every, kept_every) = go(0);
+    let (u_kept, fresh_kept, kept_kept) = go(8);
+    assert_eq!((fresh_every, kept_every), (40, 0));
+    assert!(kept_kept > 0 && fresh_kept < 40, "fresh {fresh_kept}, kept {kept_kept}");
+    for (a, b) in u_every.iter().zip(&u_kept) {
+        assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+    }
 }
