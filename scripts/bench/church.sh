@@ -10,6 +10,9 @@
 # may be shared, which inflates the timings. Run through scripts/bench.sh (which builds first).
 # CASES="coarse" or CASES="fine" runs one of the two; STEPS sets the fine segment's length;
 # RANKS="2" runs the coarse job on 2 ranks only (then no speedup is reported).
+# BASELINE=<commit> also runs the coarse job with the binary of that commit (built once, kept in
+# target/baseline/), each rank count first with it and then with the current one, and adds to
+# the current one's line its speed-up over the baseline ("speedup_vs_baseline").
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
@@ -17,18 +20,24 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cp -r jobs/records "$work/records"
 root=$(pwd)
+bin=$root/target/release/masonry-hpc
+baseline=""
+if [ -n "${BASELINE:-}" ]; then
+  source scripts/bench/baseline.sh
+  baseline=$(baseline_binary "$BASELINE")
+fi
 cases="${CASES:-coarse fine}"
 steps="${STEPS:-5}"
 ranks="${RANKS:-1 2}"
 loadavg() { cut -d' ' -f1 /proc/loadavg; }
 
-# Runs `mpirun -n $1 masonry-hpc $2`, sampling VmHWM of every rank's process each second.
+# Runs `mpirun -n $1 $3 $2` ($3: the binary, default the current one), sampling VmHWM of every rank's process each second.
 # Writes $work/run.wall (seconds) and $work/run.mem (peak MB per rank, space separated).
 measure() {
-  local np=$1 job=$2
+  local np=$1 job=$2 exe=${3:-$bin}
   local start end
   start=$(date +%s.%N)
-  OMPI_MCA_mpi_yield_when_idle=1 mpirun -n "$np" target/release/masonry-hpc -q "$job" >"$work/run.log" 2>&1 &
+  OMPI_MCA_mpi_yield_when_idle=1 mpirun -n "$np" "$exe" -q "$job" >"$work/run.log" 2>&1 &
   local launcher=$!
   declare -A peak=()
   while kill -0 "$launcher" 2>/dev/null; do
@@ -51,10 +60,10 @@ measure() {
 blas_lib=$(ldd target/release/masonry-hpc 2>/dev/null | awk '/libblas|libopenblas|mkl_core|libblis/ {print $3; exit}')
 blas="${blas_lib:+$(readlink -f "$blas_lib")}${OPENBLAS_CORETYPE:+ ($OPENBLAS_CORETYPE)}"
 
-emit() { # case np summary.json load_before
-  python3 - "$@" "$(cat "$work/run.wall")" "$(cat "$work/run.mem")" "$(loadavg)" "$blas" <<'PY'
+emit() { # case np summary.json load_before [binary label]
+  python3 - "$1" "$2" "$3" "$4" "$(cat "$work/run.wall")" "$(cat "$work/run.mem")" "$(loadavg)" "$blas" "${5:-current}" <<'PY'
 import json, sys
-case, np_, summ, load0, wall, mem, load1, blas = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], float(sys.argv[5]), sys.argv[6], sys.argv[7], sys.argv[8]
+case, np_, summ, load0, wall, mem, load1, blas, binary = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], float(sys.argv[5]), sys.argv[6], sys.argv[7], sys.argv[8], sys.argv[9]
 s = json.load(open(summ))
 th = s["time_history"]
 mem = sorted(int(x) for x in mem.split())
@@ -63,7 +72,9 @@ out = {
     "steps": th["steps"] - th["first_step"], "seconds": round(wall, 2), "seconds_per_step": round(th["seconds_per_step"], 4),
     "seconds_stages": [round(x, 2) for x in s["stages"]["seconds"]], "seconds_gravity": round(th["seconds"][1], 2),
     "iterations": th["iterations"], "factorizations": th["factorizations"], "substepped_steps": th["substepped_steps"],
-    "max_damage": th["max_damage"], "peak_memory_mb_per_rank": mem, "load_average": [float(load0), float(load1)], "blas": blas,
+    "max_damage": th["max_damage"], "peak_drift_ratio": th["peak_drift_ratio"],
+    "system_seconds": {k: round(v, 2) for k, v in th.get("system_seconds", {}).items()},
+    "peak_memory_mb_per_rank": mem, "load_average": [float(load0), float(load1)], "blas": blas, "binary": binary,
 }
 print(json.dumps(out))
 PY
@@ -73,6 +84,12 @@ if [[ " $cases " == *" coarse "* ]]; then
   sed -e "s#\"../meshes/church.msh\"#\"$root/meshes/church.msh\"#" -e "s#\"../materials/#\"$root/materials/#" -e "s#\"../results/church\"#\"out\"#" \
       -e 's/existing = "backup"/existing = "overwrite"/' jobs/church.toml > "$work/coarse.toml"
   for np in $ranks; do
+    if [ -n "$baseline" ]; then
+      load0=$(loadavg)
+      measure "$np" "$work/coarse.toml" "$baseline"
+      cp "$work/out/summary.json" "$work/baseline-$np.json"
+      emit church-coarse-full "$np" "$work/baseline-$np.json" "$load0" "baseline $BASELINE" > "$work/baseline-$np.line"
+    fi
     load0=$(loadavg)
     measure "$np" "$work/coarse.toml"
     cp "$work/out/summary.json" "$work/coarse-$np.json"
@@ -85,11 +102,23 @@ import json, sys
 a, b = (json.loads(open(f).read()) for f in sys.argv[1:3])
 for line in (a, b):
     line["speedup_vs_1_rank"] = round(a["seconds"] / line["seconds"], 3)
-    print(json.dumps(line))
+    open(sys.argv[1 if line is a else 2], "w").write(json.dumps(line))
 PY
-  else
-    cat "$work"/coarse-*.line
   fi
+  for np in $ranks; do
+    if [ -f "$work/baseline-$np.line" ]; then
+      cat "$work/baseline-$np.line"
+      python3 - "$work/baseline-$np.line" "$work/coarse-$np.line" <<'PY'
+import json, sys
+old, new = (json.loads(open(f).read()) for f in sys.argv[1:3])
+new["speedup_vs_baseline"] = round(old["seconds"] / new["seconds"], 3)
+new["stepping_speedup_vs_baseline"] = round(old["seconds_per_step"] / new["seconds_per_step"], 3)
+print(json.dumps(new))
+PY
+    else
+      cat "$work/coarse-$np.line"
+    fi
+  done
 fi
 
 if [[ " $cases " == *" fine "* ]]; then
