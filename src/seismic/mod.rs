@@ -51,6 +51,7 @@ pub use baseline::{correct as baseline_correct, Baseline};
 pub use charts::{record_png, record_set_png, spectrum_png};
 pub use compatibility::{
     check_compatibility, check_periods, mean_sa, Compatibility, CompatibilityRules, RatioPoint, RuleOutcome,
+    RULE_COUNT, RULE_SPECTRUM, RULE_STATIONARY, RULE_ZERO_PERIOD,
 };
 pub use ec8::{Ec8Spectrum, Ec8Type, GroundType};
 pub use error::SeismicError;
