@@ -17,6 +17,8 @@ pub enum JobKind {
     Spectrum,
     /// DEM calibration and damage-law identification: see [`super::IdentifyJobFile`].
     Identify,
+    /// A record set compatible with a Eurocode 8 spectrum: see [`super::RecordSetJobFile`].
+    RecordSet,
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
@@ -31,6 +33,7 @@ pub const ANALYSIS_TYPES: &[(&str, JobKind)] = &[
     ("dem", JobKind::Dem),
     ("spectrum", JobKind::Spectrum),
     ("identification", JobKind::Identify),
+    ("record_set", JobKind::RecordSet),
 ];
 
 /// The kind of the job in `src`.

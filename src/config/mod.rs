@@ -18,6 +18,7 @@ mod job;
 mod kind;
 mod material_point;
 mod record;
+mod record_set;
 mod source;
 mod spectrum;
 mod tagged;
@@ -33,6 +34,7 @@ pub use identify_job::IdentifyJob;
 pub use job::*;
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
 pub use material_point::*;
+pub use record_set::*;
 pub use source::{format_path, Seg, Source};
 pub use spectrum::*;
 
@@ -68,6 +70,9 @@ impl Job {
                 Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
             }
             AnyJob::Identify(j) => {
+                Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
+            }
+            AnyJob::RecordSet(j) => {
                 Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
             }
         }
@@ -171,6 +176,8 @@ pub enum AnyJob {
     Spectrum(SpectrumJob),
     /// An identification (DEM calibration, damage-law identification, or the chain).
     Identify(IdentifyJob),
+    /// A record set compatible with a Eurocode 8 spectrum.
+    RecordSet(RecordSetJob),
 }
 
 /// A loaded, validated spectrum job: the record is read (and checked) at load.
@@ -262,6 +269,7 @@ pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
         JobKind::Dem => AnyJob::Dem(DemJob::from_source(source, path)?),
         JobKind::Spectrum => AnyJob::Spectrum(SpectrumJob::from_source(source, path)?),
         JobKind::Identify => AnyJob::Identify(IdentifyJob::from_source(source, path)?),
+        JobKind::RecordSet => AnyJob::RecordSet(RecordSetJob::from_source(source, path)?),
     })
 }
 

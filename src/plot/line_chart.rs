@@ -56,8 +56,18 @@ pub struct LineChart {
     x_label: String,
     y_label: String,
     series: Vec<Series>,
+    bands: Vec<Band>,
     size: (u32, u32),
 }
+
+/// A shaded vertical band `x0 ≤ x ≤ x1` behind the series (e.g. a period range), with a legend entry.
+#[derive(Clone, Debug)]
+struct Band {
+    name: String,
+    span: Span,
+}
+
+const BAND_COLOUR: RGBColor = RGBColor(255, 220, 120);
 
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
@@ -76,6 +86,7 @@ impl LineChart {
             x_label: x_label.into(),
             y_label: y_label.into(),
             series: Vec::new(),
+            bands: Vec::new(),
             size: (1000, 700),
         }
     }
@@ -83,6 +94,12 @@ impl LineChart {
     /// Adds a series.
     pub fn series(mut self, name: &str, points: Vec<(f64, f64)>, style: SeriesStyle) -> LineChart {
         self.series.push(Series { name: name.into(), points, style });
+        self
+    }
+
+    /// Adds a shaded vertical band over `x0 ≤ x ≤ x1`, drawn behind the series.
+    pub fn x_band(mut self, name: &str, x0: f64, x1: f64) -> LineChart {
+        self.bands.push(Band { name: name.into(), span: (x0.min(x1), x0.max(x1)) });
         self
     }
 
@@ -153,6 +170,15 @@ impl LineChart {
             .max_light_lines(2)
             .draw()
             .map_err(|e| render(&e))?;
+        for b in &self.bands {
+            let (a, c) = (b.span.0.max(x0), b.span.1.min(x1));
+            let fill = BAND_COLOUR.mix(0.45).filled();
+            chart
+                .draw_series(std::iter::once(Rectangle::new([(a, y0), (c, y1)], fill)))
+                .map_err(|e| render(&e))?
+                .label(b.name.clone())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 20, y + 6)], fill));
+        }
         for (s, color) in self.series.iter().zip(self.colours()) {
             let pts: Vec<(f64, f64)> =
                 s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
@@ -168,7 +194,7 @@ impl LineChart {
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3)));
             }
         }
-        if self.series.iter().filter(|s| !s.name.is_empty()).count() > 1 {
+        if self.series.iter().filter(|s| !s.name.is_empty()).count() + self.bands.len() > 1 {
             chart
                 .configure_series_labels()
                 .label_font((font::FAMILY, 16))
@@ -207,6 +233,7 @@ mod tests {
         LineChart::new("sin(x)", "x [rad]", "sin x [-]")
             .series("sin", pts, SeriesStyle::Line)
             .series("points", vec![(1.0, 0.8), (2.0, 0.9)], SeriesStyle::Markers)
+            .x_band("a band", 2.0, 4.0)
             .save_png(&f)
             .unwrap();
         let bytes = std::fs::read(&f).unwrap();

@@ -9,11 +9,13 @@
 //! | `identify/`         | `"identification"`: calibration, virtual tests, law fit, material file |
 //! | `spectrum.rs`       | `"spectrum"`: a record's response spectra against Eurocode 8     |
 //! | `material_point.rs` | `"material_point"`: one integration point along a strain path   |
+//! | `record_set.rs`     | `"record_set"`: records compatible with a Eurocode 8 spectrum, checked |
 //! | `output_dir.rs`     | the results folder: backup, overwrite or refuse                  |
 pub mod dem;
 pub mod identify;
 pub mod material_point;
 mod output_dir;
+pub mod record_set;
 pub mod spectrum;
 
 pub use crate::error::Error;
@@ -70,6 +72,14 @@ pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
             "identification:{}{}; results would go to {}",
             if job.spec.calibration.is_some() { " DEM calibration" } else { "" },
             if job.spec.law.is_some() { " damage-law identification" } else { "" },
+            job.output_dir.display()
+        )),
+        AnyJob::RecordSet(job) => Ok(format!(
+            "record set: {} artificial + {} recorded record(s), check over [{:.4}, {:.4}] s; results would go to {}",
+            job.artificial.as_ref().map_or(0, |a| a.1),
+            job.recorded.len(),
+            job.rules.range.0,
+            job.rules.range.1,
             job.output_dir.display()
         )),
         AnyJob::MaterialPoint(job) => Ok(format!(
@@ -143,6 +153,15 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
             let summary = identify::run(ctx, path, &job)?;
             ctx.log.info(format!("results: {}", job.output_dir.display()));
             write_summary(ctx, &job.output_dir, &summary)
+        }
+        AnyJob::RecordSet(job) => {
+            ctx.log.info(format!(
+                "job {}{}",
+                path.display(),
+                job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+            ));
+            prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+            record_set::run(ctx, &job)
         }
         AnyJob::Spectrum(job) => {
             ctx.log.info(format!("job {}", path.display()));

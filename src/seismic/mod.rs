@@ -18,9 +18,15 @@
 //! | `synthetic`       | filtered white noise (Kanai–Tajimi, Clough–Penzien) with envelope  |
 //! | `matching`        | frequency-domain spectral matching                                 |
 //! | `vallorcine`      | the synthetic Vallorcine-like stand-in record                      |
-//! | `charts`          | PNG charts: record vs EC8 spectra, acceleration history            |
+//! | `artificial`      | artificial records matched to EC8, one seed each                   |
+//! | `set_scaling`     | one factor per recorded record: log least squares over a range     |
+//! | `compatibility`   | EN 1998-1 §3.2.3.1.2(4) check of a set's mean spectrum             |
+//! | `record_set`      | a set: artificial + scaled recorded records, spectra, check        |
+//! | `charts`          | PNG charts: record vs EC8 spectra, a set vs its target, history    |
+mod artificial;
 mod baseline;
 mod charts;
+mod compatibility;
 mod ec8;
 mod error;
 mod fft;
@@ -31,15 +37,22 @@ mod format_esm;
 mod intensity;
 mod matching;
 mod record;
+mod record_set;
 mod sdof;
+mod set_scaling;
 mod spectrum;
 mod synthetic;
 mod text;
 mod units;
 mod vallorcine;
 
+pub use artificial::{artificial_record, ArtificialSpec};
 pub use baseline::{correct as baseline_correct, Baseline};
-pub use charts::{record_png, spectrum_png};
+pub use charts::{record_png, record_set_png, spectrum_png};
+pub use compatibility::{
+    check_compatibility, check_periods, mean_sa, Compatibility, CompatibilityRules, RatioPoint, RuleOutcome,
+    RULE_COUNT, RULE_SPECTRUM, RULE_STATIONARY, RULE_ZERO_PERIOD,
+};
 pub use ec8::{Ec8Spectrum, Ec8Type, GroundType};
 pub use error::SeismicError;
 pub use fft::{fft_in_place, Complex};
@@ -52,7 +65,9 @@ pub use format_esm::{parse_esm, read_esm};
 pub use intensity::{husid, integrate, intensity, pga, Intensity};
 pub use matching::{match_spectrum, MatchReport, MatchSettings};
 pub use record::Record;
+pub use record_set::{build_set, scale_recorded, Member, Origin, RecordSet, SetRecipe, SET_DAMPING};
 pub use sdof::{peak_displacement, response_history, SdofStep};
+pub use set_scaling::log_least_squares_factor;
 pub use spectrum::{log_periods, response_spectrum, ResponseSpectrum};
 pub use synthetic::{generate, Envelope, GroundFilter, SyntheticSpec};
 pub use units::{AccelUnit, STANDARD_GRAVITY};
