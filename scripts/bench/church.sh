@@ -10,7 +10,8 @@
 # may be shared, which inflates the timings. Run through scripts/bench.sh (which builds first).
 # CASES="coarse" or CASES="fine" runs one of the two; STEPS sets the fine segment's length;
 # RANKS="2" runs the coarse job on 2 ranks only (then no speedup is reported).
-# BASELINE=<commit> also runs the coarse job with the binary of that commit (built once, kept in
+# BASELINE=<commit> also runs that commit's main job (its jobs/church.toml: the solver settings
+# of the time, on the same mesh and law files) with that commit's binary (built once, kept in
 # target/baseline/), each rank count first with it and then with the current one, and adds to
 # the current one's line its speed-up over the baseline ("speedup_vs_baseline").
 set -euo pipefail
@@ -80,13 +81,17 @@ print(json.dumps(out))
 PY
 }
 
-if [[ " $cases " == *" coarse "* ]]; then
+coarse_job() { # the church job (text on stdin) pointed at the repository's files and $work/out
   sed -e "s#\"../meshes/church.msh\"#\"$root/meshes/church.msh\"#" -e "s#\"../materials/#\"$root/materials/#" -e "s#\"../results/church\"#\"out\"#" \
-      -e 's/existing = "backup"/existing = "overwrite"/' jobs/church.toml > "$work/coarse.toml"
+      -e 's/existing = "backup"/existing = "overwrite"/'
+}
+if [[ " $cases " == *" coarse "* ]]; then
+  coarse_job < jobs/church.toml > "$work/coarse.toml"
+  [ -z "$baseline" ] || git show "$BASELINE:jobs/church.toml" | coarse_job > "$work/baseline.toml"
   for np in $ranks; do
     if [ -n "$baseline" ]; then
       load0=$(loadavg)
-      measure "$np" "$work/coarse.toml" "$baseline"
+      measure "$np" "$work/baseline.toml" "$baseline"
       cp "$work/out/summary.json" "$work/baseline-$np.json"
       emit church-coarse-full "$np" "$work/baseline-$np.json" "$load0" "baseline $BASELINE" > "$work/baseline-$np.line"
     fi

@@ -51,6 +51,8 @@ pub struct PetscSystem<'a> {
     f_static: Vec<f64>,
     /// True when no element has state: the tangent is K₀ everywhere.
     pub linear: bool,
+    /// `M`'s diagonal (owned rows) when `M` is diagonal (a lumped mass): `M x` is then a scaling.
+    m_diagonal: Option<Vec<f64>>,
     key: Option<(u64, u64, bool)>,
     /// Factorizations (operator changes) so far.
     pub factorizations: usize,
@@ -63,6 +65,32 @@ pub struct PetscSystem<'a> {
     pub phases: Phases,
     /// The next solve is the first with a new operator (it factorizes).
     fresh_operator: bool,
+}
+
+/// Collective. `M`'s diagonal (owned rows) when `M` is diagonal, else none: `d = M 1` (the row
+/// sums), accepted when `M x = d ∘ x` holds bit for bit on every rank for an `x` with distinct
+/// entries (a diagonal `M` stored with explicit zeros off the diagonal adds exact zeros).
+fn diagonal_of(
+    ctx: &Context,
+    m: &Matrix,
+    idx: &[i32],
+    x: &mut Vector,
+    y: &mut Vector,
+) -> Result<Option<Vec<f64>>, Error> {
+    let n = idx.len();
+    x.set_values(idx, &vec![1.0; n])?;
+    x.assemble()?;
+    m.mult(x, y)?;
+    let d = y.owned_values()?;
+    let probe: Vec<f64> = idx.iter().map(|&i| 1.0 + (i as f64 * 0.618_033_988_749_895).fract()).collect();
+    x.set_values(idx, &probe)?;
+    x.assemble()?;
+    m.mult(x, y)?;
+    let mx = y.owned_values()?;
+    let local = mx.iter().zip(&d).zip(&probe).all(|((m, d), p)| *m == d * p);
+    let mut all = local;
+    ctx.comm.all_reduce_into(&local, &mut all, mpi::collective::SystemOperation::logical_and());
+    Ok(all.then_some(d))
 }
 
 /// The linear solver: MUMPS LU (Cholesky for a linear model), then the options.
@@ -138,6 +166,7 @@ impl<'a> PetscSystem<'a> {
             m_iota[d] = y.owned_values()?;
             iota[d] = v;
         }
+        let m_diagonal = diagonal_of(ctx, &m, &idx, &mut x, &mut y)?;
         assembly::assemble_loads(&disc, mesh, model, Rows::Free, &mut y)?;
         let f_static = y.owned_values()?;
         let local = disc.dofs.local_index();
@@ -160,6 +189,7 @@ impl<'a> PetscSystem<'a> {
             m_iota,
             f_static,
             linear,
+            m_diagonal,
             key: None,
             factorizations: 0,
             solves: 0,
@@ -257,8 +287,17 @@ impl<'a> PetscSystem<'a> {
         cx: &mut [f64],
     ) -> Result<(), Error> {
         self.x.copy_owned_from(x)?;
-        self.m.mult(&self.x, &mut self.y)?;
-        self.y.with_owned_values(|s| mx.copy_from_slice(s))?;
+        match &self.m_diagonal {
+            Some(d) => {
+                for i in 0..mx.len() {
+                    mx[i] = d[i] * x[i];
+                }
+            }
+            None => {
+                self.m.mult(&self.x, &mut self.y)?;
+                self.y.with_owned_values(|s| mx.copy_from_slice(s))?;
+            }
+        }
         let Rayleigh { alpha, beta } = self.rayleigh;
         match (solved, self.key) {
             (Some(r), Some((c_m, c_c, true))) if self.linear => {
@@ -363,6 +402,12 @@ impl DynamicSystem for PetscSystem<'_> {
     }
 
     fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
+        if let Some(d) = &self.m_diagonal {
+            for i in 0..y.len() {
+                y[i] = d[i] * x[i];
+            }
+            return Ok(());
+        }
         self.x.copy_owned_from(x)?;
         self.m.mult(&self.x, &mut self.y)?;
         self.y.with_owned_values(|s| y.copy_from_slice(s))?;
