@@ -40,12 +40,13 @@
 #  initial stiffness (the elements keep it, instead of forming the tangent again every step).
 #  OpenSees runs sequentially (OpenSeesPy has no MPI); the ratio is OpenSees' seconds over
 #  masonry-hpc's at each rank count.
-# Measured (scripts/bench.sh peer, 2.5 min in all, on the 2-core Xeon shared with other work, load
-# 2.7; OpenBLAS SkylakeX kernels under both programs): modal 2.3 s (1 rank) and 3.6 s (2 ranks)
-# against OpenSees' 23.6 s; Newmark 21.7 s and 28.4 s against 60.8 s (0.104 s and 0.30 s per
-# step). masonry-hpc's stepping then spent 9.3 s of its 20.9 s in the system (solve 6.3 s,
-# internal forces 2.4 s, factorization 0.5 s); where the other 11.6 s go (the step's vector
-# updates, energy, envelopes, monitors) is not measured here.
+# Measured (scripts/bench.sh peer, 1.3 min in all, on the 2-core Xeon with OpenBLAS's SkylakeX
+# kernels under both programs, the machine otherwise quiet): modal 1.75 s (1 rank) and 1.08 s
+# (2 ranks) against OpenSees' 18.8 s (10.7x and 17x); Newmark 0.0256 s and 0.0159 s per step
+# against 0.206 s (8.1x and 13x per step). masonry-hpc's linear step is one solve and one
+# product with the lumped (diagonal) mass (src/analysis/time_history/linear_step.rs): of its
+# 5.1 s of stepping on 1 rank the solves take 4.0 s (20 ms each), the factorization 0.34 s,
+# the products 0.11 s.
 # One JSON line per case, then a line for the machine (CPU, the BLAS behind libblas.so.3 and the
 # libraries each program loads). Run through scripts/bench.sh (which builds first):
 #   scripts/bench.sh peer

@@ -287,6 +287,12 @@ pub fn integrate(
             phases.time("output", || out.write_step(ctx, sys, it, &state))?;
             summary.output_steps += 1;
         }
+        if cfg.checkpoint.every_steps > 0 && state.step % cfg.checkpoint.every_steps == 0 {
+            // The step after a periodic checkpoint starts as a restart from it would: a fresh
+            // tangent, the linear step's products computed afresh. So a run restarted from such
+            // a checkpoint repeats the uninterrupted run's operations (and results) exactly.
+            stepper.start_afresh();
+        }
         if clock.due(ctx, cfg, state.step) || state.step == n_steps {
             phases.time("checkpoint", || checkpoint::save(ctx, sys, &state, &out.env, &it.job.output_dir))?;
             clock.restart();

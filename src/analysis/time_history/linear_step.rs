@@ -37,7 +37,7 @@
 //! tolerance of the Newton path; the fresh products then replace the updated ones. A step that
 //! misses the tolerance is handed back to the Newton path, which iterates it to the tolerance.
 use super::scheme::Scheme;
-use super::stepper::{external_force, State};
+use super::state::{external_force, State};
 use super::system::DynamicSystem;
 use crate::error::Error;
 

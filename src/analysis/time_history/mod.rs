@@ -13,6 +13,7 @@
 //! | `damping.rs`       | Rayleigh damping from two frequencies and a ratio, or α and β    |
 //! | `ground.rs`        | `a_g(t)` of up to three records; ground velocity and displacement |
 //! | `system.rs`        | the [`DynamicSystem`] trait and a dense implementation            |
+//! | `state.rs`         | the state after a converged step; the external force `f(t)`      |
 //! | `stepper.rs`       | one step: Newton (tangent, modified, initial, krylov), substepping |
 //! | `krylov.rs`        | Krylov subspace acceleration of modified Newton (Carlson–Miller)  |
 //! | `linear_step.rs`   | the step of a linear system: one solve, two products              |
@@ -46,6 +47,7 @@ mod petsc_system;
 mod progress;
 mod refresh;
 mod scheme;
+mod state;
 mod step_output;
 mod stepper;
 mod system;

@@ -21,11 +21,11 @@
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
 //! (for the diagnosis) and the caller decides.
-use super::energy::EnergyBalance;
 use super::krylov::KrylovAccelerator;
 use super::linear_step::{LinearStep, Outcome};
 use super::refresh::RefreshPolicy;
 use super::scheme::Scheme;
+pub use super::state::{external_force, State};
 use super::system::DynamicSystem;
 use crate::config::NewtonKind;
 
@@ -47,69 +47,6 @@ pub struct StepSettings {
     pub tolerance: f64,
     /// Halvings allowed.
     pub max_substeps: usize,
-}
-
-/// The state at the end of the last converged step (relative motion).
-#[derive(Clone, Debug, PartialEq)]
-pub struct State {
-    /// Steps done.
-    pub step: usize,
-    /// Time [s] (0 at the start of the time history).
-    pub t: f64,
-    /// Displacement.
-    pub u: Vec<f64>,
-    /// Velocity.
-    pub v: Vec<f64>,
-    /// Acceleration.
-    pub a: Vec<f64>,
-    /// `f_int(u)` (committed).
-    pub f_int: Vec<f64>,
-    /// `C v`.
-    pub cv: Vec<f64>,
-    /// Energies so far.
-    pub energy: EnergyBalance,
-}
-
-impl State {
-    /// At rest at `u0` (a static equilibrium under `f_static`) when the ground starts moving with
-    /// `a_g(0)`: `v = 0` and `M a = −Σ M ι_d a_g,d(0)`, so `a = −Σ ι_d a_g,d(0)`.
-    pub fn at_rest<S: DynamicSystem>(sys: &mut S, u0: Vec<f64>, ag0: [f64; 3]) -> Result<State, crate::error::Error> {
-        let n = sys.len();
-        let mut a = vec![0.0; n];
-        for d in 0..3 {
-            for (ai, ii) in a.iter_mut().zip(sys.influence(d)) {
-                *ai -= ii * ag0[d];
-            }
-        }
-        State::new(sys, u0, vec![0.0; n], a)
-    }
-
-    /// From given `u`, `v`, `a` (the caller ensures that `a` satisfies the equation of motion).
-    pub fn new<S: DynamicSystem>(
-        sys: &mut S,
-        u: Vec<f64>,
-        v: Vec<f64>,
-        a: Vec<f64>,
-    ) -> Result<State, crate::error::Error> {
-        let n = sys.len();
-        let mut f_int = vec![0.0; n];
-        sys.internal_force(&u, &mut f_int)?;
-        let mut cv = vec![0.0; n];
-        sys.damping_mult(&v, &mut cv)?;
-        let mut mv = vec![0.0; n];
-        sys.mass_mult(&v, &mut mv)?;
-        let strain = 0.5 * sys.dot(&u, &f_int);
-        let damage = sys.dissipated_energy();
-        let energy = EnergyBalance {
-            kinetic: 0.5 * sys.dot(&v, &mv),
-            strain,
-            strain0: strain,
-            damage,
-            damage0: damage,
-            ..Default::default()
-        };
-        Ok(State { step: 0, t: 0.0, u, v, a, f_int, cv, energy })
-    }
 }
 
 /// What a converged step took.
@@ -269,19 +206,6 @@ fn prepare_jacobian<S: DynamicSystem>(
     Ok(fresh)
 }
 
-/// `f(t) = f_static − Σ_d M ι_d a_g,d(t)`.
-pub fn external_force<S: DynamicSystem>(sys: &S, ag: [f64; 3], f: &mut Vec<f64>) {
-    f.clear();
-    f.extend_from_slice(sys.static_load());
-    for d in 0..3 {
-        if ag[d] != 0.0 {
-            for (fi, mi) in f.iter_mut().zip(sys.mass_influence(d)) {
-                *fi -= mi * ag[d];
-            }
-        }
-    }
-}
-
 enum Attempt {
     Converged { iterations: usize, residual: f64 },
     Failed { residual: f64, reason: String },
@@ -297,6 +221,14 @@ impl Stepper {
             linear: LinearStep::default(),
             refresh: RefreshPolicy::new(settings.refresh_cost),
         }
+    }
+
+    /// Forgets what the stepper keeps from earlier steps (the refresh policy's history, the
+    /// factored tangent's validity, the linear step's products): the next step starts as the
+    /// first step of a new stepper would.
+    pub fn start_afresh(&mut self) {
+        self.refresh.forget();
+        self.linear.invalidate();
     }
 
     /// Advances `state` to time `target` (one nominal step), substepping if needed. On success

@@ -247,11 +247,18 @@ fn the_linear_step_equals_newton_on_a_linear_system() {
     };
     let ((lin, its_lin, fact_lin), (newton, its_newton, fact_newton)) = (go(true), go(false));
     assert_eq!((its_lin, its_newton, fact_lin, fact_newton), (100, 100, 2, 2));
-    let big = |f: &dyn Fn(&State) -> Vec<f64>| newton.iter().flat_map(|s| f(s)).fold(0.0, |m: f64, x| m.max(x.abs()));
-    let fields: [&dyn Fn(&State) -> Vec<f64>; 4] = [&|s| s.u.clone(), &|s| s.v.clone(), &|s| s.a.clone(), &|s| {
-        let e = s.energy;
-        vec![e.input, e.kinetic, e.strain, e.damping, e.internal_work]
-    }];
+    /// One group of compared values of a state.
+    type Field = fn(&State) -> Vec<f64>;
+    let big = |f: Field| newton.iter().flat_map(f).fold(0.0, |m: f64, x| m.max(x.abs()));
+    let fields: [Field; 4] = [
+        |s| s.u.clone(),
+        |s| s.v.clone(),
+        |s| s.a.clone(),
+        |s| {
+            let e = s.energy;
+            vec![e.input, e.kinetic, e.strain, e.damping, e.internal_work]
+        },
+    ];
     for f in fields {
         let scale = big(f);
         for (a, b) in lin.iter().zip(&newton) {
