@@ -64,9 +64,48 @@ pub struct EnergyBalance {
     pub damage0: f64,
 }
 
+/// The vectors of one converged step that its energy terms need (owned entries): the increment,
+/// the loads, damping and internal forces at both ends, and the end's u, v and `M v`.
+pub struct StepVectors<'a> {
+    /// `Δu = u_{n+1} − u_n`.
+    pub du: &'a [f64],
+    /// `f_n`, `f_{n+1}`.
+    pub f: [&'a [f64]; 2],
+    /// `C v_n`, `C v_{n+1}`.
+    pub cv: [&'a [f64]; 2],
+    /// `f_int,n`, `f_int,n+1`.
+    pub fi: [&'a [f64]; 2],
+    /// `u_{n+1}`, `v_{n+1}` and `M v_{n+1}` (none when that product failed: the kinetic energy
+    /// is then left as it was).
+    pub u: &'a [f64],
+    /// See `u`.
+    pub v: &'a [f64],
+    /// See `u`.
+    pub mv: Option<&'a [f64]>,
+}
+
 impl EnergyBalance {
     /// Number of values of [`Self::to_array`].
     pub const N_VALUES: usize = 8;
+
+    /// Collective (one reduction). Adds a step's trapezoidal works (module docs) and sets the
+    /// strain and kinetic energies at its end.
+    pub fn add_step<S: super::system::DynamicSystem + ?Sized>(&mut self, sys: &S, s: StepVectors) {
+        let du = s.du;
+        let mut pairs = vec![(du, s.f[0]), (du, s.f[1]), (du, s.cv[0]), (du, s.cv[1]), (du, s.fi[0]), (du, s.fi[1])];
+        pairs.push((s.u, s.fi[1]));
+        if let Some(mv) = s.mv {
+            pairs.push((s.v, mv));
+        }
+        let d = sys.dots(&pairs);
+        self.input += 0.5 * (d[0] + d[1]);
+        self.damping += 0.5 * (d[2] + d[3]);
+        self.internal_work += 0.5 * (d[4] + d[5]);
+        self.strain = 0.5 * d[6];
+        if s.mv.is_some() {
+            self.kinetic = 0.5 * d[7];
+        }
+    }
 
     /// Energy dissipated by the damage law since the start, `D − D₀` (≥ 0, non-decreasing).
     pub fn dissipated(&self) -> f64 {

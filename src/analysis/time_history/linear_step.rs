@@ -36,6 +36,7 @@
 //! (`M a`, `M v`, `K₀ u`, `C v`, `C a`) and the residual evaluated with them against the force
 //! tolerance of the Newton path; the fresh products then replace the updated ones. A step that
 //! misses the tolerance is handed back to the Newton path, which iterates it to the tolerance.
+use super::energy::StepVectors;
 use super::scheme::Scheme;
 use super::state::{external_force, State};
 use super::system::DynamicSystem;
@@ -202,23 +203,16 @@ impl LinearStep {
         for i in 0..e.u.len() {
             self.du[i] = e.u[i] - state.u[i];
         }
-        let du = &self.du;
-        let d = sys.dots(&[
-            (du, &self.f0),
-            (du, &self.f1),
-            (du, &state.cv),
-            (du, &e.cv),
-            (du, &state.f_int),
-            (du, &e.ku),
-            (&e.u, &e.ku),
-            (&e.v, &e.mv),
-        ]);
-        let en = &mut state.energy;
-        en.input += 0.5 * (d[0] + d[1]);
-        en.damping += 0.5 * (d[2] + d[3]);
-        en.internal_work += 0.5 * (d[4] + d[5]);
-        en.strain = 0.5 * d[6];
-        en.kinetic = 0.5 * d[7];
+        let step = StepVectors {
+            du: &self.du,
+            f: [&self.f0, &self.f1],
+            cv: [&state.cv, &e.cv],
+            fi: [&state.f_int, &e.ku],
+            u: &e.u,
+            v: &e.v,
+            mv: Some(&e.mv),
+        };
+        state.energy.add_step(sys, step);
         state.u.copy_from_slice(&e.u);
         state.v.copy_from_slice(&e.v);
         state.a.copy_from_slice(&e.a);

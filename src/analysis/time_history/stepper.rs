@@ -21,6 +21,7 @@
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
 //! (for the diagnosis) and the caller decides.
+use super::energy::StepVectors;
 use super::krylov::KrylovAccelerator;
 use super::linear_step::{LinearStep, Outcome};
 use super::refresh::RefreshPolicy;
@@ -382,27 +383,18 @@ impl Stepper {
         }
         // A failure here would have shown in the iterations (same operator).
         let mv_ok = sys.mass_mult(&s.v, &mut s.ma).is_ok();
-        let du = &s.du;
-        let d = sys.dots(&[
-            (du, &s.f0),
-            (du, &s.f1),
-            (du, &state.cv),
-            (du, &s.cv),
-            (du, &state.f_int),
-            (du, &s.fi),
-            (&s.u, &s.fi),
-            (&s.v, &s.ma),
-        ]);
-        let e = &mut state.energy;
-        e.input += 0.5 * (d[0] + d[1]);
-        e.damping += 0.5 * (d[2] + d[3]);
-        e.internal_work += 0.5 * (d[4] + d[5]);
-        e.strain = 0.5 * d[6];
+        let step = StepVectors {
+            du: &s.du,
+            f: [&s.f0, &s.f1],
+            cv: [&state.cv, &s.cv],
+            fi: [&state.f_int, &s.fi],
+            u: &s.u,
+            v: &s.v,
+            mv: mv_ok.then_some(s.ma.as_slice()),
+        };
+        state.energy.add_step(sys, step);
         // The elements were committed before `accept`: their dissipation is the step's end's.
-        e.damage = sys.dissipated_energy();
-        if mv_ok {
-            e.kinetic = 0.5 * d[7];
-        }
+        state.energy.damage = sys.dissipated_energy();
         state.u.copy_from_slice(&s.u);
         state.v.copy_from_slice(&s.v);
         state.a.copy_from_slice(&s.a);
