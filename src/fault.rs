@@ -18,3 +18,15 @@ pub fn inject(phase: &str, rank: usize) -> Result<(), Error> {
         _ => Ok(()),
     }
 }
+
+/// The environment variable that kills the process at a named point, as a batch system's kill
+/// would: no cleanup, no message (tests of resuming interrupted work).
+pub const KILL_VAR: &str = "MASONRY_HPC_INJECT_KILL";
+
+/// Ends the process at once (exit status 137, as after SIGKILL) if the kill variable names
+/// `point`. Under mpirun the launcher then stops every rank.
+pub fn kill_point(point: &str) {
+    if std::env::var(KILL_VAR).is_ok_and(|v| v == point) {
+        std::process::exit(137);
+    }
+}

@@ -130,6 +130,13 @@ pub fn run(
     })
 }
 
+/// The factor on E of every part (in the job's order), read from the `stages.json` of an earlier
+/// run in `dir` (a sweep's stages of one material, shared by its members).
+pub fn part_factors_in(job: &Job, dir: &Path) -> Result<Vec<f64>, Error> {
+    let stages = read_stages(&dir.join(STAGES_FILE))?;
+    part_factors(job, &stages.moduli)
+}
+
 /// The factor on E of every part (in the job's order), from the moduli of [`modulus_changes`];
 /// an error when they are not this job's (a `stages.json` of another job).
 fn part_factors(job: &Job, moduli: &[ModulusChange]) -> Result<Vec<f64>, Error> {
@@ -145,8 +152,9 @@ fn part_factors(job: &Job, moduli: &[ModulusChange]) -> Result<Vec<f64>, Error> 
     Ok(moduli.iter().map(|m| m.factor).collect())
 }
 
-/// Collective. Stages 1–3; rank 0 writes them to `stages.json`.
-fn pre_stages(
+/// Collective. Stages 1–3 on `disc` (its elements left with the updated moduli); rank 0 writes
+/// them to `stages.json` in the job's results folder. A sweep runs them once per material.
+pub fn pre_stages(
     ctx: &Context,
     job: &Job,
     cfg: &AssessmentConfig,

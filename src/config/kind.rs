@@ -19,6 +19,8 @@ pub enum JobKind {
     Identify,
     /// A record set compatible with a Eurocode 8 spectrum: see [`super::RecordSetJobFile`].
     RecordSet,
+    /// An intensity sweep over records and materials: see [`super::SweepJobFile`].
+    Sweep,
 }
 
 /// Every `[analysis] type` a job file may give, with its kind.
@@ -34,6 +36,7 @@ pub const ANALYSIS_TYPES: &[(&str, JobKind)] = &[
     ("spectrum", JobKind::Spectrum),
     ("identification", JobKind::Identify),
     ("record_set", JobKind::RecordSet),
+    ("sweep", JobKind::Sweep),
 ];
 
 /// The kind of the job in `src`.

@@ -21,6 +21,8 @@ mod record;
 mod record_set;
 mod source;
 mod spectrum;
+mod sweep;
+mod sweep_member;
 mod tagged;
 mod validate;
 
@@ -37,6 +39,8 @@ pub use material_point::*;
 pub use record_set::*;
 pub use source::{format_path, Seg, Source};
 pub use spectrum::*;
+pub use sweep::*;
+pub use sweep_member::Member;
 
 use crate::io::normalize;
 use std::path::{Path, PathBuf};
@@ -73,6 +77,9 @@ impl Job {
                 Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
             }
             AnyJob::RecordSet(j) => {
+                Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
+            }
+            AnyJob::Sweep(j) => {
                 Err(j.source.error_at(&[Seg::key("analysis"), Seg::key("type")], "expected a structural analysis here"))
             }
         }
@@ -178,6 +185,8 @@ pub enum AnyJob {
     Identify(IdentifyJob),
     /// A record set compatible with a Eurocode 8 spectrum.
     RecordSet(RecordSetJob),
+    /// An intensity sweep: many time histories of one model.
+    Sweep(SweepJob),
 }
 
 /// A loaded, validated spectrum job: the record is read (and checked) at load.
@@ -270,6 +279,7 @@ pub fn load_job(path: &Path) -> Result<AnyJob, ConfigError> {
         JobKind::Spectrum => AnyJob::Spectrum(SpectrumJob::from_source(source, path)?),
         JobKind::Identify => AnyJob::Identify(IdentifyJob::from_source(source, path)?),
         JobKind::RecordSet => AnyJob::RecordSet(RecordSetJob::from_source(source, path)?),
+        JobKind::Sweep => AnyJob::Sweep(SweepJob::from_source(source, path)?),
     })
 }
 

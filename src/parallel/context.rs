@@ -18,6 +18,12 @@ impl Log {
         Log { rank, quiet, start: Instant::now() }
     }
 
+    /// The same log (clock, quietness) for a rank that prints progress when `speaks` (a group's
+    /// leader in a sweep) and only its errors otherwise.
+    pub fn speaking(&self, speaks: bool) -> Log {
+        Log { rank: if speaks { 0 } else { 1 }, ..self.clone() }
+    }
+
     /// Whether this rank prints progress.
     pub fn is_root(&self) -> bool {
         self.rank == 0 && !self.quiet

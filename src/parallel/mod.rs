@@ -10,6 +10,7 @@ mod agree;
 pub mod batch;
 mod context;
 mod dof_map;
+mod groups;
 mod partition;
 mod phases;
 
@@ -17,5 +18,6 @@ pub use agree::{agree, Agreed};
 pub use batch::{run_batch, BatchError, TaskResult};
 pub use context::{global_sum, Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
+pub use groups::{Dispatcher, Groups};
 pub use partition::{partition_cells, PartitionError};
 pub use phases::{timed, Phases};

@@ -10,6 +10,7 @@
 //! | `spectrum.rs`       | `"spectrum"`: a record's response spectra against Eurocode 8     |
 //! | `material_point.rs` | `"material_point"`: one integration point along a strain path   |
 //! | `record_set.rs`     | `"record_set"`: records compatible with a Eurocode 8 spectrum, checked |
+//! | `sweep/`            | `"sweep"`: many time histories of one model (records × intensities × materials) in groups of ranks |
 //! | `output_dir.rs`     | the results folder: backup, overwrite or refuse                  |
 pub mod dem;
 pub mod identify;
@@ -17,6 +18,7 @@ pub mod material_point;
 mod output_dir;
 pub mod record_set;
 pub mod spectrum;
+pub mod sweep;
 
 pub use crate::error::Error;
 pub use output_dir::{backup_path, prepare_output_dir};
@@ -82,6 +84,16 @@ pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
             job.rules.range.1,
             job.output_dir.display()
         )),
+        AnyJob::Sweep(job) => Ok(format!(
+            "sweep: {} member(s) ({} material(s) x {} record(s) x {} intensit(ies)), groups of {} rank(s), base job {}; results would go to {}",
+            job.variants.len() * job.records.len() * job.spec.sweep.intensities.len(),
+            job.variants.len(),
+            job.records.len(),
+            job.spec.sweep.intensities.len(),
+            job.spec.analysis.group_size,
+            job.base_file.display(),
+            job.output_dir.display()
+        )),
         AnyJob::MaterialPoint(job) => Ok(format!(
             "material point, h = {} m (B_t = {:.6e}); results would go to {}",
             job.spec.analysis.element_size,
@@ -131,10 +143,13 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
     let job = agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)?;
     let restartable =
         |a: &AnalysisConfig| matches!(a, AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_));
-    if restart && !matches!(&job, AnyJob::Structural(j) if restartable(&j.spec.analysis)) {
+    if restart
+        && !matches!(&job, AnyJob::Structural(j) if restartable(&j.spec.analysis))
+        && !matches!(job, AnyJob::Sweep(_))
+    {
         // Every rank knows it: print it once.
         let message = format!(
-            "{}: --restart applies to [analysis] type = \"time_history\" or \"seismic_assessment\" jobs only",
+            "{}: --restart applies to [analysis] type = \"time_history\", \"seismic_assessment\" or \"sweep\" jobs only",
             path.display()
         );
         return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
@@ -163,6 +178,14 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
             prepare(ctx, &job.output_dir, job.spec.output.existing)?;
             record_set::run(ctx, &job)
         }
+        AnyJob::Sweep(job) => {
+            ctx.log.info(format!(
+                "job {}{}",
+                path.display(),
+                job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+            ));
+            sweep::run(ctx, path, &job, petsc_args, restart)
+        }
         AnyJob::Spectrum(job) => {
             ctx.log.info(format!("job {}", path.display()));
             prepare(ctx, &job.output_dir, job.spec.output.existing)?;
@@ -174,7 +197,7 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
 }
 
 /// Collective. Rank 0 prepares the results folder; all ranks agree on the outcome.
-fn prepare(ctx: &Context, dir: &Path, policy: crate::config::ExistingOutput) -> Result<(), Error> {
+pub(crate) fn prepare(ctx: &Context, dir: &Path, policy: crate::config::ExistingOutput) -> Result<(), Error> {
     let prepared = if ctx.rank == 0 { prepare_output_dir(dir, policy, &ctx.log) } else { Ok(()) };
     agree(&ctx.comm, prepared, Error::exit_code)?;
     Ok(())

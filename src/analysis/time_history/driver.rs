@@ -15,6 +15,7 @@
 //! [`integrate`] is the stepping loop on its own, callable by a driver that chains analyses
 //! (modal → updating → gravity → earthquake) on the same [`PetscSystem`].
 use super::checkpoint;
+use super::damage_shares::{self, GroupDamage};
 use super::damping::Rayleigh;
 use super::diagnosis::{self, agreed};
 use super::gravity::{solve_gravity, GravitySettings};
@@ -32,8 +33,9 @@ use crate::config::{scheme_parameters, DynamicsConfig, Job};
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{Context, Phases};
+use crate::parallel::{agree, Context, Phases};
 use mpi::traits::{Communicator, Root};
+use std::path::Path;
 use std::time::Instant;
 
 /// What a time-history run reports (`summary.json`).
@@ -99,6 +101,9 @@ pub struct TimeHistorySummary {
     pub system_seconds: std::collections::BTreeMap<String, f64>,
     /// Results file of this run.
     pub results: String,
+    /// Per group of shell parts: area shares with peak damage above 0.05 and 0.5 at the end
+    /// (`damage_shares.rs`).
+    pub damage_by_group: Vec<GroupDamage>,
 }
 
 /// The ground motion of the job's components.
@@ -125,6 +130,29 @@ pub fn run(
     Ok(summary)
 }
 
+/// Where a time history starts.
+#[derive(Clone, Copy, Debug)]
+pub enum Start<'a> {
+    /// Gravity solved in load steps, the model at rest under it.
+    Gravity,
+    /// The latest checkpoint in the job's results folder (`--restart`).
+    Restart,
+    /// The gravity state [`save_gravity`] wrote into a folder (a sweep's, shared by its members),
+    /// the model at rest under it when this job's ground starts moving.
+    SavedGravity(&'a Path),
+}
+
+/// Called on every rank after each converged step (its output and checkpoint done): a sweep's
+/// scheduler answers the other groups there while its own group computes.
+pub trait StepObserver {
+    /// Step `step` is done.
+    fn after_step(&mut self, step: usize);
+}
+
+impl StepObserver for () {
+    fn after_step(&mut self, _step: usize) {}
+}
+
 /// Collective. As [`run`], on a discretization already set up (the last stage of a seismic
 /// assessment): the system (setup), gravity or restart, integration.
 pub fn run_on(
@@ -135,6 +163,20 @@ pub fn run_on(
     disc: Discretization,
     restart: bool,
 ) -> Result<TimeHistorySummary, Error> {
+    let start = if restart { Start::Restart } else { Start::Gravity };
+    run_from(ctx, job, mesh, model, disc, start, &mut ())
+}
+
+/// Collective. As [`run_on`], from `start`, with `observer` called after every step.
+pub fn run_from(
+    ctx: &Context,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: Discretization,
+    start: Start,
+    observer: &mut dyn StepObserver,
+) -> Result<TimeHistorySummary, Error> {
     let cfg = job.spec.dynamics.as_ref().ok_or_else(|| Error::Analysis("a time history needs [dynamics]".into()))?;
     let (beta, gamma, alpha) = scheme_parameters(cfg);
     let rayleigh = Rayleigh::from_config(&cfg.damping);
@@ -143,14 +185,23 @@ pub fn run_on(
     let mut sys = phases.time("setup", || PetscSystem::on(ctx, job, mesh, model, disc, cfg.mass, rayleigh))?;
     log_setup(ctx, cfg, model, &sys, (beta, gamma, alpha), rayleigh);
     let (state, envelopes) = phases.time("gravity", || -> Result<_, Error> {
-        if restart {
-            let c = checkpoint::read_latest(ctx, &job.output_dir)?;
-            ctx.log.info(format!("restart from the checkpoint of step {} (t = {} s)", c.step, c.t));
-            checkpoint::restore(ctx, &mut sys, c)
-        } else {
-            Ok((at_rest_under_gravity(ctx, &mut sys, job, mesh, model, cfg, &ground)?, None))
+        match start {
+            Start::Restart => {
+                let c = checkpoint::read_latest(ctx, &job.output_dir)?;
+                ctx.log.info(format!("restart from the checkpoint of step {} (t = {} s)", c.step, c.t));
+                checkpoint::restore(ctx, &mut sys, c)
+            }
+            Start::Gravity => Ok((at_rest_under_gravity(ctx, &mut sys, job, mesh, model, cfg, &ground)?, None)),
+            Start::SavedGravity(dir) => {
+                let c = checkpoint::read_latest(ctx, dir)?;
+                ctx.log.info(format!("the gravity state of {}", dir.display()));
+                let u0 = c.vectors[0].clone();
+                checkpoint::restore(ctx, &mut sys, c)?;
+                Ok((State::at_rest(&mut sys, u0, ground.acceleration(0.0))?, None))
+            }
         }
     })?;
+    let restart = matches!(start, Start::Restart);
     let first_step = state.step;
     let stem = if restart { format!("{RESULTS_STEM}-restart-{first_step:06}") } else { RESULTS_STEM.to_string() };
     let it = Integration { cfg, job, mesh, model, ground: &ground, stem, restart };
@@ -163,11 +214,41 @@ pub fn run_on(
         tolerance: cfg.force_tolerance,
         max_substeps: cfg.max_substeps,
     };
-    let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes)?;
+    let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes, observer)?;
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
     summary.rayleigh = [rayleigh.alpha, rayleigh.beta];
     summary.newton = format!("{:?}", cfg.newton).to_lowercase();
     Ok(summary)
+}
+
+/// Collective. Gravity solved on `disc` (as [`Start::Gravity`] does) and its state saved as a
+/// checkpoint of step 0 under `dir`, for [`Start::SavedGravity`]. A static load the model cannot
+/// carry is an error with its diagnosis in the job's results folder.
+pub fn save_gravity(
+    ctx: &Context,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: Discretization,
+    dir: &Path,
+) -> Result<(), Error> {
+    let cfg = job.spec.dynamics.as_ref().ok_or_else(|| Error::Analysis("a time history needs [dynamics]".into()))?;
+    let rayleigh = Rayleigh::from_config(&cfg.damping);
+    let ground = ground_motion(cfg);
+    let mut sys = PetscSystem::on(ctx, job, mesh, model, disc, cfg.mass, rayleigh)?;
+    let state = at_rest_under_gravity(ctx, &mut sys, job, mesh, model, cfg, &ground)?;
+    let states = agree(&ctx.comm, checkpoint::element_states(&sys.disc.elements), Error::exit_code)?;
+    let c = checkpoint::Checkpoint {
+        step: 0,
+        t: 0.0,
+        energy: state.energy.to_array(),
+        vectors: [state.u, state.v, state.a, state.f_int, state.cv],
+        states,
+        node_envelope: Vec::new(),
+        cell_envelope: Vec::new(),
+    };
+    checkpoint::write(ctx, dir, &c)?;
+    Ok(())
 }
 
 /// The system and the scheme, and each ground-motion component, in the log.
@@ -240,6 +321,7 @@ pub fn integrate(
     settings: StepSettings,
     mut state: State,
     envelopes: Option<SavedEnvelopes>,
+    observer: &mut dyn StepObserver,
 ) -> Result<TimeHistorySummary, Error> {
     let log = &ctx.log;
     let cfg = it.cfg;
@@ -298,6 +380,7 @@ pub fn integrate(
             clock.restart();
             summary.checkpoints += 1;
         }
+        observer.after_step(state.step);
     }
     summary.factorizations = sys.factorizations - factorizations0;
     (summary.tangents_kept, summary.tangents_fresh) = (stepper.refresh.kept, stepper.refresh.refreshed);
@@ -410,6 +493,7 @@ fn finish(
     summary.peak_drift_ratio = peak[3];
     summary.max_damage =
         [global_max_with_tag(&ctx.comm, env.cell_max(0), 0).0, global_max_with_tag(&ctx.comm, env.cell_max(1), 0).0];
+    summary.damage_by_group = damage_shares::by_group(ctx, &sys.disc, env, it.mesh, it.model, it.job);
     out.close(ctx, sys, dir, state.t)?;
     log.info(format!(
         "time history done: t = {:.4} s, {} iteration(s), {} factorization(s) ({} step(s) on a kept tangent), {:.4} s per step; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",

@@ -27,10 +27,12 @@
 //! | `monitor.rs`       | monitored nodes to CSV and PNG                                   |
 //! | `step_output.rs`   | results every k steps, CSV rows every step, envelopes at the end  |
 //! | `envelope.rs`      | peak displacement, drift and damage                              |
+//! | `damage_shares.rs` | per substructure, the area shares with damage above 0.05 and 0.5 |
 //! | `progress.rs`      | progress lines with ETA on rank 0                                |
 //! | `integration.rs`   | what the stepping loop reads: settings, job, mesh, model, ground  |
-//! | `driver.rs`        | the `time_history` job and the reusable stepping loop            |
+//! | `driver.rs`        | the `time_history` job, its starts (gravity, restart, a saved gravity state) and the reusable stepping loop |
 mod checkpoint;
+mod damage_shares;
 mod damping;
 mod diagnosis;
 mod driver;
@@ -55,8 +57,11 @@ mod system;
 mod tests;
 
 pub use checkpoint::Checkpoint;
+pub use damage_shares::GroupDamage;
 pub use damping::Rayleigh;
-pub use driver::{ground_motion, integrate, run, run_on, TimeHistorySummary};
+pub use driver::{
+    ground_motion, integrate, run, run_from, run_on, save_gravity, Start, StepObserver, TimeHistorySummary,
+};
 pub use energy::EnergyBalance;
 pub use envelope::Envelopes;
 pub use gravity::{solve_gravity, GravityFailure, GravitySettings};

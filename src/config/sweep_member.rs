@@ -1,0 +1,154 @@
+//! The members of a sweep and their job files. A member is a variant × record × intensity; its
+//! job file is the base job with the record, the scale, the law files, the duration and the
+//! results folder replaced, every path made absolute. It runs alone as it stands
+//! (`mpirun -n <group_size> masonry-hpc <results>/jobs/<member>.toml`, the sweep's results of the
+//! member moved aside to `<member>.previous`), and the sweep runs it from the same file.
+use super::{AnalysisConfig, MaterialConfig, RecordFormat, SweepJob};
+use std::path::Path;
+use toml::{Table, Value};
+
+/// One member of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Member {
+    /// Position in the sweep's order (variant, record, intensity).
+    pub index: usize,
+    /// Index into `SweepJob::variants`.
+    pub variant: usize,
+    /// Index into `SweepJob::records`.
+    pub record: usize,
+    /// Index into `[sweep] intensities`.
+    pub intensity: usize,
+    /// Folder name: `<variant>-<record>-<intensity>`.
+    pub name: String,
+    /// The intensity [m/s²].
+    pub level: f64,
+    /// The factor on the record as written.
+    pub factor: f64,
+}
+
+impl SweepJob {
+    /// Every member, in the order variant, record, intensity.
+    pub fn members(&self) -> Vec<Member> {
+        let mut out = Vec::new();
+        for (v, variant) in self.variants.iter().enumerate() {
+            for (r, record) in self.records.iter().enumerate() {
+                for (i, &x) in self.spec.sweep.intensities.iter().enumerate() {
+                    out.push(Member {
+                        index: out.len(),
+                        variant: v,
+                        record: r,
+                        intensity: i,
+                        name: format!(
+                            "{}-{}-{}{:.4}",
+                            variant.name,
+                            record.name,
+                            self.spec.sweep.scale_by.file_tag(),
+                            x
+                        ),
+                        level: x,
+                        factor: self.factor(record, x),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The job file of member `m` with its results in `dir`: the base job's text with the record,
+    /// scale, law files, duration and results folder replaced and every path absolute.
+    pub fn member_job_text(&self, m: &Member, dir: &Path) -> Result<String, String> {
+        let mut t: Table = toml::from_str(&self.base_text).map_err(|e| format!("{}: {e}", self.base_file.display()))?;
+        let path = |p: &Path| Value::String(p.display().to_string());
+
+        if let Some(mesh) = sub(&mut t, "mesh") {
+            mesh.insert("file".into(), path(&self.base.mesh_file));
+        }
+        let variant = &self.variants[m.variant];
+        if let Some(mats) = sub(&mut t, "materials") {
+            for (name, cfg) in &self.base.spec.materials {
+                if let (MaterialConfig::Damage(d), Some(entry)) =
+                    (cfg, mats.get_mut(name).and_then(Value::as_table_mut))
+                {
+                    if let Some(file) = variant.law_file.as_ref().or(d.law_file.as_ref()) {
+                        if d.law_file.is_some() {
+                            entry.insert("law_file".into(), path(file));
+                        }
+                    }
+                }
+            }
+        }
+        if let AnalysisConfig::SeismicAssessment(a) = &self.base.spec.analysis {
+            if let (Some(shapes), Some(u)) = (
+                a.updating.as_ref().and_then(|u| u.target_shapes.as_ref()),
+                sub(&mut t, "analysis").and_then(|a| a.get_mut("updating")).and_then(Value::as_table_mut),
+            ) {
+                u.insert("target_shapes".into(), path(shapes));
+            }
+        }
+        let record = &self.records[m.record];
+        let dynamics = sub(&mut t, "dynamics").ok_or_else(|| format!("{}: no [dynamics]", self.base_file.display()))?;
+        if let Some(d) = self.spec.sweep.duration {
+            dynamics.insert("duration".into(), Value::Float(d));
+        }
+        let components = dynamics
+            .get_mut("ground_motion")
+            .and_then(Value::as_array_mut)
+            .ok_or_else(|| format!("{}: no [[dynamics.ground_motion]]", self.base_file.display()))?;
+        for g in components.iter_mut() {
+            let g = g
+                .as_table_mut()
+                .ok_or_else(|| format!("{}: a ground motion is not a table", self.base_file.display()))?;
+            let scale = match g.get("scale") {
+                Some(Value::Float(x)) => *x,
+                Some(Value::Integer(x)) => *x as f64,
+                _ => 1.0,
+            };
+            for k in ["synthetic", "units", "dt"] {
+                g.remove(k);
+            }
+            g.insert("file".into(), path(&record.file));
+            g.insert("format".into(), Value::String(format_name(record.format).into()));
+            if let Some(u) = &record.units {
+                g.insert("units".into(), Value::String(u.clone()));
+            }
+            if let Some(dt) = record.dt {
+                g.insert("dt".into(), Value::Float(dt));
+            }
+            g.insert("scale".into(), Value::Float(scale * m.factor));
+        }
+        let mut output = Table::new();
+        output.insert("dir".into(), path(dir));
+        output.insert("existing".into(), Value::String("backup".into()));
+        t.insert("output".into(), Value::Table(output));
+
+        let body = toml::to_string(&t).map_err(|e| format!("member {}: {e}", m.name))?;
+        Ok(format!(
+            "# Member {} of the sweep {}: {} ({}) scaled by {:.6} to {} = {} m/s², material {}.\n\
+             # Runs alone as it stands: mpirun -n {} masonry-hpc <this file>\n{body}",
+            m.name,
+            self.source.file.display(),
+            record.name,
+            record.file.display(),
+            m.factor,
+            self.spec.sweep.scale_by.label(),
+            m.level,
+            variant.law_file.as_ref().map_or_else(|| "of the base job".to_string(), |f| f.display().to_string()),
+            self.spec.analysis.group_size,
+        ))
+    }
+}
+
+/// The table at key `k` of `t`, if it is one.
+fn sub<'t>(t: &'t mut Table, k: &str) -> Option<&'t mut Table> {
+    t.get_mut(k).and_then(Value::as_table_mut)
+}
+
+/// The `format` key's value of a record format.
+fn format_name(f: RecordFormat) -> &'static str {
+    match f {
+        RecordFormat::At2 => "at2",
+        RecordFormat::Esm => "esm",
+        RecordFormat::TwoColumn => "two_column",
+        RecordFormat::OneColumn => "one_column",
+    }
+}

@@ -1,0 +1,77 @@
+//! IDA curves: per substructure, its share of area with d_t > 0.5 against the intensity, one
+//! curve per record (and material), their mean, the site's code level (dashed vertical) and the
+//! limits set on it (dashed horizontal): `ida-<group>.png`.
+use super::outcome::{Outcome, Status};
+use crate::config::{Member, SweepJob};
+use crate::plot::{LineChart, SeriesStyle};
+use std::path::Path;
+
+/// Draws one chart per substructure in `groups` into `out`; the number drawn.
+pub fn draw(
+    job: &SweepJob,
+    members: &[Member],
+    outcomes: &[Outcome],
+    groups: &[String],
+    out: &Path,
+) -> Result<usize, String> {
+    let im = job.spec.sweep.scale_by.label();
+    let top = job.spec.sweep.intensities.last().copied().unwrap_or(1.0);
+    let mut n = 0;
+    for g in groups {
+        let mut chart = LineChart::new(
+            &format!("{g}: area with d_t > 0.5 against {im}"),
+            &format!("{im} [m/s²]"),
+            "area with d_t > 0.5 [%]",
+        );
+        let mut all: Vec<(f64, f64)> = Vec::new();
+        for (v, variant) in job.variants.iter().enumerate() {
+            for (r, record) in job.records.iter().enumerate() {
+                let pts: Vec<(f64, f64)> = members
+                    .iter()
+                    .zip(outcomes)
+                    .filter(|(m, o)| m.variant == v && m.record == r && o.status == Status::Completed)
+                    .map(|(m, o)| (m.level, 100.0 * o.share_dt(g)))
+                    .collect();
+                if pts.is_empty() {
+                    continue;
+                }
+                all.extend(&pts);
+                let name = if job.variants.len() > 1 {
+                    format!("{} / {}", record.name, variant.name)
+                } else {
+                    record.name.clone()
+                };
+                chart = chart.series(&name, pts, SeriesStyle::Line);
+            }
+        }
+        if all.is_empty() {
+            continue;
+        }
+        let mean: Vec<(f64, f64)> = job
+            .spec
+            .sweep
+            .intensities
+            .iter()
+            .filter_map(|&x| {
+                let ys: Vec<f64> = all.iter().filter(|p| p.0 == x).map(|p| p.1).collect();
+                (!ys.is_empty()).then(|| (x, ys.iter().sum::<f64>() / ys.len() as f64))
+            })
+            .collect();
+        chart = chart.series("mean", mean, SeriesStyle::Markers);
+        if let Some(c) = job.spec.sweep.code_level {
+            chart =
+                chart.series(&format!("site code level {im} = {c}"), vec![(c, 0.0), (c, 100.0)], SeriesStyle::Dashed);
+        }
+        for l in job.spec.sweep.limit.iter().filter(|l| &l.group == g) {
+            chart = chart.series(
+                &format!("limit {:.0} %", 100.0 * l.share),
+                vec![(0.0, 100.0 * l.share), (top, 100.0 * l.share)],
+                SeriesStyle::Dashed,
+            );
+        }
+        let file = out.join(format!("ida-{g}.png"));
+        chart.save_png(&file).map_err(|e| e.to_string())?;
+        n += 1;
+    }
+    Ok(n)
+}

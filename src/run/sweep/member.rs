@@ -1,0 +1,129 @@
+//! The two kinds of task a group runs, on its own communicator: the gravity state of one
+//! material (with the modal updating of a seismic assessment), and one member's time history
+//! from it. Both read their job file from the sweep's folder (`jobs/gravity-<variant>.toml`,
+//! `jobs/<member>.toml`), the file a user runs to repeat the task alone.
+use super::outcome::Outcome;
+use crate::analysis::time_history::{self, Start, StepObserver, TimeHistorySummary};
+use crate::analysis::{assessment, Discretization};
+use crate::config::{AnalysisConfig, Job, Member, SweepJob};
+use crate::error::Error;
+use crate::mesh::Mesh;
+use crate::model::StructuralModel;
+use crate::parallel::{agree, Context};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The file that marks a material's gravity state as whole.
+pub const GRAVITY_DONE: &str = "gravity.json";
+/// The file that holds why a material's gravity state could not be found.
+pub const GRAVITY_FAILED: &str = "gravity-failure.txt";
+
+/// The job file of a material's gravity state.
+pub fn variant_job(out: &Path, job: &SweepJob, v: usize) -> PathBuf {
+    out.join("jobs").join(format!("gravity-{}.toml", job.variants[v].name))
+}
+
+/// The job file of a member.
+pub fn member_job(out: &Path, m: &Member) -> PathBuf {
+    out.join("jobs").join(format!("{}.toml", m.name))
+}
+
+/// The folder of a material's gravity state.
+pub fn variant_dir(out: &Path, job: &SweepJob, v: usize) -> PathBuf {
+    out.join("gravity").join(&job.variants[v].name)
+}
+
+/// The folder of a member.
+pub fn member_dir(out: &Path, m: &Member) -> PathBuf {
+    out.join("members").join(&m.name)
+}
+
+/// Collective over the group. The job in `file`, its model and discretization; with the updated
+/// moduli of `stages` (a seismic assessment's `stages.json` folder) when given.
+fn load(
+    ctx: &Context,
+    file: &Path,
+    mesh: &Mesh,
+    stages: Option<&Path>,
+) -> Result<(Job, StructuralModel, Discretization), Error> {
+    let job = agree(&ctx.comm, Job::load(file).map_err(Error::from), Error::exit_code)?;
+    let model = agree(&ctx.comm, StructuralModel::build(&job, mesh).map_err(Error::from), Error::exit_code)?;
+    let mut disc = Discretization::setup(ctx, &job, mesh, &model)?;
+    if let (Some(stages), AnalysisConfig::SeismicAssessment(_)) = (stages, &job.spec.analysis) {
+        let factors = agree(&ctx.comm, assessment::part_factors_in(&job, stages), Error::exit_code)?;
+        disc.rebuild_elements(ctx, &job, mesh, &model, &factors)?;
+    }
+    Ok((job, model, disc))
+}
+
+/// Collective over the group. The gravity state of the job `file` in its results folder `dir`:
+/// for a seismic assessment, stages 1–3 first (modal, updating: `stages.json`); then gravity,
+/// saved as a checkpoint; then the marker file. An error (the model cannot carry its weight) is
+/// returned, after the leader wrote it to `gravity-failure.txt` for the members' outcomes.
+pub fn prepare_variant(ctx: &Context, file: &Path, dir: &Path, mesh: &Mesh) -> Result<f64, Error> {
+    let start = Instant::now();
+    let done = (|| -> Result<(), Error> {
+        let (job, model, mut disc) = load(ctx, file, mesh, None)?;
+        if let AnalysisConfig::SeismicAssessment(cfg) = &job.spec.analysis {
+            assessment::pre_stages(ctx, &job, cfg, mesh, &model, &mut disc)?;
+        }
+        time_history::save_gravity(ctx, &job, mesh, &model, disc, dir)
+    })();
+    if let Err(e) = done {
+        if ctx.rank == 0 {
+            let _ = std::fs::write(dir.join(GRAVITY_FAILED), format!("{e}\n"));
+        }
+        return Err(e);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let written = if ctx.rank == 0 {
+        std::fs::write(dir.join(GRAVITY_DONE), serde_json::json!({ "seconds": seconds }).to_string() + "\n")
+            .map_err(|source| Error::OutputDir { path: dir.join(GRAVITY_DONE), source })
+    } else {
+        Ok(())
+    };
+    agree(&ctx.comm, written, Error::exit_code)?;
+    Ok(seconds)
+}
+
+/// Whether the gravity state in `dir` is whole.
+pub fn variant_done(dir: &Path) -> bool {
+    dir.join(GRAVITY_DONE).is_file()
+}
+
+/// Why the gravity state in `dir` could not be found (as its task wrote it).
+pub fn variant_failure(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join(GRAVITY_FAILED))
+        .map(|s| s.trim().to_string())
+        .unwrap_or_else(|_| format!("the gravity state in {} could not be found", dir.display()))
+}
+
+/// Collective over the group. Member `m`'s time history (its job file and results folder in the
+/// sweep's results `out`), from its material's gravity state (or from its own last checkpoint,
+/// when a killed sweep left one); `observer` after every step. The group's leader writes
+/// `summary.json`; the outcome is returned.
+pub fn run_member(
+    ctx: &Context,
+    job: &SweepJob,
+    m: &Member,
+    out: &Path,
+    mesh: &Mesh,
+    observer: &mut dyn StepObserver,
+) -> Outcome {
+    let start = Instant::now();
+    let (file, dir, gravity) = (member_job(out, m), member_dir(out, m), variant_dir(out, job, m.variant));
+    let (dir, gravity) = (dir.as_path(), gravity.as_path());
+    let resume = dir.join("checkpoint").join("latest.json").is_file();
+    let run = (|| -> Result<TimeHistorySummary, Error> {
+        let (mjob, model, disc) = load(ctx, &file, mesh, Some(gravity))?;
+        let from = if resume { Start::Restart } else { Start::SavedGravity(gravity) };
+        let summary = time_history::run_from(ctx, &mjob, mesh, &model, disc, from, observer)?;
+        if ctx.rank == 0 {
+            let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+            let _ = std::fs::write(dir.join("summary.json"), text + "\n");
+        }
+        Ok(summary)
+    })()
+    .map_err(|e| e.to_string());
+    Outcome::new(job, m, &run, dir, start.elapsed().as_secs_f64())
+}

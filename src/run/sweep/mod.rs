@@ -1,0 +1,210 @@
+//! The `sweep` job: incremental dynamic analysis of one structure, as one MPI batch. Every member
+//! (material variant × record × intensity) is a full nonlinear time history of the base job;
+//! the world is split into groups of `group_size` ranks, each running members one at a time
+//! under dynamic scheduling (`parallel::groups`), the costliest (highest intensity) first.
+//!
+//! ```text
+//!  <results>/
+//!    jobs/<member>.toml                  a member's job: it runs alone as it stands (its results
+//!                                        go to members/<member>, the sweep's moved aside)
+//!    jobs/gravity-<variant>.toml         the job of a material's gravity state
+//!    gravity/<variant>/stages.json, checkpoint/   the material's state under gravity, computed
+//!                                        once (by one group) and shared by its members
+//!    members/<member>/results.xdmf, monitors.csv, summary.json, outcome.json
+//!    sweep.csv                           one row per member (table.rs)
+//!    summary.json, summary.txt           the limits' intensities and their spread (table.rs)
+//!    ida-<group>.png                     damage share against intensity per substructure (ida.rs)
+//! ```
+//!
+//! Phases: (1) the gravity states, one task per variant; (2) the members. A member that stops
+//! (no convergence after its substeps) is an outcome with its diagnosis, not a failure of the
+//! sweep. `--restart` skips the variants and members that are done (their marker files) and
+//! continues a member from its own last checkpoint.
+mod ida;
+mod member;
+mod outcome;
+mod table;
+
+pub use outcome::{Outcome, Status, OUTCOME_FILE};
+
+use crate::analysis::time_history::StepObserver;
+use crate::config::{AnalysisConfig, Member, SweepJob};
+use crate::error::Error;
+use crate::mesh::read_msh;
+use crate::parallel::{agree, Context, Dispatcher, Groups, Log};
+use crate::petsc::Petsc;
+use mpi::traits::{Communicator, CommunicatorCollectives};
+use std::path::Path;
+
+/// The scheduler answers other groups after every step of its own group's member (named, for
+/// the kill points of the resume tests: `sweep_<member>_step_<n>`).
+struct Serve<'a, 'g>(&'a mut Dispatcher<'g>, &'a str);
+
+impl StepObserver for Serve<'_, '_> {
+    fn after_step(&mut self, step: usize) {
+        crate::fault::kill_point(&format!("sweep_{}_step_{step}", self.1));
+        self.0.serve();
+    }
+}
+
+/// Collective. Runs the sweep (see the module docs); `restart` continues a killed one.
+pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], restart: bool) -> Result<(), Error> {
+    let log = &ctx.log;
+    let out = &job.output_dir;
+    let size = job.spec.analysis.group_size;
+    let groups = Groups::split(&ctx.comm, size).map_err(|m| {
+        Error::Config(
+            job.source.error_at(&[crate::config::Seg::key("analysis"), crate::config::Seg::key("group_size")], m),
+        )
+    });
+    // Every rank computes the same answer: agree only to print it once.
+    let groups = agree(&ctx.comm, groups, Error::exit_code)?;
+    if !restart {
+        super::prepare(ctx, out, job.spec.output.existing)?;
+    }
+    let members = job.members();
+    log.info(format!(
+        "sweep {}: {} member(s) ({} material(s) x {} record(s) x {} intensit(ies) of {}), {} group(s) of {} rank(s){}",
+        path.display(),
+        members.len(),
+        job.variants.len(),
+        job.records.len(),
+        job.spec.sweep.intensities.len(),
+        job.spec.sweep.scale_by.label(),
+        groups.count,
+        size,
+        if restart { ", restart" } else { "" }
+    ));
+    let mesh = agree(&ctx.comm, read_msh(&job.base.mesh_file).map_err(Error::from), Error::exit_code)?;
+
+    // The folders and the job files (rank 0; the same text again on a restart).
+    let written = if ctx.rank == 0 { write_tasks(job, &members, restart, log) } else { Ok(()) };
+    agree(&ctx.comm, written, Error::exit_code)?;
+
+    let mut argv = vec!["masonry-hpc".to_string()];
+    argv.extend(petsc_args.iter().cloned());
+    let petsc = Petsc::initialize(&argv)?;
+    petsc.set_default_options("", &job.base.petsc_options)?;
+
+    let gctx = Context::new(groups.group.duplicate(), true);
+    let leader = log.speaking(gctx.rank == 0);
+    let tag = format!("[group {}/{}]", groups.index + 1, groups.count);
+
+    // (1) The gravity state of every material not done yet.
+    let todo: Vec<usize> =
+        (0..job.variants.len()).filter(|&v| !member::variant_done(&member::variant_dir(out, job, v))).collect();
+    if !todo.is_empty() {
+        log.info(format!("gravity states of {} material(s)", todo.len()));
+    }
+    let mut d = Dispatcher::new(&groups, &todo);
+    while let Some(v) = d.next_task() {
+        let dir = member::variant_dir(out, job, v);
+        let name = &job.variants[v].name;
+        leader.info(format!("{tag} gravity of material {name} ..."));
+        match member::prepare_variant(&gctx, &member::variant_job(out, job, v), &dir, &mesh) {
+            Ok(s) => leader.info(format!("{tag} gravity of material {name}: done in {s:.1} s")),
+            Err(e) => leader.info(format!("{tag} gravity of material {name} FAILED: {e}")),
+        }
+    }
+    d.finish();
+    ctx.comm.barrier();
+
+    // (2) The members not done yet, the highest intensity first (the costliest).
+    let mut order: Vec<&Member> =
+        members.iter().filter(|m| Outcome::read(&member::member_dir(out, m)).is_none()).collect();
+    order.sort_by(|a, b| b.level.total_cmp(&a.level).then(a.index.cmp(&b.index)));
+    let order: Vec<usize> = order.iter().map(|m| m.index).collect();
+    log.info(format!(
+        "{} member(s) to run{}",
+        order.len(),
+        if order.len() < members.len() {
+            format!(" ({} done before)", members.len() - order.len())
+        } else {
+            String::new()
+        }
+    ));
+    let mut d = Dispatcher::new(&groups, &order);
+    while let Some(k) = d.next_task() {
+        let m = &members[k];
+        let dir = member::member_dir(out, m);
+        let gravity = member::variant_dir(out, job, m.variant);
+        let outcome = if member::variant_done(&gravity) {
+            leader.info(format!("{tag} member {} ({} x {:.4}) ...", m.name, job.records[m.record].name, m.factor));
+            member::run_member(&gctx, job, m, out, &mesh, &mut Serve(&mut d, &m.name))
+        } else {
+            Outcome::gravity_failed(job, m, &member::variant_failure(&gravity))
+        };
+        leader.info(format!(
+            "{tag} member {}: {} at t = {:.3} s in {:.1} s{}",
+            m.name,
+            outcome.status.name(),
+            outcome.time_reached,
+            outcome.seconds,
+            outcome.diagnosis.as_deref().map(|d| format!(": {}", first_sentence(d))).unwrap_or_default()
+        ));
+        let written = if gctx.rank == 0 {
+            outcome.write(&dir).map_err(|source| Error::OutputDir { path: dir.join(OUTCOME_FILE), source })
+        } else {
+            Ok(())
+        };
+        agree(&gctx.comm, written, Error::exit_code)?;
+    }
+    d.finish();
+    ctx.comm.barrier();
+    drop(petsc);
+
+    // The table, the summary and the curves.
+    let done = if ctx.rank == 0 { table::write_results(job, &members, log) } else { Ok(()) };
+    agree(&ctx.comm, done, Error::exit_code)?;
+    Ok(())
+}
+
+/// The first sentence of a diagnosis, for a progress line.
+fn first_sentence(s: &str) -> &str {
+    s.split(". ").next().unwrap_or(s)
+}
+
+/// Rank 0: the folders of the gravity states and members with their job files. A restart keeps
+/// what is there (the files are written again with the same text).
+fn write_tasks(job: &SweepJob, members: &[Member], restart: bool, log: &Log) -> Result<(), Error> {
+    let out = &job.output_dir;
+    let io = |p: &Path| {
+        let p = p.to_path_buf();
+        move |source| Error::OutputDir { path: p, source }
+    };
+    if restart && !out.is_dir() {
+        return Err(Error::Analysis(format!(
+            "--restart: {} does not exist (no sweep to continue); run without --restart",
+            out.display()
+        )));
+    }
+    let jobs = out.join("jobs");
+    std::fs::create_dir_all(&jobs).map_err(io(&jobs))?;
+    let write = |file: &Path, text: String| std::fs::write(file, text).map_err(io(file));
+    for v in 0..job.variants.len() {
+        let dir = member::variant_dir(out, job, v);
+        std::fs::create_dir_all(&dir).map_err(io(&dir))?;
+        // The gravity state's job: the variant's first member's, its results in this folder.
+        let first = members
+            .iter()
+            .find(|m| m.variant == v)
+            .ok_or_else(|| Error::Analysis("a material variant without members".into()))?;
+        write(&member::variant_job(out, job, v), job.member_job_text(first, &dir).map_err(Error::Analysis)?)?;
+    }
+    for m in members {
+        let dir = member::member_dir(out, m);
+        std::fs::create_dir_all(&dir).map_err(io(&dir))?;
+        write(&member::member_job(out, m), job.member_job_text(m, &dir).map_err(Error::Analysis)?)?;
+    }
+    let kind = match job.base.spec.analysis {
+        AnalysisConfig::SeismicAssessment(_) => "seismic assessment (modal updating once per material)",
+        _ => "time history",
+    };
+    log.info(format!(
+        "job files: {}/jobs/<member>.toml ({} of them, each runs alone), base job {} ({kind})",
+        out.display(),
+        members.len(),
+        job.base_file.display()
+    ));
+    Ok(())
+}

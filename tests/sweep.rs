@@ -1,0 +1,346 @@
+//! Intensity sweeps through the whole program, on a masonry wall of damage shells shaken out of
+//! its plane (2 m × 3 m × 0.3 m, 2 × 3 MITC4 quads of 3 layers, clamped at the base; the wall of
+//! `time_history.rs`), two pulse records, each scaled to two PGAs:
+//!
+//! * every member of the sweep has the results of its own job file run alone as a time history
+//!   (monitors, energies, peaks, damage shares within 1e-10 of their largest magnitude), on 1
+//!   rank, on 2 ranks as one group of 2, and on 3 ranks in groups of 1 (oversubscribed);
+//! * a member that cannot converge is an outcome with its diagnosis while the others finish;
+//! * a sweep killed mid-way and restarted ends with the table of an uninterrupted one;
+//! * bad input: an empty record set, an intensity ≤ 0, a group size that does not divide the
+//!   ranks, a record set that failed its check: one message naming file, key and line.
+mod common;
+use common::*;
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// A pulse of `cycles`-ish sine at `f` Hz under a half-sine window over `t_on` s, amplitude
+/// `amp`, as a two-column file of `t_end` s at `dt`.
+fn write_pulse(path: &Path, dt: f64, t_end: f64, f: f64, t_on: f64, amp: f64) {
+    let n = (t_end / dt).round() as usize + 1;
+    let mut s = String::from("# test pulse\n# t [s]  a [m/s^2]\n");
+    for i in 0..n {
+        let t = i as f64 * dt;
+        let a = if t < t_on { amp * (PI * t / t_on).sin() * (2.0 * PI * f * t).sin() } else { 0.0 };
+        s += &format!("{t:.6} {a:.17e}\n");
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+/// The wall's mesh, two records and the base job (`wall.toml`, a time history of `duration` s at
+/// 0.01 s, checkpoints every 10 steps; `extra` goes into `[dynamics]`).
+fn write_model(dir: &Path, duration: f64, extra: &str) {
+    let (nx, nz, w, h) = (2usize, 3usize, 2.0, 3.0);
+    let nodes: Vec<[f64; 3]> = (0..=nz)
+        .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, 0.0, h * j as f64 / nz as f64]))
+        .collect();
+    let quads: Vec<[usize; 4]> = (0..nz)
+        .flat_map(|j| {
+            (0..nx).map(move |i| {
+                let a = j * (nx + 1) + i;
+                [a, a + 1, a + nx + 2, a + nx + 1]
+            })
+        })
+        .collect();
+    write_quad_mesh(
+        &dir.join("m.msh"),
+        &nodes,
+        &quads,
+        "wall",
+        &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])],
+    );
+    write_pulse(&dir.join("rec-a.txt"), 0.01, 2.0, 5.0, 0.4, 1.0);
+    write_pulse(&dir.join("rec-b.txt"), 0.005, 2.0, 7.0, 0.5, 2.0);
+    let job = format!(
+        "[analysis]\ntype = \"time_history\"\n[mesh]\nfile = \"m.msh\"\n\
+         [materials.masonry]\ntype = \"damage\"\ndensity = 2000.0\n\
+         [materials.masonry.law]\nE = 2.885e9\nnu = 0.19\neps0_t = 5.0e-5\neps0_c = 5.0e-5\ngf_t = 20.0\na_c = 0.9\nb_c = 2000.0\nregularization = \"hillerborg\"\n\
+         [sections.wall]\ntype = \"shell\"\nthickness = 0.3\nlayers = 3\n\
+         [[parts]]\ngroup = \"wall\"\nsection = \"wall\"\nmaterial = \"masonry\"\n\
+         [[supports]]\ngroup = \"base\"\ndofs = [\"all\"]\n\
+         [gravity]\nacceleration = [0.0, 0.0, -9.81]\n\
+         [dynamics]\nduration = {duration}\ndt = 0.01\nnewton = \"krylov\"\nforce_tolerance = 1e-9\noutput_every = 10\n{extra}\n\
+         [dynamics.checkpoint]\nevery_steps = 10\n\
+         [dynamics.damping]\nfrequencies = [5.0, 30.0]\nratio = 0.03\n\
+         [[dynamics.ground_motion]]\ndirection = \"y\"\nfile = \"rec-a.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n\
+         [[dynamics.ground_motion]]\ndirection = \"x\"\nfile = \"rec-a.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\nscale = 0.3\n\
+         [[dynamics.monitor]]\nname = \"top\"\ngroup = \"top\"\nnear = [1.0, 0.0, 3.0]\n\
+         [output]\ndir = \"out-base\"\nexisting = \"overwrite\"\n"
+    );
+    std::fs::write(dir.join("wall.toml"), job).unwrap();
+}
+
+/// The sweep job over both records at `intensities` (PGA), groups of `group` rank(s).
+fn write_sweep(dir: &Path, intensities: &str, group: usize, extra: &str) {
+    let job = format!(
+        "title = \"test sweep\"\n[analysis]\ntype = \"sweep\"\njob = \"wall.toml\"\ngroup_size = {group}\n\
+         [sweep]\nscale_by = \"pga\"\nintensities = {intensities}\ncode_level = 1.0\n{extra}\n\
+         [[sweep.record]]\nfile = \"rec-a.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n\
+         [[sweep.record]]\nfile = \"rec-b.txt\"\nformat = \"two_column\"\nunits = \"m/s2\"\n\
+         [[sweep.limit]]\ngroup = \"wall\"\nshare = 0.1\n\
+         [output]\ndir = \"sweep\"\nexisting = \"overwrite\"\n"
+    );
+    std::fs::write(dir.join("sweep.toml"), job).unwrap();
+}
+
+/// The largest |a| of a two-column record file.
+fn pga(path: &Path) -> f64 {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        .fold(0.0, |m, a| m.max(a.abs()))
+}
+
+fn run_ok(np: usize, args: &[&str]) -> std::process::Output {
+    let out = run(np, args);
+    assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
+    out
+}
+
+/// The numeric columns of a CSV file, by header name.
+fn csv_columns(path: &Path) -> Vec<(String, Vec<f64>)> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows: Vec<Vec<f64>> =
+        lines.map(|l| l.split(',').map(|x| x.trim().parse().unwrap_or(f64::NAN)).collect()).collect();
+    head.iter().enumerate().map(|(c, h)| (h.clone(), rows.iter().map(|r| r[c]).collect())).collect()
+}
+
+/// Every number of `a` and `b` (JSON values of the same shape) within `tol` of the largest
+/// magnitude of its list (or of itself).
+fn json_close(a: &serde_json::Value, b: &serde_json::Value, tol: f64, at: &str) {
+    use serde_json::Value as V;
+    match (a, b) {
+        (V::Number(x), V::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            assert!((x - y).abs() <= tol * x.abs().max(y.abs()).max(1e-300), "{at}: {x} vs {y}");
+        }
+        (V::Array(x), V::Array(y)) => {
+            assert_eq!(x.len(), y.len(), "{at}");
+            for (k, (p, q)) in x.iter().zip(y).enumerate() {
+                json_close(p, q, tol, &format!("{at}[{k}]"));
+            }
+        }
+        (V::Object(x), V::Object(y)) => {
+            for (k, p) in x {
+                json_close(p, &y[k], tol, &format!("{at}.{k}"));
+            }
+        }
+        (p, q) => assert_eq!(p, q, "{at}"),
+    }
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))).unwrap()
+}
+
+const MEMBERS: [&str; 4] =
+    ["base-rec-a-pga0.5000", "base-rec-a-pga1.5000", "base-rec-b-pga0.5000", "base-rec-b-pga1.5000"];
+
+#[test]
+fn every_member_of_a_sweep_equals_its_job_run_alone_on_1_2_and_3_ranks() {
+    // The same numbers by two paths: the sweep (gravity once, from its saved state, in a group)
+    // and the member's job file alone (its own gravity, on the group's rank count). Tolerance
+    // 1e-10 of each quantity's largest magnitude (the issue's figure; both repeat the same
+    // operations on the same partition).
+    for (np, group) in [(1usize, 1usize), (2, 2), (3, 1)] {
+        let dir = scratch(&format!("sweep-{np}-{group}"));
+        write_model(&dir, 0.3, "");
+        write_sweep(&dir, "[0.5, 1.5]", group, "");
+        let out = run_ok(np, &[dir.join("sweep.toml").to_str().unwrap()]);
+        let log = stdout(&out);
+        assert!(log.contains("4 member(s)"), "{log}");
+        let csv = csv_columns(&dir.join("sweep/sweep.csv"));
+        assert_eq!(csv[0].1.len(), 4);
+        // The factor is the intensity over the record's PGA (the largest |a| of its file, read
+        // here), to the CSV's 7 digits.
+        let factor = &csv.iter().find(|c| c.0 == "factor").unwrap().1;
+        for (k, (rec, x)) in [("rec-a", 0.5), ("rec-a", 1.5), ("rec-b", 0.5), ("rec-b", 1.5)].iter().enumerate() {
+            let want = x / pga(&dir.join(format!("{rec}.txt")));
+            assert!((factor[k] - want).abs() < 1e-6 * want, "{factor:?}");
+        }
+        // The stronger members crack the wall more.
+        let share = &csv.iter().find(|c| c.0 == "wall:share_dt").unwrap().1;
+        assert!(share[1] >= share[0] && share[1] > 0.0, "{share:?}");
+        for m in MEMBERS {
+            let mdir = dir.join("sweep/members").join(m);
+            let swept_csv = csv_columns(&mdir.join("monitors.csv"));
+            let swept = json(&mdir.join("summary.json"));
+            let alone_np = if group == 1 { 0 } else { group };
+            run_ok(alone_np, &[dir.join("sweep/jobs").join(format!("{m}.toml")).to_str().unwrap()]);
+            // The sweep's results of the member are kept aside.
+            assert!(dir.join("sweep/members").join(format!("{m}.previous/outcome.json")).is_file());
+            let alone_csv = csv_columns(&mdir.join("monitors.csv"));
+            let alone = json(&mdir.join("summary.json"));
+            for ((name, a), (_, b)) in swept_csv.iter().zip(&alone_csv) {
+                let scale = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+                assert_eq!(a.len(), b.len(), "{m} {name}");
+                for (x, y) in a.iter().zip(b) {
+                    assert!((x - y).abs() <= 1e-10 * scale, "np {np}: {m} {name}: {x} vs {y}");
+                }
+            }
+            for key in
+                ["peak_displacement", "peak_drift_ratio", "max_damage", "energy", "damage_by_group", "iterations"]
+            {
+                json_close(&swept[key], &alone[key], 1e-10, &format!("np {np}: {m} {key}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn a_member_that_cannot_converge_is_an_outcome_and_the_others_finish() {
+    // Newton on the initial stiffness with 4 iterations and 2 halvings per step follows the
+    // elastic members (0.5 m/s², no cracking) but not the cracking of the 60 m/s² ones: those stop
+    // with the time history's diagnosis, the others complete.
+    let dir = scratch("sweep-stopped");
+    write_model(&dir, 0.3, "max_substeps = 2\nmax_iterations = 4");
+    edit(
+        &dir,
+        "wall.toml",
+        "newton = \"krylov\"\nforce_tolerance = 1e-9",
+        "newton = \"initial\"\nforce_tolerance = 1e-6",
+    );
+    write_sweep(&dir, "[0.5, 60.0]", 1, "");
+    let out = run_ok(2, &[dir.join("sweep.toml").to_str().unwrap()]);
+    let log = stdout(&out);
+    let text = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(rows.len(), 4, "{text}");
+    for r in &rows {
+        let status = r.split(',').nth(6).unwrap();
+        if r.contains("pga0.5000") {
+            assert_eq!(status, "completed", "{r}");
+        } else {
+            assert_eq!(status, "stopped", "{r}\n{log}");
+            assert!(r.contains("did not converge"), "{r}");
+        }
+    }
+    let s = json(&dir.join("sweep/summary.json"));
+    assert_eq!((s["completed"].as_u64(), s["stopped"].as_u64()), (Some(2), Some(2)), "{s}");
+    // A stopped member keeps its last converged state for a restart with other settings.
+    let m = dir.join("sweep/members/base-rec-a-pga60.0000");
+    assert!(m.join("checkpoint/latest.json").is_file());
+    let o = json(&m.join("outcome.json"));
+    assert!(o["time_reached"].as_f64().unwrap() < 0.3, "{o}");
+}
+
+#[test]
+fn a_sweep_killed_mid_way_and_restarted_ends_with_the_table_of_an_uninterrupted_one() {
+    // Two groups of 1 rank; 4 members of 200 steps with checkpoints every 10. The first run is
+    // killed in the middle of a member (an injected exit without cleanup, as SIGKILL); `--restart`
+    // skips the members done, resumes the killed one from its checkpoint and ends with the same
+    // sweep.csv as an uninterrupted sweep, to its 7 printed digits.
+    let whole = scratch("sweep-resume-whole");
+    write_model(&whole, 2.0, "");
+    write_sweep(&whole, "[0.5, 1.5]", 1, "");
+    run_ok(2, &[whole.join("sweep.toml").to_str().unwrap()]);
+
+    let dir = scratch("sweep-resume-killed");
+    write_model(&dir, 2.0, "");
+    write_sweep(&dir, "[0.5, 1.5]", 1, "");
+    // The 1.5 m/s² members run first (the costliest first); the kill comes at step 55 of
+    // rec-b at 0.5 m/s², one of the two members started after them, 5 steps after its checkpoint.
+    let killed = "base-rec-b-pga0.5000";
+    let mut cmd = std::process::Command::new("mpirun");
+    cmd.args(["-n", "2", "--oversubscribe", "--bind-to", "none"])
+        .arg(exe())
+        .arg(dir.join("sweep.toml"))
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("MASONRY_HPC_INJECT_KILL", format!("sweep_{killed}_step_55"));
+    let out = run_with_timeout(cmd, std::time::Duration::from_secs(300));
+    assert!(!out.status.success(), "the kill should end the sweep");
+    let done =
+        |d: &Path| MEMBERS.iter().filter(|m| d.join("sweep/members").join(m).join("outcome.json").is_file()).count();
+    let finished = done(&dir);
+    assert!((1..4).contains(&finished), "{finished} member(s) done before the kill");
+    assert!(!dir.join("sweep/members").join(killed).join("outcome.json").is_file());
+    assert!(dir.join("sweep/members").join(killed).join("checkpoint/step-000000050").is_dir());
+    let out = run_ok(2, &["--restart", dir.join("sweep.toml").to_str().unwrap()]);
+    assert!(stdout(&out).contains(&format!("({finished} done before)")), "{}", stdout(&out));
+    let a = std::fs::read_to_string(whole.join("sweep/sweep.csv")).unwrap();
+    let b = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+    assert_eq!(a, b);
+    // The killed member went on from its checkpoint of step 50, in the same series.
+    assert!(dir.join("sweep/members").join(killed).join("results-restart-000050.h5").is_file());
+}
+
+/// The model and a valid sweep in `dir`, then `from` replaced by `to` in sweep.toml: exit code 2
+/// with every one of `needles` on 1 and 2 ranks, and no results written.
+fn expect_sweep_error(name: &str, from: &str, to: &str, needles: &[&str]) {
+    let dir = scratch(name);
+    write_model(&dir, 0.3, "");
+    write_sweep(&dir, "[0.5, 1.5]", 1, "");
+    edit(&dir, "sweep.toml", from, to);
+    expect_job_error(&dir.join("sweep.toml"), 2, needles);
+    assert!(!dir.join("sweep").exists(), "bad input must not leave results");
+}
+
+/// A record_set job's results folder `set` whose summary lists `records` and whose check
+/// passed or not.
+fn write_set_summary(set: &Path, records: &[&str], passed: bool) {
+    std::fs::create_dir_all(set).unwrap();
+    let list: Vec<String> = records.iter().map(|r| format!("{{\"file\": \"{r}\"}}")).collect();
+    std::fs::write(
+        set.join("summary.json"),
+        format!("{{\"records\": [{}], \"check\": {{\"passed\": {passed}}}}}", list.join(", ")),
+    )
+    .unwrap();
+}
+
+#[test]
+fn an_intensity_of_zero_is_an_error_at_its_key() {
+    // Line 8 of sweep.toml (write_sweep): intensities.
+    expect_sweep_error(
+        "sweep-bad-intensity",
+        "intensities = [0.5, 1.5]",
+        "intensities = [0.0, 1.5]",
+        &["sweep.toml:8:", "sweep.intensities[0]", "expected an intensity > 0", "got 0"],
+    );
+}
+
+#[test]
+fn a_group_size_that_does_not_divide_the_ranks_is_an_error() {
+    expect_sweep_error(
+        "sweep-bad-group",
+        "group_size = 1",
+        "group_size = 3",
+        &["sweep.toml:5:", "analysis.group_size", "a group size of 3 rank(s) does not divide the"],
+    );
+}
+
+#[test]
+fn an_empty_record_set_is_an_error() {
+    let dir = scratch("sweep-empty-set");
+    write_model(&dir, 0.3, "");
+    write_sweep(&dir, "[0.5, 1.5]", 1, "record_set = \"set\"");
+    write_set_summary(&dir.join("set"), &[], true);
+    // Only the set: no [[sweep.record]].
+    let text = std::fs::read_to_string(dir.join("sweep.toml")).unwrap();
+    let text = text.split("[[sweep.record]]").next().unwrap().to_string() + "[output]\ndir = \"sweep\"\n";
+    std::fs::write(dir.join("sweep.toml"), text).unwrap();
+    expect_job_error(&dir.join("sweep.toml"), 2, &["sweep.record_set", "the record set is empty"]);
+    assert!(!dir.join("sweep").exists());
+}
+
+#[test]
+fn a_record_set_that_failed_its_check_is_an_error_when_compatibility_is_required() {
+    let dir = scratch("sweep-incompatible-set");
+    write_model(&dir, 0.3, "");
+    write_sweep(&dir, "[0.5, 1.5]", 1, "record_set = \"set\"");
+    write_set_summary(&dir.join("set"), &["../rec-a.txt"], false);
+    expect_job_error(
+        &dir.join("sweep.toml"),
+        2,
+        &["sweep.record_set", "failed its EN 1998-1 compatibility check", "require_compatible = false"],
+    );
+    assert!(!dir.join("sweep").exists());
+    // Allowed when the job says so: the set's record joins the two files (6 members).
+    edit(&dir, "sweep.toml", "record_set = \"set\"", "record_set = \"set\"\nrequire_compatible = false");
+    let out = run_ok(0, &["check", dir.join("sweep.toml").to_str().unwrap()]);
+    assert!(stdout(&out).contains("6 member(s)"), "{}", stdout(&out));
+}
