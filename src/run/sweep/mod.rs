@@ -96,6 +96,7 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     if !todo.is_empty() {
         log.info(format!("gravity states of {} material(s)", todo.len()));
     }
+    let clock = std::time::Instant::now();
     let mut d = Dispatcher::new(&groups, &todo);
     while let Some(v) = d.next_task() {
         let dir = member::variant_dir(out, job, v);
@@ -108,6 +109,7 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     }
     d.finish();
     ctx.comm.barrier();
+    let seconds_gravity = clock.elapsed().as_secs_f64();
 
     // (2) The members not done yet, the highest intensity first (the costliest).
     let mut order: Vec<&Member> =
@@ -123,6 +125,7 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
             String::new()
         }
     ));
+    let clock = std::time::Instant::now();
     let mut d = Dispatcher::new(&groups, &order);
     while let Some(k) = d.next_task() {
         let m = &members[k];
@@ -151,10 +154,19 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     }
     d.finish();
     ctx.comm.barrier();
+    let seconds_members = clock.elapsed().as_secs_f64();
     drop(petsc);
 
     // The table, the summary and the curves.
-    let done = if ctx.rank == 0 { table::write_results(job, &members, log) } else { Ok(()) };
+    let timing = table::Timing {
+        groups: groups.count,
+        group_size: size,
+        seconds_gravity,
+        seconds_members,
+        members_run: order.len(),
+        members_per_hour: if seconds_members > 0.0 { 3600.0 * order.len() as f64 / seconds_members } else { 0.0 },
+    };
+    let done = if ctx.rank == 0 { table::write_results(job, &members, timing, log) } else { Ok(()) };
     agree(&ctx.comm, done, Error::exit_code)?;
     Ok(())
 }

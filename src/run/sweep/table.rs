@@ -61,9 +61,28 @@ pub struct LimitSummary {
     pub beta_materials: Option<f64>,
 }
 
+/// Where a sweep's wall time went, in this run (a restarted sweep: its own part).
+#[derive(Clone, Debug, Serialize)]
+pub struct Timing {
+    /// Groups and ranks per group.
+    pub groups: usize,
+    /// See `groups`.
+    pub group_size: usize,
+    /// Seconds of the gravity states (modal updating included).
+    pub seconds_gravity: f64,
+    /// Seconds of the members.
+    pub seconds_members: f64,
+    /// Members run by this run.
+    pub members_run: usize,
+    /// Members run per hour of the members' phase.
+    pub members_per_hour: f64,
+}
+
 /// `summary.json` of a sweep.
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepSummary {
+    /// This run's timing.
+    pub timing: Timing,
     /// Members in all.
     pub members: usize,
     /// Completed, stopped, gravity failed.
@@ -83,7 +102,7 @@ pub struct SweepSummary {
 }
 
 /// Rank 0. Reads every member's outcome and writes the table, the summary and the curves.
-pub fn write_results(job: &SweepJob, members: &[Member], log: &Log) -> Result<(), Error> {
+pub fn write_results(job: &SweepJob, members: &[Member], timing: Timing, log: &Log) -> Result<(), Error> {
     let out = &job.output_dir;
     let outcomes: Vec<Outcome> = members
         .iter()
@@ -98,7 +117,7 @@ pub fn write_results(job: &SweepJob, members: &[Member], log: &Log) -> Result<()
     let csv = out.join("sweep.csv");
     std::fs::write(&csv, table_csv(job, &outcomes, &groups)).map_err(|e| io(&csv, e))?;
 
-    let summary = summarize(job, members, &outcomes, &groups);
+    let summary = summarize(job, members, &outcomes, &groups, timing);
     let file = out.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).map_err(|e| Error::Analysis(e.to_string()))?;
     std::fs::write(&file, text + "\n").map_err(|e| io(&file, e))?;
@@ -219,7 +238,7 @@ pub fn lognormal(xs: &[f64]) -> (Option<f64>, Option<f64>) {
     (Some(mean.exp()), beta)
 }
 
-fn summarize(job: &SweepJob, members: &[Member], outcomes: &[Outcome], groups: &[String]) -> SweepSummary {
+fn summarize(job: &SweepJob, members: &[Member], outcomes: &[Outcome], groups: &[String], timing: Timing) -> SweepSummary {
     let count = |s: Status| outcomes.iter().filter(|o| o.status == s).count();
     let points = |v: usize, r: usize, group: &str| -> Vec<(f64, Option<f64>)> {
         members
@@ -291,6 +310,7 @@ fn summarize(job: &SweepJob, members: &[Member], outcomes: &[Outcome], groups: &
         })
         .collect();
     SweepSummary {
+        timing,
         members: outcomes.len(),
         completed: count(Status::Completed),
         stopped: count(Status::Stopped),
@@ -313,6 +333,12 @@ fn summary_text(job: &SweepJob, s: &SweepSummary) -> String {
         s.completed,
         s.stopped,
         s.gravity_failed
+    );
+    let w = &s.timing;
+    let _ = writeln!(
+        t,
+        "this run: {} group(s) of {} rank(s); gravity states {:.1} s, {} member(s) in {:.1} s ({:.1} per hour)",
+        w.groups, w.group_size, w.seconds_gravity, w.members_run, w.seconds_members, w.members_per_hour
     );
     if let Some(c) = s.code_level {
         let _ = writeln!(t, "site code level: {im} = {c} m/s²");
