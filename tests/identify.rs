@@ -345,6 +345,7 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
          tension = {{ type = \"tension\", max_strain = 1.0e-3, steps = 20 }}\n\
          compression = {{ type = \"compression\", max_strain = 3.0e-3, steps = 30 }}\n\
          bounds = {{ eps0_t = [2e-5, 4e-4], eps0_c = [5e-5, 2e-3], gf_t = [2.0, 400.0], a_c = [0.0, 1.0], b_c = [50.0, 5000.0] }}\n\
+         variants = {{ count = 2, scheme = \"bootstrap\" }}\n\
          [output]\ndir = \"OUT\"\nexisting = \"overwrite\"\n",
         t[0], t[1], t[2], t[3]
     );
@@ -362,12 +363,18 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
             "dem_compression.csv",
             "law_tension.png",
             "material.toml",
+            "material-variant-1.toml",
+            "material-variant-2.toml",
         ] {
             assert!(dir.join(format!("out-{np}")).join(file).is_file(), "np={np}: {file} missing");
         }
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(dir.join(format!("out-{np}/summary.json"))).unwrap())
                 .unwrap();
+        // The material variants of the virtual tests' samples (bootstrap: 2 draws of 2 each).
+        let variants = s["variants"].as_array().unwrap();
+        assert_eq!(variants.len(), 2, "np={np}");
+        assert!(variants.iter().all(|v| v["samples"]["tension"].as_array().unwrap().len() == 2), "np={np}");
         summaries.push(s);
     }
     // The seeded design and its evaluation do not depend on the rank count: the batch returns
@@ -512,4 +519,228 @@ fn committed_wall_law_is_refitted_from_its_saved_sample_curves() {
         }
     }
     assert_eq!(law.len(), refit.len(), "committed {law:?}\nrefitted {refit:?}");
+}
+
+/// The committed sample curves of the paper's wall (`tests/data/identify-wall/`, 4 samples per
+/// test, numbered 0-3 in the files).
+fn wall_samples_file(side: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/data/identify-wall/dem_{side}_samples.csv"))
+}
+
+/// Writes the committed `side` curves of the samples `numbers` (1-based, in that order, repeats
+/// allowed) to `file`, each row copied as committed (round-trip digits), relabelled 0, 1, ...
+fn write_wall_subset(file: &Path, side: &str, numbers: &[usize]) {
+    let text = std::fs::read_to_string(wall_samples_file(side)).unwrap();
+    let mut lines = text.lines();
+    let mut s = format!("{}\n", lines.next().unwrap());
+    let rows: Vec<(&str, &str)> = lines.map(|l| l.split_once(',').unwrap()).collect();
+    for (label, &k) in numbers.iter().enumerate() {
+        let id = (k - 1).to_string();
+        let own: Vec<_> = rows.iter().filter(|(i, _)| *i == id).collect();
+        assert!(!own.is_empty(), "no sample {id} in the {side} file");
+        for (_, rest) in own {
+            s.push_str(&format!("{label},{rest}\n"));
+        }
+    }
+    std::fs::write(file, s).unwrap();
+}
+
+/// A law-only job on the wall's curves in `tension` and `compression` (paths), with cheap search
+/// settings (5 unknowns, 2 infill iterations, short polishes: a second or two per fit) and
+/// `extra` lines in `[law]`; written to `dir/name`.
+fn wall_law_job(dir: &Path, name: &str, tension: &Path, compression: &Path, extra: &str) -> PathBuf {
+    let text = format!(
+        "[analysis]\ntype = \"identification\"\nseed = 1\n\
+         [sample]\nseed = 1\nlayout = {{ type = \"coursed\", width = 1.0, height = 1.2, n_courses = 10, n_per_course = 6 }}\n\
+         [law]\ndem_samples = {{ tension = \"{}\", compression = \"{}\" }}\n\
+         young_modulus = 2.8725e9\npoisson = 0.1885\nregularization = \"hillerborg_no_elastic\"\n\
+         error = \"peak_energy\"\npoints = 60\niterations = 2\nbatch = 2\npolish_iterations = 100\n\
+         bounds = {{ eps0_t = [2e-5, 4e-4], eps0_c = [2e-5, 1e-3], gf_t = [2.0, 400.0], a_c = [0.05, 1.0], b_c = [50.0, 20000.0] }}\n\
+         {extra}\n[output]\ndir = \"out-{name}\"\nexisting = \"overwrite\"\n",
+        tension.display(),
+        compression.display()
+    );
+    let f = dir.join(format!("{name}.toml"));
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+/// The `[law]` table of a material file.
+fn law_of(file: &Path) -> toml::Table {
+    let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let t: toml::Table = toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    t["law"].as_table().unwrap().clone()
+}
+
+/// Every number of two `[law]` tables within `rel` relative, the rest equal.
+fn assert_same_law(a: &toml::Table, b: &toml::Table, rel: f64, what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}: {a:?}\n{b:?}");
+    for (k, v) in a {
+        match (v.as_float(), b.get(k).and_then(|r| r.as_float())) {
+            (Some(x), Some(y)) => assert!((x - y).abs() <= rel * x.abs(), "{what}: {k}: {x} against {y}"),
+            _ => assert_eq!(Some(v), b.get(k), "{what}: {k}"),
+        }
+    }
+}
+
+/// The material variants of the paper's wall, `materials/rubble-identified-variant-{1,2}.toml`,
+/// refitted by their job `jobs/identify-wall-variants.toml` (law only, from the committed sample
+/// curves; here with its output in a scratch folder and without the copies to `materials/`): two
+/// variant files are written, on samples {1, 3} and {2, 4}; their laws differ from each other and
+/// from the main law, which is `materials/rubble-identified.toml`'s; each equals its committed
+/// file to 1e-6 relative (as the main law's refit above: the fit is deterministic, so round-off
+/// is all that may differ). A failure means the job, the curves or the committed files changed
+/// without the others: run the job again and commit its variant files. About 30 s in a debug
+/// build (3 fits, 1 rank).
+#[test]
+fn committed_wall_variants_are_refitted_on_halves_of_the_samples() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("jobs/identify-wall-variants.toml")).unwrap();
+    let mut job: toml::Table = toml::from_str(&text).unwrap();
+    let l = job.get_mut("law").and_then(|l| l.as_table_mut()).unwrap();
+    let mut files = toml::Table::new();
+    for side in ["tension", "compression"] {
+        files.insert(side.into(), toml::Value::String(wall_samples_file(side).display().to_string()));
+    }
+    l.insert("dem_samples".into(), toml::Value::Table(files));
+    let v = l.get_mut("variants").and_then(|v| v.as_table_mut()).unwrap();
+    assert_eq!(v["count"].as_integer(), Some(2));
+    assert_eq!(v["scheme"].as_str(), Some("halves"));
+    v.remove("material_file");
+    let mut out = toml::Table::new();
+    out.insert("dir".into(), toml::Value::String("out".into()));
+    out.insert("existing".into(), toml::Value::String("overwrite".into()));
+    job.insert("output".into(), toml::Value::Table(out));
+    let dir = scratch("identify-wall-variants");
+    let f = dir.join("variants.toml");
+    std::fs::write(&f, toml::to_string(&job).unwrap()).unwrap();
+    let out = run(0, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}\n{}", stdout(&out), stderr(&out));
+    let main = law_of(&dir.join("out/material.toml"));
+    assert_same_law(&law_of(&root.join("materials/rubble-identified.toml")), &main, 1e-6, "main law");
+    let variants: Vec<toml::Table> =
+        (1..=2).map(|k| law_of(&dir.join(format!("out/material-variant-{k}.toml")))).collect();
+    assert!(!dir.join("out/material-variant-3.toml").exists());
+    let differ = |a: &toml::Table, b: &toml::Table| {
+        ["eps0_t", "eps0_c", "gf_t", "a_c", "b_c", "gf_c"]
+            .iter()
+            .any(|k| (a[*k].as_float().unwrap() - b[*k].as_float().unwrap()).abs() > 1e-3 * a[*k].as_float().unwrap())
+    };
+    assert!(differ(&variants[0], &variants[1]), "the variants' laws are the same:\n{:?}", variants[0]);
+    for (k, v) in variants.iter().enumerate() {
+        assert!(differ(v, &main), "variant {} is the main law: {v:?}", k + 1);
+        assert_eq!(v["E"], main["E"], "variant {}: E is the main law's", k + 1);
+        assert_eq!(v["nu"], main["nu"]);
+        let committed = law_of(&root.join(format!("materials/rubble-identified-variant-{}.toml", k + 1)));
+        assert_same_law(&committed, v, 1e-6, &format!("variant {}", k + 1));
+    }
+    // The summary lists them with their samples (halves: dealt round-robin, the same in both tests).
+    let s = summary(&dir);
+    let listed = s["variants"].as_array().unwrap();
+    assert_eq!(listed.len(), 2);
+    for (entry, samples) in listed.iter().zip([[1, 3], [2, 4]]) {
+        assert_eq!(entry["scheme"], "halves");
+        assert_eq!(entry["samples"]["tension"], serde_json::json!(samples));
+        assert_eq!(entry["samples"]["compression"], serde_json::json!(samples));
+    }
+}
+
+/// An independent check of a variant: the law fitted to a subset of the samples is the main law
+/// of a law-only job whose `dem_samples` files hold only that subset's curves (the same rows, in
+/// the variant's order), to 1e-9 relative on every parameter: the variant's mean curves are that
+/// job's, and the fit is the same deterministic search. Halves (both variants) and a bootstrap
+/// variant (repeated samples). Also: the variants' files are named after `[law] material_file`
+/// beside it and in the results, and `summary.json` lists file, samples, f_t, G_f, f_c, errors.
+#[test]
+fn a_variant_is_the_main_law_of_a_job_with_only_its_samples() {
+    let dir = scratch("identify-variants-subset");
+    let (t, c) = (wall_samples_file("tension"), wall_samples_file("compression"));
+    for (name, scheme) in [("halves", "scheme = \"halves\""), ("bootstrap", "scheme = \"bootstrap\", seed = 5")] {
+        let extra = format!("material_file = \"wall-{name}.toml\"\nvariants = {{ count = 2, {scheme} }}");
+        let f = wall_law_job(&dir, name, &t, &c, &extra);
+        let out = run(0, &[f.to_str().unwrap()]);
+        assert!(out.status.success(), "{name}: {}\n{}", stdout(&out), stderr(&out));
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(format!("out-{name}/summary.json"))).unwrap())
+                .unwrap();
+        let listed = s["variants"].as_array().unwrap();
+        assert_eq!(listed.len(), 2, "{name}");
+        let checked = if name == "halves" { 2 } else { 1 };
+        for (k, entry) in listed.iter().enumerate().take(checked) {
+            let numbers = |side: &str| -> Vec<usize> {
+                entry["samples"][side].as_array().unwrap().iter().map(|n| n.as_u64().unwrap() as usize).collect()
+            };
+            let (nt, nc) = (numbers("tension"), numbers("compression"));
+            if name == "halves" {
+                assert_eq!(nt, [[1, 3], [2, 4]][k]);
+            } else {
+                assert_eq!(nt.len(), 4, "a bootstrap variant draws n = 4 samples");
+            }
+            // The variant's files: beside the material file, and in the results.
+            let copy = dir.join(format!("wall-{name}-variant-{}.toml", k + 1));
+            assert_eq!(entry["material_file"].as_str().unwrap(), copy.display().to_string());
+            let variant = law_of(&copy);
+            assert_eq!(variant, law_of(&dir.join(format!("out-{name}/material-variant-{}.toml", k + 1))));
+            let text = std::fs::read_to_string(&copy).unwrap();
+            assert!(text.contains(&format!("# Material variant {} of 2 (scheme \"{name}\")", k + 1)), "{text}");
+            // summary.json: f_t = E eps0_t, G_f, f_c, the fit's errors.
+            let num = |k: &str| variant[k].as_float().unwrap();
+            assert!(
+                (entry["f_t"].as_f64().unwrap() - num("E") * num("eps0_t")).abs()
+                    <= 1e-12 * entry["f_t"].as_f64().unwrap()
+            );
+            assert_eq!(entry["gf_t"].as_f64().unwrap(), num("gf_t"));
+            let f_c = num("E") * num("eps0_c") / (2f64.sqrt() * num("nu"));
+            assert!((entry["f_c"].as_f64().unwrap() - f_c).abs() <= 1e-12 * f_c);
+            for side in ["tension", "compression"] {
+                assert!(entry["fit"][side]["value"].as_f64().unwrap() > 0.0, "{}", entry["fit"]);
+            }
+            // The independent job on the subset's curves alone.
+            let own = format!("{name}-{}", k + 1);
+            let (ft, fc) = (dir.join(format!("{own}-t.csv")), dir.join(format!("{own}-c.csv")));
+            write_wall_subset(&ft, "tension", &nt);
+            write_wall_subset(&fc, "compression", &nc);
+            let f = wall_law_job(&dir, &own, &ft, &fc, "");
+            let out = run(0, &[f.to_str().unwrap()]);
+            assert!(out.status.success(), "{own}: {}\n{}", stdout(&out), stderr(&out));
+            let alone = law_of(&dir.join(format!("out-{own}/material.toml")));
+            assert_same_law(&alone, &variant, 1e-9, &format!("{name} variant {}", k + 1));
+        }
+        // The variants differ from the main law.
+        let main = law_of(&dir.join(format!("out-{name}/material.toml")));
+        let variant = law_of(&dir.join(format!("wall-{name}-variant-1.toml")));
+        assert_ne!(main["eps0_t"], variant["eps0_t"], "{name}");
+    }
+    // On 2 ranks (the EGO's ask-and-tell over ranks for every variant): the same laws.
+    let text = std::fs::read_to_string(dir.join("halves.toml")).unwrap();
+    let f = dir.join("halves-np2.toml");
+    std::fs::write(&f, text.replace("out-halves", "out-halves-np2").replace("wall-halves.toml", "np2.toml")).unwrap();
+    let out = run(2, &[f.to_str().unwrap()]);
+    assert!(out.status.success(), "np=2: {}\n{}", stdout(&out), stderr(&out));
+    for k in 1..=2 {
+        let one = law_of(&dir.join(format!("wall-halves-variant-{k}.toml")));
+        assert_eq!(law_of(&dir.join(format!("np2-variant-{k}.toml"))), one, "variant {k}: 2 ranks against 1");
+    }
+}
+
+#[test]
+fn bad_variants_are_located() {
+    let dir = scratch("identify-variants-bad");
+    let (t, c) = (wall_samples_file("tension"), wall_samples_file("compression"));
+    // Line 18 holds the variants.
+    let f = wall_law_job(&dir, "bad", &t, &c, "variants = { count = 1, scheme = \"halves\" }");
+    expect_error(&dir, &f, &["bad.toml:18:", "key 'law.variants.count'", "at least 2, got 1"], &[0, 2]);
+    let f = wall_law_job(&dir, "bad", &t, &c, "variants = { count = 2, scheme = \"thirds\" }");
+    expect_error(&dir, &f, &["bad.toml:18:", "key 'law.variants.scheme'", "thirds", "halves", "bootstrap"], &[0, 2]);
+    // halves needs a sample per group in each test: 3 groups of the 2 compression samples.
+    let fc = dir.join("c2.csv");
+    write_wall_subset(&fc, "compression", &[1, 2]);
+    let f = wall_law_job(&dir, "bad", &t, &fc, "variants = { count = 3, scheme = \"halves\" }");
+    expect_error(&dir, &f, &["key 'law.variants.count'", "compression test has 2 sample(s)"], &[0]);
+    // The mean curves alone cannot be split.
+    let job = std::fs::read_to_string(&f).unwrap().replace("dem_samples", "dem_curves");
+    write_law_curve(&dir.join("t.csv"), &known_law(), 6e-4, true);
+    let job = job.replace(&t.display().to_string(), "t.csv").replace(&fc.display().to_string(), "t.csv");
+    std::fs::write(&f, job).unwrap();
+    expect_error(&dir, &f, &["key 'law.variants'", "not the mean curves of dem_curves"], &[0]);
 }

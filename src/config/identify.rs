@@ -54,10 +54,22 @@
 //! #   needs a_c > 0 throughout)
 //! # material_file = "../materials/wall.toml"   # a copy beside the results' material.toml
 //! # material_notes = """..."""  # comment lines for the material file's header
+//! # variants = { count = 2, scheme = "halves" }   # material variants (identify::variants):
+//! #                            # the law fitted again to subsets of the samples, each like the
+//! #                            # main law (same design, optimizer and E, nu) on its samples' mean
+//! #                            # curves; "halves": count disjoint groups dealt round-robin
+//! #                            # ({1, 3} and {2, 4} of 4); "bootstrap": n samples drawn with
+//! #                            # replacement (seed = 1: SplitMix64). Written as
+//! #                            # material-variant-<k>.toml in the results and, beside the material
+//! #                            # file, <its stem>-variant-<k>.toml; material_file = "..." in the
+//! #                            # table names that file for the variants alone (the main law then
+//! #                            # only in the results). Needs the samples' curves: the virtual
+//! #                            # tests or dem_samples, not dem_curves.
 //! ```
 use super::{ExperimentConfig, MechanicsConfig, OutputConfig};
 use crate::dem::sample::SampleConfig;
 use crate::dem::solver::VirtualTest;
+use crate::identify::variants::VariantScheme;
 use crate::identify::ErrorMeasure;
 use crate::material::Regularization;
 use serde::Deserialize;
@@ -191,6 +203,22 @@ pub struct DemCurveFiles {
     pub compression: PathBuf,
 }
 
+/// `[law] variants`: the law fitted again to subsets of the samples (identify::variants).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LawVariants {
+    /// How many variants (at least 2).
+    pub count: usize,
+    /// How their samples are chosen.
+    pub scheme: VariantScheme,
+    /// Seed of the bootstrap's draws (SplitMix64); unused by `halves`.
+    #[serde(default = "one_u64")]
+    pub seed: u64,
+    /// The material file the variants' copies are named after, `<stem>-variant-<k>.toml` beside
+    /// it (relative to the job file's folder; not itself written); default `[law] material_file`.
+    pub material_file: Option<PathBuf>,
+}
+
 /// `[law]`: (b) the damage law from virtual tests.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -247,6 +275,8 @@ pub struct LawIdentConfig {
     /// Comment lines for the material file's header, after the generated ones: why the values
     /// are what they are (identify::material_file).
     pub material_notes: Option<String>,
+    /// Material variants (none by default).
+    pub variants: Option<LawVariants>,
 }
 
 /// An identification job file, as written.

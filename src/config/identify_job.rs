@@ -4,6 +4,7 @@
 use super::identify::{CalibrationConfig, ElasticSource, IdentifyJobFile, LawIdentConfig};
 use super::{ConfigError, Seg, Source};
 use crate::dem::solver::VirtualTest;
+use crate::identify::variants::VariantScheme;
 use crate::identify::{Curve, DemParameters, Targets};
 use crate::material::Regularization;
 use std::path::{Path, PathBuf};
@@ -24,6 +25,9 @@ pub struct IdentifyJob {
     pub dem_samples: Option<(Vec<Curve>, Vec<Curve>)>,
     /// `[law] material_file`, resolved.
     pub material_copy: Option<PathBuf>,
+    /// The material file the variants' copies are named after (`[law.variants] material_file`,
+    /// else `[law] material_file`), resolved.
+    pub variants_beside: Option<PathBuf>,
     /// The results folder.
     pub output_dir: PathBuf,
 }
@@ -34,6 +38,7 @@ struct LawInputs {
     dem_curves: Option<(Curve, Curve)>,
     dem_samples: Option<(Vec<Curve>, Vec<Curve>)>,
     material_copy: Option<PathBuf>,
+    variants_beside: Option<PathBuf>,
 }
 
 impl IdentifyJob {
@@ -55,13 +60,25 @@ impl IdentifyJob {
         let law = match &spec.law {
             Some(l) => {
                 check_law(&source, &spec, l)?;
-                law_inputs(&source, &folder, l)?
+                let inputs = law_inputs(&source, &folder, l)?;
+                check_variants(&source, l, &inputs)?;
+                inputs
             }
             None => LawInputs::default(),
         };
         let output_dir = super::output_dir(path, &spec.output);
-        let LawInputs { dem_curves, dem_samples, material_copy } = law;
-        Ok(IdentifyJob { source, spec, dem, targets, dem_curves, dem_samples, material_copy, output_dir })
+        let LawInputs { dem_curves, dem_samples, material_copy, variants_beside } = law;
+        Ok(IdentifyJob {
+            source,
+            spec,
+            dem,
+            targets,
+            dem_curves,
+            dem_samples,
+            material_copy,
+            variants_beside,
+            output_dir,
+        })
     }
 }
 
@@ -265,7 +282,52 @@ fn law_inputs(src: &Source, folder: &Path, l: &LawIdentConfig) -> Result<LawInpu
         None => check_law_tests(src, l)?,
     }
     inputs.material_copy = l.material_file.as_ref().map(|p| super::resolve(folder, p));
+    inputs.variants_beside = l
+        .variants
+        .as_ref()
+        .and_then(|v| v.material_file.as_ref())
+        .map(|p| super::resolve(folder, p))
+        .or_else(|| inputs.material_copy.clone());
     Ok(inputs)
+}
+
+/// `[law] variants`: at least 2; the samples' curves at hand (the virtual tests or
+/// `dem_samples`, not the mean curves of `dem_curves`); `halves` with a sample for each group in
+/// each test (the job's `samples`, or the curves in the files).
+fn check_variants(src: &Source, l: &LawIdentConfig, inputs: &LawInputs) -> Result<(), ConfigError> {
+    let Some(v) = &l.variants else { return Ok(()) };
+    let at_count = Seg::path(&["law", "variants", "count"]);
+    if v.count < 2 {
+        return Err(src.error_at(
+            &at_count,
+            format!(
+                "material variants: expected a count of at least 2, got {} (the main law is the fit to all samples)",
+                v.count
+            ),
+        ));
+    }
+    if inputs.dem_curves.is_some() {
+        return Err(src.error_at(
+            &Seg::path(&["law", "variants"]),
+            "material variants are fitted to subsets of the samples: they need every sample's curve (the virtual tests, or dem_samples), not the mean curves of dem_curves",
+        ));
+    }
+    if v.scheme != VariantScheme::Halves {
+        return Ok(());
+    }
+    let (n_t, n_c, from) = match &inputs.dem_samples {
+        Some((t, c)) => (t.len(), c.len(), "in its dem_samples file"),
+        None => (l.samples, l.samples, "([law] samples)"),
+    };
+    for (test, n) in [("tension", n_t), ("compression", n_c)] {
+        if n < v.count {
+            return Err(src.error_at(
+                &at_count,
+                format!("scheme \"halves\" deals each test's samples into {} groups, and the {test} test has {n} sample(s) {from}: give at most {n} variants", v.count),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `[law.dem_samples] <name>`: every sample's curve of one test, each checked.

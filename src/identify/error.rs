@@ -42,4 +42,16 @@ pub enum IdentifyError {
     /// Invalid settings.
     #[error("{0}")]
     Settings(String),
+    /// Material variants that need more samples than a test has (identify::variants).
+    #[error("material variants ({scheme}): the {test} test has {samples} sample(s), {needed} needed (one per group)")]
+    TooFewSamples {
+        /// The scheme's job-file name.
+        scheme: &'static str,
+        /// "tension" or "compression".
+        test: &'static str,
+        /// The test's samples.
+        samples: usize,
+        /// Samples needed.
+        needed: usize,
+    },
 }

@@ -13,6 +13,7 @@
 //!   [provenance.calibration]    Table 1: target, mean ± std over n samples, relative error
 //!   [provenance.law_fit]        the fitted measure's errors, eq. 15 and relative RMS beside
 //!   [provenance.peaks]          the law's peaks against the DEM mean curves' and samples'
+//!   [provenance.variant]        a material variant's samples (identify::variants), when it is one
 //! ```
 //! The text depends only on the job and its results: no time stamp, host name or absolute path,
 //! so a rerun from the same seeds writes the same bytes. Reported figures (statistics, errors,
@@ -65,6 +66,25 @@ pub struct PeakFigure {
     pub samples: Option<(f64, f64, usize)>,
 }
 
+/// A material variant: which samples its law was fitted to (identify::variants).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VariantFigure {
+    /// Its number, 1..=count.
+    pub number: usize,
+    /// How many variants the job fits.
+    pub count: usize,
+    /// The scheme's job-file name.
+    pub scheme: &'static str,
+    /// The bootstrap's seed (None under `halves`).
+    pub seed: Option<u64>,
+    /// Tension samples (numbered from 1 in the order of the curves).
+    pub tension: Vec<usize>,
+    /// Compression samples.
+    pub compression: Vec<usize>,
+    /// Samples of each test (tension, compression) the numbers count.
+    pub of: [usize; 2],
+}
+
 /// Where the law comes from.
 #[derive(Clone, Debug)]
 pub struct Provenance {
@@ -105,6 +125,8 @@ pub struct Provenance {
     pub virtual_test_failures: Vec<String>,
     /// Comment lines for the header (the job's `[law] material_notes`).
     pub notes: Option<String>,
+    /// The variant this law is, when it is one.
+    pub variant: Option<VariantFigure>,
 }
 
 /// Magnitudes written without an exponent: [1e-3, 1e6).
@@ -218,10 +240,13 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
     let folder = file.parent().filter(|f| !f.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let job = relative_path(folder, &p.job);
     let job = job.to_string_lossy().replace('\\', "/");
-    let mut s = header(&job, p.notes.as_deref());
+    let mut s = header(&job, p.variant.as_ref(), p.notes.as_deref());
     s.push('\n');
     s.push_str(&law_table(law)?);
     provenance_table(&mut s, &job, p);
+    if let Some(v) = &p.variant {
+        variant_table(&mut s, v);
+    }
     if let Some(d) = &p.dem {
         dem_table(&mut s, d);
     }
@@ -243,8 +268,9 @@ fn software() -> String {
 }
 
 /// The header comment: what wrote the file (the job, at `job` from the file's folder), how to
-/// regenerate it, how to read it, then the job's notes, one comment line each.
-fn header(job: &str, notes: Option<&str>) -> String {
+/// regenerate it, how to read it, what a variant is (when it is one), then the job's notes, one
+/// comment line each.
+fn header(job: &str, variant: Option<&VariantFigure>, notes: Option<&str>) -> String {
     let mut s = String::new();
     let _ = write!(
         s,
@@ -255,6 +281,16 @@ fn header(job: &str, notes: Option<&str>) -> String {
          # law_file = \"<path of this file>\"; [provenance] says where the numbers come from.\n",
         software()
     );
+    if let Some(v) = variant {
+        let _ = write!(
+            s,
+            "#\n\
+             # Material variant {} of {} (scheme \"{}\"): the law fitted like the job's main law (the same\n\
+             # design, optimizer settings and E, nu) to the mean curves of a subset of the DEM samples only,\n\
+             # to carry the samples' scatter into structural analyses; [provenance.variant] names them.\n",
+            v.number, v.count, v.scheme
+        );
+    }
     if let Some(notes) = notes {
         s.push_str("#\n");
         for line in notes.trim_end().lines() {
@@ -296,6 +332,20 @@ fn provenance_table(s: &mut String, job: &str, p: &Provenance) {
         let items: Vec<String> = p.virtual_test_failures.iter().map(|f| quoted(f)).collect();
         let _ = writeln!(s, "virtual_test_failures = [{}]", items.join(", "));
     }
+}
+
+/// `[provenance.variant]`: the variant's number and scheme, and its samples in each test.
+fn variant_table(s: &mut String, v: &VariantFigure) {
+    s.push_str("\n[provenance.variant]                   # the samples, numbered 1..n in the order of the curves\n");
+    let _ = writeln!(s, "variant = {}", v.number);
+    let _ = writeln!(s, "count = {}", v.count);
+    let _ = writeln!(s, "scheme = {}", quoted(v.scheme));
+    if let Some(seed) = v.seed {
+        let _ = writeln!(s, "seed = {seed}                      # SplitMix64 (identify::variants)");
+    }
+    let list = |k: &[usize]| k.iter().map(usize::to_string).collect::<Vec<_>>().join(", ");
+    let _ = writeln!(s, "tension_samples = [{}]       # of {}", list(&v.tension), v.of[0]);
+    let _ = writeln!(s, "compression_samples = [{}]   # of {}", list(&v.compression), v.of[1]);
 }
 
 /// `[provenance.dem]`: the calibrated lattice's parameters, round-trip digits.
@@ -417,6 +467,7 @@ mod tests {
             }],
             virtual_test_failures: vec!["tension: sample 2: stopped".into()],
             notes: Some("line one\n\nline three".into()),
+            variant: None,
         }
     }
 
@@ -466,6 +517,45 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("eps0_t = 3.6666666666666666e-5\n"), "{text}");
+    }
+
+    #[test]
+    fn a_variant_names_its_samples_in_the_header_and_its_table() {
+        let law = DamageParams {
+            e: 2.885e9,
+            nu: 0.19,
+            eps0_t: 6.5e-5,
+            eps0_c: 1.7e-4,
+            gf_t: 18.0,
+            a_c: 0.99,
+            b_c: 3400.0,
+            gf_c: Some(687.0),
+            regularization: Regularization::HillerborgNoElastic,
+        };
+        let variant = |seed| VariantFigure {
+            number: 2,
+            count: 2,
+            scheme: "halves",
+            seed,
+            tension: vec![2, 4],
+            compression: vec![2, 4],
+            of: [4, 4],
+        };
+        let p = Provenance { variant: Some(variant(None)), ..provenance() };
+        let text = material_toml(Path::new("materials/m-variant-2.toml"), &law, &p).unwrap();
+        assert!(text.contains("# Material variant 2 of 2 (scheme \"halves\")"), "{text}");
+        let back: toml::Table = toml::from_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let v = &back["provenance"]["variant"];
+        assert_eq!(v["variant"].as_integer(), Some(2));
+        assert_eq!(v["scheme"].as_str(), Some("halves"));
+        assert_eq!(v["tension_samples"].as_array().unwrap().len(), 2);
+        assert_eq!(v["compression_samples"][1].as_integer(), Some(4));
+        assert!(v.get("seed").is_none());
+        // The notes follow the variant's lines; a bootstrap's seed is recorded.
+        assert!(text.find("Material variant").unwrap() < text.find("# line one").unwrap());
+        let p = Provenance { variant: Some(variant(Some(7))), ..provenance() };
+        let back: toml::Table = toml::from_str(&material_toml(Path::new("m.toml"), &law, &p).unwrap()).unwrap();
+        assert_eq!(back["provenance"]["variant"]["seed"].as_integer(), Some(7));
     }
 
     #[test]

@@ -18,6 +18,7 @@
 //! | `law_fit.rs`       | (b) damage-law identification from the virtual tests                    |
 //! | `polish.rs`        | Nelder–Mead polish of the EGO optimum (cheap objectives)                |
 //! | `material_file.rs` | the material file (`[law]` table) structural jobs read by path          |
+//! | `variants.rs`      | material variants: the samples each variant of the law is fitted to     |
 //! | `error.rs`         | [`IdentifyError`]                                                       |
 //!
 //! Reproducibility: the designs are seeded, the surrogate's optimizers are seeded per
@@ -37,6 +38,7 @@ pub mod material_file;
 pub mod polish;
 pub mod space;
 pub mod stat;
+pub mod variants;
 pub mod virtual_tests;
 
 pub use calibration::{calibrate, Calibration, CalibrationResult, Strategy, Targets};

@@ -1,20 +1,20 @@
 //! The identification's files, written by rank 0: the calibration's (`calibration.json`, `.csv`,
-//! `.png`, `calibration_elastic.csv`), the virtual tests' curves, and the law's (`law.csv`, its
-//! pictures, `material.toml` with its provenance).
-use super::provenance::provenance;
+//! `.png`, `calibration_elastic.csv`), the virtual tests' curves, the law's (`law.csv`, its
+//! pictures, `material.toml` with its provenance) and its variants' material files.
+use super::provenance::{provenance, variant_provenance};
 use super::IdentifySummary;
 use crate::config::IdentifyJob;
 use crate::error::Error;
 use crate::identify::calibration::{CalibrationResult, QUANTITIES};
 use crate::identify::curves::{Curve, MeanKind};
 use crate::identify::elastic_fit::ElasticFit;
-use crate::identify::material_file::{write_material_file, Provenance};
+use crate::identify::material_file::{write_material_file, Provenance, VariantFigure};
 use crate::identify::{CurveError, LawFit, LawResult};
 use crate::material::DamageParams;
 use crate::parallel::Context;
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::OutputDir { path: path.to_path_buf(), source }
@@ -178,7 +178,32 @@ pub(super) fn write_law(
     let f = job.output_dir.join("law.csv");
     std::fs::write(&f, law_history_csv(fit, r)).map_err(io_err(&f))?;
     draw_law(job, fit, r, samples)?;
-    write_material_files(ctx, job, &r.params, &provenance(path, job, fit, r, summary))
+    let provenance = provenance(path, job, fit, r, summary);
+    write_material_files(ctx, job, &r.params, &provenance, "material.toml", job.material_copy.as_deref())
+}
+
+/// Rank 0: a material variant's files, `material-variant-<k>.toml` in the results and its copy
+/// `<stem>-variant-<k>.toml` beside the material file the variants are named after (if any);
+/// returns the path of the copy, else of the results' file.
+pub(super) fn write_variant(
+    ctx: &Context,
+    path: &Path,
+    job: &IdentifyJob,
+    fit: &LawFit,
+    r: &LawResult,
+    summary: &IdentifySummary,
+    variant: VariantFigure,
+) -> Result<String, Error> {
+    let k = variant.number;
+    let copy = job.variants_beside.as_deref().map(|f| variant_path(f, k));
+    let provenance = variant_provenance(path, job, fit, r, summary, variant);
+    write_material_files(ctx, job, &r.params, &provenance, &format!("material-variant-{k}.toml"), copy.as_deref())
+}
+
+/// `<stem>-variant-<k>.toml` beside `file`.
+fn variant_path(file: &Path, k: usize) -> PathBuf {
+    let stem = file.file_stem().map_or_else(|| "material".into(), |s| s.to_string_lossy().into_owned());
+    file.with_file_name(format!("{stem}-variant-{k}.toml"))
 }
 
 /// The identified law in the log: its parameters, the peaks of the DEM and of the law, every
@@ -318,17 +343,19 @@ fn draw_law(
     Ok(())
 }
 
-/// `material.toml` in the results folder, and its copy at `[law] material_file` if given;
-/// returns the path of the copy, else of the results' file.
+/// The material file `name` in the results folder, and its copy at `copy` if given; returns the
+/// path of the copy, else of the results' file.
 fn write_material_files(
     ctx: &Context,
     job: &IdentifyJob,
     law: &DamageParams,
     provenance: &Provenance,
+    name: &str,
+    copy: Option<&Path>,
 ) -> Result<String, Error> {
-    let f = job.output_dir.join("material.toml");
+    let f = job.output_dir.join(name);
     write_material_file(&f, law, provenance).map_err(Error::Analysis)?;
-    if let Some(copy) = &job.material_copy {
+    if let Some(copy) = copy {
         if let Some(parent) = copy.parent() {
             std::fs::create_dir_all(parent).map_err(io_err(parent))?;
         }

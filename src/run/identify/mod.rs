@@ -9,11 +9,15 @@
 //!  virtual tests  tension + compression × samples → dem_tension.csv, dem_compression.csv
 //!  identify law   2⁵ factorial → EGO (q-EI)       → law.csv, law_error.png, law_tension.png,
 //!                                                   law_compression.png, material.toml
+//!  variants       ([law] variants) the same fit on each subset of the samples
+//!                                                 → material-variant-<k>.toml
 //! ```
 //! Rank 0 writes every file (`files.rs`, the material file's provenance in `provenance.rs`);
-//! `summary.json` gathers the numbers and the phase timings.
+//! `summary.json` gathers the numbers and the phase timings. The variants' driver is
+//! `variants.rs`.
 mod files;
 mod provenance;
+mod variants;
 
 use crate::config::{CalibrationConfig, ElasticSource, ExperimentConfig, IdentifyJob, LawIdentConfig};
 use crate::dem::solver::VirtualTest;
@@ -44,6 +48,8 @@ pub struct IdentifySummary {
     pub law: Option<LawResult>,
     /// The material file written.
     pub material_file: Option<String>,
+    /// The material variants fitted (`[law] variants`), in order.
+    pub variants: Vec<variants::VariantSummary>,
     /// Failed DEM samples of the virtual tests.
     pub virtual_test_failures: Vec<String>,
     /// Wall time per phase [s]: calibration, virtual tests, law identification.
@@ -59,6 +65,8 @@ pub struct PhaseSeconds {
     pub virtual_tests: f64,
     /// Damage-law identification.
     pub law: f64,
+    /// The material variants' fits.
+    pub variants: f64,
     /// The whole job.
     pub total: f64,
 }
@@ -73,21 +81,24 @@ pub fn run(ctx: &Context, path: &Path, job: &IdentifyJob) -> Result<IdentifySumm
     let mut phases = Phases::default();
     let (summary, total) = timed(|| run_stages(ctx, path, job, &mut phases));
     let mut summary = summary?;
-    let [calibration, virtual_tests, law] = phases.seconds_of(["calibration", "virtual tests", "law"]);
-    summary.seconds = PhaseSeconds { calibration, virtual_tests, law, total };
+    let [calibration, virtual_tests, law, variants] =
+        phases.seconds_of(["calibration", "virtual tests", "law", "variants"]);
+    summary.seconds = PhaseSeconds { calibration, virtual_tests, law, variants, total };
     ctx.log.info(format!(
-        "identification wall time {:.2} s (calibration {:.2} s, virtual tests {:.2} s, law {:.2} s) on {} rank(s)",
+        "identification wall time {:.2} s (calibration {:.2} s, virtual tests {:.2} s, law {:.2} s, variants {:.2} s) on {} rank(s)",
         summary.seconds.total,
         summary.seconds.calibration,
         summary.seconds.virtual_tests,
         summary.seconds.law,
+        summary.seconds.variants,
         ctx.size
     ));
     Ok(summary)
 }
 
 /// Collective. Stage (a) when `[calibration]` is given, then stage (b) when `[law]` is: the
-/// DEM's curves ("virtual tests"), then the law fitted to them ("law").
+/// DEM's curves ("virtual tests"), the law fitted to them ("law"), then its variants
+/// ("variants") when `[law] variants` is given.
 fn run_stages(ctx: &Context, path: &Path, job: &IdentifyJob, phases: &mut Phases) -> Result<IdentifySummary, Error> {
     let spec = &job.spec;
     let mut summary = IdentifySummary { ranks: ctx.size, ..Default::default() };
@@ -96,8 +107,14 @@ fn run_stages(ctx: &Context, path: &Path, job: &IdentifyJob, phases: &mut Phases
         dem = phases.time("calibration", || calibrate_dem(ctx, job, c, targets, &mut summary))?;
     }
     if let Some(l) = &spec.law {
-        let reference = phases.time("virtual tests", || dem_reference(ctx, job, l, &dem, &mut summary))?;
-        phases.time("law", || identify_law(ctx, path, job, l, reference, &mut summary))?;
+        let DemCurves { reference, samples } =
+            phases.time("virtual tests", || dem_reference(ctx, job, l, &dem, &mut summary))?;
+        let fit = phases.time("law", || identify_law(ctx, path, job, l, reference, samples.as_ref(), &mut summary))?;
+        if let Some(v) = &l.variants {
+            let fitted = phases
+                .time("variants", || variants::fit_variants(ctx, path, job, l, v, &fit, samples.as_ref(), &summary))?;
+            summary.variants = fitted;
+        }
     }
     Ok(summary)
 }
@@ -259,21 +276,23 @@ fn run_virtual_dem(
     Ok(DemCurves { reference, samples: Some((v.tension_samples, v.compression_samples)) })
 }
 
-/// Collective. Stage (b): the law fitted to the DEM's curves (`dem`), its files written
-/// (rank 0) and the material file's path in the summary.
+/// Collective. Stage (b): the law fitted to the DEM's curves (`reference`, rank 0; the samples'
+/// curves for the pictures), its files written (rank 0) and the material file's path in the
+/// summary. Returns the fit's settings (every rank), which the variants reuse.
 fn identify_law(
     ctx: &Context,
     path: &Path,
     job: &IdentifyJob,
     l: &LawIdentConfig,
-    dem: DemCurves,
+    reference: Option<Reference>,
+    samples: Option<&(Vec<Curve>, Vec<Curve>)>,
     summary: &mut IdentifySummary,
-) -> Result<(), Error> {
+) -> Result<LawFit, Error> {
     let spec = &job.spec;
-    let sample_peaks = dem.reference.as_ref().and_then(|r| r.sample_peaks);
+    let sample_peaks = reference.as_ref().and_then(|r| r.sample_peaks);
     let sample_peaks: Option<[Stat; 2]> = broadcast_json(ctx, Some(&sample_peaks)).map_err(analysis_err)?;
     let experiment = spec.experiment.clone().unwrap_or_default();
-    let prepared = dem.reference.map(|r| fit_inputs(ctx, path, l, &experiment, r)).transpose();
+    let prepared = reference.map(|r| fit_inputs(ctx, path, l, &experiment, r)).transpose();
     let prepared = agree(&ctx.comm, prepared, Error::exit_code)?;
     let (tension, compression, e, nu) = broadcast_json(ctx, prepared.as_ref()).map_err(analysis_err)?;
     let b = &l.bounds;
@@ -306,12 +325,12 @@ fn identify_law(
     };
     let result = agree(&ctx.comm, identify(ctx, &fit).map_err(analysis_err), Error::exit_code)?;
     let written = match &result {
-        Some(r) => write_law(ctx, path, job, &fit, r, summary, dem.samples.as_ref()).map(Some),
+        Some(r) => write_law(ctx, path, job, &fit, r, summary, samples).map(Some),
         None => Ok(None),
     };
     summary.material_file = agree(&ctx.comm, written, Error::exit_code)?;
     summary.law = result;
-    Ok(())
+    Ok(fit)
 }
 
 /// Rank 0. What the law is fitted to: the DEM's curves on a uniform grid (mean curves of samples

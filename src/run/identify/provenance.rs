@@ -5,7 +5,7 @@ use crate::config::{ElasticSource, IdentifyJob, LawIdentConfig};
 use crate::dem::solver::VirtualTest;
 use crate::identify::calibration::{CalibrationResult, QUANTITIES};
 use crate::identify::curves::MeanKind;
-use crate::identify::material_file::{MeasureFigure, PeakFigure, Provenance, TargetFigure};
+use crate::identify::material_file::{MeasureFigure, PeakFigure, Provenance, TargetFigure, VariantFigure};
 use crate::identify::{LawFit, LawResult};
 use std::path::Path;
 
@@ -45,7 +45,27 @@ pub(super) fn provenance(
         calibration: summary.calibration.as_ref().map_or(Vec::new(), target_figures),
         virtual_test_failures: summary.virtual_test_failures.clone(),
         notes: law.and_then(|l| l.material_notes.clone()),
+        variant: None,
     }
+}
+
+/// A material variant's provenance: the main law's, with the variant's samples (`variant`) and
+/// where its curves come from saying so.
+pub(super) fn variant_provenance(
+    path: &Path,
+    job: &IdentifyJob,
+    fit: &LawFit,
+    r: &LawResult,
+    summary: &IdentifySummary,
+    variant: VariantFigure,
+) -> Provenance {
+    let mut p = provenance(path, job, fit, r, summary);
+    p.curves = format!(
+        "{}; of them only the samples of [provenance.variant] (material variant {} of {})",
+        p.curves, variant.number, variant.count
+    );
+    p.variant = Some(variant);
+    p
 }
 
 /// The seeds of `n` DEM samples from the job's `[sample] seed`: seed, seed + 1, ...
