@@ -1,4 +1,5 @@
-# Shared steps of the cluster job scripts (church-fine.slurm, church-fine.pbs); sourced, not run.
+# Shared steps of the cluster job scripts (church-fine.slurm, church-fine.pbs; church-sweep-fine.slurm
+# with SETUP_ONLY=1: steps 1-4); sourced, not run.
 #
 # Inputs (environment): NP (MPI ranks), LAUNCH (the MPI launcher command, e.g. "srun" or
 # "mpirun -n $NP"), JOB_ID (the scheduler's job id), MODULES (site module names, may be empty).
@@ -60,6 +61,11 @@ echo "BLAS: ${blas:+$(readlink -f "$blas")}"
 # 4. The fine mesh: meshes/church-fine.msh is committed (36,688 nodes, 220,128 DOF);
 #    regenerate it if it is missing (needs `pip install --user gmsh`).
 [ -f meshes/church-fine.msh ] || python3 scripts/make_church_mesh.py --fine
+
+# A script that runs another job on the same model (church-sweep-fine.*) stops here.
+if [ -n "${SETUP_ONLY:-}" ]; then
+  return 0
+fi
 
 # 5. The job: jobs/church.toml (the main church job: modal updating, gravity, the 22 s
 #    Vallorcine-like record) pointed at the fine mesh and its own results folder. The derived
