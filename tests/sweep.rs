@@ -344,3 +344,43 @@ fn a_record_set_that_failed_its_check_is_an_error_when_compatibility_is_required
     let out = run_ok(0, &["check", dir.join("sweep.toml").to_str().unwrap()]);
     assert!(stdout(&out).contains("6 member(s)"), "{}", stdout(&out));
 }
+
+#[test]
+fn material_variants_give_their_own_curves_and_the_spread_between_them() {
+    // The wall's law in two law files, the second with half the tensile strain threshold (f_t
+    // 0.072 against 0.144 MPa, the same G_f): a variant each. The weaker law passes 10 % of the
+    // wall's area with d_t > 0.5 at a lower PGA than the stronger one, under each record (its
+    // bottom row cracks at 0.5 m/s², the stronger one's at 0.75); the summary gives each
+    // material's median and the dispersion between the two.
+    let dir = scratch("sweep-variants");
+    write_model(&dir, 0.3, "");
+    let law = |eps0_t: f64| {
+        format!("[law]\nE = 2.885e9\nnu = 0.19\neps0_t = {eps0_t:e}\neps0_c = 5.0e-5\ngf_t = 20.0\na_c = 0.9\nb_c = 2000.0\nregularization = \"hillerborg\"\n")
+    };
+    std::fs::write(dir.join("law-strong.toml"), law(5.0e-5)).unwrap();
+    std::fs::write(dir.join("law-weak.toml"), law(2.5e-5)).unwrap();
+    edit(&dir, "wall.toml", "[materials.masonry.law]\nE = 2.885e9\nnu = 0.19\neps0_t = 5.0e-5\neps0_c = 5.0e-5\ngf_t = 20.0\na_c = 0.9\nb_c = 2000.0\nregularization = \"hillerborg\"\n", "law_file = \"law-strong.toml\"\n");
+    write_sweep(&dir, "[0.25, 0.5, 0.75, 1.0]", 1, "materials = [\"law-strong.toml\", \"law-weak.toml\"]");
+    run_ok(2, &[dir.join("sweep.toml").to_str().unwrap()]);
+    let s = json(&dir.join("sweep/summary.json"));
+    assert_eq!(s["completed"].as_u64(), Some(16), "{s}");
+    let l = &s["limits"][0];
+    let v = l["variants"].as_array().unwrap();
+    assert_eq!(v.len(), 2);
+    assert_eq!((v[0]["variant"].as_str(), v[1]["variant"].as_str()), (Some("law-strong"), Some("law-weak")));
+    for r in 0..2 {
+        let strong = v[0]["crossings"][r]["intensity"].as_f64().unwrap_or(f64::INFINITY);
+        let weak = v[1]["crossings"][r]["intensity"].as_f64().unwrap_or(f64::INFINITY);
+        assert!(weak < strong, "record {r}: weak {weak} vs strong {strong}\n{l}");
+        assert!(weak.is_finite(), "{l}");
+    }
+    let (a, b) = (v[0]["median"].as_f64().unwrap(), v[1]["median"].as_f64().unwrap());
+    // β of two medians: |ln a − ln b| / √2 (the sample standard deviation of two values).
+    let want = (a.ln() - b.ln()).abs() / 2f64.sqrt();
+    assert!((l["beta_materials"].as_f64().unwrap() - want).abs() < 1e-12, "{l}");
+    let text = std::fs::read_to_string(dir.join("sweep/summary.txt")).unwrap();
+    assert!(text.contains("from the records beta") && text.contains("from the materials beta"), "{text}");
+    // The member job files carry their variant's law file.
+    let job = std::fs::read_to_string(dir.join("sweep/jobs/law-weak-rec-a-pga0.5000.toml")).unwrap();
+    assert!(job.contains("law-weak.toml"), "{job}");
+}

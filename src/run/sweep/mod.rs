@@ -129,16 +129,18 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     let mut d = Dispatcher::new(&groups, &order);
     while let Some(k) = d.next_task() {
         let m = &members[k];
+        let pos = format!("{}/{}", order.iter().position(|&x| x == k).map_or(0, |p| p + 1), order.len());
         let dir = member::member_dir(out, m);
         let gravity = member::variant_dir(out, job, m.variant);
         let outcome = if member::variant_done(&gravity) {
-            leader.info(format!("{tag} member {} ({} x {:.4}) ...", m.name, job.records[m.record].name, m.factor));
+            leader
+                .info(format!("{tag} member {pos} {} ({} x {:.4}) ...", m.name, job.records[m.record].name, m.factor));
             member::run_member(&gctx, job, m, out, &mesh, &mut Serve(&mut d, &m.name))
         } else {
             Outcome::gravity_failed(job, m, &member::variant_failure(&gravity))
         };
         leader.info(format!(
-            "{tag} member {}: {} at t = {:.3} s in {:.1} s{}",
+            "{tag} member {pos} {}: {} at t = {:.3} s in {:.1} s{}",
             m.name,
             outcome.status.name(),
             outcome.time_reached,

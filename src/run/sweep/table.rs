@@ -238,7 +238,13 @@ pub fn lognormal(xs: &[f64]) -> (Option<f64>, Option<f64>) {
     (Some(mean.exp()), beta)
 }
 
-fn summarize(job: &SweepJob, members: &[Member], outcomes: &[Outcome], groups: &[String], timing: Timing) -> SweepSummary {
+fn summarize(
+    job: &SweepJob,
+    members: &[Member],
+    outcomes: &[Outcome],
+    groups: &[String],
+    timing: Timing,
+) -> SweepSummary {
     let count = |s: Status| outcomes.iter().filter(|o| o.status == s).count();
     let points = |v: usize, r: usize, group: &str| -> Vec<(f64, Option<f64>)> {
         members
