@@ -5,8 +5,8 @@
 #   sweep-church-groups-of-1, sweep-church-group-of-2   members, seconds of the members' phase,
 #       members per hour, seconds of the gravity state (modal updating included: done once)
 #   sweep-church-throughput   members per hour of groups of 1 over one group of 2
-# The sweep: the coarse church, the identified law, the 3 EC8 records at PGA 0.8 and 3.2 m/s^2
-# (6 members), each DURATION s long (default 3). Every line carries the machine (CPU, BLAS) and
+# The sweep: the coarse church, the identified law, the 3 EC8 records at PGA 0.8 and 2.4 m/s^2
+# (6 members), each DURATION s long (default 2.5). Every line carries the machine (CPU, BLAS) and
 # the load average at its start and end. Run through scripts/bench.sh (which builds first).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -15,7 +15,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 root=$(pwd)
 bin=$root/target/release/masonry-hpc
-duration="${DURATION:-3.0}"
+duration="${DURATION:-2.5}"
 loadavg() { cut -d' ' -f1 /proc/loadavg; }
 cpu=$(awk -F': ' '/model name/ {print $2; exit}' /proc/cpuinfo)
 blas_lib=$(ldd "$bin" 2>/dev/null | awk '/libblas|libopenblas|mkl_core|libblis/ {print $3; exit}')
@@ -29,7 +29,7 @@ for g in 1 2; do
   sed -e "s#^job = \"church.toml\"#job = \"$root/jobs/church.toml\"#" \
       -e "s#^group_size = .*#group_size = $g#" \
       -e "s#^record_set = .*#record_set = \"$work/set\"#" \
-      -e "s#^intensities = .*#intensities = [0.8, 3.2]#" \
+      -e "s#^intensities = .*#intensities = [0.8, 2.4]#" \
       -e "s#^duration = .*#duration = $duration#" \
       -e '/^materials = /d' \
       -e "s#^dir = .*#dir = \"$work/out-$g\"#" jobs/church-sweep.toml > "$work/sweep-$g.toml"

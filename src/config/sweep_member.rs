@@ -116,6 +116,8 @@ impl SweepJob {
             }
             g.insert("scale".into(), Value::Float(scale * m.factor));
         }
+        let title = self.base.spec.title.as_deref().unwrap_or("");
+        t.insert("title".into(), Value::String(format!("{title} (sweep member {})", m.name)));
         let mut output = Table::new();
         output.insert("dir".into(), path(dir));
         output.insert("existing".into(), Value::String("backup".into()));

@@ -9,10 +9,13 @@
 //! ```
 //!
 //! Protocol, on the leaders' communicator: a leader wanting work sends READY to leader 0 and
-//! waits for a task index or STOP; leader 0 answers whenever it polls ([`Dispatcher::serve`]):
-//! when its own group asks for a task, and after every step of its own group's task (a hook of
-//! the time stepping), so that a waiting leader waits at most one of leader 0's steps. Every
-//! leader broadcasts its answer in its group. With Threading::Funneled, so no thread of its own:
+//! waits for a task index or STOP. Leader 0 first waits for every other leader's first READY and
+//! hands them the first tasks, then takes one itself (so no group idles while leader 0 computes
+//! a first task that has no hook, e.g. a gravity state); after that it answers whenever it polls
+//! ([`Dispatcher::serve`]): when its own group asks for a task, and after every step of its own
+//! group's time history (a hook of the time stepping), so that a waiting leader waits at most one
+//! of leader 0's steps (or one of its tasks without steps). Every leader broadcasts its answer in
+//! its group. With Threading::Funneled, so no thread of its own:
 //! leader 0 computes and schedules on its main thread.
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Color, SimpleCommunicator};
@@ -65,12 +68,14 @@ pub struct Dispatcher<'g> {
     queue: Vec<usize>,
     /// Remote leaders told to stop (leader 0 only).
     stopped: usize,
+    /// Whether every remote leader has had its first answer (leader 0 only).
+    started: bool,
 }
 
 impl<'g> Dispatcher<'g> {
     /// Tasks handed out in `order`.
     pub fn new(groups: &'g Groups, order: &[usize]) -> Dispatcher<'g> {
-        Dispatcher { groups, queue: order.iter().rev().copied().collect(), stopped: 0 }
+        Dispatcher { groups, queue: order.iter().rev().copied().collect(), stopped: 0, started: false }
     }
 
     fn is_root(&self) -> bool {
@@ -86,6 +91,9 @@ impl<'g> Dispatcher<'g> {
         let mut k = STOP;
         if let Some(l) = &self.groups.leaders {
             if l.rank() == 0 {
+                if !self.started {
+                    self.first_round();
+                }
                 self.serve();
                 k = self.take();
             } else {
@@ -96,6 +104,24 @@ impl<'g> Dispatcher<'g> {
         }
         self.groups.group.process_at_rank(0).broadcast_into(&mut k);
         (k != STOP).then_some(k as usize)
+    }
+
+    /// Leader 0: waits for the first READY of every other leader and answers each (the first
+    /// tasks go to the other groups).
+    fn first_round(&mut self) {
+        let remote = self.groups.count - 1;
+        for _ in 0..remote {
+            let Some(l) = &self.groups.leaders else { return };
+            let (_, status) = l.any_process().receive_vec_with_tag::<u8>(TAG_READY);
+            let k = self.take();
+            if k == STOP {
+                self.stopped += 1;
+            }
+            if let Some(l) = &self.groups.leaders {
+                l.process_at_rank(status.source_rank()).send_with_tag(&k, TAG_TASK);
+            }
+        }
+        self.started = true;
     }
 
     /// Leader 0: answers every request waiting now, without blocking. Elsewhere nothing.
@@ -122,6 +148,9 @@ impl<'g> Dispatcher<'g> {
     pub fn finish(&mut self) {
         if !self.is_root() {
             return;
+        }
+        if !self.started {
+            self.first_round();
         }
         let remote = self.groups.count - 1;
         while self.stopped < remote {

@@ -47,6 +47,8 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Style.
     pub style: SeriesStyle,
+    /// A reference (a mean, a code level, a limit): drawn in black, outside the palette.
+    pub reference: bool,
 }
 
 /// A chart under construction.
@@ -58,6 +60,8 @@ pub struct LineChart {
     series: Vec<Series>,
     bands: Vec<Band>,
     size: (u32, u32),
+    /// The legend in the upper left corner (for data that rise to the right).
+    legend_left: bool,
 }
 
 /// A shaded vertical band `x0 ≤ x ≤ x1` behind the series (e.g. a period range), with a legend entry.
@@ -88,12 +92,26 @@ impl LineChart {
             series: Vec::new(),
             bands: Vec::new(),
             size: (1000, 700),
+            legend_left: false,
         }
     }
 
     /// Adds a series.
     pub fn series(mut self, name: &str, points: Vec<(f64, f64)>, style: SeriesStyle) -> LineChart {
-        self.series.push(Series { name: name.into(), points, style });
+        self.series.push(Series { name: name.into(), points, style, reference: false });
+        self
+    }
+
+    /// Puts the legend in the upper left corner (curves that rise to the right).
+    pub fn legend_upper_left(mut self) -> LineChart {
+        self.legend_left = true;
+        self
+    }
+
+    /// Adds a reference series (a mean, a code level, a limit): black, so that it cannot be taken
+    /// for one of the data series, which keep the palette.
+    pub fn reference(mut self, name: &str, points: Vec<(f64, f64)>, style: SeriesStyle) -> LineChart {
+        self.series.push(Series { name: name.into(), points, style, reference: true });
         self
     }
 
@@ -138,6 +156,9 @@ impl LineChart {
             .iter()
             .enumerate()
             .map(|(i, s)| {
+                if s.reference {
+                    return BLACK;
+                }
                 if i > 0 && !s.name.is_empty() {
                     k += 1;
                 }
@@ -200,7 +221,11 @@ impl LineChart {
                 .label_font((font::FAMILY, 16))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
+                .position(if self.legend_left {
+                    SeriesLabelPosition::UpperLeft
+                } else {
+                    SeriesLabelPosition::UpperRight
+                })
                 .draw()
                 .map_err(|e| render(&e))?;
         }
@@ -222,6 +247,15 @@ mod tests {
             .series("experiment", vec![(0.0, 3.0)], SeriesStyle::Markers)
             .series("law", vec![(0.0, 4.0)], SeriesStyle::Line);
         assert_eq!(c.colours(), vec![PALETTE[0], PALETTE[0], PALETTE[0], PALETTE[1], PALETTE[2]]);
+    }
+
+    #[test]
+    fn references_are_black_and_leave_the_palette_to_the_data() {
+        let c = LineChart::new("t", "x", "y")
+            .series("a", vec![(0.0, 0.0)], SeriesStyle::Line)
+            .reference("mean", vec![(0.0, 1.0)], SeriesStyle::Markers)
+            .series("b", vec![(0.0, 2.0)], SeriesStyle::Line);
+        assert_eq!(c.colours(), vec![PALETTE[0], BLACK, PALETTE[1]]);
     }
 
     #[test]

@@ -57,20 +57,23 @@ pub fn draw(
                 (!ys.is_empty()).then(|| (x, ys.iter().sum::<f64>() / ys.len() as f64))
             })
             .collect();
-        chart = chart.series("mean", mean, SeriesStyle::Markers);
+        chart = chart.reference("mean", mean, SeriesStyle::Markers);
+        // The code level spans the data and the limits, so that the axis keeps their scale.
+        let limits = job.spec.sweep.limit.iter().filter(|l| &l.group == g).map(|l| 100.0 * l.share);
+        let y_top = all.iter().map(|p| p.1).chain(limits).fold(1.0f64, f64::max) * 1.1;
         if let Some(c) = job.spec.sweep.code_level {
-            chart =
-                chart.series(&format!("site code level {im} = {c}"), vec![(c, 0.0), (c, 100.0)], SeriesStyle::Dashed);
+            let name = format!("site code level {im} = {c}");
+            chart = chart.reference(&name, vec![(c, 0.0), (c, y_top)], SeriesStyle::Dashed);
         }
         for l in job.spec.sweep.limit.iter().filter(|l| &l.group == g) {
-            chart = chart.series(
+            chart = chart.reference(
                 &format!("limit {:.0} %", 100.0 * l.share),
                 vec![(0.0, 100.0 * l.share), (top, 100.0 * l.share)],
                 SeriesStyle::Dashed,
             );
         }
         let file = out.join(format!("ida-{g}.png"));
-        chart.save_png(&file).map_err(|e| e.to_string())?;
+        chart.legend_upper_left().save_png(&file).map_err(|e| e.to_string())?;
         n += 1;
     }
     Ok(n)
