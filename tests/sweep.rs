@@ -30,25 +30,7 @@ fn write_pulse(path: &Path, dt: f64, t_end: f64, f: f64, t_on: f64, amp: f64) {
 /// The wall's mesh, two records and the base job (`wall.toml`, a time history of `duration` s at
 /// 0.01 s, checkpoints every 10 steps; `extra` goes into `[dynamics]`).
 fn write_model(dir: &Path, duration: f64, extra: &str) {
-    let (nx, nz, w, h) = (2usize, 3usize, 2.0, 3.0);
-    let nodes: Vec<[f64; 3]> = (0..=nz)
-        .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, 0.0, h * j as f64 / nz as f64]))
-        .collect();
-    let quads: Vec<[usize; 4]> = (0..nz)
-        .flat_map(|j| {
-            (0..nx).map(move |i| {
-                let a = j * (nx + 1) + i;
-                [a, a + 1, a + nx + 2, a + nx + 1]
-            })
-        })
-        .collect();
-    write_quad_mesh(
-        &dir.join("m.msh"),
-        &nodes,
-        &quads,
-        "wall",
-        &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])],
-    );
+    write_wall_mesh(dir);
     write_pulse(&dir.join("rec-a.txt"), 0.01, 2.0, 5.0, 0.4, 1.0);
     write_pulse(&dir.join("rec-b.txt"), 0.005, 2.0, 7.0, 0.5, 2.0);
     let job = format!(

@@ -284,25 +284,7 @@ fn damage_shell_job(group: &str, support: &str, thickness: f64, layers: usize, e
 /// 8 kN·m/m, against a cracking moment f_t t²/6 = 0.144 MPa · 0.015 m² ≈ 2.2 kN·m/m (less the
 /// gravity compression, 59 kPa · t²/6 ≈ 0.9 kN·m/m): the base layers crack, the run is nonlinear.
 fn write_wall(dir: &Path, dt: f64, duration: f64, extra: &str) {
-    let (nx, nz, w, h) = (2usize, 3usize, 2.0, 3.0);
-    let nodes: Vec<[f64; 3]> = (0..=nz)
-        .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, 0.0, h * j as f64 / nz as f64]))
-        .collect();
-    let quads: Vec<[usize; 4]> = (0..nz)
-        .flat_map(|j| {
-            (0..nx).map(move |i| {
-                let a = j * (nx + 1) + i;
-                [a, a + 1, a + nx + 2, a + nx + 1]
-            })
-        })
-        .collect();
-    write_quad_mesh(
-        &dir.join("m.msh"),
-        &nodes,
-        &quads,
-        "wall",
-        &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])],
-    );
+    write_wall_mesh(dir);
     write_record(&dir.join("rec.txt"), dt, duration, 5.0, 0.4, 1.0);
     let job = damage_shell_job("wall", "base", 0.3, 3, 5.0e-5)
         + &format!(

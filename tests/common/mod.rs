@@ -331,3 +331,28 @@ pub fn summary(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
         .expect("summary.json")
 }
+
+/// The mesh `m.msh` of a wall of 2 × 3 quads in the x–z plane (2 m wide, 3 m high), with the
+/// point groups `base` (its bottom nodes) and `top` (the middle node of its top edge); the
+/// surface group is `wall`. The damage-shell wall of `time_history.rs` and `sweep.rs`.
+pub fn write_wall_mesh(dir: &Path) {
+    let (nx, nz, w, h) = (2usize, 3usize, 2.0, 3.0);
+    let nodes: Vec<[f64; 3]> = (0..=nz)
+        .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, 0.0, h * j as f64 / nz as f64]))
+        .collect();
+    let quads: Vec<[usize; 4]> = (0..nz)
+        .flat_map(|j| {
+            (0..nx).map(move |i| {
+                let a = j * (nx + 1) + i;
+                [a, a + 1, a + nx + 2, a + nx + 1]
+            })
+        })
+        .collect();
+    write_quad_mesh(
+        &dir.join("m.msh"),
+        &nodes,
+        &quads,
+        "wall",
+        &[("base", (0..=nx).collect()), ("top", vec![nz * (nx + 1) + nx / 2])],
+    );
+}

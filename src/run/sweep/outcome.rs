@@ -84,22 +84,9 @@ impl Outcome {
         dir: &Path,
         seconds: f64,
     ) -> Outcome {
-        let mut o = Outcome {
-            member: m.name.clone(),
-            variant: job.variants[m.variant].name.clone(),
-            record: job.records[m.record].name.clone(),
-            intensity: m.level,
-            factor: m.factor,
-            status: Status::Completed,
-            diagnosis: None,
-            time_reached: 0.0,
-            peak_drift_ratio: None,
-            peak_displacement: None,
-            monitors: monitor_peaks(&dir.join("monitors.csv")),
-            damage: Vec::new(),
-            iterations: 0,
-            seconds,
-        };
+        let mut o = Outcome::of(job, m, Status::Completed);
+        o.monitors = monitor_peaks(&dir.join("monitors.csv"));
+        o.seconds = seconds;
         match run {
             Ok(s) => {
                 o.time_reached = s.time;
@@ -119,14 +106,19 @@ impl Outcome {
 
     /// A member of a material whose gravity failed.
     pub fn gravity_failed(job: &SweepJob, m: &Member, diagnosis: &str) -> Outcome {
+        Outcome { diagnosis: Some(diagnosis.to_string()), ..Outcome::of(job, m, Status::GravityFailed) }
+    }
+
+    /// Member `m` with `status`, before anything of its run is known.
+    fn of(job: &SweepJob, m: &Member, status: Status) -> Outcome {
         Outcome {
             member: m.name.clone(),
             variant: job.variants[m.variant].name.clone(),
             record: job.records[m.record].name.clone(),
             intensity: m.level,
             factor: m.factor,
-            status: Status::GravityFailed,
-            diagnosis: Some(diagnosis.to_string()),
+            status,
+            diagnosis: None,
             time_reached: 0.0,
             peak_drift_ratio: None,
             peak_displacement: None,
