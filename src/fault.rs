@@ -26,7 +26,8 @@ pub const KILL_VAR: &str = "MASONRY_HPC_INJECT_KILL";
 /// Ends the process at once (exit status 137, as after SIGKILL) if the kill variable names
 /// `point`. Under mpirun the launcher then stops every rank.
 pub fn kill_point(point: &str) {
-    if std::env::var(KILL_VAR).is_ok_and(|v| v == point) {
+    static KILL: std::sync::OnceLock<Option<String>> = std::sync::OnceLock::new();
+    if KILL.get_or_init(|| std::env::var(KILL_VAR).ok()).as_deref() == Some(point) {
         std::process::exit(137);
     }
 }
