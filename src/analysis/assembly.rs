@@ -140,7 +140,46 @@ pub fn assemble_mass(
         }
         m.add_values(&s.free, &s.free, &s.row_major)?;
     }
-    // Point masses: the diagonal of their node's block, free DOFs only (rank that owns the node).
+    add_point_masses(disc, model, m)?;
+    m.assemble()?;
+    Ok(())
+}
+
+/// Collective. Adds the diagonal of the owned elements' mass matrices (and the point masses)
+/// into `m`, preallocated with one entry per row (the diagonal), then assembles it. Returns
+/// whether every off-diagonal entry of this rank's element matrices is exactly zero, i.e.
+/// whether `m` is this rank's share of the whole mass matrix: a lumped mass is diagonal, a
+/// consistent one is not. The caller reduces the answer over the ranks before trusting `m`.
+pub fn assemble_mass_diagonal(
+    disc: &Discretization,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    kind: crate::element::MassKind,
+    m: &mut Matrix,
+) -> Result<bool, Error> {
+    let mut s = Scratch::default();
+    let mut me = nalgebra::DMatrix::zeros(12, 12);
+    let mut diagonal = true;
+    for (i, &c) in disc.local_cells.iter().enumerate() {
+        let cell = &mesh.cells[model.cells[c].cell];
+        disc.element_equations(&cell.nodes, &mut s.free, &mut s.all);
+        disc.elements[i].mass(kind, &mut me);
+        let n = s.free.len();
+        for r in 0..n {
+            diagonal &= (0..n).all(|col| col == r || me[(r, col)] == 0.0);
+            if s.free[r] >= 0 && me[(r, r)] != 0.0 {
+                m.add_values(&s.free[r..r + 1], &s.free[r..r + 1], &[me[(r, r)]])?;
+            }
+        }
+    }
+    add_point_masses(disc, model, m)?;
+    m.assemble()?;
+    Ok(diagonal)
+}
+
+/// Adds the point masses on the diagonal of their node's block, free DOFs only (on the rank
+/// that owns the node). Not collective.
+fn add_point_masses(disc: &Discretization, model: &StructuralModel, m: &mut Matrix) -> Result<(), Error> {
     for &(n, diag) in &model.point_masses {
         if disc.dofs.owner[n] != disc.dofs.rank {
             continue;
@@ -152,7 +191,6 @@ pub fn assemble_mass(
             }
         }
     }
-    m.assemble()?;
     Ok(())
 }
 

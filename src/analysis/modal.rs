@@ -11,12 +11,14 @@ use super::assembly;
 use super::output::{node_triplets, MeshPiece};
 use super::Discretization;
 use crate::config::{Job, ModalConfig};
+use crate::element::MassKind;
 use crate::error::Error;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
 use crate::petsc::{Eps, Matrix, Vector};
+use mpi::traits::CommunicatorCollectives;
 
 /// One mode.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -86,6 +88,36 @@ pub fn lowest_modes(ctx: &Context, k: &Matrix, m: &Matrix, n: usize) -> Result<V
     Ok(out)
 }
 
+/// Collective. The mass matrix `M` of the eigenproblem. A lumped mass is diagonal, and is then
+/// stored as such (one entry per row): the eigensolver's `M`-inner products, about as many as its
+/// shift-and-invert solves, then cost a vector operation instead of a product in the stiffness's
+/// sparsity pattern (51k equations of MITC4 shells: 0.1 ms against 24 ms each). A mass with
+/// off-diagonal terms (consistent, or an element whose lumped mass couples its DOFs) takes the
+/// stiffness's pattern.
+fn mass_matrix(
+    ctx: &Context,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    disc: &Discretization,
+    kind: MassKind,
+    format: crate::config::MatrixFormat,
+) -> Result<Matrix, Error> {
+    if kind == MassKind::Lumped {
+        let n = disc.dofs.n_owned_dofs();
+        let mut m = Matrix::new_aij(&ctx.comm, n, &vec![1; n], &vec![0; n])?;
+        m.set_option_symmetric(true)?;
+        let local = assembly::assemble_mass_diagonal(disc, mesh, model, kind, &mut m)?;
+        let mut all = local;
+        ctx.comm.all_reduce_into(&local, &mut all, mpi::collective::SystemOperation::logical_and());
+        if all {
+            return Ok(m);
+        }
+    }
+    let mut m = disc.new_matrix(ctx, mesh, model, format)?;
+    assembly::assemble_mass(disc, mesh, model, kind, &mut m)?;
+    Ok(m)
+}
+
 /// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
 pub fn run(
     ctx: &Context,
@@ -129,13 +161,10 @@ pub fn run_on(
     let log = &ctx.log;
     let mut phases = Phases::default();
     let format = job.spec.solver.matrix;
-    let (mut k, mut m) = phases.time("setup", || -> Result<_, Error> {
-        Ok((disc.new_matrix(ctx, mesh, model, format)?, disc.new_matrix(ctx, mesh, model, format)?))
-    })?;
-    phases.time("assemble", || -> Result<(), Error> {
+    let mut k = phases.time("setup", || disc.new_matrix(ctx, mesh, model, format))?;
+    let m = phases.time("assemble", || -> Result<Matrix, Error> {
         assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?;
-        assembly::assemble_mass(disc, mesh, model, cfg.mass, &mut m)?;
-        Ok(())
+        mass_matrix(ctx, mesh, model, disc, cfg.mass, format)
     })?;
     let t_assemble = phases.seconds("assemble");
     log.info(format!(
