@@ -7,6 +7,8 @@
 //!   rank, on 2 ranks as one group of 2, and on 3 ranks in groups of 1 (oversubscribed);
 //! * a member that cannot converge is an outcome with its diagnosis while the others finish;
 //! * a sweep killed mid-way and restarted ends with the table of an uninterrupted one;
+//! * `scale_by = "sa_t1"` scales each record by its own 5 %-damped Sa(T₁), checked by an
+//!   integrator of the test's own;
 //! * bad input: an empty record set, an intensity ≤ 0, a group size that does not divide the
 //!   ranks, a record set that failed its check: one message naming file, key and line.
 mod common;
@@ -63,6 +65,44 @@ fn write_sweep(dir: &Path, intensities: &str, group: usize, extra: &str) {
          [output]\ndir = \"sweep\"\nexisting = \"overwrite\"\n"
     );
     std::fs::write(dir.join("sweep.toml"), job).unwrap();
+}
+
+/// The samples `(dt, a)` of a two-column record file (uniform steps).
+fn samples(path: &Path) -> (f64, Vec<f64>) {
+    let rows: Vec<(f64, f64)> = std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| {
+            let mut w = l.split_whitespace().map(|x| x.parse::<f64>().ok());
+            Some((w.next()??, w.next()??))
+        })
+        .collect();
+    (rows[1].0 - rows[0].0, rows.iter().map(|r| r.1).collect())
+}
+
+/// The 5 %-damped pseudo-spectral acceleration ω² max|u| of `ü + 2ζωu̇ + ω²u = −a_g(t)`, a_g
+/// linear between samples, by classical Runge–Kutta with 200 substeps per sample from rest (an
+/// integrator of its own, independent of the program's: its error is below 1e-8 here).
+fn pseudo_sa(dt: f64, a: &[f64], period: f64) -> f64 {
+    let (w, z) = (2.0 * PI / period, 0.05);
+    let n_sub = 200;
+    let h = dt / n_sub as f64;
+    let f = |ag: f64, u: f64, v: f64| (v, -ag - 2.0 * z * w * v - w * w * u);
+    let (mut u, mut v, mut peak) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..a.len() - 1 {
+        for j in 0..n_sub {
+            let ag = |s: f64| a[k] + (a[k + 1] - a[k]) * (j as f64 + s) / n_sub as f64;
+            let (k1u, k1v) = f(ag(0.0), u, v);
+            let (k2u, k2v) = f(ag(0.5), u + 0.5 * h * k1u, v + 0.5 * h * k1v);
+            let (k3u, k3v) = f(ag(0.5), u + 0.5 * h * k2u, v + 0.5 * h * k2v);
+            let (k4u, k4v) = f(ag(1.0), u + h * k3u, v + h * k3v);
+            u += h / 6.0 * (k1u + 2.0 * k2u + 2.0 * k3u + k4u);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+            peak = peak.max(u.abs());
+        }
+    }
+    w * w * peak
 }
 
 /// The largest |a| of a two-column record file.
@@ -325,6 +365,39 @@ fn a_record_set_that_failed_its_check_is_an_error_when_compatibility_is_required
     edit(&dir, "sweep.toml", "record_set = \"set\"", "record_set = \"set\"\nrequire_compatible = false");
     let out = run_ok(0, &["check", dir.join("sweep.toml").to_str().unwrap()]);
     assert!(stdout(&out).contains("6 member(s)"), "{}", stdout(&out));
+}
+
+#[test]
+fn a_sweep_by_sa_t1_scales_each_record_to_its_spectral_acceleration() {
+    // scale_by = "sa_t1": each member's factor is the intensity over the record's 5 %-damped
+    // pseudo-acceleration at T₁ = 0.2 s, computed here by an integrator of the test's own. The
+    // program's spectrum (Newmark, 40 substeps per period, the peak at the substeps) differs from
+    // it by its discretization error: period elongation (ωh)²/12 = 0.2 % and the peak's sampling,
+    // at most 1 − cos(π/40) = 0.3 %: tolerance 1 %. Scaling by PGA would give other factors:
+    // Sa(0.2 s) is 2.98 and 3.28 m/s² for PGAs of about 1 and 2 m/s².
+    let dir = scratch("sweep-sa");
+    write_model(&dir, 0.1, "");
+    write_sweep(&dir, "[0.5, 1.0]", 1, "period = 0.2");
+    edit(&dir, "sweep.toml", "scale_by = \"pga\"", "scale_by = \"sa_t1\"");
+    let out = run_ok(2, &[dir.join("sweep.toml").to_str().unwrap()]);
+    assert!(stdout(&out).contains("4 member(s)"), "{}", stdout(&out));
+    let csv = csv_columns(&dir.join("sweep/sweep.csv"));
+    let col = |name: &str| csv.iter().find(|c| c.0 == name).unwrap().1.clone();
+    let (factor, intensity) = (col("factor"), col("intensity"));
+    for (k, rec) in ["rec-a", "rec-a", "rec-b", "rec-b"].iter().enumerate() {
+        let (dt, a) = samples(&dir.join(format!("{rec}.txt")));
+        let s = pseudo_sa(dt, &a, 0.2);
+        let want = intensity[k] / s;
+        assert!((factor[k] - want).abs() < 1e-2 * want, "{rec}: factor {} against {want} (Sa {s})", factor[k]);
+        let by_pga = intensity[k] / pga(&dir.join(format!("{rec}.txt")));
+        assert!((factor[k] - by_pga).abs() > 0.1 * by_pga, "{rec}: Sa and PGA give the same factor");
+    }
+    // The members are named and labelled by the measure.
+    assert!(dir.join("sweep/members/base-rec-a-sa0.5000/outcome.json").is_file());
+    let text = std::fs::read_to_string(dir.join("sweep/summary.txt")).unwrap();
+    assert!(text.contains("Sa(T1)"), "{text}");
+    let rows = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+    assert!(rows.lines().skip(1).all(|l| l.split(',').nth(3) == Some("Sa(T1)")), "{rows}");
 }
 
 #[test]
