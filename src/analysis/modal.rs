@@ -62,13 +62,31 @@ pub struct ModalSummary {
 
 /// Collective. The `n` lowest eigenpairs `(λ = ω², φ)` of `K φ = λ M φ`, ascending, with
 /// `φᵀ M φ = 1`. SLEPc options (`-eps_*`, `-st_*`) from the command line apply.
-pub fn lowest_modes(ctx: &Context, k: &Matrix, m: &Matrix, n: usize) -> Result<Vec<(f64, Vector)>, Error> {
+///
+/// `start`, when given, is the Krylov method's starting vector, zero on every DOF where `M`
+/// has a zero row and column. Then no eigenvector needs purifying: the operator
+/// `(K − σM)⁻¹ M` keeps such a vector zero on those DOFs when they are the fixed ones
+/// (their rows of `K` are decoupled), and `M` is nonsingular on the others, so no Krylov vector
+/// has a component along an infinite eigenvalue. That saves one solve per mode (22 solves
+/// instead of 28 for 6 modes of a 51k-equation shell model). Without `start`, SLEPc's random
+/// starting vector and its purification are used.
+pub fn lowest_modes(
+    ctx: &Context,
+    k: &Matrix,
+    m: &Matrix,
+    n: usize,
+    start: Option<&Vector>,
+) -> Result<Vec<(f64, Vector)>, Error> {
     let mut eps = Eps::new(&ctx.comm, "")?;
     eps.set_operators(k, Some(m))?;
     eps.set_shift_invert(0.0)?;
     eps.set_st_factor("cholesky", "mumps")?;
     eps.set_dimensions(n)?;
     eps.set_tolerances(1e-10, 1000)?;
+    if let Some(v) = start {
+        eps.set_initial_vector(v)?;
+        eps.set_purify(false)?;
+    }
     eps.set_from_options()?;
     let pairs = agree(&ctx.comm, eps.solve().map_err(Error::from), Error::exit_code)?;
     let mut out = Vec::with_capacity(n);
@@ -101,21 +119,55 @@ fn mass_matrix(
     disc: &Discretization,
     kind: MassKind,
     format: crate::config::MatrixFormat,
-) -> Result<Matrix, Error> {
+) -> Result<(Matrix, Option<Vector>), Error> {
     if kind == MassKind::Lumped {
         let n = disc.dofs.n_owned_dofs();
         let mut m = Matrix::new_aij(&ctx.comm, n, &vec![1; n], &vec![0; n])?;
         m.set_option_symmetric(true)?;
         let local = assembly::assemble_mass_diagonal(disc, mesh, model, kind, &mut m)?;
-        let mut all = local;
-        ctx.comm.all_reduce_into(&local, &mut all, mpi::collective::SystemOperation::logical_and());
-        if all {
-            return Ok(m);
+        if all_ranks(ctx, local) {
+            let start = start_vector(ctx, disc, &m)?;
+            return Ok((m, start));
         }
     }
     let mut m = disc.new_matrix(ctx, mesh, model, format)?;
     assembly::assemble_mass(disc, mesh, model, kind, &mut m)?;
-    Ok(m)
+    Ok((m, None))
+}
+
+/// Collective. Whether `local` holds on every rank.
+fn all_ranks(ctx: &Context, local: bool) -> bool {
+    let mut all = local;
+    ctx.comm.all_reduce_into(&local, &mut all, mpi::collective::SystemOperation::logical_and());
+    all
+}
+
+/// Collective. The eigensolver's starting vector for a diagonal `M` (see [`lowest_modes`]):
+/// zero on the fixed DOFs, `1 + frac(0.618… i)` on the free DOF of global number `i` (distinct
+/// entries, the same on every rank count). None when a free DOF has no mass: `M` is singular
+/// there, and SLEPc's purification is kept.
+fn start_vector(ctx: &Context, disc: &Discretization, m: &Matrix) -> Result<Option<Vector>, Error> {
+    let diagonal = m.get_diagonal()?.owned_values()?;
+    let first = 6 * disc.dofs.node_offset();
+    let mut values = vec![0.0; diagonal.len()];
+    let mut massless = false;
+    for (k, &n) in disc.dofs.owned.iter().enumerate() {
+        for d in 0..6 {
+            let i = 6 * k + d;
+            if !disc.dofs.is_fixed(n, d) {
+                massless |= diagonal[i] <= 0.0;
+                values[i] = 1.0 + ((first + i) as f64 * 0.618_033_988_749_895).fract();
+            }
+        }
+    }
+    if !all_ranks(ctx, !massless) {
+        return Ok(None);
+    }
+    let idx: Vec<i32> = (0..values.len()).map(|i| (first + i) as i32).collect();
+    let mut v = Vector::new_mpi(&ctx.comm, values.len(), None)?;
+    v.set_values(&idx, &values)?;
+    v.assemble()?;
+    Ok(Some(v))
 }
 
 /// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
@@ -162,7 +214,7 @@ pub fn run_on(
     let mut phases = Phases::default();
     let format = job.spec.solver.matrix;
     let mut k = phases.time("setup", || disc.new_matrix(ctx, mesh, model, format))?;
-    let m = phases.time("assemble", || -> Result<Matrix, Error> {
+    let (m, start) = phases.time("assemble", || -> Result<(Matrix, Option<Vector>), Error> {
         assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?;
         mass_matrix(ctx, mesh, model, disc, cfg.mass, format)
     })?;
@@ -174,7 +226,7 @@ pub fn run_on(
         cfg.modes
     ));
 
-    let pairs = phases.time("eigensolve", || lowest_modes(ctx, &k, &m, cfg.modes))?;
+    let pairs = phases.time("eigensolve", || lowest_modes(ctx, &k, &m, cfg.modes, start.as_ref()))?;
     let t_solve = phases.seconds("eigensolve");
     let Participation { modes, shapes, total_mass } = participation(ctx, disc, &m, pairs)?;
     log.info(format!(

@@ -94,6 +94,20 @@ impl Eps {
         petsc_call!(EPSSetTolerances(self.raw, tol, max_it))
     }
 
+    /// The Krylov method's starting vector (`EPSSetInitialSpace` with one vector; by default
+    /// SLEPc draws a random one). Collective.
+    pub fn set_initial_vector(&mut self, v: &Vector) -> Result<(), PetscError> {
+        let mut raw = [v.as_raw()];
+        petsc_call!(EPSSetInitialSpace(self.raw, 1, raw.as_mut_ptr()))
+    }
+
+    /// Whether the eigenvectors of a generalized problem are purified (`EPSSetPurify`, on by
+    /// default): one more application of the operator to each, which removes their components
+    /// along the null space of `M` (the infinite eigenvalues). Collective.
+    pub fn set_purify(&mut self, purify: bool) -> Result<(), PetscError> {
+        petsc_call!(EPSSetPurify(self.raw, if purify { sys::PETSC_TRUE } else { sys::PETSC_FALSE }))
+    }
+
     /// Reads the options database under the prefix; call it LAST so the command line wins.
     pub fn set_from_options(&mut self) -> Result<(), PetscError> {
         petsc_call!(EPSSetFromOptions(self.raw))
