@@ -69,6 +69,8 @@ pub struct TimeHistorySummary {
     pub iterations: usize,
     /// Steps that needed substeps.
     pub substepped_steps: usize,
+    /// Newton iterations of the attempts that failed and were halved (not in `iterations`).
+    pub failed_iterations: usize,
     /// Jacobian factorizations (operator changes).
     pub factorizations: usize,
     /// Krylov–Newton: steps that started on the tangent kept from an earlier step, and steps
@@ -357,6 +359,7 @@ pub fn integrate(
         phases.time("stepping", || -> Result<(), Error> {
             let report = step(ctx, sys, it, &mut stepper, &mut state, &out)?;
             summary.iterations += report.iterations;
+            summary.failed_iterations += report.failed_iterations;
             if report.substeps > 1 {
                 summary.substepped_steps += 1;
             }

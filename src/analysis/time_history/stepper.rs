@@ -60,6 +60,8 @@ pub struct StepReport {
     /// Relative residual at convergence (largest over substeps); for a linear step, the one of
     /// its last check.
     pub residual: f64,
+    /// Newton iterations of the attempts that failed and were halved (not in `iterations`).
+    pub failed_iterations: usize,
 }
 
 /// Why a step failed.
@@ -209,7 +211,7 @@ fn prepare_jacobian<S: DynamicSystem>(
 
 enum Attempt {
     Converged { iterations: usize, residual: f64 },
-    Failed { residual: f64, reason: String },
+    Failed { iterations: usize, residual: f64, reason: String },
 }
 
 impl Stepper {
@@ -253,7 +255,9 @@ impl Stepper {
         if sys.is_linear() && target - state.t <= h * (1.0 + 1e-9) {
             let sc = self.settings.scheme;
             match self.linear.step(sys, ground, state, (target, h), sc, self.settings.tolerance) {
-                Ok(Outcome::Done { residual }) => return Ok(StepReport { iterations: 1, substeps: 1, residual }),
+                Ok(Outcome::Done { residual }) => {
+                    return Ok(StepReport { iterations: 1, substeps: 1, residual, failed_iterations: 0 })
+                }
                 // The Newton path iterates the step to the tolerance, or substeps and reports.
                 Ok(Outcome::Missed) | Err(_) => self.linear.invalidate(),
             }
@@ -274,7 +278,8 @@ impl Stepper {
                         return Ok(report);
                     }
                 }
-                Attempt::Failed { residual, reason } => {
+                Attempt::Failed { iterations, residual, reason } => {
+                    report.failed_iterations += iterations;
                     self.refresh.failed();
                     if h / 2.0 < h_min * (1.0 - 1e-9) {
                         return Err(StepFailure { t: state.t, h, residual, r: self.s.r.clone(), reason });
@@ -298,7 +303,7 @@ impl Stepper {
         let st = self.settings;
         let rhs_norm = match self.s.start_step(sys, ground, state, t1, h, st.scheme) {
             Ok(norm) => norm,
-            Err(e) => return Attempt::Failed { residual: f64::INFINITY, reason: e.to_string() },
+            Err(e) => return Attempt::Failed { iterations: 0, residual: f64::INFINITY, reason: e.to_string() },
         };
         let jacobian = st.scheme.jacobian_coefficients(h);
         let mut residual = f64::INFINITY;
@@ -307,9 +312,10 @@ impl Stepper {
         let (mut fresh, mut within) = (false, 0);
         for it in 0..=st.max_iterations {
             let known = (it == 0).then_some(state.f_int.as_slice());
+            let failed = |residual, reason| Attempt::Failed { iterations: it, residual, reason };
             let (rn, current) = match self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm, known) {
                 Ok(norms) => norms,
-                Err(e) => return Attempt::Failed { residual, reason: e.to_string() },
+                Err(e) => return failed(residual, e.to_string()),
             };
             if it == 0 {
                 scale0 = current;
@@ -318,10 +324,10 @@ impl Stepper {
             let scale = crate::analysis::newton::bounded_reference(current, scale0);
             residual = if scale > 0.0 { rn / scale } else { rn };
             if !residual.is_finite() {
-                return Attempt::Failed { residual, reason: "the residual is not finite".into() };
+                return failed(residual, "the residual is not finite".into());
             }
             if residual > crate::analysis::newton::DIVERGED {
-                return Attempt::Failed { residual, reason: format!("iteration {it}: the iterate diverged") };
+                return failed(residual, format!("iteration {it}: the iterate diverged"));
             }
             if rn == 0.0 || residual <= st.tolerance {
                 if it > 0 {
@@ -335,10 +341,14 @@ impl Stepper {
             match self.correct(sys, state, h, it, jacobian) {
                 Ok(formed) if it == 0 => fresh = formed,
                 Ok(formed) => within += formed as usize,
-                Err(e) => return Attempt::Failed { residual, reason: e.to_string() },
+                Err(e) => return failed(residual, e.to_string()),
             }
         }
-        Attempt::Failed { residual, reason: format!("no convergence in {} iterations", st.max_iterations) }
+        Attempt::Failed {
+            iterations: st.max_iterations,
+            residual,
+            reason: format!("no convergence in {} iterations", st.max_iterations),
+        }
     }
 
     /// The Newton correction of iteration `it`: the Jacobian `K + c_m M + c_c C` of the variant

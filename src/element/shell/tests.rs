@@ -908,3 +908,22 @@ fn cook_membrane_converges_to_the_reference() {
     }
     assert!(prev < reference && prev > 0.985 * reference, "16x16: {prev} vs {reference}");
 }
+
+/// The node-block transformation `Gᵀ k G` equals the product of the whole matrices, for a warped
+/// quad (rigid offsets in G) and a full, unsymmetric `k`, to 1e-13 of its largest entry (both
+/// sum the same products in another order).
+#[test]
+fn node_block_transformation_equals_the_whole_product() {
+    let s = elastic(0.05, 2e9, 0.25, 2000.0);
+    let warped = [[0.0, 0.0, 0.02], [1.1, 0.1, -0.02], [1.0, 0.9, 0.02], [-0.1, 0.8, -0.02]];
+    let e = ShellQuad4::new(warped, &s).unwrap();
+    let g = e.geometry.transformation::<24>();
+    let k = nalgebra::SMatrix::<f64, 24, 24>::from_fn(|i, j| ((i * 31 + j * 17) % 23) as f64 - 11.0 + 0.1 * j as f64);
+    let want = g.tr_mul(&(k * g));
+    let got = e.to_global(&k);
+    let scale = want.amax();
+    assert!(want.iter().any(|x| x.abs() > 0.1 * scale));
+    for (a, b) in got.iter().zip(want.iter()) {
+        assert!((a - b).abs() <= 1e-13 * scale, "{a} vs {b}");
+    }
+}
