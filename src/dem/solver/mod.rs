@@ -8,6 +8,7 @@
 //! | `options.rs`, `records.rs`, `scales.rs` | the options; what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
 //! | `stage.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs) |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force |
+//! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
 //! | `dofs.rs`, `system.rs` | the unknowns (stones, platens as master DOFs) and the assembled model |
@@ -37,6 +38,7 @@ mod equilibrium;
 pub mod error;
 pub mod factor;
 pub mod gmres;
+mod linear;
 mod operator;
 pub mod options;
 pub mod ordering;

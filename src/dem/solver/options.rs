@@ -51,6 +51,9 @@ pub struct SolverOptions {
     /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations;
     /// never with crushing, whose softening contacts make the equilibrium depend on the start).
     pub predict_steps: bool,
+    /// Find equilibria by one solve while no contact is active ([`super::linear`]; default on:
+    /// the same equilibria as Newton's method to round-off, without its confirming residual).
+    pub linear_phase: bool,
 }
 
 impl Default for SolverOptions {
@@ -70,6 +73,7 @@ impl Default for SolverOptions {
             continuation: true,
             trace: false,
             predict_steps: true,
+            linear_phase: true,
         }
     }
 }
