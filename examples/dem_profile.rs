@@ -17,6 +17,8 @@
 //! `DEM_BROKEN_CSV=path` writes the broken beams in order (event, beam, mode, state).
 //! `DEM_CONTACTS=0` runs without contacts between unbonded stones (the lattice alone: the
 //! linear phase of the algorithm throughout, `dem::solver::linear`).
+//! `DEM_UPDOWN=1` keeps the factor current by CHOLMOD's updates and downdates in place
+//! (`dem::solver::cholmod`) instead of Woodbury columns and refactorizations.
 //! `DEM_LINEAR=0` finds every equilibrium by Newton's method, also without contacts (the
 //! former path; default: one solve, `dem::solver::linear`).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
@@ -61,6 +63,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_CONTACTS") {
         opts.contacts = v != "0";
     }
+    if let Ok(v) = std::env::var("DEM_UPDOWN") {
+        opts.updates_in_place = v != "0";
+    }
     if let Ok(v) = std::env::var("DEM_LINEAR") {
         opts.linear_phase = v != "0";
     }
@@ -83,8 +88,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
     }
     let settings = format!(
-        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={}",
-        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase
+        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={}",
+        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place
     );
     let mut solver = Solver::new(model, opts, zero)?;
     // DEM_JACOBIAN_REUSE sets the reuse threshold of contact Jacobians (0: recompute each time).

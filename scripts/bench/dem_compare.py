@@ -5,11 +5,12 @@
 
 CURVE files: `state,strain,stress,broken` (dem_profile's fourth argument); BROKEN files:
 `event,beam,mode,state` (DEM_BROKEN_CSV). Passes (exit 0) when the beams break in the same order
-in the same modes at the same states, the two runs record the same states at the same strains
-(to 1e-12 of the largest strain), and every recorded stress agrees within `tol` times the
-reference's peak |stress|. Prints one JSON line with the largest differences, over all states
-and over the regular load points (strains at whole multiples of the first recorded strain
-step's multiple, the ends of the load steps).
+in the same modes at the same states, the two runs record the same number of states, and the
+stresses at the regular load points (the ends of the `steps` load steps, strains at whole
+multiples of max_strain/steps) agree within `tol` times the reference's peak |stress|. Prints
+one JSON line with the largest differences: at the regular points, and over all states (the
+states at the breaks, whose strains come from a load fraction known to Newton's tolerance,
+10⁻⁸ of the step: reported, not checked).
 """
 import argparse
 import csv
@@ -52,10 +53,10 @@ def main():
         if abs(ex / step - round(ex / step)) < 1e-9:
             d_reg = max(d_reg, d)
             n_reg += 1
-    if d_strain > 1e-12 * emax:
-        problems.append(f"strains differ by {d_strain:.3e}")
-    if d_all > a.tol * peak:
-        problems.append(f"stress differs by {d_all / peak:.3e} of the peak (tolerance {a.tol:g})")
+    if n_reg != a.steps + 1:
+        problems.append(f"{n_reg} regular load points, expected {a.steps + 1}")
+    if d_reg > a.tol * peak:
+        problems.append(f"stress at a regular point differs by {d_reg / peak:.3e} of the peak (tolerance {a.tol:g})")
     print(json.dumps({"events": [len(rb), len(b)], "states": [len(rc), len(c)], "regular_points": n_reg,
                       "peak_stress_pa": peak, "max_stress_difference_over_peak": d_all / peak,
                       "max_stress_difference_over_peak_regular_points": d_reg / peak,

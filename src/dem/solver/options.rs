@@ -54,6 +54,9 @@ pub struct SolverOptions {
     /// Find equilibria by one solve while no contact is active ([`super::linear`]; default on:
     /// the same equilibria as Newton's method to round-off, without its confirming residual).
     pub linear_phase: bool,
+    /// Keep the factorized operator current by CHOLMOD's updates and downdates in place instead
+    /// of a Woodbury correction with refactorizations ([`super::factor`], "Updates in place").
+    pub updates_in_place: bool,
 }
 
 impl Default for SolverOptions {
@@ -74,6 +77,7 @@ impl Default for SolverOptions {
             trace: false,
             predict_steps: true,
             linear_phase: true,
+            updates_in_place: false,
         }
     }
 }

@@ -109,6 +109,38 @@ fn linear_phase_reaches_the_same_equilibria_as_newton() {
     }
 }
 
+#[test]
+fn updates_in_place_reach_the_same_equilibria_as_woodbury() {
+    // 120 random stones compressed far past the first cracks, with and without contacts, the
+    // operator kept by Woodbury columns and refactorizations (default) and by CHOLMOD's updates
+    // and downdates in place (`cholmod.rs`): another factorization, so another round-off, and
+    // Newton's method stops anywhere within its tolerance (1e-8 of the largest force). The same
+    // beams break in the same order at the same states and every recorded platen force agrees
+    // within 1e-6 of the peak force (as for the predictor above: the tolerance carried over the
+    // later steps). In place, the factorization is the first one only (no cost-model or
+    // rank-cap refactorization) and the update columns are counted.
+    let s = random(120, 5);
+    for contacts in [false, true] {
+        let base = SolverOptions { contacts, ..Default::default() };
+        let woodbury = compress(&s, base);
+        let updown = compress(&s, SolverOptions { updates_in_place: true, ..base });
+        assert!(woodbury.broken().len() > 10, "breaks {}", woodbury.broken().len());
+        let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
+        assert_eq!(seq(&updown), seq(&woodbury), "contacts {contacts}");
+        assert_eq!(updown.states().len(), woodbury.states().len());
+        let peak = woodbury.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
+        for (a, b) in updown.states().iter().zip(woodbury.states()) {
+            assert_eq!((a.kind, a.broken), (b.kind, b.broken));
+            let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
+            assert!(d <= 1e-6 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
+        }
+        let r = updown.profile.refactorizations;
+        assert_eq!((r.initial, r.cost_model, r.rank_cap), (1, 0, 0), "{r:?}");
+        assert!(woodbury.profile.refactorizations.cost_model + woodbury.profile.refactorizations.rank_cap > 0);
+        assert!(updown.profile.columns_added >= 3 * updown.broken().len());
+    }
+}
+
 /// Two free stones of a random sample pushed together across their shared facet by `δ`, the
 /// beam between them broken: the contact at `q = [0, −(δ + extra) n]` with the history `old`.
 struct Pair<'a> {
