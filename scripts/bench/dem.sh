@@ -26,7 +26,8 @@
 # faer included, are optimized), DEM_BENCH_SIZES (default "1000 10000 50000:300": a size, or
 # size:N to stop after N beam breaks, reported as "capped_events": N; the full 50k run is
 # projected at well over an hour on one core), DEM_BENCH_TIMEOUT (seconds per case of (b),
-# default 3600), DEM_BENCH_SKIP_BATCH=1 skips (a).
+# default 3600), DEM_BENCH_SKIP_BATCH=1 skips (a). The DEM_* switches of examples/dem_profile.rs
+# pass through to (b) and (r): DEM_UPDOWN=1 keeps the factor current by CHOLMOD's updates in place.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
