@@ -22,7 +22,14 @@
 //! call's status is checked ([`CholmodError`]); `Drop` frees the factor and ends the workspace.
 use std::os::raw::{c_int, c_void};
 
-use super::factor::{FactorError, SparseColumn, UpperTriplets};
+use faer::sparse::Triplet;
+
+/// Why a CHOLMOD call failed (the call and CHOLMOD's status, or the input it refused).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CholmodError(pub String);
+
+/// A sparse column: `(row, value)` pairs.
+type Column = Vec<(usize, f64)>;
 
 /// Bytes reserved for `cholmod_common` (2664 in SuiteSparse 5.12 on x86-64; the rest is a
 /// sentinel that `cholmod_start` must leave untouched).
@@ -127,12 +134,12 @@ pub struct UpdatableCholesky {
 
 impl UpdatableCholesky {
     /// A workspace for `n` unknowns (call [`Self::factorize`] first).
-    pub fn new(n: usize) -> Result<Self, FactorError> {
+    pub fn new(n: usize) -> Result<Self, CholmodError> {
         let mut common = vec![0xA5u8; COMMON_BYTES].into_boxed_slice();
         // SAFETY: `common` has room for a `cholmod_common` (checked just below).
         unsafe { cholmod_start(common.as_mut_ptr()) };
         if common[COMMON_SIZE..].iter().any(|&b| b != 0xA5) {
-            return Err(FactorError(format!(
+            return Err(CholmodError(format!(
                 "cholmod_common larger than the {COMMON_SIZE} bytes this binding expects"
             )));
         }
@@ -160,11 +167,11 @@ impl UpdatableCholesky {
 
     /// An error unless CHOLMOD's status is `CHOLMOD_OK` (0): 1 = not positive definite, other
     /// positive values warnings, negative values errors.
-    fn check(&self, call: &str) -> Result<(), FactorError> {
+    fn check(&self, call: &str) -> Result<(), CholmodError> {
         match self.status() {
             0 => Ok(()),
-            1 => Err(FactorError(format!("{call}: matrix not positive definite (CHOLMOD_NOT_POSDEF)"))),
-            s => Err(FactorError(format!("{call}: CHOLMOD status {s}"))),
+            1 => Err(CholmodError(format!("{call}: matrix not positive definite (CHOLMOD_NOT_POSDEF)"))),
+            s => Err(CholmodError(format!("{call}: CHOLMOD status {s}"))),
         }
     }
 
@@ -175,13 +182,13 @@ impl UpdatableCholesky {
 
     /// Factorizes `A` (its upper triangle as triplets, duplicates summed): CHOLMOD's analysis
     /// (fill-reducing ordering) and numeric `LDLᵀ`.
-    pub fn factorize(&mut self, upper: &UpperTriplets) -> Result<(), FactorError> {
+    pub fn factorize(&mut self, upper: &[Triplet<usize, usize, f64>]) -> Result<(), CholmodError> {
         let n = self.n;
         // Compressed columns of the upper triangle, duplicates summed, rows sorted.
         let mut count = vec![0usize; n + 1];
         for t in upper {
             if t.row > t.col || t.col >= n {
-                return Err(FactorError(format!("triplet ({}, {}) outside the upper triangle of {n}", t.row, t.col)));
+                return Err(CholmodError(format!("triplet ({}, {}) outside the upper triangle of {n}", t.row, t.col)));
             }
             count[t.col + 1] += 1;
         }
@@ -216,7 +223,7 @@ impl UpdatableCholesky {
         unsafe {
             let mut a = cholmod_allocate_sparse(n, n, rows.len().max(1), 1, 1, 1, CHOLMOD_REAL, c);
             if a.is_null() {
-                return Err(FactorError("cholmod_allocate_sparse failed".into()));
+                return Err(CholmodError("cholmod_allocate_sparse failed".into()));
             }
             std::ptr::copy_nonoverlapping(p.as_ptr(), (*a).p as *mut c_int, n + 1);
             std::ptr::copy_nonoverlapping(rows.as_ptr(), (*a).i as *mut c_int, rows.len());
@@ -225,7 +232,7 @@ impl UpdatableCholesky {
             self.factor = cholmod_analyze(a, c);
             if self.factor.is_null() {
                 cholmod_free_sparse(&mut a, c);
-                return Err(FactorError(format!("cholmod_analyze: CHOLMOD status {}", self.status())));
+                return Err(CholmodError(format!("cholmod_analyze: CHOLMOD status {}", self.status())));
             }
             cholmod_factorize(a, self.factor, c);
             cholmod_free_sparse(&mut a, c);
@@ -249,9 +256,9 @@ impl UpdatableCholesky {
     /// [`MIN_PIVOT_RATIO`] of its former value, is an error: the factor is then to be rebuilt
     /// from the matrix (every pivot is read before and after: `2n` reads against the
     /// downdate's work).
-    pub fn update(&mut self, cols: &[SparseColumn], sign: f64) -> Result<(), FactorError> {
+    pub fn update(&mut self, cols: &[Column], sign: f64) -> Result<(), CholmodError> {
         if !self.is_factorized() {
-            return Err(FactorError("update before factorization".into()));
+            return Err(CholmodError("update before factorization".into()));
         }
         for chunk in cols.chunks(MAX_RANK) {
             let before = if sign <= 0.0 { self.pivots() } else { Vec::new() };
@@ -262,7 +269,7 @@ impl UpdatableCholesky {
             unsafe {
                 let mut cm = cholmod_allocate_sparse(self.n, chunk.len(), nnz.max(1), 1, 1, 0, CHOLMOD_REAL, c);
                 if cm.is_null() {
-                    return Err(FactorError("cholmod_allocate_sparse failed".into()));
+                    return Err(CholmodError("cholmod_allocate_sparse failed".into()));
                 }
                 let (cp, ci, cx) = ((*cm).p as *mut c_int, (*cm).i as *mut c_int, (*cm).x as *mut f64);
                 let mut k = 0usize;
@@ -272,7 +279,7 @@ impl UpdatableCholesky {
                     for &(r, v) in u {
                         if r >= self.n {
                             cholmod_free_sparse(&mut cm, c);
-                            return Err(FactorError(format!("update row {r} outside {}", self.n)));
+                            return Err(CholmodError(format!("update row {r} outside {}", self.n)));
                         }
                         col.push((self.inverse[r], v));
                     }
@@ -310,27 +317,27 @@ impl UpdatableCholesky {
     /// does not report a downdate that leaves `A` indefinite), or fell below
     /// [`MIN_PIVOT_RATIO`] of its value `before` (cancellation: it kept fewer than 10 of its
     /// 16 digits).
-    fn check_pivots(&self, before: &[f64]) -> Result<(), FactorError> {
+    fn check_pivots(&self, before: &[f64]) -> Result<(), CholmodError> {
         for (j, (&d, &d0)) in self.pivots().iter().zip(before).enumerate() {
             if !(d.is_finite() && d > 0.0) {
-                return Err(FactorError(format!(
+                return Err(CholmodError(format!(
                     "cholmod_updown: pivot {j} not positive (matrix not positive definite)"
                 )));
             }
             if d < MIN_PIVOT_RATIO * d0 {
-                return Err(FactorError(format!("cholmod_updown: pivot {j} cancelled from {d0:e} to {d:e}")));
+                return Err(CholmodError(format!("cholmod_updown: pivot {j} cancelled from {d0:e} to {d:e}")));
             }
         }
         Ok(())
     }
 
     /// Solves `A x = b` in place.
-    pub fn solve(&mut self, x: &mut [f64]) -> Result<(), FactorError> {
+    pub fn solve(&mut self, x: &mut [f64]) -> Result<(), CholmodError> {
         if !self.is_factorized() {
-            return Err(FactorError("solve before factorization".into()));
+            return Err(CholmodError("solve before factorization".into()));
         }
         if x.len() != self.n {
-            return Err(FactorError(format!("right-hand side of {} entries for {} unknowns", x.len(), self.n)));
+            return Err(CholmodError(format!("right-hand side of {} entries for {} unknowns", x.len(), self.n)));
         }
         let c = self.common.as_mut_ptr();
         // SAFETY: B and X are CHOLMOD's n × 1 dense matrices, read and written within n entries,
@@ -338,13 +345,13 @@ impl UpdatableCholesky {
         unsafe {
             let mut b = cholmod_allocate_dense(self.n, 1, self.n, CHOLMOD_REAL, c);
             if b.is_null() {
-                return Err(FactorError("cholmod_allocate_dense failed".into()));
+                return Err(CholmodError("cholmod_allocate_dense failed".into()));
             }
             std::ptr::copy_nonoverlapping(x.as_ptr(), (*b).x as *mut f64, self.n);
             let mut sol = cholmod_solve(CHOLMOD_A, self.factor, b, c);
             cholmod_free_dense(&mut b, c);
             if sol.is_null() {
-                return Err(FactorError(format!("cholmod_solve: CHOLMOD status {}", self.status())));
+                return Err(CholmodError(format!("cholmod_solve: CHOLMOD status {}", self.status())));
             }
             std::ptr::copy_nonoverlapping((*sol).x as *const f64, x.as_mut_ptr(), self.n);
             cholmod_free_dense(&mut sol, c);
@@ -372,11 +379,10 @@ impl Drop for UpdatableCholesky {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use faer::sparse::Triplet;
     use nalgebra::{DMatrix, DVector};
 
     /// A tridiagonal SPD matrix `tridiag(−1, 4, −1)` of size `n`, upper triplets and dense.
-    fn tridiagonal(n: usize) -> (UpperTriplets, DMatrix<f64>) {
+    fn tridiagonal(n: usize) -> (Vec<Triplet<usize, usize, f64>>, DMatrix<f64>) {
         let mut t = Vec::new();
         let mut a = DMatrix::zeros(n, n);
         for i in 0..n {
@@ -412,7 +418,7 @@ mod tests {
             assert!(err < 1e-12, "relative error {err}");
         };
         check(&mut f, &a);
-        let beam: Vec<SparseColumn> =
+        let beam: Vec<Column> =
             vec![vec![(3, 0.8), (17, -0.8)], vec![(3, 0.5), (4, 0.3)], vec![(16, 0.4), (17, 0.2), (18, -0.1)]];
         f.update(&beam, -1.0).unwrap();
         for u in &beam {
@@ -423,7 +429,7 @@ mod tests {
             }
         }
         check(&mut f, &a);
-        let contact: Vec<SparseColumn> = vec![vec![(5, 1.1), (30, -1.1)]];
+        let contact: Vec<Column> = vec![vec![(5, 1.1), (30, -1.1)]];
         f.update(&contact, 1.0).unwrap();
         let mut a2 = a.clone();
         for &(i, vi) in &contact[0] {

@@ -196,7 +196,7 @@ impl LowRankCholesky {
     /// [`Self::rank`] stays 0 and the cost model never asks for a refactorization.
     pub fn with_updates(n: usize) -> Result<Self, FactorError> {
         let mut s = Self::with_ordering(n, Ordering::Amd);
-        s.updown = Some(UpdatableCholesky::new(n)?);
+        s.updown = Some(UpdatableCholesky::new(n).map_err(|e| FactorError(e.0))?);
         Ok(s)
     }
 
@@ -230,7 +230,7 @@ impl LowRankCholesky {
     pub fn factorize(&mut self, upper: &UpperTriplets) -> Result<(), FactorError> {
         self.factorized = false;
         if let Some(f) = &mut self.updown {
-            f.factorize(upper)?;
+            f.factorize(upper).map_err(|e| FactorError(e.0))?;
             self.factorized = true;
             self.update_failed = false;
             self.n_factorizations += 1;
@@ -448,7 +448,7 @@ impl LowRankCholesky {
             if self.update_failed {
                 return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
             }
-            return f.solve(x);
+            return f.solve(x).map_err(|e| FactorError(e.0));
         }
         self.base_solve(x, 1)?;
         if let Some(lu) = &self.m_lu {
