@@ -15,6 +15,12 @@
 //! `DEM_FORCING=1e-8` fixes the linear tolerance of Newton steps (default: Eisenstat–Walker),
 //! `DEM_FORCING=ew:0.01` sets Eisenstat–Walker's `η_max`.
 //! `DEM_BROKEN_CSV=path` writes the broken beams in order (event, beam, mode, state).
+//! `DEM_CONTACTS=0` runs without contacts between unbonded stones (the lattice alone: the
+//! linear phase of the algorithm throughout, `dem::solver::linear`).
+//! `DEM_UPDOWN=1` keeps the factor current by CHOLMOD's updates and downdates in place
+//! (`dem::solver::cholmod`) instead of Woodbury columns and refactorizations.
+//! `DEM_LINEAR=0` finds every equilibrium by Newton's method, also without contacts (the
+//! former path; default: one solve, `dem::solver::linear`).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
@@ -54,6 +60,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_MAX_EVENTS") {
         opts.max_events = v.parse().map_err(|e| format!("DEM_MAX_EVENTS={v}: {e}"))?;
     }
+    if let Ok(v) = std::env::var("DEM_CONTACTS") {
+        opts.contacts = v != "0";
+    }
+    if let Ok(v) = std::env::var("DEM_UPDOWN") {
+        opts.updates_in_place = v != "0";
+    }
+    if let Ok(v) = std::env::var("DEM_LINEAR") {
+        opts.linear_phase = v != "0";
+    }
     if let Ok(v) = std::env::var("DEM_PREDICT") {
         opts.predict_steps = v != "0";
     }
@@ -72,7 +87,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             None => Forcing::Fixed(num(&v)?),
         };
     }
-    let settings = format!("slip_in_preconditioner={} forcing={:?}", opts.slip_in_preconditioner, opts.forcing);
+    let settings = format!(
+        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={}",
+        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place
+    );
     let mut solver = Solver::new(model, opts, zero)?;
     // DEM_JACOBIAN_REUSE sets the reuse threshold of contact Jacobians (0: recompute each time).
     if let Ok(v) = std::env::var("DEM_JACOBIAN_REUSE") {

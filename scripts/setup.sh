@@ -19,6 +19,8 @@ done
 
 debs=(build-essential pkg-config libclang-dev libopenmpi-dev openmpi-bin
       petsc-dev slepc-dev libhdf5-openmpi-dev libmetis-dev
+      # CHOLMOD (the DEM solver's factor updated in place, src/dem/solver/cholmod.rs)
+      libsuitesparse-dev
       # an optimized BLAS/LAPACK under MUMPS's and SLEPc's dense kernels: petsc-dev brings only the
       # reference libblas3 (with it the fine church's gravity step had not ended after 13 min on 2
       # ranks; with OpenBLAS it takes 224 s); this single-threaded OpenBLAS (one thread per MPI

@@ -151,6 +151,22 @@ fn cyclic_shear_job_writes_loops_and_particle_states() {
     let img = image::open(&png).expect("a PNG").to_rgb8();
     let drawn = img.pixels().filter(|p| p.0.iter().any(|&c| c < 235)).count() as f64;
     assert!(drawn / (img.width() * img.height()) as f64 > 0.05, "the picture is almost blank");
+    // The legible picture (pv_dem.py, the crack SVGs' palette): a white background (the
+    // corner), stones in #ebe3d3 with #4a4a4a outlines, cracks in tension red #d62728 and
+    // shear blue #1f77b4. Each colour is looked for within 12 of each channel (anti-aliasing
+    // and blending shift edges, not the bulk of a 4-pixel line or of a stone).
+    assert_eq!(img.get_pixel(2, 2).0, [255, 255, 255], "background");
+    let near = |want: [u8; 3]| {
+        img.pixels().filter(|p| p.0.iter().zip(want).all(|(&c, w)| (c as i32 - w as i32).abs() <= 12)).count()
+    };
+    assert!(near([0xeb, 0xe3, 0xd3]) as f64 > 0.05 * (img.width() * img.height()) as f64, "stone fill");
+    assert!(near([0x4a, 0x4a, 0x4a]) > 100, "stone outlines");
+    if v["cracks_tension"].as_u64().unwrap() > 0 {
+        assert!(near([0xd6, 0x27, 0x28]) > 20, "tension cracks in red");
+    }
+    if v["cracks_shear"].as_u64().unwrap() > 0 {
+        assert!(near([0x1f, 0x77, 0xb4]) > 20, "shear cracks in blue");
+    }
 }
 
 /// A cyclic protocol with decreasing amplitudes, or no amplitude, is a located error, printed

@@ -9,7 +9,8 @@
 #      beside it one sparse factorization of the same operator alone
 #      (examples/dem_factorization.rs), and the cost of an event in factorizations (target: 10k
 #      under 60 s; the cost per event growing no faster than a factorization);
-#  (c) the scaling: log-log slopes of seconds per event and of the factorization against size.
+#  (c) the scaling: log-log slopes of seconds per event and of the factorization against size;
+#  (r) before (b): the 1k sample against its stored reference run (below).
 # Every line carries the load average and `uptime` (the machine may be shared) and, for (b), the
 # CPU seconds of the run beside its wall seconds (on a loaded machine the CPU time is the cost),
 # and the peak memory twice: the maximum RSS from /usr/bin/time, VmHWM from the run itself.
@@ -25,14 +26,15 @@
 # faer included, are optimized), DEM_BENCH_SIZES (default "1000 10000 50000:300": a size, or
 # size:N to stop after N beam breaks, reported as "capped_events": N; the full 50k run is
 # projected at well over an hour on one core), DEM_BENCH_TIMEOUT (seconds per case of (b),
-# default 3600), DEM_BENCH_SKIP_BATCH=1 skips (a).
+# default 3600), DEM_BENCH_SKIP_BATCH=1 skips (a). The DEM_* switches of examples/dem_profile.rs
+# pass through to (b) and (r): DEM_UPDOWN=1 keeps the factor current by CHOLMOD's updates in place.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
 BIN=${BIN:-target/release/masonry-hpc}
 profile=$(basename "$(dirname "$BIN")")
-FACTOR_BIN="target/$profile/examples/dem_factorization"
-PROFILE_BIN="target/$profile/examples/dem_profile"
+FACTOR_BIN="$(dirname "$BIN")/examples/dem_factorization"
+PROFILE_BIN="$(dirname "$BIN")/examples/dem_profile"
 if [ "$profile" = release ]; then cargo build --release --quiet --example dem_factorization --example dem_profile >&2
 else cargo build --quiet --example dem_factorization --example dem_profile >&2; fi
 SIZES=${DEM_BENCH_SIZES:-"1000 10000 50000:300"}
@@ -67,6 +69,24 @@ print(json.dumps({"case": "dem-paper-wall-tension-batch", "size": 32, "ranks": 2
                   "target_seconds": 10, "meets_target": wall < 10, "load_average": sys.argv[4],
                   "uptime": sys.argv[6].strip(), "binary": sys.argv[5]}))
 PY
+fi
+
+# (r) the regression check: the 1k sample's run (with and without contacts) against the reference
+#     recorded before the linear phase (tests/data/dem-random-1k): the same breaks in the same
+#     order, the stresses at the regular load points within 1e-8 of the peak
+#     (scripts/bench/dem_compare.py). One JSON line
+#     each; DEM_BENCH_SKIP_REFERENCE=1 skips it.
+if [ "${DEM_BENCH_SKIP_REFERENCE:-0}" != 1 ]; then
+  ref=tests/data/dem-random-1k
+  for variant in "" "-no-contacts"; do
+    contacts=1
+    [ -n "$variant" ] && contacts=0
+    DEM_CONTACTS=$contacts DEM_BROKEN_CSV="$work/broken$variant.csv" "$PROFILE_BIN" 1000 2e-3 40 "$work/curve$variant.csv" \
+      > /dev/null 2>&1 || true
+    python3 scripts/bench/dem_compare.py "$ref/curve$variant.csv" "$ref/broken$variant.csv" \
+      "$work/curve$variant.csv" "$work/broken$variant.csv" \
+      | sed "s/^{/{\"case\": \"dem-reference-1k$variant\", /" || true
+  done
 fi
 
 lines="$work/b.jsonl"

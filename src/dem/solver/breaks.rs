@@ -7,8 +7,11 @@
 //!                                  crushing_lambda(z_old → z)      (P_c = −Ē ε/σ_c, with crushing)
 //!   after a break: while some intact beam has max(P, P_c) ≥ 1, break the largest and relax
 //! ```
+use std::time::Instant;
+
 use super::error::DemError;
 use super::options::FloatingPolicy;
+use super::profile;
 use super::records::{BrokenBeam, FailureModeTag, LoadPoint, StateKind};
 use super::solver::Solver;
 use super::system::Model;
@@ -34,7 +37,14 @@ impl<'a> Solver<'a> {
     }
 
     /// The smallest failure fraction along `z_old → z` and its beam.
-    pub(super) fn first_failure(&self, z_old: &[f64]) -> Option<(f64, usize)> {
+    pub(super) fn first_failure(&mut self, z_old: &[f64]) -> Option<(f64, usize)> {
+        let clock = Instant::now();
+        let best = self.scan_first_failure(z_old);
+        profile::add(&mut self.profile.failure_seconds, clock.elapsed());
+        best
+    }
+
+    fn scan_first_failure(&self, z_old: &[f64]) -> Option<(f64, usize)> {
         let mut best: Option<(f64, usize)> = None;
         let intact = &self.state.intact;
         for b in (0..intact.len()).filter(|&b| intact[b]) {
@@ -55,7 +65,14 @@ impl<'a> Solver<'a> {
     }
 
     /// The intact beam with the largest `P ≥ 1` at the current state.
-    pub(super) fn most_critical(&self) -> Option<usize> {
+    pub(super) fn most_critical(&mut self) -> Option<usize> {
+        let clock = Instant::now();
+        let b = self.scan_most_critical();
+        profile::add(&mut self.profile.failure_seconds, clock.elapsed());
+        b
+    }
+
+    fn scan_most_critical(&self) -> Option<usize> {
         let mut best: Option<(f64, usize)> = None;
         let (z, intact) = (&self.state.z, &self.state.intact);
         for b in (0..intact.len()).filter(|&b| intact[b]) {

@@ -14,6 +14,9 @@
 //! **A trial step** ([`Solver::trial_step_imbalance`]): `ΔW − ΔU − ΔD` against the last recorded
 //! state, with the same trapezoid, stored energy and dissipation as a commit would book (the
 //! stage module's "Snaps inside a step").
+use std::time::Instant;
+
+use super::profile;
 use super::records::{FailureModeTag, StateKind, StateRecord};
 use super::solver::Solver;
 
@@ -53,6 +56,7 @@ impl<'a> Solver<'a> {
 
     /// Commits the trial state and records it.
     pub(super) fn commit(&mut self, t: f64, kind: StateKind) {
+        let clock = Instant::now();
         let (platen, pf) = self.platen_state();
         if let Some(prev) = self.state.records.last() {
             self.state.energy.external += step_work(prev, &platen, &pf);
@@ -91,6 +95,7 @@ impl<'a> Solver<'a> {
             stored,
             dissipated: [e.fracture, e.friction, e.relaxation, e.crushing],
         });
+        profile::add(&mut self.profile.commit_seconds, clock.elapsed());
         if let (Some(observer), Some(record)) = (self.observer.as_mut(), self.state.records.last()) {
             observer.recorded(self.state.records.len() - 1, record, &self.state.z);
         }

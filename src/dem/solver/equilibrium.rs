@@ -11,6 +11,8 @@
 //!                           contacts' part only; one direct solve when no contact is active;
 //!                           a sparse LU of the assembled K_T when GMRES misses its tolerance)
 //!     Δz capped: no stone moves more than `max_move` (translation, or rotation × D̄) per iteration
+//!     no contact at z, at z + Δz nor at the committed state, Δz not capped: z + Δz is the
+//!                  equilibrium (the linear phase, [`super::linear`]: no confirming residual)
 //!     line search: z + α Δz, α = 1, ½, ¼ … (6 tries) until the merit ½‖r‖² decreases by
 //!                  the Armijo factor (1 − 10⁻⁴ α); otherwise the trial with the smallest merit
 //! ```
@@ -134,7 +136,7 @@ impl<'a> Solver<'a> {
 
     /// The residual at `z` with the contact law evaluated on the candidate `pairs`
     /// ([`super::contact_candidates`]).
-    fn evaluate_at(
+    pub(super) fn evaluate_at(
         &self,
         z: &[f64],
         f_ext: &[f64],
@@ -175,10 +177,10 @@ impl<'a> Solver<'a> {
     /// contacts of the equilibrium state in the state's `contacts`.
     pub(super) fn equilibrate_with(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
         let f_ext = self.apply_load(load, extra);
+        let (stage, events) = (self.state.stage, self.state.broken.len());
         let z0 = self.state.z.clone();
         let mut ev = self.evaluate(&z0, &f_ext)?;
         let mut forcing = ForcingSequence::new(self.opts.forcing);
-        let (stage, events) = (self.state.stage, self.state.broken.len());
         if let Some(tr) = self.trace.as_mut() {
             tr.begin(stage, t, events, if extra.is_some() { "release" } else { "load" });
         }
@@ -211,6 +213,16 @@ impl<'a> Solver<'a> {
             }
             let mut dz = self.newton_direction(&ev, eta, step.as_mut())?;
             let cap = self.cap_step(&mut dz);
+            if iteration == 0 && cap == 1.0 && ev.contacts.is_empty() && self.linear_step(&dz)? {
+                // The linear phase: the step is the equilibrium ([`super::linear`]); its
+                // residual is not evaluated (NaN in the trace).
+                if let (Some(tr), Some(st)) = (self.trace.as_mut(), step) {
+                    tr.step(st);
+                    tr.end(f64::NAN, true);
+                }
+                self.state.contacts = Vec::new();
+                return Ok(());
+            }
             let alpha;
             (ev, alpha) = self.line_search(&dz, &f_ext, ev)?;
             if let (Some(tr), Some(mut st)) = (self.trace.as_mut(), step) {

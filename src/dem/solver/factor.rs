@@ -40,6 +40,14 @@
 //! rent-or-buy rule: whatever the future sequence of updates, it costs at most twice the best
 //! schedule chosen in hindsight.
 //!
+//! # Updates in place
+//! [`LowRankCholesky::with_updates`] keeps no correction: each term is an update (`+`) or a
+//! downdate (`−`) of CHOLMOD's simplicial `LDLᵀ` in place ([`super::cholmod`]), so a solve
+//! always costs one pair of substitutions and nothing calls for a refactorization but a
+//! downdate that loses a pivot to round-off ([`LowRankCholesky::needs_rebuild`]), a floating
+//! stone or a continuation. A term leaving is a downdate ([`LowRankCholesky::remove`] answers
+//! `false`). Chosen by [`super::SolverOptions::updates_in_place`].
+//!
 //! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is kept and reused
 //! as long as the sparsity structure of `A` does not change (broken beams keep their entries, as
 //! zeros). The ordering is faer's AMD for small systems and METIS nested dissection
@@ -52,6 +60,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::DMatrix;
+
+use super::cholmod::UpdatableCholesky;
 
 /// An SPD matrix's upper triangle as triplets `(row ≤ col)`, duplicates summed.
 pub type UpperTriplets = Vec<Triplet<usize, usize, f64>>;
@@ -141,6 +151,11 @@ pub struct LowRankCholesky {
     pub n_columns: usize,
     /// Woodbury columns dropped by [`Self::remove`].
     pub n_dropped: usize,
+    /// With [`Self::with_updates`]: CHOLMOD's factor, updated and downdated in place instead of
+    /// the Woodbury correction ("Updates in place" in the module docs).
+    updown: Option<UpdatableCholesky>,
+    /// An update in place failed (a pivot lost to round-off): the factor is to be rebuilt.
+    update_failed: bool,
 }
 
 impl LowRankCholesky {
@@ -171,7 +186,29 @@ impl LowRankCholesky {
             n_symbolic: 0,
             n_columns: 0,
             n_dropped: 0,
+            updown: None,
+            update_failed: false,
         }
+    }
+
+    /// An empty solver for `n` unknowns whose terms are updates and downdates of CHOLMOD's
+    /// factor in place ("Updates in place" in the module docs): no correction accumulates,
+    /// [`Self::rank`] stays 0 and the cost model never asks for a refactorization.
+    pub fn with_updates(n: usize) -> Result<Self, FactorError> {
+        let mut s = Self::with_ordering(n, Ordering::Amd);
+        s.updown = Some(UpdatableCholesky::new(n).map_err(|e| FactorError(e.0))?);
+        Ok(s)
+    }
+
+    /// Whether the factor is updated in place ([`Self::with_updates`]).
+    pub fn updates_in_place(&self) -> bool {
+        self.updown.is_some()
+    }
+
+    /// Whether an update in place failed since the last factorization (a downdate that left a
+    /// pivot not positive by round-off): the caller refactorizes before the next solve.
+    pub fn needs_rebuild(&self) -> bool {
+        self.update_failed
     }
 
     /// Number of unknowns.
@@ -192,6 +229,14 @@ impl LowRankCholesky {
     /// same as built from scratch, bit for bit (duplicates summed in the same order).
     pub fn factorize(&mut self, upper: &UpperTriplets) -> Result<(), FactorError> {
         self.factorized = false;
+        if let Some(f) = &mut self.updown {
+            f.factorize(upper).map_err(|e| FactorError(e.0))?;
+            self.factorized = true;
+            self.update_failed = false;
+            self.n_factorizations += 1;
+            self.n_symbolic += 1;
+            return Ok(());
+        }
         let same = self.assembly.as_ref().is_some_and(|(idx, _, _)| {
             idx.len() == upper.len() && idx.iter().zip(upper).all(|(&(r, c), t)| r == t.row && c == t.col)
         });
@@ -293,6 +338,18 @@ impl LowRankCholesky {
     /// [`BATCH`] right-hand sides per pass over `L` (the substitutions are memory-bound, so a
     /// pass with many right-hand sides costs little more than one). Returns the handles in order.
     pub fn add_batch(&mut self, terms: Vec<(Vec<SparseColumn>, f64)>) -> Result<Vec<TermId>, FactorError> {
+        if let Some(f) = &mut self.updown {
+            let mut ids = Vec::with_capacity(terms.len());
+            for (cols, sign) in terms {
+                if !self.update_failed && f.update(&cols, sign).is_err() {
+                    self.update_failed = true;
+                }
+                self.n_columns += cols.len();
+                ids.push(TermId(self.next_id));
+                self.next_id += 1;
+            }
+            return Ok(ids);
+        }
         let n = self.n;
         let k: usize = terms.iter().map(|t| t.0.len()).sum();
         let mut rhs = vec![0.0; n * k];
@@ -339,6 +396,9 @@ impl LowRankCholesky {
     /// and returns `true`; `false` when the term is not in the correction (it was folded into `A`
     /// by a factorization since: the caller subtracts it as a new term).
     pub fn remove(&mut self, id: TermId) -> bool {
+        if self.updown.is_some() {
+            return false; // in the factor already: subtracted as a new term
+        }
         let Some(pos) = self.terms.iter().position(|t| t.id == id) else { return false };
         let t = self.terms.remove(pos);
         self.u.drain(t.start..t.start + t.len);
@@ -384,6 +444,12 @@ impl LowRankCholesky {
 
     /// Solves `(A + UΣUᵀ) x = b` in place.
     pub fn solve(&mut self, x: &mut [f64]) -> Result<(), FactorError> {
+        if let Some(f) = &mut self.updown {
+            if self.update_failed {
+                return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
+            }
+            return f.solve(x).map_err(|e| FactorError(e.0));
+        }
         self.base_solve(x, 1)?;
         if let Some(lu) = &self.m_lu {
             let w = nalgebra::DVector::from_iterator(

@@ -8,10 +8,12 @@
 //! | `options.rs`, `records.rs`, `scales.rs` | the options; what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
 //! | `stage.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs) |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force |
+//! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
 //! | `dofs.rs`, `system.rs` | the unknowns (stones, platens as master DOFs) and the assembled model |
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
+//! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`), a small binding |
 //! | `ordering.rs` | METIS nested dissection from 20k unknowns, AMD below |
 //! | `tangent.rs` | per-contact central-difference Jacobians, reused while a contact moved less than 1 % of its penetration in the same stick/slip regime; GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
 //! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator (every contact keeps `k_t c cᵀ` in it, stick or slip, so stick/slip changes never touch the factorization); Eisenstat–Walker forcing |
@@ -23,6 +25,7 @@
 //! | `virtual_test.rs` | tension, compression, shear and cyclic tests; ends as target, loss of load, collapse or failed |
 //! | `snapshots.rs`, `trace.rs`, `profile.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times |
 mod breaks;
+pub mod cholmod;
 pub mod contact_candidates;
 mod contact_events;
 pub mod contact_set;
@@ -37,6 +40,7 @@ mod equilibrium;
 pub mod error;
 pub mod factor;
 pub mod gmres;
+mod linear;
 mod operator;
 pub mod options;
 pub mod ordering;

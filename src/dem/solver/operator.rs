@@ -73,14 +73,13 @@ pub(super) struct Upkeep<'u, 'a> {
 
 impl Operator {
     /// An operator of `n_eq` equations, to be factorized before its first use.
-    pub fn new(n_eq: usize) -> Operator {
-        Operator {
-            factor: LowRankCholesky::new(n_eq),
-            stale: true,
-            pending: None,
-            terms: BTreeMap::new(),
-            pattern: BTreeMap::new(),
-        }
+    pub fn new(n_eq: usize, updates_in_place: bool) -> Result<Operator, DemError> {
+        let factor = if updates_in_place {
+            LowRankCholesky::with_updates(n_eq).map_err(|e| DemError::Factorization { event: 0, reason: e.0 })?
+        } else {
+            LowRankCholesky::new(n_eq)
+        };
+        Ok(Operator { factor, stale: true, pending: None, terms: BTreeMap::new(), pattern: BTreeMap::new() })
     }
 
     /// Marks the operator for refactorization; `cause` replaces the recorded one when given.
@@ -170,6 +169,9 @@ impl Operator {
         let id =
             self.factor.add_terms(cols, sign).map_err(|e| DemError::Factorization { event: u.event, reason: e.0 })?;
         profile::add(&mut u.profile.columns_seconds, clock.elapsed());
+        if self.factor.needs_rebuild() {
+            self.invalidate(Some(Refactor::Accuracy));
+        }
         Ok(Some(id))
     }
 
@@ -237,6 +239,9 @@ impl Operator {
         }
         if self.factor.wants_refactorization() {
             self.invalidate(Some(Refactor::CostModel));
+        }
+        if self.factor.needs_rebuild() {
+            self.invalidate(Some(Refactor::Accuracy));
         }
         Ok(())
     }

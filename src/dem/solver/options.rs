@@ -51,6 +51,12 @@ pub struct SolverOptions {
     /// ([`super::step_predictor`]; default on: the same equilibria, fewer Newton iterations;
     /// never with crushing, whose softening contacts make the equilibrium depend on the start).
     pub predict_steps: bool,
+    /// Find equilibria by one solve while no contact is active ([`super::linear`]; default on:
+    /// the same equilibria as Newton's method to round-off, without its confirming residual).
+    pub linear_phase: bool,
+    /// Keep the factorized operator current by CHOLMOD's updates and downdates in place instead
+    /// of a Woodbury correction with refactorizations ([`super::factor`], "Updates in place").
+    pub updates_in_place: bool,
 }
 
 impl Default for SolverOptions {
@@ -70,6 +76,8 @@ impl Default for SolverOptions {
             continuation: true,
             trace: false,
             predict_steps: true,
+            linear_phase: true,
+            updates_in_place: false,
         }
     }
 }

@@ -13,6 +13,10 @@ pub struct SolverProfile {
     pub newton_iterations: usize,
     /// Iterations of pseudo-transient continuations (`super::continuation`).
     pub continuation_iterations: usize,
+    /// Equilibria found by one solve without contacts ([`super::linear`]).
+    pub linear_solves: usize,
+    /// Such solves that met a contact at their result and went back to Newton's method.
+    pub linear_fallbacks: usize,
     /// Newton iterations that needed GMRES (some contact active).
     pub gmres_solves: usize,
     /// GMRES products (each one preconditioner solve).
@@ -66,6 +70,11 @@ pub struct SolverProfile {
     pub tangent_seconds: f64,
     /// Seconds in residual evaluations (contacts, forces).
     pub evaluate_seconds: f64,
+    /// Seconds scanning the intact beams' failure indices (the crossing λ along a step, the
+    /// most critical beam after a break).
+    pub failure_seconds: f64,
+    /// Seconds committing and recording states (platen forces, stored energy, the record).
+    pub commit_seconds: f64,
 }
 
 /// How often the stage loop took each of its branches ([`super::stage`]).

@@ -75,7 +75,7 @@ impl<'a> Solver<'a> {
         }
         Ok(Solver {
             scales: Scales::of(&model),
-            operator: Operator::new(map.n_eq()),
+            operator: Operator::new(map.n_eq(), opts.updates_in_place)?,
             opts,
             state,
             candidates: CandidateList::default(),

@@ -72,6 +72,75 @@ fn predicted_load_steps_reach_the_same_equilibria() {
     );
 }
 
+#[test]
+fn linear_phase_reaches_the_same_equilibria_as_newton() {
+    // 120 random stones compressed far past the first cracks, every equilibrium by Newton's
+    // method against the linear phase (`linear.rs`): it takes Newton's first step and skips
+    // only the residual that confirms it, so the recorded states agree to round-off (bit for
+    // bit by construction; asserted: the same beams break in the same order at the same states,
+    // every platen force within 1e-12 of the peak force). Without contacts every Newton
+    // iteration is such a step and the residual evaluations are fewer; with contacts the linear
+    // phase ends where the first contact appears (Newton iterations with contacts follow).
+    let s = random(120, 5);
+    for contacts in [false, true] {
+        let base = SolverOptions { contacts, ..Default::default() };
+        let linear = compress(&s, base);
+        let newton = compress(&s, SolverOptions { linear_phase: false, ..base });
+        assert!(newton.broken().len() > 10, "breaks {}", newton.broken().len());
+        let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
+        assert_eq!(seq(&linear), seq(&newton), "contacts {contacts}");
+        assert_eq!(linear.states().len(), newton.states().len());
+        let peak = newton.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
+        for (a, b) in linear.states().iter().zip(newton.states()) {
+            assert_eq!((a.kind, a.broken), (b.kind, b.broken));
+            assert!((a.t - b.t).abs() <= 1e-12, "t {} vs {}", a.t, b.t);
+            let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
+            assert!(d <= 1e-12 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
+        }
+        assert!(linear.profile.linear_solves > 0 && newton.profile.linear_solves == 0);
+        if contacts {
+            let p = &linear.profile;
+            assert!(p.gmres_solves > 0 && p.linear_solves < p.newton_iterations, "{p:?}");
+        } else {
+            assert_eq!(linear.profile.newton_iterations, linear.profile.linear_solves);
+            assert_eq!(linear.profile.linear_fallbacks, 0);
+            assert!(linear.profile.evaluations < newton.profile.evaluations);
+        }
+    }
+}
+
+#[test]
+fn updates_in_place_reach_the_same_equilibria_as_woodbury() {
+    // 120 random stones compressed far past the first cracks, with and without contacts, the
+    // operator kept by Woodbury columns and refactorizations (default) and by CHOLMOD's updates
+    // and downdates in place (`cholmod.rs`): another factorization, so another round-off, and
+    // Newton's method stops anywhere within its tolerance (1e-8 of the largest force). The same
+    // beams break in the same order at the same states and every recorded platen force agrees
+    // within 1e-6 of the peak force (as for the predictor above: the tolerance carried over the
+    // later steps). In place, the factorization is the first one only (no cost-model or
+    // rank-cap refactorization) and the update columns are counted.
+    let s = random(120, 5);
+    for contacts in [false, true] {
+        let base = SolverOptions { contacts, ..Default::default() };
+        let woodbury = compress(&s, base);
+        let updown = compress(&s, SolverOptions { updates_in_place: true, ..base });
+        assert!(woodbury.broken().len() > 10, "breaks {}", woodbury.broken().len());
+        let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
+        assert_eq!(seq(&updown), seq(&woodbury), "contacts {contacts}");
+        assert_eq!(updown.states().len(), woodbury.states().len());
+        let peak = woodbury.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
+        for (a, b) in updown.states().iter().zip(woodbury.states()) {
+            assert_eq!((a.kind, a.broken), (b.kind, b.broken));
+            let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
+            assert!(d <= 1e-6 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
+        }
+        let r = updown.profile.refactorizations;
+        assert_eq!((r.initial, r.cost_model, r.rank_cap), (1, 0, 0), "{r:?}");
+        assert!(woodbury.profile.refactorizations.cost_model + woodbury.profile.refactorizations.rank_cap > 0);
+        assert!(updown.profile.columns_added >= 3 * updown.broken().len());
+    }
+}
+
 /// Two free stones of a random sample pushed together across their shared facet by `δ`, the
 /// beam between them broken: the contact at `q = [0, −(δ + extra) n]` with the history `old`.
 struct Pair<'a> {

@@ -50,7 +50,8 @@ pub struct Attempt {
     pub what: &'static str,
     /// The Newton iterations.
     pub steps: Vec<NewtonStep>,
-    /// The final relative residual.
+    /// The final relative residual (NaN where the linear phase took Newton's first step as the
+    /// equilibrium without evaluating it, `super::linear`).
     pub final_relative: f64,
     /// Whether it converged.
     pub converged: bool,

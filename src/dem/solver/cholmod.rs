@@ -1,0 +1,468 @@
+//! A sparse Cholesky factor that is updated in place: CHOLMOD's simplicial `LDLᵀ` and its
+//! multiple-rank update/downdate (`cholmod_updown`; SuiteSparse 5, Debian's
+//! `libsuitesparse-dev`). The anchor of lattice fracture codes: Nukala and Šimunović, IJNME 2005.
+//!
+//! ```text
+//!   A = P L D Lᵀ Pᵀ               (simplicial LDLᵀ, fill-reducing P from CHOLMOD's analysis)
+//!   A ± C Cᵀ  →  L̃ D̃ L̃ᵀ           (cholmod_updown: rank(C) ≤ 8 per pass, C's rows permuted by P;
+//!                                   cost ∝ the entries of L on the etree paths of C's rows)
+//! ```
+//!
+//! A broken beam is a downdate of rank ≤ 3 (its term `Σ u uᵀ`, [`super::system::Model::factors`]),
+//! a contact term entering or leaving an update or downdate of rank 1. Unlike the Woodbury
+//! correction of [`super::factor`], nothing accumulates: every solve costs one pair of
+//! triangular substitutions with the current factor. The pattern of `L` grows where an update
+//! brings entries outside it (CHOLMOD extends it).
+//!
+//! **Binding.** The few CHOLMOD 3.0 functions used, declared by hand (`int` indices): the
+//! `cholmod_common` block is opaque (its size checked against a sentinel tail,
+//! [`COMMON_BYTES`]), its three fields used here (`supernodal`, `print`, `status`) at their C offsets; `cholmod_sparse`,
+//! `cholmod_dense` and the head of `cholmod_factor` as `#[repr(C)]` structs (offsets of
+//! SuiteSparse 5.12 on x86-64, checked by the tests through the library's own routines). Every
+//! call's status is checked ([`CholmodError`]); `Drop` frees the factor and ends the workspace.
+use std::os::raw::{c_int, c_void};
+
+use faer::sparse::Triplet;
+
+/// Why a CHOLMOD call failed (the call and CHOLMOD's status, or the input it refused).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CholmodError(pub String);
+
+/// A sparse column: `(row, value)` pairs.
+type Column = Vec<(usize, f64)>;
+
+/// Bytes reserved for `cholmod_common` (2664 in SuiteSparse 5.12 on x86-64; the rest is a
+/// sentinel that `cholmod_start` must leave untouched).
+const COMMON_BYTES: usize = 8192;
+/// `sizeof(cholmod_common)` this binding was written against (SuiteSparse 5.12, x86-64).
+const COMMON_SIZE: usize = 2664;
+/// Offsets in `cholmod_common` (SuiteSparse 5.12, x86-64).
+const OFFSET_SUPERNODAL: usize = 48;
+const OFFSET_STATUS: usize = 1972;
+const OFFSET_PRINT: usize = 144;
+const CHOLMOD_SIMPLICIAL: c_int = 0;
+const CHOLMOD_REAL: c_int = 1;
+const CHOLMOD_A: c_int = 0;
+/// `cholmod_updown` takes at most this many columns per call.
+const MAX_RANK: usize = 8;
+/// The smallest ratio of a pivot after a downdate to its value before: below it the downdate
+/// cancelled more than 6 of the pivot's 16 digits (its relative error is then above about
+/// 10⁻¹⁰) and the factor is rebuilt instead ([`UpdatableCholesky::update`]).
+const MIN_PIVOT_RATIO: f64 = 1e-6;
+
+#[repr(C)]
+struct CholmodSparse {
+    nrow: usize,
+    ncol: usize,
+    nzmax: usize,
+    p: *mut c_void,
+    i: *mut c_void,
+    nz: *mut c_void,
+    x: *mut c_void,
+    z: *mut c_void,
+    stype: c_int,
+    itype: c_int,
+    xtype: c_int,
+    dtype: c_int,
+    sorted: c_int,
+    packed: c_int,
+}
+
+#[repr(C)]
+struct CholmodDense {
+    nrow: usize,
+    ncol: usize,
+    nzmax: usize,
+    d: usize,
+    x: *mut c_void,
+    z: *mut c_void,
+    xtype: c_int,
+    dtype: c_int,
+}
+
+/// The head of `cholmod_factor` (the fields read here).
+#[repr(C)]
+struct CholmodFactorHead {
+    n: usize,
+    minor: usize,
+    perm: *mut c_void,
+    colcount: *mut c_void,
+    iperm: *mut c_void,
+    nzmax: usize,
+    p: *mut c_void,
+    i: *mut c_void,
+    x: *mut c_void,
+}
+
+#[link(name = "cholmod")]
+extern "C" {
+    fn cholmod_start(common: *mut u8) -> c_int;
+    fn cholmod_finish(common: *mut u8) -> c_int;
+    fn cholmod_allocate_sparse(
+        nrow: usize,
+        ncol: usize,
+        nzmax: usize,
+        sorted: c_int,
+        packed: c_int,
+        stype: c_int,
+        xtype: c_int,
+        common: *mut u8,
+    ) -> *mut CholmodSparse;
+    fn cholmod_free_sparse(a: *mut *mut CholmodSparse, common: *mut u8) -> c_int;
+    fn cholmod_allocate_dense(nrow: usize, ncol: usize, d: usize, xtype: c_int, common: *mut u8) -> *mut CholmodDense;
+    fn cholmod_free_dense(x: *mut *mut CholmodDense, common: *mut u8) -> c_int;
+    fn cholmod_analyze(a: *mut CholmodSparse, common: *mut u8) -> *mut CholmodFactorHead;
+    fn cholmod_factorize(a: *mut CholmodSparse, l: *mut CholmodFactorHead, common: *mut u8) -> c_int;
+    fn cholmod_free_factor(l: *mut *mut CholmodFactorHead, common: *mut u8) -> c_int;
+    fn cholmod_solve(sys: c_int, l: *mut CholmodFactorHead, b: *mut CholmodDense, common: *mut u8)
+        -> *mut CholmodDense;
+    fn cholmod_updown(update: c_int, c: *mut CholmodSparse, l: *mut CholmodFactorHead, common: *mut u8) -> c_int;
+}
+
+/// `A` factorized as CHOLMOD's simplicial `LDLᵀ`, updated and downdated in place (module docs).
+pub struct UpdatableCholesky {
+    n: usize,
+    common: Box<[u8]>,
+    factor: *mut CholmodFactorHead,
+    /// `inverse[i]`: the position of unknown `i` in the factor's order (`P`'s inverse).
+    inverse: Vec<usize>,
+    /// Numeric factorizations done.
+    pub n_factorizations: usize,
+    /// Update/downdate passes (at most [`MAX_RANK`] columns each).
+    pub n_updates: usize,
+}
+
+impl UpdatableCholesky {
+    /// A workspace for `n` unknowns (call [`Self::factorize`] first).
+    pub fn new(n: usize) -> Result<Self, CholmodError> {
+        let mut common = vec![0xA5u8; COMMON_BYTES].into_boxed_slice();
+        // SAFETY: `common` has room for a `cholmod_common` (checked just below).
+        unsafe { cholmod_start(common.as_mut_ptr()) };
+        if common[COMMON_SIZE..].iter().any(|&b| b != 0xA5) {
+            return Err(CholmodError(format!(
+                "cholmod_common larger than the {COMMON_SIZE} bytes this binding expects"
+            )));
+        }
+        let mut s = UpdatableCholesky {
+            n,
+            common,
+            factor: std::ptr::null_mut(),
+            inverse: Vec::new(),
+            n_factorizations: 0,
+            n_updates: 0,
+        };
+        s.check("cholmod_start")?;
+        s.set_int(OFFSET_SUPERNODAL, CHOLMOD_SIMPLICIAL);
+        s.set_int(OFFSET_PRINT, 0); // every status is checked and returned here
+        Ok(s)
+    }
+
+    fn set_int(&mut self, offset: usize, v: c_int) {
+        self.common[offset..offset + 4].copy_from_slice(&v.to_ne_bytes());
+    }
+
+    fn status(&self) -> c_int {
+        c_int::from_ne_bytes(self.common[OFFSET_STATUS..OFFSET_STATUS + 4].try_into().unwrap_or([0; 4]))
+    }
+
+    /// An error unless CHOLMOD's status is `CHOLMOD_OK` (0): 1 = not positive definite, other
+    /// positive values warnings, negative values errors.
+    fn check(&self, call: &str) -> Result<(), CholmodError> {
+        match self.status() {
+            0 => Ok(()),
+            1 => Err(CholmodError(format!("{call}: matrix not positive definite (CHOLMOD_NOT_POSDEF)"))),
+            s => Err(CholmodError(format!("{call}: CHOLMOD status {s}"))),
+        }
+    }
+
+    /// Whether a factor is there to solve with.
+    pub fn is_factorized(&self) -> bool {
+        !self.factor.is_null()
+    }
+
+    /// Factorizes `A` (its upper triangle as triplets, duplicates summed): CHOLMOD's analysis
+    /// (fill-reducing ordering) and numeric `LDLᵀ`.
+    pub fn factorize(&mut self, upper: &[Triplet<usize, usize, f64>]) -> Result<(), CholmodError> {
+        let n = self.n;
+        // Compressed columns of the upper triangle, duplicates summed, rows sorted.
+        let mut count = vec![0usize; n + 1];
+        for t in upper {
+            if t.row > t.col || t.col >= n {
+                return Err(CholmodError(format!("triplet ({}, {}) outside the upper triangle of {n}", t.row, t.col)));
+            }
+            count[t.col + 1] += 1;
+        }
+        for j in 0..n {
+            count[j + 1] += count[j];
+        }
+        let mut slot = count.clone();
+        let mut entries = vec![(0usize, 0.0f64); upper.len()];
+        for t in upper {
+            entries[slot[t.col]] = (t.row, t.val);
+            slot[t.col] += 1;
+        }
+        let mut p: Vec<c_int> = Vec::with_capacity(n + 1);
+        let (mut rows, mut vals): (Vec<c_int>, Vec<f64>) = (Vec::new(), Vec::new());
+        for j in 0..n {
+            p.push(rows.len() as c_int);
+            let col = &mut entries[count[j]..count[j + 1]];
+            col.sort_by_key(|e| e.0);
+            for &(r, v) in col.iter() {
+                if rows.len() > p[j] as usize && *rows.last().unwrap_or(&-1) == r as c_int {
+                    *vals.last_mut().unwrap_or(&mut 0.0) += v;
+                } else {
+                    rows.push(r as c_int);
+                    vals.push(v);
+                }
+            }
+        }
+        p.push(rows.len() as c_int);
+        let c = self.common.as_mut_ptr();
+        // SAFETY: the sparse matrix is allocated by CHOLMOD with room for `rows.len()` entries,
+        // filled within it and freed below; the factor pointer is CHOLMOD's own.
+        unsafe {
+            let mut a = cholmod_allocate_sparse(n, n, rows.len().max(1), 1, 1, 1, CHOLMOD_REAL, c);
+            if a.is_null() {
+                return Err(CholmodError("cholmod_allocate_sparse failed".into()));
+            }
+            std::ptr::copy_nonoverlapping(p.as_ptr(), (*a).p as *mut c_int, n + 1);
+            std::ptr::copy_nonoverlapping(rows.as_ptr(), (*a).i as *mut c_int, rows.len());
+            std::ptr::copy_nonoverlapping(vals.as_ptr(), (*a).x as *mut f64, vals.len());
+            self.free_factor();
+            self.factor = cholmod_analyze(a, c);
+            if self.factor.is_null() {
+                cholmod_free_sparse(&mut a, c);
+                return Err(CholmodError(format!("cholmod_analyze: CHOLMOD status {}", self.status())));
+            }
+            cholmod_factorize(a, self.factor, c);
+            cholmod_free_sparse(&mut a, c);
+            if let Err(e) = self.check("cholmod_factorize") {
+                self.free_factor();
+                return Err(e);
+            }
+            let perm = std::slice::from_raw_parts((*self.factor).perm as *const c_int, n);
+            self.inverse = vec![0; n];
+            for (k, &i) in perm.iter().enumerate() {
+                self.inverse[i as usize] = k;
+            }
+        }
+        self.n_factorizations += 1;
+        Ok(())
+    }
+
+    /// `A ← A + sign Σ u uᵀ` over the columns `u` (sparse, in unknown numbering), by
+    /// `cholmod_updown` passes of at most [`MAX_RANK`] columns (an update for `sign > 0`, a
+    /// downdate otherwise). A downdate that leaves a pivot not positive, or cancels it below
+    /// [`MIN_PIVOT_RATIO`] of its former value, is an error: the factor is then to be rebuilt
+    /// from the matrix (every pivot is read before and after: `2n` reads against the
+    /// downdate's work).
+    pub fn update(&mut self, cols: &[Column], sign: f64) -> Result<(), CholmodError> {
+        if !self.is_factorized() {
+            return Err(CholmodError("update before factorization".into()));
+        }
+        for chunk in cols.chunks(MAX_RANK) {
+            let before = if sign <= 0.0 { self.pivots() } else { Vec::new() };
+            let nnz: usize = chunk.iter().map(|u| u.len()).sum();
+            let c = self.common.as_mut_ptr();
+            // SAFETY: C is allocated by CHOLMOD with `nnz` entries and `chunk.len()` columns and
+            // filled within them; rows are in 0..n (checked).
+            unsafe {
+                let mut cm = cholmod_allocate_sparse(self.n, chunk.len(), nnz.max(1), 1, 1, 0, CHOLMOD_REAL, c);
+                if cm.is_null() {
+                    return Err(CholmodError("cholmod_allocate_sparse failed".into()));
+                }
+                let (cp, ci, cx) = ((*cm).p as *mut c_int, (*cm).i as *mut c_int, (*cm).x as *mut f64);
+                let mut k = 0usize;
+                for (j, u) in chunk.iter().enumerate() {
+                    *cp.add(j) = k as c_int;
+                    let mut col: Vec<(usize, f64)> = Vec::with_capacity(u.len());
+                    for &(r, v) in u {
+                        if r >= self.n {
+                            cholmod_free_sparse(&mut cm, c);
+                            return Err(CholmodError(format!("update row {r} outside {}", self.n)));
+                        }
+                        col.push((self.inverse[r], v));
+                    }
+                    col.sort_by_key(|e| e.0);
+                    for (r, v) in col {
+                        *ci.add(k) = r as c_int;
+                        *cx.add(k) = v;
+                        k += 1;
+                    }
+                }
+                *cp.add(chunk.len()) = k as c_int;
+                cholmod_updown(c_int::from(sign > 0.0), cm, self.factor, c);
+                cholmod_free_sparse(&mut cm, c);
+            }
+            self.n_updates += 1;
+            self.check("cholmod_updown")?;
+            if sign <= 0.0 {
+                self.check_pivots(&before)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The pivots `D_jj` of the simplicial `LDLᵀ`.
+    fn pivots(&self) -> Vec<f64> {
+        // SAFETY: a simplicial LDLᵀ factor of order n: column j's first entry, at p[j], is D_jj.
+        unsafe {
+            let f = &*self.factor;
+            let (p, x) = (f.p as *const c_int, f.x as *const f64);
+            (0..self.n).map(|j| *x.add(*p.add(j) as usize)).collect()
+        }
+    }
+
+    /// After a downdate: an error if some pivot is not positive and finite (`cholmod_updown`
+    /// does not report a downdate that leaves `A` indefinite), or fell below
+    /// [`MIN_PIVOT_RATIO`] of its value `before` (cancellation: it kept fewer than 10 of its
+    /// 16 digits).
+    fn check_pivots(&self, before: &[f64]) -> Result<(), CholmodError> {
+        for (j, (&d, &d0)) in self.pivots().iter().zip(before).enumerate() {
+            if !(d.is_finite() && d > 0.0) {
+                return Err(CholmodError(format!(
+                    "cholmod_updown: pivot {j} not positive (matrix not positive definite)"
+                )));
+            }
+            if d < MIN_PIVOT_RATIO * d0 {
+                return Err(CholmodError(format!("cholmod_updown: pivot {j} cancelled from {d0:e} to {d:e}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place.
+    pub fn solve(&mut self, x: &mut [f64]) -> Result<(), CholmodError> {
+        if !self.is_factorized() {
+            return Err(CholmodError("solve before factorization".into()));
+        }
+        if x.len() != self.n {
+            return Err(CholmodError(format!("right-hand side of {} entries for {} unknowns", x.len(), self.n)));
+        }
+        let c = self.common.as_mut_ptr();
+        // SAFETY: B and X are CHOLMOD's n × 1 dense matrices, read and written within n entries,
+        // and freed here.
+        unsafe {
+            let mut b = cholmod_allocate_dense(self.n, 1, self.n, CHOLMOD_REAL, c);
+            if b.is_null() {
+                return Err(CholmodError("cholmod_allocate_dense failed".into()));
+            }
+            std::ptr::copy_nonoverlapping(x.as_ptr(), (*b).x as *mut f64, self.n);
+            let mut sol = cholmod_solve(CHOLMOD_A, self.factor, b, c);
+            cholmod_free_dense(&mut b, c);
+            if sol.is_null() {
+                return Err(CholmodError(format!("cholmod_solve: CHOLMOD status {}", self.status())));
+            }
+            std::ptr::copy_nonoverlapping((*sol).x as *const f64, x.as_mut_ptr(), self.n);
+            cholmod_free_dense(&mut sol, c);
+        }
+        Ok(())
+    }
+
+    fn free_factor(&mut self) {
+        if !self.factor.is_null() {
+            // SAFETY: the factor was made by cholmod_analyze with this workspace.
+            unsafe { cholmod_free_factor(&mut self.factor, self.common.as_mut_ptr()) };
+            self.factor = std::ptr::null_mut();
+        }
+    }
+}
+
+impl Drop for UpdatableCholesky {
+    fn drop(&mut self) {
+        self.free_factor();
+        // SAFETY: the workspace was started in `new`.
+        unsafe { cholmod_finish(self.common.as_mut_ptr()) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{DMatrix, DVector};
+
+    /// A tridiagonal SPD matrix `tridiag(−1, 4, −1)` of size `n`, upper triplets and dense.
+    fn tridiagonal(n: usize) -> (Vec<Triplet<usize, usize, f64>>, DMatrix<f64>) {
+        let mut t = Vec::new();
+        let mut a = DMatrix::zeros(n, n);
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 4.0));
+            a[(i, i)] = 4.0;
+            if i + 1 < n {
+                t.push(Triplet::new(i, i + 1, -1.0));
+                a[(i, i + 1)] = -1.0;
+                a[(i + 1, i)] = -1.0;
+            }
+        }
+        (t, a)
+    }
+
+    #[test]
+    fn solves_and_updates_match_dense_algebra() {
+        // tridiag(−1, 4, −1) of size 40 (SPD: eigenvalues in (2, 6)); b = (1, 2, …). The solve
+        // matches nalgebra's dense Cholesky to 1e-12 relative; then a rank-3 downdate (a "beam"
+        // coupling unknowns 3 and 17, u = (1, −1)·0.8 and two more columns), a rank-1 update
+        // (a "contact" between 5 and 30 with new fill) and the downdate of that update: each
+        // solve matches the dense solve of the modified matrix to 1e-12 relative (the condition
+        // number stays below 10, so round-off is far below that).
+        let n = 40;
+        let (t, mut a) = tridiagonal(n);
+        let mut f = UpdatableCholesky::new(n).unwrap();
+        f.factorize(&t).unwrap();
+        let b = DVector::from_iterator(n, (0..n).map(|i| 1.0 + i as f64));
+        let check = |f: &mut UpdatableCholesky, a: &DMatrix<f64>| {
+            let mut x = b.as_slice().to_vec();
+            f.solve(&mut x).unwrap();
+            let want = a.clone().cholesky().unwrap().solve(&b);
+            let err = (DVector::from_vec(x) - &want).amax() / want.amax();
+            assert!(err < 1e-12, "relative error {err}");
+        };
+        check(&mut f, &a);
+        let beam: Vec<Column> =
+            vec![vec![(3, 0.8), (17, -0.8)], vec![(3, 0.5), (4, 0.3)], vec![(16, 0.4), (17, 0.2), (18, -0.1)]];
+        f.update(&beam, -1.0).unwrap();
+        for u in &beam {
+            for &(i, vi) in u {
+                for &(j, vj) in u {
+                    a[(i, j)] -= vi * vj;
+                }
+            }
+        }
+        check(&mut f, &a);
+        let contact: Vec<Column> = vec![vec![(5, 1.1), (30, -1.1)]];
+        f.update(&contact, 1.0).unwrap();
+        let mut a2 = a.clone();
+        for &(i, vi) in &contact[0] {
+            for &(j, vj) in &contact[0] {
+                a2[(i, j)] += vi * vj;
+            }
+        }
+        check(&mut f, &a2);
+        f.update(&contact, -1.0).unwrap();
+        check(&mut f, &a);
+        assert_eq!((f.n_factorizations, f.n_updates), (1, 3));
+    }
+
+    #[test]
+    fn downdate_to_indefinite_and_bad_input_are_errors() {
+        // tridiag(−1, 4, −1) minus 5 e₀e₀ᵀ has A₀₀ = −1: not positive definite (the pivot of
+        // unknown 0 comes out negative, whichever position the ordering gives it).
+        let (t, _) = tridiagonal(6);
+        let mut f = UpdatableCholesky::new(6).unwrap();
+        let mut x = vec![1.0; 6];
+        assert!(f.solve(&mut x).is_err(), "solve before factorization");
+        f.factorize(&t).unwrap();
+        let e = f.update(&[vec![(0, 5f64.sqrt())]], -1.0).unwrap_err();
+        assert!(e.0.contains("not positive definite"), "{}", e.0);
+        // A downdate to near-singularity: A₀₀ = 4 − (4 − 1e-9) leaves a first pivot of 1e-9,
+        // 2.5e-10 of its former 4 (below MIN_PIVOT_RATIO): cancellation, an error.
+        f.factorize(&t).unwrap();
+        let e = f.update(&[vec![(0, (4.0f64 - 1e-9).sqrt())]], -1.0).unwrap_err();
+        assert!(e.0.contains("cancelled"), "{}", e.0);
+        f.factorize(&t).unwrap();
+        assert!(f.update(&[vec![(6, 1.0)]], 1.0).is_err(), "row outside");
+        assert!(f.solve(&mut [1.0; 5]).is_err(), "wrong length");
+        let lower = vec![Triplet::new(1, 0, 1.0)];
+        assert!(f.factorize(&lower).is_err(), "lower triplet");
+    }
+}

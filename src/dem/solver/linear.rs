@@ -1,0 +1,77 @@
+//! The linear phase: Newton's first step taken as the equilibrium, without the residual that
+//! would confirm it, where no contact is active at the committed state, at the start of the
+//! iteration and at the end of the step (SPEC §1's lattice alone).
+//!
+//! ```text
+//!   r(z) = f_ext + f_extra − K_b z − ε (z − z_commit)        (unknown rows; K_b: intact beams)
+//!   M = K_b + diag ε  (the factorized operator, contact terms synced out)
+//!   z₁ = z₀ + M⁻¹ r(z₀)          exact: r(z₁) = 0 to the solve's round-off
+//! ```
+//!
+//! Without contacts the residual is affine in `z` and `M` is its exact Jacobian, so Newton's
+//! first step from `z₀` lands on the equilibrium. Newton's method ([`super::equilibrium`]) then
+//! evaluates the residual at `z₁` in its line search (a contact search, the beams' forces
+//! `K_b Δz`, the residual) only to find it within the tolerance. The linear phase keeps the
+//! contact search and skips the rest: the step is taken where the search finds no overlap at
+//! `z₁` (otherwise the line search runs as before, counted in
+//! `SolverProfile::linear_fallbacks`). It applies only to Newton's first iteration, from a start
+//! where the residual evaluation found no contact, with a step its cap left whole (`max_move`: a
+//! stone held by little more than the regularization moves in capped steps, and a long step
+//! could carry a stone through a neighbour between two contact searches). The equilibria are
+//! Newton's bit for bit: the same residual, operator, solve and contact searches, minus a
+//! confirmation (the skipped residuals, evaluated over the paper wall's cyclic
+//! tension–compression test, were at most 3.3·10⁻¹⁵ of the scale against the tolerance 10⁻⁸).
+//!
+//! The closed-form `λ` of the next break ([`super::breaks`]) is read along this exact linear
+//! path `z₀ → z₁`, and the state at the break is `z₀ + λ (z₁ − z₀)` ([`super::stage`]): between
+//! breaks and in a break's release, the linear phase costs one beam-force product, one solve and
+//! two contact searches per equilibrium. Off with `SolverOptions::linear_phase`.
+use std::time::Instant;
+
+use super::contact_set::{self, ActiveContact};
+use super::error::DemError;
+use super::profile;
+use super::solver::Solver;
+
+impl<'a> Solver<'a> {
+    /// Newton's first step `Δz` (over the unknowns, from a start without contacts, not capped)
+    /// taken as the equilibrium when the problem is linear over it (module docs): `true`, `z`
+    /// moved to `z + Δz`; `false`, `z` unchanged and Newton's method goes on as before.
+    pub(super) fn linear_step(&mut self, dz: &[f64]) -> Result<bool, DemError> {
+        if !self.opts.linear_phase || !self.state.committed_contacts.is_empty() {
+            return Ok(false);
+        }
+        let mut z1 = self.state.z.clone();
+        for (e, &zi) in self.model.map.unknowns.iter().enumerate() {
+            z1[zi] += dz[e];
+        }
+        if !self.contacts_at(&z1)?.is_empty() {
+            self.profile.linear_fallbacks += 1;
+            return Ok(false);
+        }
+        self.state.z = z1;
+        self.profile.linear_solves += 1;
+        Ok(true)
+    }
+
+    /// The active contacts at `z` (the contact search of a residual evaluation, without the
+    /// forces).
+    fn contacts_at(&mut self, z: &[f64]) -> Result<Vec<ActiveContact>, DemError> {
+        if !self.opts.contacts || self.state.broken.is_empty() {
+            return Ok(Vec::new());
+        }
+        let clock = Instant::now();
+        let pairs = self.candidates.candidates(self.model.sample, &self.model.map, z, &self.state.intact);
+        self.profile.pair_evaluations += pairs.len();
+        self.profile.candidate_rebuilds = self.candidates.rebuilds;
+        let m = &self.model;
+        let contacts =
+            contact_set::evaluate(m.sample, &m.map, &m.params, &pairs, z, &self.state.z_commit, &self.state.histories)?;
+        if !pairs.is_empty() {
+            let touching: Vec<(usize, usize)> = contacts.iter().map(|a| (a.i, a.j)).collect();
+            self.candidates.refresh_apart(m.sample, &m.map, z, &touching);
+        }
+        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
+        Ok(contacts)
+    }
+}
