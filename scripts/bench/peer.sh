@@ -40,13 +40,17 @@
 #  initial stiffness (the elements keep it, instead of forming the tangent again every step).
 #  OpenSees runs sequentially (OpenSeesPy has no MPI); the ratio is OpenSees' seconds over
 #  masonry-hpc's at each rank count.
-# Measured (scripts/bench.sh peer, 1.3 min in all, on the 2-core Xeon with OpenBLAS's SkylakeX
-# kernels under both programs, the machine otherwise quiet): modal 1.75 s (1 rank) and 1.08 s
-# (2 ranks) against OpenSees' 18.8 s (10.7x and 17x); Newmark 0.0256 s and 0.0159 s per step
-# against 0.206 s (8.1x and 13x per step). masonry-hpc's linear step is one solve and one
-# product with the lumped (diagonal) mass (src/analysis/time_history/linear_step.rs): of its
-# 5.1 s of stepping on 1 rank the solves take 4.0 s (20 ms each), the factorization 0.34 s,
-# the products 0.11 s.
+# Measured (scripts/bench.sh peer, 1.5 min in all, on the 2-core Xeon with OpenBLAS's SkylakeX
+# kernels under both programs, nothing else running), two runs back to back on a host slower
+# than on earlier days (OpenSees' modes took 26.7 and 28.6 s, against 18.8 s before; only the
+# ratios of one run compare): modal 1.69 and 1.91 s on 1 rank, 1.02 and 1.15 s on 2 ranks
+# (15.8x and 14.9x; 26.2x and 24.9x); Newmark 0.040 and 0.055 s per step on 1 rank, 0.022 and
+# 0.029 s on 2 (9.8x and 6.4x; 18.3x and 12.4x). The modal job stores a lumped mass as a
+# diagonal matrix and starts the eigensolver on the free DOFs without purification
+# (analysis/modal.rs): 22 shift-and-invert solves, the MUMPS Cholesky factorization 0.33 s and
+# its solves 19 ms each on 1 rank; assembly 0.25 s. masonry-hpc's linear step is one solve and
+# one product with the lumped (diagonal) mass (src/analysis/time_history/linear_step.rs): of
+# its stepping on 1 rank the solves take about 80 %.
 # One JSON line per case, then a line for the machine (CPU, the BLAS behind libblas.so.3 and the
 # libraries each program loads). Run through scripts/bench.sh (which builds first):
 #   scripts/bench.sh peer
