@@ -16,9 +16,8 @@ use crate::error::Error;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
-use crate::parallel::{agree, Context, Phases};
+use crate::parallel::{agree, all_ranks, Context, Phases};
 use crate::petsc::{Eps, Matrix, Vector};
-use mpi::traits::CommunicatorCollectives;
 
 /// One mode.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -133,13 +132,6 @@ fn mass_matrix(
     let mut m = disc.new_matrix(ctx, mesh, model, format)?;
     assembly::assemble_mass(disc, mesh, model, kind, &mut m)?;
     Ok((m, None))
-}
-
-/// Collective. Whether `local` holds on every rank.
-fn all_ranks(ctx: &Context, local: bool) -> bool {
-    let mut all = local;
-    ctx.comm.all_reduce_into(&local, &mut all, mpi::collective::SystemOperation::logical_and());
-    all
 }
 
 /// Collective. The eigensolver's starting vector for a diagonal `M` (see [`lowest_modes`]):

@@ -81,3 +81,12 @@ pub fn global_sum(ctx: &Context, x: f64) -> f64 {
     ctx.comm.all_reduce_into(&x, &mut out, SystemOperation::sum());
     out
 }
+
+/// Collective. Whether `local` holds on every rank of `ctx` (a logical and).
+pub fn all_ranks(ctx: &Context, local: bool) -> bool {
+    use mpi::collective::SystemOperation;
+    use mpi::traits::CommunicatorCollectives;
+    let mut all = local;
+    ctx.comm.all_reduce_into(&local, &mut all, SystemOperation::logical_and());
+    all
+}

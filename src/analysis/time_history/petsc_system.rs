@@ -88,9 +88,7 @@ fn diagonal_of(
     m.mult(x, y)?;
     let mx = y.owned_values()?;
     let local = mx.iter().zip(&d).zip(&probe).all(|((m, d), p)| *m == d * p);
-    let mut all = local;
-    ctx.comm.all_reduce_into(&local, &mut all, mpi::collective::SystemOperation::logical_and());
-    Ok(all.then_some(d))
+    Ok(crate::parallel::all_ranks(ctx, local).then_some(d))
 }
 
 /// The linear solver: MUMPS LU (Cholesky for a linear model), then the options.
