@@ -21,6 +21,10 @@
 //! (`dem::solver::cholmod`) instead of Woodbury columns and refactorizations.
 //! `DEM_LINEAR=0` finds every equilibrium by Newton's method, also without contacts (the
 //! former path; default: one solve, `dem::solver::linear`).
+//! `DEM_REFRESH=0.2` replaces a contact term of the factorized operator once it drifted by more
+//! than that fraction from the contact's current one (`SolverOptions::refresh_drift`).
+//! `DEM_BREAKS=n` breaks up to n beams per equilibrium (`SolverOptions::breaks_per_equilibrium`,
+//! an approximation; default 1, the exact algorithm).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
@@ -33,7 +37,9 @@ use masonry_hpc::dem::mechanics::MechParams;
 #[path = "common/random_sample.rs"]
 mod random_sample;
 use masonry_hpc::dem::solver::gmres::Forcing;
-use masonry_hpc::dem::solver::{DofControl, DofMap, LoadPoint, Model, Solver, SolverOptions, StageEnd, StateRecord};
+use masonry_hpc::dem::solver::{
+    DofControl, DofMap, LoadPoint, Model, Observer, Solver, SolverOptions, SolverProfile, StageEnd, StateRecord,
+};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -72,6 +78,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_PREDICT") {
         opts.predict_steps = v != "0";
     }
+    if let Ok(v) = std::env::var("DEM_BREAKS") {
+        opts.breaks_per_equilibrium = v.parse().map_err(|e| format!("DEM_BREAKS={v}: {e}"))?;
+    }
+    if let Ok(v) = std::env::var("DEM_REFRESH") {
+        opts.refresh_drift = v.parse().map_err(|e| format!("DEM_REFRESH={v}: {e}"))?;
+    }
     if let Ok(v) = std::env::var("DEM_SLIP_TERMS") {
         opts.slip_in_preconditioner = v != "0";
     }
@@ -88,23 +100,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
     }
     let settings = format!(
-        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={}",
-        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place
+        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} refresh_drift={} breaks_per_equilibrium={}",
+        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.refresh_drift,
+        opts.breaks_per_equilibrium
     );
+    let breaks_per_equilibrium = opts.breaks_per_equilibrium;
     let mut solver = Solver::new(model, opts, zero)?;
     // DEM_JACOBIAN_REUSE sets the reuse threshold of contact Jacobians (0: recompute each time).
     if let Ok(v) = std::env::var("DEM_JACOBIAN_REUSE") {
         solver.set_jacobian_reuse(v.parse().map_err(|e| format!("DEM_JACOBIAN_REUSE={v}: {e}"))?)?;
     }
     // Progress on stderr every 25 recorded states: a run stopped by a time limit still says how
-    // far it got.
-    let h = sample.height;
-    solver.observer = Some(Box::new(move |k: usize, st: &StateRecord, _: &[f64]| {
-        if k % 25 == 0 {
-            let s = clock.elapsed().as_secs_f64();
-            eprintln!("progress: state {k} strain {:.4e} events {} seconds {s:.2}", -st.platen[1][1] / h, st.broken[0]);
-        }
-    }));
+    // far it got, and the profile's counters and phase seconds so far say where each stretch of
+    // the run went (differences between two lines).
+    solver.observer = Some(Box::new(Progress { clock, height: sample.height, line: String::new() }));
     let end = solver.start().and_then(|()| solver.run_stage(&target, steps, Some((1, 1))));
     let seconds = clock.elapsed().as_secs_f64();
     let end = match end {
@@ -119,6 +128,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| (s.platen[1][1] / sample.height, s.platen_force[1][1] / area, s.broken[0]))
         .collect();
     let peak = curve.iter().fold(0.0f64, |m, c| m.max(c.1.abs()));
+    let strain_at_peak = curve.iter().find(|c| c.1.abs() == peak).map_or(0.0, |c| c.0.abs());
+    // The energy account of the last state: external work, stored, dissipated (fracture,
+    // friction, relaxation, crushing), J.
+    let energy = solver.states().last().map(|s| (s.external_work, s.stored, s.dissipated));
     let e = curve.iter().find(|c| c.0 != 0.0).map_or(0.0, |c| c.1 / c.0);
     if let Some(path) = args.get(4) {
         let mut f = std::fs::File::create(path)?;
@@ -142,9 +155,60 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let line = serde_json::json!({
         "stones": sample.particles.len(), "equations": n_eq, "end": end, "events": events,
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
-        "peak_stress_pa": peak, "e_pa": e, "solves": solver.counters.solves, "cutbacks": solver.counters.cutbacks,
-        "vm_hwm_kb": vm_hwm_kb, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.profile,
+        "peak_stress_pa": peak, "strain_at_peak": strain_at_peak, "e_pa": e,
+        "external_work_j": energy.map(|e| e.0), "stored_j": energy.map(|e| e.1),
+        "dissipated_j": energy.map(|e| e.2), "dissipated_total_j": energy.map(|e| e.2.iter().sum::<f64>()), "solves": solver.counters.solves, "cutbacks": solver.counters.cutbacks,
+        "vm_hwm_kb": vm_hwm_kb, "breaks_per_equilibrium": breaks_per_equilibrium, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.profile,
     });
     println!("{line}");
     Ok(())
+}
+
+/// Prints a progress line every 25 recorded states: strain, breaks, seconds, and the profile's
+/// counters and phase seconds so far.
+struct Progress {
+    clock: Instant,
+    height: f64,
+    line: String,
+}
+
+impl Observer for Progress {
+    fn recorded(&mut self, k: usize, st: &StateRecord, _: &[f64]) {
+        self.line.clear();
+        if k % 25 == 0 {
+            let s = self.clock.elapsed().as_secs_f64();
+            self.line = format!(
+                "progress: state {k} strain {:.4e} events {} seconds {s:.2} contacts {}",
+                -st.platen[1][1] / self.height,
+                st.broken[0],
+                st.contacts
+            );
+        }
+    }
+
+    fn profiled(&mut self, _: usize, p: &SolverProfile) {
+        if !self.line.is_empty() {
+            eprintln!(
+                "{} refreshed {} newton {} gmres {} gmres_solves {} direct {} evaluations {} continuation {} \
+                 s_solve {:.2} s_gmres {:.2} s_tangent {:.2} s_evaluate {:.2} s_factor {:.2} s_columns {:.2} \
+                 s_failure {:.2} s_commit {:.2}",
+                self.line,
+                p.refreshed_terms,
+                p.newton_iterations,
+                p.gmres_iterations,
+                p.gmres_solves,
+                p.direct_solves,
+                p.evaluations,
+                p.continuation_iterations,
+                p.solve_seconds,
+                p.gmres_seconds,
+                p.tangent_seconds,
+                p.evaluate_seconds,
+                p.factor_seconds,
+                p.columns_seconds,
+                p.failure_seconds,
+                p.commit_seconds
+            );
+        }
+    }
 }

@@ -5,6 +5,7 @@
 //! type = "dem"
 //! samples = 16                 # samples with seeds seed, seed+1, ...: mean ± std in the summary
 //! particle_states = "steps"    # HDF5/XDMF particle states per sample: "none" | "steps" | "all"
+//! breaks_per_equilibrium = 1   # > 1: several beams break per equilibrium (approximate, opt-in)
 //! [sample]                     # dem::sample::SampleConfig
 //! seed = 1
 //! layout = { type = "coursed", width = 1.0, height = 1.2, n_courses = 10, n_per_course = 6, jitter = 0.2, size_variability = 0.2 }
@@ -35,6 +36,11 @@ pub struct DemAnalysis {
     /// steps, the first crack, the peak and the last state; see `dem::solver::snapshots`).
     #[serde(default)]
     pub particle_states: crate::dem::solver::ParticleStates,
+    /// Beams broken together before one re-equilibration (default 1: SPEC §1's exact
+    /// algorithm). More is an approximation for large samples
+    /// (`dem::solver::SolverOptions::breaks_per_equilibrium`); the summary says so.
+    #[serde(default = "one")]
+    pub breaks_per_equilibrium: usize,
 }
 
 fn one() -> usize {

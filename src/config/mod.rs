@@ -250,6 +250,12 @@ impl DemJob {
         if spec.analysis.samples == 0 {
             return Err(source.error_at(&[Seg::key("analysis"), Seg::key("samples")], "expected at least 1 sample"));
         }
+        if spec.analysis.breaks_per_equilibrium == 0 {
+            return Err(source.error_at(
+                &[Seg::key("analysis"), Seg::key("breaks_per_equilibrium")],
+                "expected at least 1 (1: one break per equilibrium, the exact algorithm)",
+            ));
+        }
         spec.sample.validate().map_err(|e| source.error_at(&[Seg::key("sample")], e.to_string()))?;
         spec.test.validate().map_err(|e| {
             // At the offending key when the file has it, else at [test].
@@ -363,6 +369,26 @@ mod tests {
         let e = load_job(&job).err().expect("mu < 0 is refused").to_string();
         let _ = std::fs::remove_dir_all(&dir);
         assert!(e.contains(&format!(":{line}:")) && e.contains("mechanics.mu") && e.contains("-0.5"), "{e}");
+    }
+
+    /// `breaks_per_equilibrium = 0` is refused at its key; 4 is read and kept.
+    #[test]
+    fn breaks_per_equilibrium_is_read_and_checked() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(root.join("jobs/wall-tension.toml")).unwrap();
+        let dir = std::env::temp_dir().join(format!("masonry-hpc-config-breaks-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let with = |n: usize| {
+            let job = dir.join(format!("breaks-{n}.toml"));
+            let t = text.replacen("type = \"dem\"", &format!("type = \"dem\"\nbreaks_per_equilibrium = {n}"), 1);
+            std::fs::write(&job, t).unwrap();
+            load_job(&job)
+        };
+        let e = with(0).err().expect("0 is refused").to_string();
+        let Ok(AnyJob::Dem(four)) = with(4) else { panic!("4 is accepted") };
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(e.contains("analysis.breaks_per_equilibrium") && e.contains("at least 1"), "{e}");
+        assert_eq!(four.spec.analysis.breaks_per_equilibrium, 4);
     }
 
     /// `E ← s E`, `G ← s G`: the Poisson ratio ν = E/2G − 1 is unchanged (0.25 here).

@@ -55,6 +55,8 @@ pub struct DemSummary {
     pub test: VirtualTest,
     /// Ranks.
     pub ranks: usize,
+    /// Beams broken together per equilibrium (1: the exact algorithm; more: an approximation).
+    pub breaks_per_equilibrium: usize,
     /// Samples.
     pub samples: Vec<SampleReport>,
     /// Young modulus (or τ/γ for shear) [Pa].
@@ -87,10 +89,17 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
     let mut phases = Phases::default();
     ctx.log.info(format!("DEM: {n} sample(s) of {:?}, over {} rank(s)", job.spec.test, ctx.size));
     let states = job.spec.analysis.particle_states;
+    let opts = SolverOptions { breaks_per_equilibrium: job.spec.analysis.breaks_per_equilibrium, ..Default::default() };
+    if opts.breaks_per_equilibrium > 1 {
+        ctx.log.info(format!(
+            "DEM: up to {} beams break per equilibrium: an approximation of the one-break path",
+            opts.breaks_per_equilibrium
+        ));
+    }
     // Runs on the rank that got sample k; that rank writes the sample's particle states.
     let work = |k: usize| -> Result<TestResult, String> {
         let sample = Sample::build(&sample_config(job, k)).map_err(|e| format!("sample {k}: {e}"))?;
-        let mut result = run_test_recording(&sample, &job.params, &job.spec.test, SolverOptions::default(), states)
+        let mut result = run_test_recording(&sample, &job.params, &job.spec.test, opts, states)
             .map_err(|e| format!("sample {k}: {e}"))?;
         if !result.particle_states.is_empty() {
             let sdir = job.output_dir.join(format!("sample-{k:03}"));
@@ -115,6 +124,7 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
     Ok(summary.unwrap_or_else(|| DemSummary {
         test: job.spec.test.clone(),
         ranks: ctx.size,
+        breaks_per_equilibrium: job.spec.analysis.breaks_per_equilibrium,
         samples: Vec::new(),
         young_modulus: None,
         poisson: None,
@@ -233,6 +243,7 @@ fn write_outputs(
     let s = DemSummary {
         test: job.spec.test.clone(),
         ranks: ctx.size,
+        breaks_per_equilibrium: job.spec.analysis.breaks_per_equilibrium,
         samples: reports,
         young_modulus: Stat::of_nonempty(&t.young_modulus),
         poisson: Stat::of_nonempty(&t.poisson),

@@ -98,6 +98,7 @@ impl<'a> Solver<'a> {
         profile::add(&mut self.profile.commit_seconds, clock.elapsed());
         if let (Some(observer), Some(record)) = (self.observer.as_mut(), self.state.records.last()) {
             observer.recorded(self.state.records.len() - 1, record, &self.state.z);
+            observer.profiled(self.state.records.len() - 1, &self.profile);
         }
     }
 

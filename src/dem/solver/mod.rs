@@ -7,7 +7,7 @@
 //! | `state.rs` | the mechanical state (coordinates, intact beams, contacts and histories, load, energy, records): cloned, it continues in a new solver |
 //! | `options.rs`, `records.rs`, `scales.rs` | the options; what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
 //! | `stage.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs) |
-//! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force |
+//! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
@@ -24,6 +24,8 @@
 //! | `contact_events.rs` | optional (`SolverOptions::contact_events`): a load step ends where a contact starts to slide, closes or opens |
 //! | `virtual_test.rs` | tension, compression, shear and cyclic tests; ends as target, loss of load, collapse or failed |
 //! | `snapshots.rs`, `trace.rs`, `profile.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times |
+#[cfg(test)]
+mod break_group_tests;
 mod breaks;
 pub mod cholmod;
 pub mod contact_candidates;

@@ -14,6 +14,14 @@
 //! pass `max_rank`, when the capacitance matrix is ill-conditioned or GMRES failed with it, after
 //! a stone lost every bond and contact, and around a pseudo-transient continuation.
 //!
+//! **Drift refresh (opt-in, `refresh_drift`).** A held contact term is the rank-one penalty of
+//! the contact's geometry when it entered. As the stones rotate, the current term
+//! `k b bᵀ` drifts from it and GMRES pays for the difference. With a finite
+//! `refresh_drift = δ`, a held term whose 6×6 block differs from the current one by more than
+//! `δ · max(‖held‖_F, ‖current‖_F)` is removed (dropped from the correction, or downdated) and
+//! added again. Off by default: with the Woodbury path it measured neutral at 10k stones, and it
+//! only preconditions, so the equilibrium path does not depend on it.
+//!
 //! **Pattern.** Every pair whose contact terms were once factorized keeps its entries (zeros once
 //! the contact is gone), in pair order: the same triplets in the same order, so the symbolic
 //! analysis (a fill-reducing ordering, METIS at 10k stones) is reused.
@@ -205,7 +213,26 @@ impl Operator {
                 [(0u8, a.contact.normal_direction(), a.contact.k_n), (1u8, a.contact.tangential_direction(), a.k_t)]
             {
                 let key = (a.i, a.j, kind);
-                if want.contains_key(&key) && !self.terms.contains_key(&key) {
+                if !want.contains_key(&key) {
+                    continue;
+                }
+                if u.opts.refresh_drift.is_finite() {
+                    // A held term that drifted from the contact's current one is replaced.
+                    let current = u.model.rank_one(a.i, a.j, &dir, k);
+                    let drifted = self.terms.get(&key).is_some_and(|(t, _)| {
+                        (current.k - t.k).norm() > u.opts.refresh_drift * t.k.norm().max(current.k.norm())
+                    });
+                    if drifted {
+                        u.profile.refreshed_terms += 1;
+                        if let Some((t, id)) = self.terms.remove(&key) {
+                            let dropped = id.is_some_and(|id| self.factor.remove(id));
+                            if !dropped && !self.stale {
+                                batch.push((None, u.model.factors(&t), -1.0));
+                            }
+                        }
+                    }
+                }
+                if !self.terms.contains_key(&key) {
                     u.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
                     let t = u.model.rank_one(a.i, a.j, &dir, k);
                     if !self.stale {

@@ -57,6 +57,16 @@ pub struct SolverOptions {
     /// Keep the factorized operator current by CHOLMOD's updates and downdates in place instead
     /// of a Woodbury correction with refactorizations ([`super::factor`], "Updates in place").
     pub updates_in_place: bool,
+    /// Replace a contact term held in the factorized operator once it has drifted from the
+    /// contact's current one by more than this fraction (Frobenius norm of the 6×6 terms): the
+    /// normal turns and the chord's stiffness changes as a contact deepens, and the difference
+    /// is left to GMRES ([`super::operator`]). `f64::INFINITY`: a term is kept until its contact
+    /// leaves.
+    pub refresh_drift: f64,
+    /// Beams broken together before one re-equilibration (default 1: SPEC §1's algorithm, one
+    /// break per equilibrium). `n > 1` is an approximation, opt-in ([`super::breaks`], "Several
+    /// breaks per equilibrium"): a cascade breaks up to `n` beams with `P ≥ 1` at once.
+    pub breaks_per_equilibrium: usize,
 }
 
 impl Default for SolverOptions {
@@ -78,6 +88,8 @@ impl Default for SolverOptions {
             predict_steps: true,
             linear_phase: true,
             updates_in_place: false,
+            refresh_drift: f64::INFINITY,
+            breaks_per_equilibrium: 1,
         }
     }
 }

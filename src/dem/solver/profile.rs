@@ -55,6 +55,9 @@ pub struct SolverProfile {
     pub operator_changes: [usize; 4],
     /// Largest Woodbury rank reached.
     pub max_rank: usize,
+    /// Contact terms of the operator replaced because they drifted
+    /// ([`super::SolverOptions::refresh_drift`]).
+    pub refreshed_terms: usize,
     /// Numeric factorizations, by cause: the cost model, the rank cap, an inaccurate
     /// capacitance matrix or GMRES failure, a floating stone, the first one.
     pub refactorizations: Refactorizations,

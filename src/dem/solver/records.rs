@@ -98,6 +98,10 @@ pub enum StageEnd {
 pub trait Observer {
     /// Called once per recorded state, in order.
     fn recorded(&mut self, index: usize, record: &StateRecord, z: &[f64]);
+
+    /// Called after [`Self::recorded`] with the solver's profile so far (e.g. to print where a
+    /// long run spends its time as it goes, `examples/dem_profile.rs`). Does nothing by default.
+    fn profiled(&mut self, _index: usize, _profile: &super::SolverProfile) {}
 }
 
 /// A closure `|index, record, z|` is an observer.

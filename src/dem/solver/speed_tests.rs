@@ -10,7 +10,7 @@ use super::*;
 use crate::dem::mechanics::{MechParams, SlipState};
 use crate::dem::sample::{RandomLayout, Sample, SampleConfig, SampleLayout, TinyFacetPolicy};
 
-fn random(n: usize, seed: u64) -> Sample {
+pub(super) fn random(n: usize, seed: u64) -> Sample {
     Sample::build(&SampleConfig {
         layout: SampleLayout::Random(RandomLayout {
             width: 1.0,
@@ -28,7 +28,7 @@ fn random(n: usize, seed: u64) -> Sample {
 }
 
 /// Compression of `s` to 2e-3 in 20 steps with `opts`: the solver after the stage.
-fn compress<'a>(s: &'a Sample, opts: SolverOptions) -> Solver<'a> {
+pub(super) fn compress<'a>(s: &'a Sample, opts: SolverOptions) -> Solver<'a> {
     let map = DofMap::new(s, [[DofControl::Prescribed; 3]; 2]).unwrap();
     let model = Model::new(s, &MechParams::default(), map).unwrap();
     let zero = LoadPoint { prescribed: vec![0.0; 6], forces: vec![] };

@@ -250,7 +250,7 @@ impl<'a> Solver<'a> {
                     self.commit(t_try, StateKind::Relaxed);
                     walk.t = t_try;
                     self.state.load = load.clone();
-                    self.break_cascade(None, &load, t_try)?;
+                    self.break_cascade(Vec::new(), &load, t_try)?;
                     true
                 }
                 (Trial::Converged, Some((lam, b))) => self.break_within_step(&mut walk, &z_old, lam, b, t_try)?,
@@ -358,7 +358,7 @@ impl<'a> Solver<'a> {
         walk.predictor = Some(StepPredictor::new(t_l, t_try, &self.state.z, &z_end));
         walk.t = t_l;
         self.state.load = load_l.clone();
-        self.break_cascade(Some(b), &load_l, t_l)?;
+        self.break_cascade(vec![b], &load_l, t_l)?;
         Ok(true)
     }
 
