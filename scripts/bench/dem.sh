@@ -23,7 +23,7 @@
 # `capped_events` when a size is run for a fixed number of events only.
 #
 # Environment: BIN (default target/release/masonry-hpc; target/debug works, its dependencies,
-# faer included, are optimized), DEM_BENCH_SIZES (default "1000 10000 50000:300": a size, or
+# faer included, are optimized), DEM_BENCH_SIZES (default "1000 10000 50000:300", empty: none; a size, or
 # size:N to stop after N beam breaks, reported as "capped_events": N; the full 50k run is
 # projected at well over an hour on one core), DEM_BENCH_TIMEOUT (seconds per case of (b),
 # default 3600), DEM_BENCH_SKIP_BATCH=1 skips (a). The DEM_* switches of examples/dem_profile.rs
@@ -37,7 +37,7 @@ FACTOR_BIN="$(dirname "$BIN")/examples/dem_factorization"
 PROFILE_BIN="$(dirname "$BIN")/examples/dem_profile"
 if [ "$profile" = release ]; then cargo build --release --quiet --example dem_factorization --example dem_profile >&2
 else cargo build --quiet --example dem_factorization --example dem_profile >&2; fi
-SIZES=${DEM_BENCH_SIZES:-"1000 10000 50000:300"}
+SIZES=${DEM_BENCH_SIZES-"1000 10000 50000:300"}
 TIMEOUT=${DEM_BENCH_TIMEOUT:-3600}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -86,6 +86,43 @@ if [ "${DEM_BENCH_SKIP_REFERENCE:-0}" != 1 ]; then
     python3 scripts/bench/dem_compare.py "$ref/curve$variant.csv" "$ref/broken$variant.csv" \
       "$work/curve$variant.csv" "$work/broken$variant.csv" \
       | sed "s/^{/{\"case\": \"dem-reference-1k$variant\", /" || true
+  done
+fi
+
+# (m) the opt-in approximation, several breaks per equilibrium (`[analysis]
+#     breaks_per_equilibrium`), against the exact path: the 1k sample (dem_profile, DEM_BREAKS=4
+#     and 16) and the paper's wall jobs (compression, tension, shear; n = 16, 2 ranks): peak,
+#     strain at the peak, dissipated energy, means over the samples and the worst sample
+#     (scripts/bench/dem_breaks_compare.py; fit: peak within 2 %, dissipated within 5 %).
+#     About 4 minutes; DEM_BENCH_SKIP_APPROX=1 skips it, DEM_BENCH_APPROX_TESTS picks the wall
+#     jobs (default "compression tension shear").
+if [ "${DEM_BENCH_SKIP_APPROX:-0}" != 1 ]; then
+  for nb in 1 4 16; do
+    DEM_BREAKS=$nb "$PROFILE_BIN" 1000 2e-3 40 > "$work/approx-1k-$nb.json" 2>/dev/null || true
+  done
+  python3 - "$work"/approx-1k-{1,4,16}.json <<'PY' || true
+import json, sys
+runs = [json.load(open(p)) for p in sys.argv[1:]]
+ex = runs[0]
+rel = lambda a, b: (b - a) / abs(a)
+for r in runs[1:]:
+    pk = rel(ex["peak_stress_pa"], r["peak_stress_pa"])
+    dj = rel(ex["dissipated_total_j"], r["dissipated_total_j"])
+    print(json.dumps({"case": "dem-breaks-per-equilibrium-1k", "breaks_per_equilibrium": r["breaks_per_equilibrium"],
+                      "events_exact": ex["events"], "events_approx": r["events"],
+                      "seconds_exact": round(ex["seconds"], 2), "seconds_approx": round(r["seconds"], 2),
+                      "peak_rel_diff": round(pk, 6),
+                      "strain_at_peak_rel_diff": round(rel(ex["strain_at_peak"], r["strain_at_peak"]), 6),
+                      "dissipated_rel_diff": round(dj, 6), "fit": abs(pk) <= 0.02 and abs(dj) <= 0.05}))
+PY
+  for t in ${DEM_BENCH_APPROX_TESTS-compression tension shear}; do
+    for nb in 1 16; do
+      sed -e "s#\"../results/wall-$t\"#\"$work/approx-$t-$nb\"#" -e 's/^existing = .*//' \
+          -e "s/^type = \"dem\"/type = \"dem\"\nbreaks_per_equilibrium = $nb\nparticle_states = \"none\"/" jobs/wall-$t.toml > "$work/approx-$t-$nb.toml"
+      mpirun -n 2 "$BIN" -q "$work/approx-$t-$nb.toml" > /dev/null 2>&1 || true
+    done
+    python3 scripts/bench/dem_breaks_compare.py "dem-breaks-per-equilibrium-wall-$t" \
+      "$work/approx-$t-1" "$work/approx-$t-16" || true
   done
 fi
 
