@@ -21,6 +21,8 @@
 //! (`dem::solver::cholmod`) instead of Woodbury columns and refactorizations.
 //! `DEM_LINEAR=0` finds every equilibrium by Newton's method, also without contacts (the
 //! former path; default: one solve, `dem::solver::linear`).
+//! `DEM_FILL=x` (with `DEM_UPDOWN=1`) refactorizes once the fill that updates brought has cost
+//! x factorizations (`SolverOptions::fill_refactor`; `inf`: never).
 //! `DEM_REFRESH=0.2` replaces a contact term of the factorized operator once it drifted by more
 //! than that fraction from the contact's current one (`SolverOptions::refresh_drift`).
 //! `DEM_BREAKS=n` breaks up to n beams per equilibrium (`SolverOptions::breaks_per_equilibrium`,
@@ -81,6 +83,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_BREAKS") {
         opts.breaks_per_equilibrium = v.parse().map_err(|e| format!("DEM_BREAKS={v}: {e}"))?;
     }
+    if let Ok(v) = std::env::var("DEM_FILL") {
+        opts.fill_refactor = v.parse().map_err(|e| format!("DEM_FILL={v}: {e}"))?;
+    }
     if let Ok(v) = std::env::var("DEM_REFRESH") {
         opts.refresh_drift = v.parse().map_err(|e| format!("DEM_REFRESH={v}: {e}"))?;
     }
@@ -100,8 +105,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
     }
     let settings = format!(
-        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} refresh_drift={} breaks_per_equilibrium={}",
-        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.refresh_drift,
+        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
+        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
         opts.breaks_per_equilibrium
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;
@@ -191,7 +196,7 @@ impl Observer for Progress {
             eprintln!(
                 "{} refreshed {} newton {} gmres {} gmres_solves {} direct {} evaluations {} continuation {} \
                  s_solve {:.2} s_gmres {:.2} s_tangent {:.2} s_evaluate {:.2} s_factor {:.2} s_columns {:.2} \
-                 s_failure {:.2} s_commit {:.2}",
+                 s_failure {:.2} s_commit {:.2} factorizations {} entries {} {}",
                 self.line,
                 p.refreshed_terms,
                 p.newton_iterations,
@@ -207,7 +212,10 @@ impl Observer for Progress {
                 p.factor_seconds,
                 p.columns_seconds,
                 p.failure_seconds,
-                p.commit_seconds
+                p.commit_seconds,
+                p.refactorizations.total(),
+                p.factor_entries[0],
+                p.factor_entries[1]
             );
         }
     }

@@ -8,9 +8,12 @@
 #      profile (examples/dem_profile.rs), or how far it got when the time limit stopped it;
 #      beside it one sparse factorization of the same operator alone
 #      (examples/dem_factorization.rs), and the cost of an event in factorizations (target: 10k
-#      under 60 s; the cost per event growing no faster than a factorization);
+#      under 300 CPU-s, the goal 60; the cost per event growing no faster than a factorization);
+#  (t) tension of random samples of 10k and 50k stones on one core to loss of load (past the
+#      peak: the sample splits), the same fields as (b);
 #  (c) the scaling: log-log slopes of seconds per event and of the factorization against size;
-#  (r) before (b): the 1k sample against its stored reference run (below).
+#  (r) before (b): the 1k sample against its stored reference run (below);
+#  (m) before (b): several breaks per equilibrium (an opt-in approximation) against the exact path.
 # Every line carries the load average and `uptime` (the machine may be shared) and, for (b), the
 # CPU seconds of the run beside its wall seconds (on a loaded machine the CPU time is the cost),
 # and the peak memory twice: the maximum RSS from /usr/bin/time, VmHWM from the run itself.
@@ -26,7 +29,8 @@
 # faer included, are optimized), DEM_BENCH_SIZES (default "1000 10000 50000:300", empty: none; a size, or
 # size:N to stop after N beam breaks, reported as "capped_events": N; the full 50k run is
 # projected at well over an hour on one core), DEM_BENCH_TIMEOUT (seconds per case of (b),
-# default 3600), DEM_BENCH_SKIP_BATCH=1 skips (a). The DEM_* switches of examples/dem_profile.rs
+# default 3600), DEM_BENCH_TENSION_SIZES (default "10000 50000", empty: none) the sizes of (t),
+# DEM_BENCH_SKIP_BATCH=1 skips (a). The DEM_* switches of examples/dem_profile.rs
 # pass through to (b) and (r): DEM_UPDOWN=1 keeps the factor current by CHOLMOD's updates in place.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -38,6 +42,7 @@ PROFILE_BIN="$(dirname "$BIN")/examples/dem_profile"
 if [ "$profile" = release ]; then cargo build --release --quiet --example dem_factorization --example dem_profile >&2
 else cargo build --quiet --example dem_factorization --example dem_profile >&2; fi
 SIZES=${DEM_BENCH_SIZES-"1000 10000 50000:300"}
+TENSION_SIZES=${DEM_BENCH_TENSION_SIZES-"10000 50000"}
 TIMEOUT=${DEM_BENCH_TIMEOUT:-3600}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -128,7 +133,9 @@ fi
 
 lines="$work/b.jsonl"
 : > "$lines"
-for spec in $SIZES; do
+for item in $(for s in $SIZES; do echo "compression:$s"; done; for s in $TENSION_SIZES; do echo "tension:$s"; done); do
+  test=${item%%:*}
+  spec=${item#*:}
   n=${spec%%:*}
   cap=""
   [ "$spec" != "$n" ] && cap=${spec#*:}
@@ -137,21 +144,25 @@ for spec in $SIZES; do
   # the line carries the solver's profile and, when the time limit stops it, how far it got.
   # SPEC's model has no compressive peak for random samples (no crushing): "post-peak" here
   # means the configured maximum strain, 2e-3, far past the first cracks (about 0.2e-3).
+  # The tension test (`max_strain = 4e-4`, dem_profile's negative strain) has a peak: the
+  # sample splits, and the run ends on loss of load (below 5 % of the peak) well before 4e-4.
+  strain=2e-3
+  [ "$test" = tension ] && strain=-4e-4
   fact=$("$FACTOR_BIN" "$n")
   l0=$(load)
   u0=$(uptime)
   t0=$(date +%s.%N)
-  out=$( { DEM_MAX_EVENTS=${cap:-1000000} /usr/bin/time -f "rss_kb=%M cpu_user=%U cpu_sys=%S" timeout "$TIMEOUT" "$PROFILE_BIN" "$n" 2e-3 40 > "$work/profile-$n.json" 2> "$work/profile-$n.err"; } 2>&1 || true )
+  out=$( { DEM_MAX_EVENTS=${cap:-1000000} /usr/bin/time -f "rss_kb=%M cpu_user=%U cpu_sys=%S" timeout "$TIMEOUT" "$PROFILE_BIN" "$n" $strain 40 > "$work/profile-$test-$n.json" 2> "$work/profile-$test-$n.err"; } 2>&1 || true )
   t1=$(date +%s.%N)
   l1=$(load)
   u1=$(uptime)
-  python3 - "$work/profile-$n.json" "$n" "$t0" "$t1" "$(cat "$work/profile-$n.err") $out" "$fact" "$l0" "$TIMEOUT" "$PROFILE_BIN" "$l1" "$u0" "$u1" "$cap" <<'PY' | tee -a "$lines"
+  python3 - "$work/profile-$test-$n.json" "$n" "$t0" "$t1" "$(cat "$work/profile-$test-$n.err") $out" "$fact" "$l0" "$TIMEOUT" "$PROFILE_BIN" "$l1" "$u0" "$u1" "$cap" "$test" <<'PY' | tee -a "$lines"
 import json, os, re, sys
 n, wall, out = int(sys.argv[2]), float(sys.argv[4]) - float(sys.argv[3]), sys.argv[5]
 fact = json.loads(sys.argv[6])
 rss = re.search(r"rss_kb=(\d+)", out)
 cpu = re.search(r"cpu_user=(\S+) cpu_sys=(\S+)", out)
-line = {"case": "dem-random-compression", "size": n, "ranks": 1, "seconds": round(wall, 3),
+line = {"case": f"dem-random-{sys.argv[14]}", "size": n, "ranks": 1, "seconds": round(wall, 3),
         "cpu_seconds": round(float(cpu.group(1)) + float(cpu.group(2)), 2) if cpu else None,
         "peak_rss_mb": round(int(rss.group(1)) / 1024, 1) if rss else None,
         "equations": fact["equations"], "factorization_seconds": fact["numeric_factorization_seconds"],
@@ -180,8 +191,9 @@ if text:
         per = (line["cpu_seconds"] if line["cpu_seconds"] else sec) / ev
         line["cpu_seconds_per_event"] = per
         line["event_cost_in_factorizations"] = round(per / max(fact["numeric_factorization_cpu_seconds"], 1e-9), 3)
-    if n == 10000 and not capped:
-        line.update({"target_seconds": 60, "meets_target": bool(line["cpu_seconds"] and line["cpu_seconds"] < 60)})
+    if n == 10000 and not capped and sys.argv[14] == "compression":
+        line.update({"target_cpu_seconds": 300, "goal_cpu_seconds": 60,
+                     "meets_target": bool(line["cpu_seconds"] and line["cpu_seconds"] < 300)})
 else:
     prog = re.findall(r"progress: state (\d+) strain (\S+) events (\d+) seconds (\S+)", out)
     line.update({"completed": False, "timed_out": wall >= float(sys.argv[8]) - 1})
@@ -205,7 +217,8 @@ done
 python3 - "$lines" <<'PY'
 import json, math, sys
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
-rows = [r for r in rows if r.get("events") and r.get("cpu_seconds") and r.get("progress_events_seconds")]
+rows = [r for r in rows if r["case"] == "dem-random-compression" and r.get("events") and r.get("cpu_seconds")
+        and r.get("progress_events_seconds")]
 # CPU seconds to reach the first N events, N the fewest events any size reached: the wall seconds
 # at N (interpolated between progress lines) times the run's CPU/wall ratio.
 def cpu_at(r, n):

@@ -12,7 +12,8 @@
 //! a contact term entering or leaving an update or downdate of rank 1. Unlike the Woodbury
 //! correction of [`super::factor`], nothing accumulates: every solve costs one pair of
 //! triangular substitutions with the current factor. The pattern of `L` grows where an update
-//! brings entries outside it (CHOLMOD extends it).
+//! brings entries outside it (CHOLMOD extends it); [`UpdatableCholesky::entries`] counts it, and
+//! [`super::factor`] refactorizes once that fill has cost a factorization.
 //!
 //! **Binding.** The few CHOLMOD 3.0 functions used, declared by hand (`int` indices): the
 //! `cholmod_common` block is opaque (its size checked against a sentinel tail,
@@ -92,6 +93,8 @@ struct CholmodFactorHead {
     p: *mut c_void,
     i: *mut c_void,
     x: *mut c_void,
+    z: *mut c_void,
+    nz: *mut c_void,
 }
 
 #[link(name = "cholmod")]
@@ -172,6 +175,35 @@ impl UpdatableCholesky {
             0 => Ok(()),
             1 => Err(CholmodError(format!("{call}: matrix not positive definite (CHOLMOD_NOT_POSDEF)"))),
             s => Err(CholmodError(format!("{call}: CHOLMOD status {s}"))),
+        }
+    }
+
+    /// The entries of `L` (its columns' counts, the diagonal included): what a solve reads,
+    /// `2 ×` per substitution. Zero without a factor.
+    pub fn entries(&self) -> usize {
+        self.column_counts().iter().map(|&c| c as usize).sum()
+    }
+
+    /// The flops of a fresh numeric factorization with the current pattern, `Σ_j c_j²` over the
+    /// column counts `c_j` of `L` (an up-looking `LDLᵀ` spends one multiply-add per pair of
+    /// entries in a column). Zero without a factor.
+    pub fn factorization_flops(&self) -> f64 {
+        self.column_counts().iter().map(|&c| (c as f64) * (c as f64)).sum()
+    }
+
+    /// `L`'s column counts (`nz` of a simplicial factor).
+    fn column_counts(&self) -> &[c_int] {
+        if self.factor.is_null() {
+            return &[];
+        }
+        // SAFETY: a simplicial factor's `nz` holds `n` ints, owned by CHOLMOD for the factor's
+        // lifetime (borrowed from `self`).
+        unsafe {
+            let nz = (*self.factor).nz as *const c_int;
+            if nz.is_null() {
+                return &[];
+            }
+            std::slice::from_raw_parts(nz, self.n)
         }
     }
 
@@ -441,6 +473,23 @@ mod tests {
         f.update(&contact, -1.0).unwrap();
         check(&mut f, &a);
         assert_eq!((f.n_factorizations, f.n_updates), (1, 3));
+    }
+
+    #[test]
+    fn entries_count_the_factor_and_its_fill() {
+        // A tridiagonal matrix of size n has a Cholesky factor without fill under any ordering
+        // that CHOLMOD picks for it (AMD keeps a path graph's elimination fill-free): 2n − 1
+        // entries, Σ c_j² = 4(n − 1) + 1 over the column counts (2, …, 2, 1). A rank-one update
+        // coupling unknowns 5 and 30 extends the pattern: more entries, never fewer.
+        let n = 40;
+        let (t, _) = tridiagonal(n);
+        let mut f = UpdatableCholesky::new(n).unwrap();
+        assert_eq!((f.entries(), f.factorization_flops()), (0, 0.0));
+        f.factorize(&t).unwrap();
+        assert_eq!(f.entries(), 2 * n - 1);
+        assert_eq!(f.factorization_flops(), (4 * (n - 1) + 1) as f64);
+        f.update(&[vec![(5, 1.1), (30, -1.1)]], 1.0).unwrap();
+        assert!(f.entries() > 2 * n - 1, "no fill from the coupling: {} entries", f.entries());
     }
 
     #[test]

@@ -303,7 +303,7 @@ pub fn pair_jacobian(
 }
 
 /// Adds the internal contact and friction forces to `out` (length `n_z`).
-pub fn add_contact_forces(map: &DofMap, contacts: &[ActiveContact], out: &mut [f64]) {
+pub fn add_contact_forces<'c>(map: &DofMap, contacts: impl IntoIterator<Item = &'c ActiveContact>, out: &mut [f64]) {
     for a in contacts {
         let (ni, nj) = a.contact.normal_forces();
         let (ti, tj) = a.contact.tangential_forces(a.friction.f_t);

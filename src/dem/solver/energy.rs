@@ -16,6 +16,7 @@
 //! stage module's "Snaps inside a step").
 use std::time::Instant;
 
+use super::contact_set;
 use super::profile;
 use super::records::{FailureModeTag, StateKind, StateRecord};
 use super::solver::Solver;
@@ -46,9 +47,14 @@ impl<'a> Solver<'a> {
     }
 
     /// The platen DOFs at the trial state and their generalized forces (the reactions of
-    /// prescribed DOFs).
+    /// prescribed DOFs): the platens' rows of the internal force, from the beams and contacts
+    /// that reach a platen only (the same sums as the whole internal force's rows, bit for bit).
     fn platen_state(&self) -> (PlatenValues, PlatenValues) {
-        let f = self.internal(&self.state.z, &self.state.contacts);
+        let mut f = vec![0.0; self.model.map.n_z];
+        self.model.add_platen_beam_forces(&self.state.intact, &self.state.z, &mut f);
+        let map = &self.model.map;
+        let touching = self.state.contacts.iter().filter(|a| map.is_slave(a.i) || map.is_slave(a.j));
+        contact_set::add_contact_forces(map, touching, &mut f);
         let b = self.model.map.platen_base;
         let at = |v: &[f64], k: usize| [v[b[k]], v[b[k] + 1], v[b[k] + 2]];
         ([at(&self.state.z, 0), at(&self.state.z, 1)], [at(&f, 0), at(&f, 1)])

@@ -43,10 +43,17 @@
 //! # Updates in place
 //! [`LowRankCholesky::with_updates`] keeps no correction: each term is an update (`+`) or a
 //! downdate (`−`) of CHOLMOD's simplicial `LDLᵀ` in place ([`super::cholmod`]), so a solve
-//! always costs one pair of substitutions and nothing calls for a refactorization but a
-//! downdate that loses a pivot to round-off ([`LowRankCholesky::needs_rebuild`]), a floating
-//! stone or a continuation. A term leaving is a downdate ([`LowRankCholesky::remove`] answers
-//! `false`). Chosen by [`super::SolverOptions::updates_in_place`].
+//! always costs one pair of substitutions with the current factor. A term leaving is a
+//! downdate ([`LowRankCholesky::remove`] answers `false`). What accumulates is fill: a contact
+//! between stones that no beam joined extends the pattern of `L`, and a downdate never shrinks
+//! it, so the solves grow dearer (a 50k-stone tension test: 14.3M entries after the first
+//! factorization, 19.1M after 350 breaks). The same rent-or-buy rule buys it back: each solve
+//! books `4 (E − E₀)` flops (`E₀` the entries after the last factorization, `E` now), and once
+//! they pass [`FILL_REFACTOR_FACTOR`] times the factorization's `Σ c_j²` the caller
+//! refactorizes (a fresh analysis of the current pattern, without the pairs apart). Otherwise
+//! only a downdate that loses a pivot to round-off ([`LowRankCholesky::needs_rebuild`]), a
+//! floating stone or a continuation refactorizes. Chosen by
+//! [`super::SolverOptions::updates_in_place`].
 //!
 //! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is kept and reused
 //! as long as the sparsity structure of `A` does not change (broken beams keep their entries, as
@@ -76,6 +83,12 @@ pub const FACTOR_SPEEDUP: f64 = 3.0;
 /// The same for a simplicial factorization (small systems; faer picks it from the structure):
 /// slower per flop than the substitutions (1k stones: 0.27).
 pub const FACTOR_SPEEDUP_SIMPLICIAL: f64 = 0.3;
+
+/// With updates in place: the refactorization is due once the fill that updates brought into
+/// `L` has cost this many times the flops of its factorization (`Σ c_j²`) in extra solve work
+/// (`4` flops per extra entry per solve): the rent-or-buy rule of the Woodbury correction, with
+/// CHOLMOD's simplicial factorization and substitutions at about the same rate per flop.
+pub const FILL_REFACTOR_FACTOR: f64 = 1.0;
 
 /// Right-hand sides solved together when Woodbury columns are added ([`LowRankCholesky::add_batch`]).
 pub const BATCH: usize = 16;
@@ -156,6 +169,14 @@ pub struct LowRankCholesky {
     updown: Option<UpdatableCholesky>,
     /// An update in place failed (a pivot lost to round-off): the factor is to be rebuilt.
     update_failed: bool,
+    /// With [`Self::with_updates`]: the entries of `L` after the last factorization and now
+    /// ("Updates in place" in the module docs: the fill that updates bring).
+    pub entries: (usize, usize),
+    /// With [`Self::with_updates`]: the flops of the last factorization, `Σ c_j²`.
+    updown_factor_flops: f64,
+    /// With [`Self::with_updates`]: the refactorization is due once the fill has cost this many
+    /// factorizations ([`FILL_REFACTOR_FACTOR`]).
+    fill_refactor: f64,
 }
 
 impl LowRankCholesky {
@@ -188,14 +209,18 @@ impl LowRankCholesky {
             n_dropped: 0,
             updown: None,
             update_failed: false,
+            entries: (0, 0),
+            updown_factor_flops: 0.0,
+            fill_refactor: FILL_REFACTOR_FACTOR,
         }
     }
 
     /// An empty solver for `n` unknowns whose terms are updates and downdates of CHOLMOD's
     /// factor in place ("Updates in place" in the module docs): no correction accumulates,
     /// [`Self::rank`] stays 0 and the cost model never asks for a refactorization.
-    pub fn with_updates(n: usize) -> Result<Self, FactorError> {
+    pub fn with_updates(n: usize, fill_refactor: f64) -> Result<Self, FactorError> {
         let mut s = Self::with_ordering(n, Ordering::Amd);
+        s.fill_refactor = fill_refactor;
         s.updown = Some(UpdatableCholesky::new(n).map_err(|e| FactorError(e.0))?);
         Ok(s)
     }
@@ -231,6 +256,9 @@ impl LowRankCholesky {
         self.factorized = false;
         if let Some(f) = &mut self.updown {
             f.factorize(upper).map_err(|e| FactorError(e.0))?;
+            self.entries = (f.entries(), f.entries());
+            self.updown_factor_flops = f.factorization_flops();
+            self.spent = 0.0;
             self.factorized = true;
             self.update_failed = false;
             self.n_factorizations += 1;
@@ -323,6 +351,9 @@ impl LowRankCholesky {
     /// Whether the correction has cost more than a factorization since the last one (see the
     /// module docs): the caller should refactorize `A + UΣUᵀ`.
     pub fn wants_refactorization(&self) -> bool {
+        if self.updown.is_some() {
+            return self.factorized && self.spent >= self.fill_refactor * self.updown_factor_flops;
+        }
         let (_, w_f) = self.costs();
         !self.u.is_empty() && self.spent >= w_f
     }
@@ -344,6 +375,7 @@ impl LowRankCholesky {
                 if !self.update_failed && f.update(&cols, sign).is_err() {
                     self.update_failed = true;
                 }
+                self.entries.1 = f.entries();
                 self.n_columns += cols.len();
                 ids.push(TermId(self.next_id));
                 self.next_id += 1;
@@ -448,6 +480,8 @@ impl LowRankCholesky {
             if self.update_failed {
                 return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
             }
+            // The fill since the factorization: 4 flops per extra entry of L (two substitutions).
+            self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
             return f.solve(x).map_err(|e| FactorError(e.0));
         }
         self.base_solve(x, 1)?;
@@ -644,6 +678,45 @@ mod tests {
         let r = (91.0 / w_f - FACTOR_SPEEDUP).abs().min((91.0 / w_f - FACTOR_SPEEDUP_SIMPLICIAL).abs());
         assert!(r < 1e-12, "W_f = {w_f}");
         assert!(!f.wants_refactorization());
+    }
+
+    #[test]
+    fn fill_of_updates_in_place_is_bought_back_by_a_refactorization() {
+        // A chain of 16 springs: a tridiagonal factor without fill, 2n − 1 = 31 entries and
+        // W_f = Σ c_j² = 4(n − 1) + 1 = 61 flops. A rank-one update coupling unknowns 2 and 13
+        // brings ΔE entries of fill; each solve then spends 4 ΔE extra flops, so the rule asks for
+        // a refactorization after exactly ⌈W_f / (4 ΔE)⌉ solves, not one before. A refactorization
+        // takes the fill into its new analysis and resets the account.
+        let n = 16;
+        let k: Vec<f64> = (0..n).map(|e| 2.0 + 0.1 * e as f64).collect();
+        let mut t = chain(n, &k);
+        let mut f = LowRankCholesky::with_updates(n, FILL_REFACTOR_FACTOR).unwrap();
+        f.factorize(&t).unwrap();
+        assert_eq!(f.entries, (2 * n - 1, 2 * n - 1));
+        f.add_terms(vec![vec![(2, 0.7), (13, -0.7)]], 1.0).unwrap();
+        let fill = f.entries.1 - f.entries.0;
+        assert!(fill > 0, "the coupling brought no fill");
+        let due = (61.0 / (4.0 * fill as f64)).ceil() as usize;
+        let mut x = vec![1.0; n];
+        for s in 1..=due {
+            assert!(!f.wants_refactorization(), "due after {s} − 1 solves, expected {due}");
+            f.solve(&mut x).unwrap();
+        }
+        assert!(f.wants_refactorization());
+        for (r, c, v) in [(2, 2, 0.49), (13, 13, 0.49), (2, 13, -0.49)] {
+            t.push(Triplet::new(r, c, v));
+        }
+        f.factorize(&t).unwrap();
+        assert!(!f.wants_refactorization());
+        assert_eq!(f.entries.0, f.entries.1);
+        // Never, with an infinite factor.
+        let mut g = LowRankCholesky::with_updates(n, f64::INFINITY).unwrap();
+        g.factorize(&chain(n, &k)).unwrap();
+        g.add_terms(vec![vec![(2, 0.7), (13, -0.7)]], 1.0).unwrap();
+        for _ in 0..100 {
+            g.solve(&mut x).unwrap();
+        }
+        assert!(!g.wants_refactorization());
     }
 
     #[test]

@@ -81,9 +81,10 @@ pub(super) struct Upkeep<'u, 'a> {
 
 impl Operator {
     /// An operator of `n_eq` equations, to be factorized before its first use.
-    pub fn new(n_eq: usize, updates_in_place: bool) -> Result<Operator, DemError> {
+    pub fn new(n_eq: usize, updates_in_place: bool, fill_refactor: f64) -> Result<Operator, DemError> {
         let factor = if updates_in_place {
-            LowRankCholesky::with_updates(n_eq).map_err(|e| DemError::Factorization { event: 0, reason: e.0 })?
+            LowRankCholesky::with_updates(n_eq, fill_refactor)
+                .map_err(|e| DemError::Factorization { event: 0, reason: e.0 })?
         } else {
             LowRankCholesky::new(n_eq)
         };
@@ -127,8 +128,15 @@ impl Operator {
             *id = None;
             self.pattern.insert((i, j), t.idx);
         }
-        // One term per pair ever in contact, in pair order (module docs, "Pattern").
-        let extra: Vec<ZTerm> = self.pattern.iter().map(|(&(i, j), &idx)| ZTerm { idx, k: self.held(i, j) }).collect();
+        // One term per pair ever in contact, in pair order (module docs, "Pattern"); a factor
+        // updated in place is analysed afresh each time, so it leaves out the pairs apart.
+        let fresh = self.factor.updates_in_place();
+        let extra: Vec<ZTerm> = self
+            .pattern
+            .iter()
+            .map(|(&(i, j), &idx)| ZTerm { idx, k: self.held(i, j) })
+            .filter(|t| !fresh || t.k.iter().any(|&v| v != 0.0))
+            .collect();
         let t = u.model.assemble(u.intact, diagonal, &extra);
         self.factor.factorize(&t).map_err(|e| DemError::Factorization { event: u.event, reason: e.0 })?;
         (self.stale, self.pending) = (false, None);
@@ -142,6 +150,7 @@ impl Operator {
             None => r.floating += 1,
         }
         profile::add(&mut u.profile.factor_seconds, clock.elapsed());
+        u.profile.factor_entries = [self.factor.entries.0, self.factor.entries.1];
         Ok(())
     }
 
@@ -264,6 +273,7 @@ impl Operator {
             }
             profile::add(&mut u.profile.columns_seconds, clock.elapsed());
         }
+        u.profile.factor_entries = [self.factor.entries.0, self.factor.entries.1];
         if self.factor.wants_refactorization() {
             self.invalidate(Some(Refactor::CostModel));
         }

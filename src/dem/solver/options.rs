@@ -57,6 +57,10 @@ pub struct SolverOptions {
     /// Keep the factorized operator current by CHOLMOD's updates and downdates in place instead
     /// of a Woodbury correction with refactorizations ([`super::factor`], "Updates in place").
     pub updates_in_place: bool,
+    /// With `updates_in_place`: refactorize once the fill that updates brought into the factor
+    /// has cost this many factorizations in extra solve work ([`super::factor`], "Updates in
+    /// place"; default [`super::factor::FILL_REFACTOR_FACTOR`]; `f64::INFINITY`: never).
+    pub fill_refactor: f64,
     /// Replace a contact term held in the factorized operator once it has drifted from the
     /// contact's current one by more than this fraction (Frobenius norm of the 6×6 terms): the
     /// normal turns and the chord's stiffness changes as a contact deepens, and the difference
@@ -88,6 +92,7 @@ impl Default for SolverOptions {
             predict_steps: true,
             linear_phase: true,
             updates_in_place: false,
+            fill_refactor: super::factor::FILL_REFACTOR_FACTOR,
             refresh_drift: f64::INFINITY,
             breaks_per_equilibrium: 1,
         }

@@ -58,6 +58,9 @@ pub struct SolverProfile {
     /// Contact terms of the operator replaced because they drifted
     /// ([`super::SolverOptions::refresh_drift`]).
     pub refreshed_terms: usize,
+    /// With updates in place: the entries of `L` after the last factorization and now (the fill
+    /// that updates brought, [`super::factor::FILL_REFACTOR_FACTOR`]).
+    pub factor_entries: [usize; 2],
     /// Numeric factorizations, by cause: the cost model, the rank cap, an inaccurate
     /// capacitance matrix or GMRES failure, a floating stone, the first one.
     pub refactorizations: Refactorizations,
@@ -105,7 +108,8 @@ pub struct Counters {
 pub struct Refactorizations {
     /// The first factorization of the run.
     pub initial: usize,
-    /// The accumulated Woodbury columns cost more than a factorization ([`super::factor`]).
+    /// The accumulated Woodbury columns, or the fill of updates in place, cost more than a
+    /// factorization ([`super::factor`]).
     pub cost_model: usize,
     /// The Woodbury rank would pass `max_rank`.
     pub rank_cap: usize,
@@ -116,6 +120,13 @@ pub struct Refactorizations {
     /// The shifted operator of a pseudo-transient continuation, or the return from it
     /// (`super::continuation`).
     pub continuation: usize,
+}
+
+impl Refactorizations {
+    /// All of them.
+    pub fn total(&self) -> usize {
+        self.initial + self.cost_model + self.rank_cap + self.accuracy + self.floating + self.continuation
+    }
 }
 
 /// Adds the seconds of `d` to `acc`.

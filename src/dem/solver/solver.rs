@@ -13,7 +13,7 @@
 //! breaks ([`super::breaks`]), equilibrium ([`super::equilibrium`]), continuation
 //! ([`super::continuation`]), the energy account and commits ([`super::energy`]).
 use super::contact_candidates::CandidateList;
-use super::contact_set::{self, ActiveContact};
+use super::contact_set::ActiveContact;
 use super::error::DemError;
 use super::operator::{Operator, Upkeep};
 use super::options::SolverOptions;
@@ -75,7 +75,7 @@ impl<'a> Solver<'a> {
         }
         Ok(Solver {
             scales: Scales::of(&model),
-            operator: Operator::new(map.n_eq(), opts.updates_in_place)?,
+            operator: Operator::new(map.n_eq(), opts.updates_in_place, opts.fill_refactor)?,
             opts,
             state,
             candidates: CandidateList::default(),
@@ -136,14 +136,6 @@ impl<'a> Solver<'a> {
     /// leaves the contacts of the equilibrium state in [`Self::contacts`].
     pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
         self.equilibrate_with(load, None, t)
-    }
-
-    /// Internal forces in `z` (beams, contacts).
-    pub(super) fn internal(&self, z: &[f64], contacts: &[ActiveContact]) -> Vec<f64> {
-        let mut f = vec![0.0; self.model.map.n_z];
-        self.model.add_beam_forces(&self.state.intact, z, &mut f);
-        contact_set::add_contact_forces(&self.model.map, contacts, &mut f);
-        f
     }
 
     /// The operator with what its upkeep reads, and the scales (disjoint borrows of the

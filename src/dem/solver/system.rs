@@ -39,6 +39,9 @@ pub struct Model<'a> {
     pub geoms: Vec<BeamGeom>,
     /// Per beam stiffness in `z`.
     pub terms: Vec<ZTerm>,
+    /// The beams with a `z` index on a platen, in beam order: the only ones whose forces reach
+    /// the platens' rows ([`Self::add_platen_beam_forces`]).
+    pub platen_beams: Vec<usize>,
 }
 
 impl<'a> Model<'a> {
@@ -57,7 +60,9 @@ impl<'a> Model<'a> {
             geoms.push(g);
             terms.push(ZTerm { idx, k: (kz + kz.transpose()) * 0.5 });
         }
-        Ok(Model { sample, params: *params, thresholds: params.thresholds(), map, geoms, terms })
+        let on_platen = |k: usize| map.platen_base.iter().any(|&b| (b..b + 3).contains(&k));
+        let platen_beams = (0..terms.len()).filter(|&b| terms[b].idx.iter().any(|&k| on_platen(k))).collect();
+        Ok(Model { sample, params: *params, thresholds: params.thresholds(), map, geoms, terms, platen_beams })
     }
 
     /// Stones `(q_i, q_j)` of beam `b` for coordinates `z`.
@@ -74,6 +79,19 @@ impl<'a> Model<'a> {
     /// Adds the internal forces of the intact beams to `out` (length `n_z`).
     pub fn add_beam_forces(&self, intact: &[bool], z: &[f64], out: &mut [f64]) {
         for (t, _) in self.terms.iter().zip(intact).filter(|(_, &ok)| ok) {
+            let f = t.k * Self::gather(&t.idx, z);
+            for a in 0..6 {
+                out[t.idx[a]] += f[a];
+            }
+        }
+    }
+
+    /// Adds the internal forces of the intact beams that reach a platen to `out`: the platens'
+    /// rows of [`Self::add_beam_forces`] bit for bit (the same terms added in the same order;
+    /// the other rows get only these beams' part).
+    pub fn add_platen_beam_forces(&self, intact: &[bool], z: &[f64], out: &mut [f64]) {
+        for &b in self.platen_beams.iter().filter(|&&b| intact[b]) {
+            let t = &self.terms[b];
             let f = t.k * Self::gather(&t.idx, z);
             for a in 0..6 {
                 out[t.idx[a]] += f[a];
