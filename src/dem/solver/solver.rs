@@ -32,6 +32,9 @@ pub struct Solver<'a> {
     pub(super) scales: Scales,
     pub(super) state: SolverState,
     pub(super) operator: Operator,
+    /// With updates in place: the continuation's shifted operators, a Woodbury operator of their
+    /// own, so that the updatable factor stays unshifted ([`super::continuation`]).
+    pub(super) shifted: Option<Operator>,
     /// The contact search's candidate list ([`super::contact_candidates`]).
     pub(super) candidates: CandidateList,
     /// Contact Jacobians kept between evaluations ([`super::tangent`]).
@@ -76,6 +79,7 @@ impl<'a> Solver<'a> {
         Ok(Solver {
             scales: Scales::of(&model),
             operator: Operator::new(map.n_eq(), opts.updates_in_place, opts.fill_refactor)?,
+            shifted: None,
             opts,
             state,
             candidates: CandidateList::default(),
@@ -113,9 +117,11 @@ impl<'a> Solver<'a> {
         &self.model
     }
 
-    /// The factorization statistics `(numeric factorizations, symbolic analyses)`.
+    /// The factorization statistics `(numeric factorizations, symbolic analyses)`, the
+    /// continuation's own shifted operator's included.
     pub fn factor_stats(&self) -> (usize, usize) {
-        (self.operator.factor.n_factorizations, self.operator.factor.n_symbolic)
+        let shifted = self.shifted.as_ref().map_or((0, 0), |s| (s.factor.n_factorizations, s.factor.n_symbolic));
+        (self.operator.factor.n_factorizations + shifted.0, self.operator.factor.n_symbolic + shifted.1)
     }
 
     /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0 recomputes every
