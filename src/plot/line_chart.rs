@@ -210,9 +210,24 @@ impl LineChart {
             }
             .map_err(|e| render(&e))?;
             // A series without a name (one of many samples) gets no legend entry.
+            // Its legend entry is drawn as the series is: a line, a dashed line or a dot.
             if !s.name.is_empty() {
-                anno.label(s.name.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3)));
+                let entry = anno.label(s.name.clone());
+                match s.style {
+                    SeriesStyle::Line => {
+                        entry.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3)));
+                    }
+                    SeriesStyle::Dashed => {
+                        entry.legend(move |(x, y)| {
+                            EmptyElement::at((x, y))
+                                + PathElement::new(vec![(0, 0), (8, 0)], color.stroke_width(3))
+                                + PathElement::new(vec![(13, 0), (20, 0)], color.stroke_width(3))
+                        });
+                    }
+                    SeriesStyle::Markers => {
+                        entry.legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+                    }
+                }
             }
         }
         if self.series.iter().filter(|s| !s.name.is_empty()).count() + self.bands.len() > 1 {
@@ -267,6 +282,7 @@ mod tests {
         LineChart::new("sin(x)", "x [rad]", "sin x [-]")
             .series("sin", pts, SeriesStyle::Line)
             .series("points", vec![(1.0, 0.8), (2.0, 0.9)], SeriesStyle::Markers)
+            .series("chord", vec![(0.0, 1.0), (3.0, -1.0)], SeriesStyle::Dashed)
             .x_band("a band", 2.0, 4.0)
             .save_png(&f)
             .unwrap();
