@@ -217,7 +217,8 @@ impl LowRankCholesky {
 
     /// An empty solver for `n` unknowns whose terms are updates and downdates of CHOLMOD's
     /// factor in place ("Updates in place" in the module docs): no correction accumulates,
-    /// [`Self::rank`] stays 0 and the cost model never asks for a refactorization.
+    /// [`Self::rank`] stays 0, and the cost model asks for a refactorization once the fill of
+    /// the updates has cost `fill_refactor` factorizations.
     pub fn with_updates(n: usize, fill_refactor: f64) -> Result<Self, FactorError> {
         let mut s = Self::with_ordering(n, Ordering::Amd);
         s.fill_refactor = fill_refactor;

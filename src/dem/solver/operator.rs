@@ -225,9 +225,10 @@ impl Operator {
                 if !want.contains_key(&key) {
                     continue;
                 }
+                let mut current = None;
                 if u.opts.refresh_drift.is_finite() {
                     // A held term that drifted from the contact's current one is replaced.
-                    let current = u.model.rank_one(a.i, a.j, &dir, k);
+                    let current = current.insert(u.model.rank_one(a.i, a.j, &dir, k));
                     let drifted = self.terms.get(&key).is_some_and(|(t, _)| {
                         (current.k - t.k).norm() > u.opts.refresh_drift * t.k.norm().max(current.k.norm())
                     });
@@ -243,7 +244,7 @@ impl Operator {
                 }
                 if !self.terms.contains_key(&key) {
                     u.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
-                    let t = u.model.rank_one(a.i, a.j, &dir, k);
+                    let t = current.unwrap_or_else(|| u.model.rank_one(a.i, a.j, &dir, k));
                     if !self.stale {
                         batch.push((Some(key), u.model.factors(&t), 1.0));
                     }
