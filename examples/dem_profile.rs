@@ -27,6 +27,8 @@
 //! than that fraction from the contact's current one (`SolverOptions::refresh_drift`).
 //! `DEM_BREAKS=n` breaks up to n beams per equilibrium (`SolverOptions::breaks_per_equilibrium`,
 //! an approximation; default 1, the exact algorithm).
+//! `DEM_TRACE=1` keeps the Newton history of the last equilibrium attempts and prints it to
+//! stderr when the test stops on an error (`dem::solver::trace`).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
@@ -104,6 +106,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             None => Forcing::Fixed(num(&v)?),
         };
     }
+    if let Ok(v) = std::env::var("DEM_TRACE") {
+        opts.trace = v != "0";
+    }
     let settings = format!(
         "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
         opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
@@ -124,7 +129,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let end = match end {
         Ok(StageEnd::Completed) => "target".to_string(),
         Ok(StageEnd::LossOfLoad) => "loss_of_load".to_string(),
-        Err(e) => format!("stopped: {e}"),
+        Err(e) => {
+            if let Some(tr) = solver.trace.as_ref() {
+                eprintln!("{}", tr.report());
+            }
+            format!("stopped: {e}")
+        }
     };
     let area = sample.width * params.t_z;
     let curve: Vec<(f64, f64, usize)> = solver

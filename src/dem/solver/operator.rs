@@ -11,7 +11,7 @@
 //! subtracts a rank-one term, and one that leaves before the next factorization is dropped from
 //! the correction instead ([`LowRankCholesky`]). The base is refactorized when the correction
 //! has cost more than a factorization (the cost model of [`super::factor`]), when its rank would
-//! pass `max_rank`, when the capacitance matrix is ill-conditioned or GMRES failed with it, after
+//! pass `max_rank` (Woodbury path only: updates in place leave no correction), when the capacitance matrix is ill-conditioned or GMRES failed with it, after
 //! a stone lost every bond and contact, and around a pseudo-transient continuation.
 //!
 //! **Drift refresh (opt-in, `refresh_drift`).** A held contact term is the rank-one penalty of
@@ -166,6 +166,15 @@ impl Operator {
         k
     }
 
+    /// Whether `cols` more columns would pass the Woodbury correction's rank cap. With updates in
+    /// place the correction stays empty (every column goes into the factor, whose fill the cost
+    /// model of [`super::factor`] buys back), so no batch passes it: counting a batch's columns
+    /// there refactorized the operator after any Newton iteration with more than `max_rank`
+    /// contact terms entering or leaving.
+    fn over_rank_cap(&self, cols: usize, max_rank: usize) -> bool {
+        !self.factor.updates_in_place() && self.factor.rank() + cols > max_rank
+    }
+
     /// Adds `sign ·` `term` to the operator as a Woodbury term; `None` when the operator is to
     /// be refactorized anyway (then the factorization includes the term).
     pub fn add_low_rank(
@@ -178,7 +187,7 @@ impl Operator {
             return Ok(None); // the next factorization will include the current terms
         }
         let cols = u.model.factors(term);
-        if self.factor.rank() + cols.len() > u.opts.max_rank {
+        if self.over_rank_cap(cols.len(), u.opts.max_rank) {
             self.invalidate(Some(Refactor::RankCap));
             return Ok(None);
         }
@@ -256,7 +265,7 @@ impl Operator {
             return Ok(()); // the next factorization includes the current terms
         }
         let cols: usize = batch.iter().map(|b| b.1.len()).sum();
-        if self.factor.rank() + cols > u.opts.max_rank {
+        if self.over_rank_cap(cols, u.opts.max_rank) {
             self.invalidate(Some(Refactor::RankCap));
             return Ok(());
         }

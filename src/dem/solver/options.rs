@@ -19,7 +19,8 @@ pub struct SolverOptions {
     pub tol: f64,
     /// Maximum equilibrium iterations.
     pub max_iterations: usize,
-    /// Refactorize when the Woodbury correction has more columns than this (90 = 30 beams).
+    /// Refactorize when the Woodbury correction has more columns than this (90 = 30 beams; not
+    /// with `updates_in_place`, which keeps no correction).
     pub max_rank: usize,
     /// Stop when `|R| < loss_fraction × peak |R|` (after the peak).
     pub loss_fraction: f64,
