@@ -27,6 +27,8 @@
 //! than that fraction from the contact's current one (`SolverOptions::refresh_drift`).
 //! `DEM_BREAKS=n` breaks up to n beams per equilibrium (`SolverOptions::breaks_per_equilibrium`,
 //! an approximation; default 1, the exact algorithm).
+//! `DEM_TOL=x` sets the relative residual tolerance of every equilibrium (`SolverOptions::tol`,
+//! default 1e-8).
 //! `DEM_TRACE=1` keeps the Newton history of the last equilibrium attempts and prints it to
 //! stderr when the test stops on an error (`dem::solver::trace`).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
@@ -106,12 +108,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             None => Forcing::Fixed(num(&v)?),
         };
     }
+    if let Ok(v) = std::env::var("DEM_TOL") {
+        opts.tol = v.parse().map_err(|e| format!("DEM_TOL={v}: {e}"))?;
+    }
     if let Ok(v) = std::env::var("DEM_TRACE") {
         opts.trace = v != "0";
     }
     let settings = format!(
-        "slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
-        opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
+        "tol={} slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
+        opts.tol, opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
         opts.breaks_per_equilibrium
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;

@@ -57,7 +57,7 @@
 //! It is a fallback: one continuation costs up to `MAX_ITERATIONS` factorizations
 //! of a small wall, more than Newton's method, and runs only where Newton's method failed at the
 //! smallest increment.
-use super::equilibrium::Evaluation;
+use super::equilibrium::{newton_step, Evaluation};
 use super::error::DemError;
 use super::gmres::{gmres, GmresInfo};
 use super::operator::{Operator, Refactor};
@@ -118,6 +118,7 @@ impl<'a> Solver<'a> {
         let mut sigma = SIGMA_0;
         let mut factored: Option<f64> = None;
         let mut converged = false;
+        let mut previous = None;
         for _ in 0..MAX_ITERATIONS {
             if ev.relative <= self.opts.tol {
                 converged = true;
@@ -141,17 +142,12 @@ impl<'a> Solver<'a> {
             let cap = if downhill { self.cap_continuation(&mut dz) } else { 0.0 };
             if let Some(tr) = self.trace.as_mut() {
                 tr.step(NewtonStep {
-                    relative: ev.relative,
-                    merit: ev.merit,
-                    contacts: ev.contacts.len(),
-                    sliding: ev.contacts.iter().filter(|a| !a.sticks()).count(),
-                    crushing: ev.contacts.iter().filter(|a| a.crush.is_some_and(|c| c.plastic)).count(),
-                    set_changes: 0,
                     gmres_iterations: info.iterations,
                     linear_converged: info.converged,
                     cap,
                     alpha: if downhill { 1.0 } else { 0.0 },
                     shift: sigma,
+                    ..newton_step(&ev, &mut previous, &self.model.map)
                 });
             }
             if !downhill {

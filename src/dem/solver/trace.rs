@@ -35,6 +35,29 @@ pub struct NewtonStep {
     pub alpha: f64,
     /// The continuation's shift `σ` (0 in Newton's method).
     pub shift: f64,
+    /// Where the residual is largest: the stone, the component (0, 1: force x, y; 2: moment)
+    /// and the residual there (N or N·m).
+    pub worst: (usize, usize, f64),
+    /// The contacts that entered, left or flipped between stick and slip against the previous
+    /// iteration (at most [`KEPT_CHANGES`]): the pair, what happened, and `F_n` (N) and
+    /// `|F_t| / μ F_n`-like ratio `|F_t| / F_n` at this iteration (0 for a contact that left).
+    pub changed: Vec<Change>,
+}
+
+/// Changed contacts kept per iteration.
+pub const KEPT_CHANGES: usize = 6;
+
+/// A contact that entered, left or flipped between two Newton iterations.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Change {
+    /// The pair.
+    pub pair: (usize, usize),
+    /// "enter", "leave", "stick" (slip → stick) or "slip" (stick → slip).
+    pub what: &'static str,
+    /// Normal force (N) at this iteration.
+    pub f_n: f64,
+    /// `|F_t| / F_n` at this iteration.
+    pub ratio: f64,
 }
 
 /// One equilibrium attempt.
@@ -129,6 +152,17 @@ impl Trace {
                     st.alpha,
                     st.shift
                 ));
+                s.push_str(&format!(
+                    "        worst: stone {} component {} residual {:.3e}",
+                    st.worst.0, st.worst.1, st.worst.2
+                ));
+                for c in &st.changed {
+                    s.push_str(&format!(
+                        "; ({}, {}) {} F_n {:.3e} |F_t|/F_n {:.4}",
+                        c.pair.0, c.pair.1, c.what, c.f_n, c.ratio
+                    ));
+                }
+                s.push('\n');
             }
         }
         s
