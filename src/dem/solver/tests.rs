@@ -348,3 +348,36 @@ fn a_cloned_state_continues_the_test_in_a_new_solver() {
         resumed.factor_stats().0
     );
 }
+
+#[test]
+fn trace_names_the_largest_residual_and_the_changed_contacts() {
+    // 120 random stones compressed past the first cracks with the trace on: the kept Newton
+    // iterations with contacts. Each names a stone of the sample and one of its three components
+    // with a residual ≥ 0, positive wherever the relative residual is; the changed contacts are
+    // the first min(set changes, KEPT_CHANGES) of the counted ones, so their number follows the
+    // count; a contact that slides carries |F_t| = μ F_n (the return map onto the cone, to
+    // round-off 1e-12), one that entered or sticks F_n > 0 and |F_t| ≤ μ F_n.
+    let s = super::speed_tests::random(120, 5);
+    let solver = super::speed_tests::compress(&s, SolverOptions { trace: true, ..Default::default() });
+    let mu = MechParams::default().mu;
+    let trace = solver.trace.as_ref().expect("the trace is kept");
+    let steps: Vec<&trace::NewtonStep> =
+        trace.attempts.iter().flat_map(|a| a.steps.iter().skip(1)).filter(|st| st.contacts > 0).collect();
+    assert!(!steps.is_empty(), "no Newton iteration with contacts kept");
+    let mut seen = 0;
+    for st in steps {
+        assert!(st.worst.0 < s.particles.len() && st.worst.1 < 3, "{:?}", st.worst);
+        assert!(st.worst.2 >= 0.0 && (st.relative == 0.0 || st.worst.2 > 0.0), "{st:?}");
+        assert_eq!(st.changed.len(), st.set_changes.min(trace::KEPT_CHANGES), "{st:?}");
+        for c in &st.changed {
+            seen += 1;
+            match c.what {
+                "slip" => assert!((c.ratio - mu).abs() <= 1e-12, "{c:?}"),
+                "enter" | "stick" => assert!(c.f_n > 0.0 && c.ratio <= mu + 1e-12, "{c:?}"),
+                "leave" => assert_eq!((c.f_n, c.ratio), (0.0, 0.0)),
+                w => panic!("unknown change {w}"),
+            }
+        }
+    }
+    println!("{seen} changed contacts checked");
+}
