@@ -124,6 +124,13 @@ impl DofMap {
         Ok(DofMap { owners, n_z, platen_base, platen_ref: refs, eq, unknowns, prescribed, forced })
     }
 
+    /// The stone whose own `z` entries include index `zi`; `None` for a platen's entries (a
+    /// stone bonded to a platen has none of its own).
+    pub fn stone_of(&self, zi: usize) -> Option<usize> {
+        let base = zi - zi % 3;
+        self.owners.iter().position(|o| matches!(o, Owner::Free { base: b } if *b == base))
+    }
+
     /// Number of equations (unknowns).
     pub fn n_eq(&self) -> usize {
         self.unknowns.len()
@@ -202,6 +209,28 @@ mod tests {
             tiny_facets: Default::default(),
         };
         Sample::build(&cfg).unwrap()
+    }
+
+    #[test]
+    fn every_own_entry_names_its_stone() {
+        // Each free stone's three z entries name it; the platens' six entries name none, and no
+        // entry names a slave stone.
+        let s = wall();
+        let map = DofMap::new(&s, [[DofControl::Prescribed; 3]; 2]).unwrap();
+        let mut named = 0;
+        for zi in 0..map.n_z {
+            match map.stone_of(zi) {
+                Some(p) => {
+                    assert!(!map.is_slave(p));
+                    let mut z = vec![0.0; map.n_z];
+                    z[zi] = 1.0;
+                    assert_eq!(map.particle_dofs(p, &z)[zi % 3], 1.0, "entry {zi}, stone {p}");
+                    named += 1;
+                }
+                None => assert!(zi >= map.platen_base[0], "entry {zi}"),
+            }
+        }
+        assert_eq!(named, map.n_z - 6);
     }
 
     #[test]

@@ -457,7 +457,7 @@ pub(super) fn newton_step(
         cap: 1.0,
         alpha: 1.0,
         shift: 0.0,
-        worst: (zi / 3, zi % 3, r),
+        worst: (map.stone_of(zi), zi % 3, r),
         changed,
     }
 }

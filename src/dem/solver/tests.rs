@@ -352,7 +352,7 @@ fn a_cloned_state_continues_the_test_in_a_new_solver() {
 #[test]
 fn trace_names_the_largest_residual_and_the_changed_contacts() {
     // 120 random stones compressed past the first cracks with the trace on: the kept Newton
-    // iterations with contacts. Each names a stone of the sample and one of its three components
+    // iterations with contacts. Each names a free stone of the sample and one of its components
     // with a residual ≥ 0, positive wherever the relative residual is; the changed contacts are
     // the first min(set changes, KEPT_CHANGES) of the counted ones, so their number follows the
     // count; a contact that slides carries |F_t| = μ F_n (the return map onto the cone, to
@@ -366,7 +366,10 @@ fn trace_names_the_largest_residual_and_the_changed_contacts() {
     assert!(!steps.is_empty(), "no Newton iteration with contacts kept");
     let mut seen = 0;
     for st in steps {
-        assert!(st.worst.0 < s.particles.len() && st.worst.1 < 3, "{:?}", st.worst);
+        // Both platens prescribed: every equation is a free stone's.
+        let stone = st.worst.0.expect("a stone's equation");
+        assert!(stone < s.particles.len() && st.worst.1 < 3, "{:?}", st.worst);
+        assert!(!solver.model.map.is_slave(stone), "{:?}", st.worst);
         assert!(st.worst.2 >= 0.0 && (st.relative == 0.0 || st.worst.2 > 0.0), "{st:?}");
         assert_eq!(st.changed.len(), st.set_changes.min(trace::KEPT_CHANGES), "{st:?}");
         for c in &st.changed {

@@ -35,9 +35,9 @@ pub struct NewtonStep {
     pub alpha: f64,
     /// The continuation's shift `σ` (0 in Newton's method).
     pub shift: f64,
-    /// Where the residual is largest: the stone, the component (0, 1: force x, y; 2: moment)
-    /// and the residual there (N or N·m).
-    pub worst: (usize, usize, f64),
+    /// Where the residual is largest: the stone (`None`: a force-controlled platen), the
+    /// component (0, 1: force x, y; 2: moment) and the residual there (N or N·m).
+    pub worst: (Option<usize>, usize, f64),
     /// The contacts that entered, left or flipped between stick and slip against the previous
     /// iteration (at most [`KEPT_CHANGES`]): the pair, what happened, and `F_n` (N) and
     /// `|F_t| / μ F_n`-like ratio `|F_t| / F_n` at this iteration (0 for a contact that left).
@@ -152,10 +152,8 @@ impl Trace {
                     st.alpha,
                     st.shift
                 ));
-                s.push_str(&format!(
-                    "        worst: stone {} component {} residual {:.3e}",
-                    st.worst.0, st.worst.1, st.worst.2
-                ));
+                let at = st.worst.0.map_or_else(|| "a platen".to_string(), |p| format!("stone {p}"));
+                s.push_str(&format!("        worst: {at} component {} residual {:.3e}", st.worst.1, st.worst.2));
                 for c in &st.changed {
                     s.push_str(&format!(
                         "; ({}, {}) {} F_n {:.3e} |F_t|/F_n {:.4}",
