@@ -438,10 +438,10 @@ pub(super) fn newton_step(
     previous: &mut Option<Vec<(usize, usize, bool)>>,
     map: &super::DofMap,
 ) -> NewtonStep {
-    let set: Vec<(usize, usize, bool)> = ev.contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect();
-    let changed = previous.as_ref().map_or_else(Vec::new, |p| changed_contacts(p, ev));
-    let changes = previous.as_ref().map_or(0, |p| set_changes(p, &set));
-    *previous = Some(set);
+    let mut changed = previous.as_ref().map_or_else(Vec::new, |p| changed_contacts(p, ev));
+    let changes = changed.len();
+    changed.truncate(super::trace::KEPT_CHANGES);
+    *previous = Some(ev.contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect());
     let (e, r) =
         ev.r.iter().enumerate().fold((0, 0.0f64), |(k, m), (e, x)| if x.abs() > m { (e, x.abs()) } else { (k, m) });
     let zi = map.unknowns.get(e).copied().unwrap_or(0);
@@ -462,10 +462,10 @@ pub(super) fn newton_step(
     }
 }
 
-/// The first [`super::trace::KEPT_CHANGES`] contacts of `ev` that entered or flipped, or that
-/// left, against the previous set `a` (sorted by pair).
+/// The contacts of `ev` that entered or flipped between stick and slip, then those that left,
+/// against the previous set `a` `(i, j, sticks)`.
 fn changed_contacts(a: &[(usize, usize, bool)], ev: &Evaluation) -> Vec<super::trace::Change> {
-    use super::trace::{Change, KEPT_CHANGES};
+    use super::trace::Change;
     let ma: BTreeMap<(usize, usize), bool> = a.iter().map(|&(i, j, s)| ((i, j), s)).collect();
     let mut out = Vec::new();
     for c in &ev.contacts {
@@ -492,16 +492,5 @@ fn changed_contacts(a: &[(usize, usize, bool)], ev: &Evaluation) -> Vec<super::t
     for k in ma.keys().filter(|k| !now.contains(k)) {
         out.push(Change { pair: *k, what: "leave", f_n: 0.0, ratio: 0.0 });
     }
-    out.truncate(KEPT_CHANGES);
     out
-}
-
-/// Contacts entering or leaving and stick/slip flips between two sets `(i, j, sticks)`, both
-/// sorted by pair.
-fn set_changes(a: &[(usize, usize, bool)], b: &[(usize, usize, bool)]) -> usize {
-    let ma: BTreeMap<(usize, usize), bool> = a.iter().map(|&(i, j, s)| ((i, j), s)).collect();
-    let mb: BTreeMap<(usize, usize), bool> = b.iter().map(|&(i, j, s)| ((i, j), s)).collect();
-    let gone = ma.keys().filter(|k| !mb.contains_key(k)).count();
-    let changed = mb.iter().filter(|(k, s)| ma.get(k).is_none_or(|t| t != *s)).count();
-    gone + changed
 }

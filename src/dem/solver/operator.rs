@@ -11,8 +11,9 @@
 //! subtracts a rank-one term, and one that leaves before the next factorization is dropped from
 //! the correction instead ([`LowRankCholesky`]). The base is refactorized when the correction
 //! has cost more than a factorization (the cost model of [`super::factor`]), when its rank would
-//! pass `max_rank` (Woodbury path only: updates in place leave no correction), when the capacitance matrix is ill-conditioned or GMRES failed with it, after
-//! a stone lost every bond and contact, and around a pseudo-transient continuation.
+//! pass `max_rank` (the Woodbury path only: updates in place keep no correction), when the
+//! capacitance matrix is ill-conditioned or GMRES failed with it, after a stone lost every bond
+//! and contact, and around a pseudo-transient continuation.
 //!
 //! **Drift refresh (opt-in, `refresh_drift`).** A held contact term is the rank-one penalty of
 //! the contact's geometry when it entered. As the stones rotate, the current term

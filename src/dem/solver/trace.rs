@@ -39,8 +39,8 @@ pub struct NewtonStep {
     /// component (0, 1: force x, y; 2: moment) and the residual there (N or N·m).
     pub worst: (Option<usize>, usize, f64),
     /// The contacts that entered, left or flipped between stick and slip against the previous
-    /// iteration (at most [`KEPT_CHANGES`]): the pair, what happened, and `F_n` (N) and
-    /// `|F_t| / μ F_n`-like ratio `|F_t| / F_n` at this iteration (0 for a contact that left).
+    /// iteration (the first [`KEPT_CHANGES`] of `set_changes`): the pair, what happened, `F_n`
+    /// (N) and `|F_t| / F_n` at this iteration (both 0 for a contact that left).
     pub changed: Vec<Change>,
 }
 
