@@ -7,6 +7,7 @@
 //! | `layers.rs`   | [`ThicknessRule`] (Simpson per layer) and the section update N, M, A B D    |
 //! | `geometry.rs` | local frame of a flat element, projection of a warped quad, rigid links    |
 //! | `element.rs`  | [`ShellElement`]: force, tangent, state, mass, gravity, outputs, checkpoint|
+//! | `products.rs` | the element matrices' products over nonzero columns and node blocks        |
 //! | `mitc4.rs`    | [`ShellQuad4`]: bilinear membrane + MITC4 bending/shear + drilling          |
 //! | `tri3.rs`     | [`ShellTri3`]: Allman membrane (vertex rotations) + DKT bending + drilling |
 //! | `error.rs`    | [`ShellError`]: construction errors                                         |
@@ -20,6 +21,7 @@ mod error;
 pub mod geometry;
 pub mod layers;
 mod mitc4;
+mod products;
 mod section;
 mod tri3;
 
