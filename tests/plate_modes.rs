@@ -1,4 +1,4 @@
-//! Natural frequencies of square plates through the whole program (MITC4 shells, SLEPc), against
+//! Natural frequencies of square plates through the whole program (MITC4 shells, block Lanczos), against
 //! Leissa's values, on 1 and 2 ranks; effective masses of the simply supported plate.
 //!
 //! ```text

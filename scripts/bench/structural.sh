@@ -4,7 +4,7 @@
 #    through the thickness, 4 in-plane points), linear statics under self weight; the assembly
 #    phase (stiffness + loads) per element, on 1 and 2 ranks;
 #  * shell modal analysis: 6 modes of a simply supported 91 x 91 MITC4 plate (8464 nodes,
-#    50 784 DOF), SLEPc shift-and-invert with MUMPS, on 1 and 2 ranks; the largest relative
+#    50 784 DOF), block shift-and-invert Lanczos with MUMPS, on 1 and 2 ranks; the largest relative
 #    difference of the 6 frequencies between the two rank counts;
 #  * the paper's wall as a shell (jobs/wall-shear-fe.toml) on five meshes, 14 increments to
 #    2.8 mm, two laws, rate independent and viscous (below): peak and final force, dissipated

@@ -4,6 +4,7 @@
 //! spectrum and the material point) are in [`crate::run`], beside the dispatch.
 pub mod assembly;
 pub mod assessment;
+pub mod block_lanczos;
 pub mod curve_plot;
 mod discretization;
 pub mod increment;

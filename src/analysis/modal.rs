@@ -1,5 +1,5 @@
-//! Modal analysis: the lowest modes of `K φ = ω² M φ` with SLEPc (generalized symmetric,
-//! shift-and-invert about 0, MUMPS for the inner factorization).
+//! Modal analysis: the lowest modes of `K φ = ω² M φ` by block shift-and-invert Lanczos
+//! ([`block_lanczos`](super::block_lanczos); MUMPS's Cholesky factor of K).
 //!
 //! Modes are normalized to unit modal mass, `φᵀ M φ = 1`. For a ground motion along direction
 //! `d` (influence vector `ι_d`: unit translation `d` at every free node), the participation factor
@@ -8,6 +8,7 @@
 //! mass lumped on supported DOFs does not participate), so partial sums stay below it and
 //! approach it as modes are added (Chopra, *Dynamics of Structures*, §13.2).
 use super::assembly;
+use super::block_lanczos;
 use super::output::{node_triplets, MeshPiece};
 use super::Discretization;
 use crate::config::{Job, ModalConfig};
@@ -17,7 +18,7 @@ use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, all_ranks, Context, Phases};
-use crate::petsc::{Eps, Matrix, Vector};
+use crate::petsc::{Matrix, Vector};
 
 /// One mode.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -60,57 +61,32 @@ pub struct ModalSummary {
 }
 
 /// Collective. The `n` lowest eigenpairs `(λ = ω², φ)` of `K φ = λ M φ`, ascending, with
-/// `φᵀ M φ = 1`. SLEPc options (`-eps_*`, `-st_*`) from the command line apply.
-///
-/// `start`, when given, is the Krylov method's starting vector, zero on every DOF where `M`
-/// has a zero row and column. Then no eigenvector needs purifying: the operator
-/// `(K − σM)⁻¹ M` keeps such a vector zero on those DOFs when they are the fixed ones
-/// (their rows of `K` are decoupled), and `M` is nonsingular on the others, so no Krylov vector
-/// has a component along an infinite eigenvalue. That saves one solve per mode (22 solves
-/// instead of 28 for 6 modes of a 51k-equation shell model). Without `start`, SLEPc's random
-/// starting vector and its purification are used.
+/// `φᵀ M φ = 1`, by block shift-and-invert Lanczos ([`block_lanczos`](super::block_lanczos)).
+/// `diagonal_mass`: `M` is diagonal (a lumped mass stored as such). Logs the solves it took.
 pub fn lowest_modes(
     ctx: &Context,
     k: &Matrix,
     m: &Matrix,
     n: usize,
-    start: Option<&Vector>,
+    diagonal_mass: bool,
 ) -> Result<Vec<(f64, Vector)>, Error> {
-    let mut eps = Eps::new(&ctx.comm, "")?;
-    eps.set_operators(k, Some(m))?;
-    eps.set_shift_invert(0.0)?;
-    eps.set_st_factor("cholesky", "mumps")?;
-    eps.set_dimensions(n)?;
-    eps.set_tolerances(1e-10, 1000)?;
-    if let Some(v) = start {
-        eps.set_initial_vector(v)?;
-        eps.set_purify(false)?;
-    }
-    eps.set_from_options()?;
-    let pairs = agree(&ctx.comm, eps.solve().map_err(Error::from), Error::exit_code)?;
-    let mut out = Vec::with_capacity(n);
-    let mut mphi: Option<Vector> = None;
-    for (lambda, mut phi) in pairs.into_iter().take(n) {
-        let mp = match &mut mphi {
-            Some(v) => v,
-            None => mphi.insert(phi.duplicate()?),
-        };
-        m.mult(&phi, mp)?;
-        let modal_mass = phi.dot(mp)?;
-        if modal_mass > 0.0 {
-            phi.scale(1.0 / modal_mass.sqrt())?;
-        }
-        out.push((lambda, phi));
-    }
-    Ok(out)
+    let (pairs, stats) = block_lanczos::lowest_eigenpairs(ctx, k, m, n, diagonal_mass)?;
+    ctx.log.info(format!(
+        "block Lanczos: {} solves of up to {} vectors ({} in all), {} restart(s); largest residual \
+         ‖Kφ − λMφ‖/‖Kφ‖ = {:.1e}",
+        stats.solves,
+        block_lanczos::BLOCK,
+        stats.columns,
+        stats.restarts,
+        stats.residual
+    ));
+    Ok(pairs)
 }
 
-/// Collective. The mass matrix `M` of the eigenproblem. A lumped mass is diagonal, and is then
-/// stored as such (one entry per row): the eigensolver's `M`-inner products, about as many as its
-/// shift-and-invert solves, then cost a vector operation instead of a product in the stiffness's
-/// sparsity pattern (51k equations of MITC4 shells: 0.1 ms against 24 ms each). A mass with
-/// off-diagonal terms (consistent, or an element whose lumped mass couples its DOFs) takes the
-/// stiffness's pattern.
+/// Collective. The mass matrix `M` of the eigenproblem, and whether it is diagonal. A lumped
+/// mass is diagonal, and is then stored as such (one entry per row): the eigensolver applies it
+/// as a vector. A mass with off-diagonal terms (consistent, or an element whose lumped mass
+/// couples its DOFs) takes the stiffness's pattern.
 fn mass_matrix(
     ctx: &Context,
     mesh: &Mesh,
@@ -118,48 +94,19 @@ fn mass_matrix(
     disc: &Discretization,
     kind: MassKind,
     format: crate::config::MatrixFormat,
-) -> Result<(Matrix, Option<Vector>), Error> {
+) -> Result<(Matrix, bool), Error> {
     if kind == MassKind::Lumped {
         let n = disc.dofs.n_owned_dofs();
         let mut m = Matrix::new_aij(&ctx.comm, n, &vec![1; n], &vec![0; n])?;
         m.set_option_symmetric(true)?;
         let local = assembly::assemble_mass_diagonal(disc, mesh, model, kind, &mut m)?;
         if all_ranks(ctx, local) {
-            let start = start_vector(ctx, disc, &m)?;
-            return Ok((m, start));
+            return Ok((m, true));
         }
     }
     let mut m = disc.new_matrix(ctx, mesh, model, format)?;
     assembly::assemble_mass(disc, mesh, model, kind, &mut m)?;
-    Ok((m, None))
-}
-
-/// Collective. The eigensolver's starting vector for a diagonal `M` (see [`lowest_modes`]):
-/// zero on the fixed DOFs, `1 + frac(0.618… i)` on the free DOF of global number `i` (distinct
-/// entries, the same on every rank count). None when a free DOF has no mass: `M` is singular
-/// there, and SLEPc's purification is kept.
-fn start_vector(ctx: &Context, disc: &Discretization, m: &Matrix) -> Result<Option<Vector>, Error> {
-    let diagonal = m.get_diagonal()?.owned_values()?;
-    let first = 6 * disc.dofs.node_offset();
-    let mut values = vec![0.0; diagonal.len()];
-    let mut massless = false;
-    for (k, &n) in disc.dofs.owned.iter().enumerate() {
-        for d in 0..6 {
-            let i = 6 * k + d;
-            if !disc.dofs.is_fixed(n, d) {
-                massless |= diagonal[i] <= 0.0;
-                values[i] = 1.0 + ((first + i) as f64 * 0.618_033_988_749_895).fract();
-            }
-        }
-    }
-    if !all_ranks(ctx, !massless) {
-        return Ok(None);
-    }
-    let idx: Vec<i32> = (0..values.len()).map(|i| (first + i) as i32).collect();
-    let mut v = Vector::new_mpi(&ctx.comm, values.len(), None)?;
-    v.set_values(&idx, &values)?;
-    v.assemble()?;
-    Ok(Some(v))
+    Ok((m, false))
 }
 
 /// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
@@ -206,7 +153,7 @@ pub fn run_on(
     let mut phases = Phases::default();
     let format = job.spec.solver.matrix;
     let mut k = phases.time("setup", || disc.new_matrix(ctx, mesh, model, format))?;
-    let (m, start) = phases.time("assemble", || -> Result<(Matrix, Option<Vector>), Error> {
+    let (m, diagonal_mass) = phases.time("assemble", || -> Result<(Matrix, bool), Error> {
         assembly::assemble_stiffness(disc, mesh, model, None, &mut k)?;
         mass_matrix(ctx, mesh, model, disc, cfg.mass, format)
     })?;
@@ -218,7 +165,7 @@ pub fn run_on(
         cfg.modes
     ));
 
-    let pairs = phases.time("eigensolve", || lowest_modes(ctx, &k, &m, cfg.modes, start.as_ref()))?;
+    let pairs = phases.time("eigensolve", || lowest_modes(ctx, &k, &m, cfg.modes, diagonal_mass))?;
     let t_solve = phases.seconds("eigensolve");
     let Participation { modes, shapes, total_mass } = participation(ctx, disc, &m, pairs)?;
     log.info(format!(

@@ -239,7 +239,7 @@ impl Problem<'_> {
         for (g, kg) in k_groups.iter().enumerate() {
             k.axpy(s[g], kg)?;
         }
-        let pairs = lowest_modes(ctx, k, m, cfg.modes, None)?;
+        let pairs = lowest_modes(ctx, k, m, cfg.modes, false)?;
         let freqs: Vec<f64> = pairs.iter().map(|(l, _)| l.max(0.0).sqrt() / (2.0 * PI)).collect();
         let nt = cfg.targets.len();
         let mut residual = DVector::zeros(nt);

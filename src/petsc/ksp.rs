@@ -7,6 +7,7 @@
 
 use std::ffi::{c_char, c_void, CStr};
 
+use super::dense::DenseBlock;
 use super::error::{ksp_reason_name, pc_failure_name, petsc_call, PetscError, SolverError};
 use super::matrix::Matrix;
 use super::options::c_string;
@@ -134,6 +135,26 @@ impl Ksp {
             pc_failure,
             zero_pivot_row,
         })
+    }
+
+    /// Solves `A·X = B` for all the columns of a dense block at once (`KSPMatSolve`; with
+    /// `preonly` and a factorization, one `MatMatSolve`, which reads the factor once for all the
+    /// columns). The set-up (the factorization) is checked first: a failed one is
+    /// [`SolverError::Diverged`] with the preconditioner's diagnosis. Collective.
+    pub fn mat_solve(&mut self, b: &DenseBlock, x: &mut DenseBlock) -> Result<(), SolverError> {
+        petsc_call!(KSPSetUp(self.raw))?;
+        let (pc_failure, zero_pivot_row) = self.pc_diagnosis()?;
+        if pc_failure.is_some() {
+            return Err(SolverError::Diverged {
+                reason: "DIVERGED_PC_FAILED",
+                iterations: 0,
+                residual_norm: f64::NAN,
+                pc_failure,
+                zero_pivot_row,
+            });
+        }
+        petsc_call!(KSPMatSolve(self.raw, b.as_raw(), x.as_raw()))?;
+        Ok(())
     }
 
     /// Why the preconditioner failed, and the zero-pivot row if its factor knows it.

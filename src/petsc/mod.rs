@@ -8,6 +8,7 @@
 //! | [`options`]  | [`Options`]: the options database (command line wins over job defaults)    |
 //! | [`vector`]   | [`Vector`]: distributed (optionally ghosted) vectors                        |
 //! | [`matrix`]   | [`Matrix`]: preallocated AIJ / BAIJ sparse matrices                         |
+//! | [`dense`]    | [`DenseBlock`]: a few dense columns, solved or multiplied at once           |
 //! | [`ksp`]      | [`Ksp`]: linear solvers, convergence checked on every solve                 |
 //! | [`eps`]      | [`Eps`]: SLEPc eigensolvers (generalized symmetric, shift-and-invert)       |
 //!
@@ -21,6 +22,7 @@
 //! **Cycles.** `runtime.rs` (the initialized library) and `options.rs` (its options database) are
 //! one concept: PETSc starts with the options, and setting an option needs the started library.
 
+pub mod dense;
 pub mod eps;
 pub mod error;
 pub mod ksp;
@@ -33,6 +35,7 @@ pub mod vector;
 #[cfg(test)]
 pub(crate) mod testing;
 
+pub use dense::DenseBlock;
 pub use eps::Eps;
 pub use error::{ksp_reason_name, pc_failure_name, PetscError, SolverError};
 pub use ksp::{Ksp, KspStats};
