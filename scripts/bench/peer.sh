@@ -42,15 +42,13 @@
 #  masonry-hpc's at each rank count. masonry-hpc's jobs last seconds: each runs PEER_REPEATS times
 #  (default 3, interleaved with the other rank count and job), and the run with the median time
 #  counts (all are printed); OpenSees' 80 s script runs once.
-# Measured (scripts/bench.sh peer, 1.5 min in all, on the 2-core Xeon with OpenBLAS's SkylakeX
-# kernels under both programs, nothing else running), two runs back to back on a host slower
-# than on earlier days (OpenSees' modes took 26.7 and 28.6 s, against 18.8 s before; only the
-# ratios of one run compare): modal 1.69 and 1.91 s on 1 rank, 1.02 and 1.15 s on 2 ranks
-# (15.8x and 14.9x; 26.2x and 24.9x); Newmark 0.040 and 0.055 s per step on 1 rank, 0.022 and
-# 0.029 s on 2 (9.8x and 6.4x; 18.3x and 12.4x). The modal job stores a lumped mass as a
-# diagonal matrix and starts the eigensolver on the free DOFs without purification
-# (analysis/modal.rs): 22 shift-and-invert solves, the MUMPS Cholesky factorization 0.33 s and
-# its solves 19 ms each on 1 rank; assembly 0.25 s. masonry-hpc's linear step is one solve and
+# Measured (scripts/bench.sh peer, about 2.5 min in all, on the 2-core AMD EPYC with OpenBLAS's SkylakeX
+# kernels under both programs, nothing else running; medians of 3): modal 1.09 s on 1 rank and
+# 0.78 s on 2 against OpenSees' 28.6 s (26.2x and 36.6x); Newmark 0.029 s per step on 1 rank
+# and 0.021 s on 2 against 0.262 s (8.4x and 11.8x). The modal job stores a lumped mass as a
+# diagonal matrix; its eigensolver (analysis/block_lanczos.rs) takes 14 block solves of 2
+# vectors (MUMPS, 23 ms each against 21 ms for one vector) after the Cholesky factorization
+# (0.33 s); assembly 0.19 s. masonry-hpc's linear step is one solve and
 # one product with the lumped (diagonal) mass (src/analysis/time_history/linear_step.rs): of
 # its stepping on 1 rank the solves take about 80 %.
 # One JSON line per case, then a line for the machine (CPU, the BLAS behind libblas.so.3 and the
