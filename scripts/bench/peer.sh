@@ -222,7 +222,8 @@ TOL = 0.02  # the issue's tolerance on frequencies and peaks
 ops = json.load(open(f"{work}/opensees-out.json"))
 wall = lambda name: round(float(open(f"{work}/{name}.wall").read()), 3)
 ok = True
-note = f"machine shared with other work (1-min load average {load} at the start); OpenSees sequential"
+note = (f"1-min load average {load} at the start" + (" (machine shared with other work)" if load > 0.5 else "")
+        + "; OpenSees sequential")
 def median_run(job, np_, seconds):
     """The run (1-based) whose timed seconds are the median of the repeats, and all of them."""
     runs = [seconds(json.load(open(f"{work}/{job}-{np_}-{r}.json"))) for r in range(1, repeats + 1)]
