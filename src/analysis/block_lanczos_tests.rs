@@ -48,6 +48,15 @@ fn chain_eigenvalue(n: usize, j: usize, consistent: bool) -> f64 {
     (2.0 - 2.0 * t.cos()) / mj
 }
 
+/// Each `(λ, φ)` of `pairs` against the closed form of mode `mode(i)` of a chain of `n`
+/// masses, to 1e-12 relative.
+fn assert_chain_eigenvalues(pairs: &[(f64, Vector)], n: usize, consistent: bool, mode: impl Fn(usize) -> usize) {
+    for (i, (lambda, _)) in pairs.iter().enumerate() {
+        let want = chain_eigenvalue(n, mode(i), consistent);
+        assert!((lambda - want).abs() <= 1e-12 * want, "λ{} = {lambda}, closed form {want}", i + 1);
+    }
+}
+
 /// The lowest eigenvalues of a chain of 300 masses, lumped (diagonal M) and consistent
 /// (sparse M), equal the closed form to 1e-12 relative (the residual tolerance 1e-8 bounds
 /// the eigenvalue's error by its square times the spread, Parlett §11.7); the modes are
@@ -90,10 +99,7 @@ fn repeated_eigenvalues_are_found_with_their_multiplicity() {
         let n = 120;
         let (k, m, _) = chains(&ctx, n, 3, 0, false);
         let (pairs, _) = lowest_eigenpairs(&ctx, &k, &m, 6, true).unwrap();
-        for (i, (lambda, _)) in pairs.iter().enumerate() {
-            let want = chain_eigenvalue(n, 1 + i / 3, false);
-            assert!((lambda - want).abs() <= 1e-12 * want, "λ{} = {lambda}, want {want}", i + 1);
-        }
+        assert_chain_eigenvalues(&pairs, n, false, |i| 1 + i / 3);
         for a in 0..6 {
             for b in 0..a {
                 let (_, mut mb) = m.create_vectors().unwrap();
@@ -141,10 +147,7 @@ fn thick_restarts_keep_the_converging_ritz_pairs() {
         let (k, m, _) = chains(&ctx, n, 1, 0, false);
         let (pairs, stats) = lanczos(&ctx, &k, &m, 6, true, 2, 16).unwrap();
         assert!(stats.restarts >= 2, "{stats:?}");
-        for (j, (lambda, _)) in pairs.iter().enumerate() {
-            let want = chain_eigenvalue(n, j + 1, false);
-            assert!((lambda - want).abs() <= 1e-12 * want, "λ{} = {lambda}, want {want}", j + 1);
-        }
+        assert_chain_eigenvalues(&pairs, n, false, |j| j + 1);
     });
 }
 
@@ -157,10 +160,7 @@ fn a_small_problem_gives_all_its_modes_and_no_more() {
         let ctx = Context::new(comm.duplicate(), true);
         let (k, m, _) = chains(&ctx, 5, 1, 1, false);
         let (pairs, _) = lowest_eigenpairs(&ctx, &k, &m, 5, true).unwrap();
-        for (j, (lambda, _)) in pairs.iter().enumerate() {
-            let want = chain_eigenvalue(5, j + 1, false);
-            assert!((lambda - want).abs() <= 1e-12 * want, "λ{} = {lambda}, want {want}", j + 1);
-        }
+        assert_chain_eigenvalues(&pairs, 5, false, |j| j + 1);
         let err = lowest_eigenpairs(&ctx, &k, &m, 6, true).unwrap_err().to_string();
         assert!(err.contains("only 5 of the 6 modes"), "{err}");
     });

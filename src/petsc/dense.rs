@@ -86,13 +86,8 @@ impl DenseBlock {
 
     /// Copies this rank's rows out, column-major (`local_rows × cols`). Not collective.
     pub fn local_values(&self) -> Result<Vec<f64>, PetscError> {
-        let mut p: *const f64 = std::ptr::null();
-        petsc_call!(MatDenseGetArrayRead(self.raw, &mut p))?;
-        let len = self.rows * self.cols;
-        // SAFETY: PETSc hands out the packed local array (`check_lda`) of rows × cols entries,
-        // valid until the matching restore below.
-        let out = if len == 0 { Vec::new() } else { unsafe { std::slice::from_raw_parts(p, len) }.to_vec() };
-        petsc_call!(MatDenseRestoreArrayRead(self.raw, &mut p))?;
+        let mut out = Vec::with_capacity(self.rows * self.cols);
+        self.local_values_into(&mut out)?;
         Ok(out)
     }
 
@@ -103,7 +98,8 @@ impl DenseBlock {
         let len = self.rows * self.cols;
         out.clear();
         if len > 0 {
-            // SAFETY: as in `local_values`.
+            // SAFETY: PETSc hands out the packed local array (`check_lda`) of rows × cols
+            // entries, valid until the matching restore below.
             out.extend_from_slice(unsafe { std::slice::from_raw_parts(p, len) });
         }
         petsc_call!(MatDenseRestoreArrayRead(self.raw, &mut p))
