@@ -25,6 +25,73 @@ pub struct ZTerm {
     pub k: SMatrix<f64, 6, 6>,
 }
 
+/// A beam's `z`-stiffness for products: its upper triangle packed row by row (21 of the 36
+/// entries) with 32-bit indices, 192 bytes against a [`ZTerm`]'s 336. The products over all
+/// beams (internal forces, stored energy) stream these from memory once per pass, so their time
+/// follows the bytes: 27k beams of a 10k-stone sample, 9.1 MB a pass as `ZTerm`s, 5.2 MB packed.
+#[derive(Clone, Debug)]
+pub struct PackedTerm {
+    idx: [u32; 6],
+    k: [f64; 21],
+}
+
+impl PackedTerm {
+    fn of(t: &ZTerm) -> PackedTerm {
+        let mut k = [0.0; 21];
+        let mut p = 0;
+        for a in 0..6 {
+            for b in a..6 {
+                k[p] = t.k[(a, b)];
+                p += 1;
+            }
+        }
+        PackedTerm { idx: t.idx.map(|i| i as u32), k }
+    }
+
+    fn gather(&self, z: &[f64]) -> [f64; 6] {
+        self.idx.map(|i| z[i as usize])
+    }
+
+    /// `K x` (the term is symmetric).
+    fn times(&self, x: &[f64; 6]) -> [f64; 6] {
+        let mut y = [0.0; 6];
+        let mut p = 0;
+        for a in 0..6 {
+            y[a] += self.k[p] * x[a];
+            p += 1;
+            for b in a + 1..6 {
+                y[a] += self.k[p] * x[b];
+                y[b] += self.k[p] * x[a];
+                p += 1;
+            }
+        }
+        y
+    }
+
+    /// `½ xᵀ K x`.
+    fn energy(&self, x: &[f64; 6]) -> f64 {
+        let (mut diag, mut off) = (0.0, 0.0);
+        let mut p = 0;
+        for a in 0..6 {
+            diag += self.k[p] * x[a] * x[a];
+            p += 1;
+            for b in a + 1..6 {
+                off += self.k[p] * x[a] * x[b];
+                p += 1;
+            }
+        }
+        0.5 * diag + off
+    }
+
+    /// Adds `K z[idx]` to `out[idx]`.
+    fn add_force(&self, z: &[f64], out: &mut [f64]) {
+        let f = self.times(&self.gather(z));
+        for a in 0..6 {
+            out[self.idx[a] as usize] += f[a];
+        }
+    }
+}
+
 /// The beams of a sample, ready for assembly.
 pub struct Model<'a> {
     /// The sample.
@@ -39,6 +106,8 @@ pub struct Model<'a> {
     pub geoms: Vec<BeamGeom>,
     /// Per beam stiffness in `z`.
     pub terms: Vec<ZTerm>,
+    /// The same, packed for the products over all beams ([`PackedTerm`]).
+    packed: Vec<PackedTerm>,
     /// The beams with a `z` index on a platen, in beam order: the only ones whose forces reach
     /// the platens' rows ([`Self::add_platen_beam_forces`]).
     pub platen_beams: Vec<usize>,
@@ -62,7 +131,15 @@ impl<'a> Model<'a> {
         }
         let on_platen = |k: usize| map.platen_base.iter().any(|&b| (b..b + 3).contains(&k));
         let platen_beams = (0..terms.len()).filter(|&b| terms[b].idx.iter().any(|&k| on_platen(k))).collect();
-        Ok(Model { sample, params: *params, thresholds: params.thresholds(), map, geoms, terms, platen_beams })
+        if map.n_z > u32::MAX as usize {
+            return Err(DemError::InvalidParameter {
+                field: "sample size",
+                value: format!("{} coordinates", map.n_z),
+                expected: "at most 2^32 coordinates",
+            });
+        }
+        let packed = terms.iter().map(PackedTerm::of).collect();
+        Ok(Model { sample, params: *params, thresholds: params.thresholds(), map, geoms, terms, packed, platen_beams })
     }
 
     /// Stones `(q_i, q_j)` of beam `b` for coordinates `z`.
@@ -78,11 +155,8 @@ impl<'a> Model<'a> {
 
     /// Adds the internal forces of the intact beams to `out` (length `n_z`).
     pub fn add_beam_forces(&self, intact: &[bool], z: &[f64], out: &mut [f64]) {
-        for (t, _) in self.terms.iter().zip(intact).filter(|(_, &ok)| ok) {
-            let f = t.k * Self::gather(&t.idx, z);
-            for a in 0..6 {
-                out[t.idx[a]] += f[a];
-            }
+        for (t, _) in self.packed.iter().zip(intact).filter(|(_, &ok)| ok) {
+            t.add_force(z, out);
         }
     }
 
@@ -91,19 +165,14 @@ impl<'a> Model<'a> {
     /// the other rows get only these beams' part).
     pub fn add_platen_beam_forces(&self, intact: &[bool], z: &[f64], out: &mut [f64]) {
         for &b in self.platen_beams.iter().filter(|&&b| intact[b]) {
-            let t = &self.terms[b];
-            let f = t.k * Self::gather(&t.idx, z);
-            for a in 0..6 {
-                out[t.idx[a]] += f[a];
-            }
+            self.packed[b].add_force(z, out);
         }
     }
 
     /// Elastic energy `½ z_bᵀ K_z z_b` of beam `b`.
     pub fn beam_energy(&self, b: usize, z: &[f64]) -> f64 {
-        let t = &self.terms[b];
-        let v = Self::gather(&t.idx, z);
-        0.5 * v.dot(&(t.k * v))
+        let t = &self.packed[b];
+        t.energy(&t.gather(z))
     }
 
     /// Scatters a `z`-space 6×6 term (times `scale`) into upper triplets in equation space.
@@ -186,5 +255,41 @@ impl<'a> Model<'a> {
         let (idx, g) = self.map.pair_map(i, j);
         let w = g.transpose() * d * k.max(0.0).sqrt();
         ZTerm { idx, k: w * w.transpose() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packed_terms_give_the_dense_products() {
+        // A symmetric 6×6 term with entries of mixed sizes (k_ab = (a + 1)(b + 1) 10^(a−b) +
+        // δ_ab 50, indices repeating one coordinate as two slave stones of a platen do): K x and
+        // ½ xᵀ K x from the packed upper triangle equal the dense products to 1e-14 of their size.
+        let k = SMatrix::<f64, 6, 6>::from_fn(|a, b| {
+            let s = ((a + 1) * (b + 1)) as f64 * 10f64.powi(a.min(b) as i32 - a.max(b) as i32);
+            s + if a == b { 50.0 } else { 0.0 }
+        });
+        let t = ZTerm { idx: [3, 7, 1, 3, 0, 9], k };
+        let z: Vec<f64> = (0..10).map(|i| (0.7 * i as f64).sin() - 0.2).collect();
+        let p = PackedTerm::of(&t);
+        let x = Model::gather(&t.idx, &z);
+        let dense = k * x;
+        let packed = p.times(&p.gather(&z));
+        for a in 0..6 {
+            assert!((packed[a] - dense[a]).abs() <= 1e-14 * dense.amax(), "row {a}: {} vs {}", packed[a], dense[a]);
+        }
+        let e = 0.5 * x.dot(&dense);
+        assert!((p.energy(&p.gather(&z)) - e).abs() <= 1e-14 * e.abs(), "energy");
+        let mut out = vec![0.0; 10];
+        p.add_force(&z, &mut out);
+        let mut expected = [0.0; 10];
+        for a in 0..6 {
+            expected[t.idx[a]] += dense[a];
+        }
+        for i in 0..10 {
+            assert!((out[i] - expected[i]).abs() <= 1e-14 * dense.amax(), "coordinate {i}");
+        }
     }
 }
