@@ -56,7 +56,7 @@ const MAX_RANK: usize = 8;
 /// exact one in that stone's regularization by 10⁻⁶ of it; the residual, and so the equilibrium,
 /// are exact). With a bound of 10⁻⁶ each such downdate rebuilt the factor: 801 of the 828
 /// factorizations of a 10k-stone compression test to 6,500 breaks, 168 s of its 1,961 s, almost
-/// all of them in its last 100 breaks.
+/// all of them in its last 100 breaks; with 10⁻¹² none (40 factorizations, 3.5 s).
 const MIN_PIVOT_RATIO: f64 = 1e-12;
 
 #[repr(C)]
