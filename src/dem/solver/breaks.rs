@@ -25,7 +25,6 @@ use super::options::FloatingPolicy;
 use super::profile;
 use super::records::{BrokenBeam, FailureModeTag, LoadPoint, StateKind};
 use super::solver::Solver;
-use super::system::Model;
 use crate::dem::mechanics::{failure_index, failure_lambda, failure_mode, FailureMode};
 
 impl<'a> Solver<'a> {
@@ -146,11 +145,7 @@ impl<'a> Solver<'a> {
     fn release(&mut self, beams: &[usize], load: &LoadPoint, t: f64) -> Result<(), DemError> {
         let mut f_b = vec![0.0; self.model.map.n_z];
         for &b in beams {
-            let term = &self.model.terms[b];
-            let fb = term.k * Model::gather(&term.idx, &self.state.z);
-            for a in 0..6 {
-                f_b[term.idx[a]] += fb[a];
-            }
+            self.model.add_beam_force(b, &self.state.z, &mut f_b);
         }
         for &b in beams {
             self.break_beam(b)?;

@@ -169,6 +169,12 @@ impl<'a> Model<'a> {
         }
     }
 
+    /// Adds the internal force of beam `b` to `out` (the same product as
+    /// [`Self::add_beam_forces`]'s, so that a released beam's force cancels its own part there).
+    pub fn add_beam_force(&self, b: usize, z: &[f64], out: &mut [f64]) {
+        self.packed[b].add_force(z, out);
+    }
+
     /// Elastic energy `½ z_bᵀ K_z z_b` of beam `b`.
     pub fn beam_energy(&self, b: usize, z: &[f64]) -> f64 {
         let t = &self.packed[b];
