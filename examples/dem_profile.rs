@@ -19,6 +19,9 @@
 //! linear phase of the algorithm throughout, `dem::solver::linear`).
 //! `DEM_UPDOWN=1` keeps the factor current by CHOLMOD's updates and downdates in place
 //! (`dem::solver::cholmod`) instead of Woodbury columns and refactorizations.
+//! `DEM_SPARSE_RHS=0` solves every contact-free Newton step densely (default, with
+//! `DEM_UPDOWN=1`: a sparse residual by a forward substitution over its reach,
+//! `dem::solver::factor`).
 //! `DEM_LINEAR=0` finds every equilibrium by Newton's method, also without contacts (the
 //! former path; default: one solve, `dem::solver::linear`).
 //! `DEM_FILL=x` (with `DEM_UPDOWN=1`) refactorizes once the fill that updates brought has cost
@@ -81,6 +84,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_LINEAR") {
         opts.linear_phase = v != "0";
     }
+    if let Ok(v) = std::env::var("DEM_SPARSE_RHS") {
+        opts.sparse_rhs = v != "0";
+    }
     if let Ok(v) = std::env::var("DEM_PREDICT") {
         opts.predict_steps = v != "0";
     }
@@ -115,8 +121,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.trace = v != "0";
     }
     let settings = format!(
-        "tol={} slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
-        opts.tol, opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
+        "tol={} slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} sparse_rhs={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
+        opts.tol, opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
         opts.breaks_per_equilibrium
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;

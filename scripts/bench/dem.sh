@@ -15,7 +15,8 @@
 #      loose stones in the open crack (src/dem/solver/equilibrium.rs, module docs);
 #  (c) the scaling: log-log slopes of seconds per event and of the factorization against size;
 #  (r) before (b): the 1k sample against its stored reference run (below);
-#  (m) before (b): several breaks per equilibrium (an opt-in approximation) against the exact path.
+#  (m) before (b): several breaks per equilibrium (an opt-in approximation) against the exact path;
+#  (k) before (b): the contact-free phase at 10k stones against its bound (issue 25).
 # Every line carries the load average and `uptime` (the machine may be shared) and, for (b), the
 # CPU seconds of the run beside its wall seconds (on a loaded machine the CPU time is the cost),
 # and the peak memory twice: the maximum RSS from /usr/bin/time, VmHWM from the run itself.
@@ -94,6 +95,36 @@ if [ "${DEM_BENCH_SKIP_REFERENCE:-0}" != 1 ]; then
       "$work/curve$variant.csv" "$work/broken$variant.csv" \
       | sed "s/^{/{\"case\": \"dem-reference-1k$variant\", /" || true
   done
+fi
+
+# (k) the contact-free phase at 10k stones (the lattice alone, DEM_CONTACTS=0; updates in place):
+#     1,500 breaks with the sparse right-hand sides of contact-free steps (the default) and
+#     without, side by side; the cost per break against issue 25's bound, twice one dense solve
+#     plus one failure scan, both measured in the dense run (its solve seconds per solve, its
+#     scan seconds per scan). DEM_BENCH_SKIP_CONTACT_FREE=1 skips it.
+if [ "${DEM_BENCH_SKIP_CONTACT_FREE:-0}" != 1 ]; then
+  for sp in 1 0; do
+    DEM_CONTACTS=0 DEM_UPDOWN=1 DEM_SPARSE_RHS=$sp DEM_MAX_EVENTS=1500 "$PROFILE_BIN" 10000 2e-3 40 \
+      > "$work/contact-free-$sp.json" 2>/dev/null || true
+  done
+  python3 - "$work/contact-free-1.json" "$work/contact-free-0.json" "$(load)" <<'PY' || true
+import json, sys
+sparse, dense = (json.load(open(p)) for p in sys.argv[1:3])
+ms = lambda r: 1000 * r["seconds"] / r["events"]
+p = dense["profile"]
+solve = 1000 * p["solve_seconds"] / max(dense["solves"], 1)
+scan = 1000 * p["failure_seconds"] / max(p["failure_scans"], 1)
+bound = 2 * (solve + scan)
+ps = sparse["profile"]
+print(json.dumps({"case": "dem-contact-free-10k", "size": 10000, "ranks": 1, "events": sparse["events"],
+                  "ms_per_break": round(ms(sparse), 2), "ms_per_break_dense_solves": round(ms(dense), 2),
+                  "solves_per_break": round(sparse["solves"] / sparse["events"], 3),
+                  "sparse_solves": ps["sparse_solves"],
+                  "forward_columns_fraction": round(ps["sparse_columns"] / max(ps["sparse_solves"], 1) / sparse["equations"], 3),
+                  "dense_solve_ms": round(solve, 2), "failure_scan_ms": round(scan, 2), "bound_ms": round(bound, 2),
+                  "meets_bound": ms(sparse) <= bound, "same_peak_rel": abs(sparse["peak_stress_pa"] / dense["peak_stress_pa"] - 1),
+                  "load_average": sys.argv[3]}))
+PY
 fi
 
 # (m) the opt-in approximation, several breaks per equilibrium (`[analysis]

@@ -54,6 +54,7 @@ impl<'a> Solver<'a> {
         let clock = Instant::now();
         let first = self.scan_first_failures(z_old, 1);
         profile::add(&mut self.profile.failure_seconds, clock.elapsed());
+        self.profile.failure_scans += 1;
         first.first().copied()
     }
 
@@ -86,6 +87,7 @@ impl<'a> Solver<'a> {
         let clock = Instant::now();
         let b = self.scan_most_critical(self.opts.breaks_per_equilibrium.max(1));
         profile::add(&mut self.profile.failure_seconds, clock.elapsed());
+        self.profile.failure_scans += 1;
         b
     }
 

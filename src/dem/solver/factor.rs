@@ -55,6 +55,18 @@
 //! floating stone or a continuation refactorizes. Chosen by
 //! [`super::SolverOptions::updates_in_place`].
 //!
+//! # Sparse right-hand sides
+//! Where no contact is active, Newton's step solves `M Δz = r` with `r` concentrated on few
+//! unknowns: after a break, the released beam's force on its two stones (and the previous
+//! equilibrium's round-off everywhere); at a load step, the platens' move on the stones bonded
+//! to them. With updates in place the forward substitution `L y = P r` then visits only the
+//! columns of `L` on the elimination tree's paths from those rows to the root (Gilbert and
+//! Peierls' reach), and only the backward substitution is dense
+//! ([`LowRankCholesky::solve_sparse`]). The caller (`equilibrium.rs`) drops the entries
+//! of `r` below `SPARSE_RHS_DROP · tol · scale` (`10⁻⁵` of the residual tolerance): the step is
+//! exact for the rest, so the state it reaches keeps at most that residual, against the
+//! `tol · scale` of convergence. Chosen by [`super::SolverOptions::sparse_rhs`].
+//!
 //! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is kept and reused
 //! as long as the sparsity structure of `A` does not change (broken beams keep their entries, as
 //! zeros). The ordering is faer's AMD for small systems and METIS nested dissection
@@ -473,6 +485,19 @@ impl LowRankCholesky {
         let d: Vec<f64> = (0..u.nrows()).map(|k| u[(k, k)].abs()).collect();
         let (lo, hi) = d.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
         lo.is_finite() && lo > 1e-12 * hi
+    }
+
+    /// Solves `A x = b` in place for a `b` that is zero outside `support`, by a forward
+    /// substitution over the support's reach only (module docs, "Sparse right-hand sides");
+    /// `Some(columns visited)`, or `None` without updates in place (nothing solved: the caller
+    /// solves densely).
+    pub fn solve_sparse(&mut self, x: &mut [f64], support: &[usize]) -> Result<Option<usize>, FactorError> {
+        let Some(f) = &mut self.updown else { return Ok(None) };
+        if self.update_failed {
+            return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
+        }
+        self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
+        f.solve_sparse(x, support).map(Some).map_err(|e| FactorError(e.0))
     }
 
     /// Solves `(A + UΣUᵀ) x = b` in place.

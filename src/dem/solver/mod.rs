@@ -13,7 +13,7 @@
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
 //! | `dofs.rs`, `system.rs` | the unknowns (stones, platens as master DOFs) and the assembled model |
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
-//! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`), a small binding |
+//! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`) and solves of sparse right-hand sides (forward substitution over their reach), a small binding |
 //! | `ordering.rs` | METIS nested dissection from 20k unknowns, AMD below |
 //! | `tangent.rs` | per-contact central-difference Jacobians, reused while a contact moved less than 1 % of its penetration in the same stick/slip regime; GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
 //! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator (every contact keeps `k_t c cᵀ` in it, stick or slip, so stick/slip changes never touch the factorization); Eisenstat–Walker forcing |

@@ -55,6 +55,10 @@ pub struct SolverOptions {
     /// Find equilibria by one solve while no contact is active ([`super::linear`]; default on:
     /// the same equilibria as Newton's method to round-off, without its confirming residual).
     pub linear_phase: bool,
+    /// With `updates_in_place`: solve a contact-free Newton step whose residual is concentrated
+    /// on few unknowns (a broken beam's force, a platen's move) by a forward substitution over
+    /// their reach only ([`super::factor`], "Sparse right-hand sides"; default on).
+    pub sparse_rhs: bool,
     /// Keep the factorized operator current by CHOLMOD's updates and downdates in place instead
     /// of a Woodbury correction with refactorizations ([`super::factor`], "Updates in place").
     pub updates_in_place: bool,
@@ -92,6 +96,7 @@ impl Default for SolverOptions {
             trace: false,
             predict_steps: true,
             linear_phase: true,
+            sparse_rhs: true,
             updates_in_place: false,
             fill_refactor: super::factor::FILL_REFACTOR_FACTOR,
             refresh_drift: f64::INFINITY,

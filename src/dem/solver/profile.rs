@@ -17,6 +17,13 @@ pub struct SolverProfile {
     pub linear_solves: usize,
     /// Such solves that met a contact at their result and went back to Newton's method.
     pub linear_fallbacks: usize,
+    /// Scans of the intact beams' failure indices (`failure_seconds`).
+    pub failure_scans: usize,
+    /// Contact-free Newton steps solved with a sparse right-hand side (`super::factor`,
+    /// "Sparse right-hand sides").
+    pub sparse_solves: usize,
+    /// The columns of `L` their forward substitutions visited, summed.
+    pub sparse_columns: usize,
     /// Newton iterations that needed GMRES (some contact active).
     pub gmres_solves: usize,
     /// GMRES products (each one preconditioner solve).
