@@ -65,7 +65,8 @@
 //! ([`LowRankCholesky::solve_sparse`]). The caller (`equilibrium.rs`) drops the entries
 //! of `r` below `SPARSE_RHS_DROP · tol · scale` (`10⁻⁵` of the residual tolerance): the step is
 //! exact for the rest, so the state it reaches keeps at most that residual, against the
-//! `tol · scale` of convergence. Chosen by [`super::SolverOptions::sparse_rhs`].
+//! `tol · scale` of convergence. Chosen by [`super::SolverOptions::sparse_rhs`]; never with
+//! crushing (its softening makes the path depend on differences below the tolerance).
 //!
 //! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) is kept and reused
 //! as long as the sparsity structure of `A` does not change (broken beams keep their entries, as

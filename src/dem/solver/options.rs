@@ -57,7 +57,9 @@ pub struct SolverOptions {
     pub linear_phase: bool,
     /// With `updates_in_place`: solve a contact-free Newton step whose residual is concentrated
     /// on few unknowns (a broken beam's force, a platen's move) by a forward substitution over
-    /// their reach only ([`super::factor`], "Sparse right-hand sides"; default on).
+    /// their reach only ([`super::factor`], "Sparse right-hand sides"; default on; never with
+    /// crushing, whose softening contacts make the path depend on differences below the
+    /// tolerance).
     pub sparse_rhs: bool,
     /// Keep the factorized operator current by CHOLMOD's updates and downdates in place instead
     /// of a Woodbury correction with refactorizations ([`super::factor`], "Updates in place").
