@@ -135,15 +135,24 @@ fn counter_clockwise(p: &Polygon) -> Polygon {
     }
 }
 
-/// Signed distance to the boundary of a convex CCW polygon (≤ 0 inside): max over the edges.
-fn boundary_distance(p: &Polygon, x: P2) -> f64 {
+/// The lengths of a polygon's edges, edge `k` from vertex `k` to vertex `k + 1`.
+fn edge_lengths(p: &Polygon) -> Vec<f64> {
+    let v = &p.vertices;
+    let n = v.len();
+    (0..n).map(|k| (v[(k + 1) % n][0] - v[k][0]).hypot(v[(k + 1) % n][1] - v[k][1])).collect()
+}
+
+/// Signed distance to the boundary of a convex CCW polygon (≤ 0 inside): max over the edges,
+/// whose lengths are `lengths` ([`edge_lengths`], computed once per polygon and contact: the
+/// same values for every point, and `hypot` was a sixth of a contact evaluation).
+fn boundary_distance(p: &Polygon, lengths: &[f64], x: P2) -> f64 {
     let v = &p.vertices;
     let n = v.len();
     (0..n)
         .map(|k| {
             let (a, b) = (v[k], v[(k + 1) % n]);
             let e = [b[0] - a[0], b[1] - a[1]];
-            let len = e[0].hypot(e[1]);
+            let len = lengths[k];
             if len > 0.0 {
                 (e[1] * (x[0] - a[0]) - e[0] * (x[1] - a[1])) / len
             } else {
@@ -276,13 +285,14 @@ impl EdgeSums {
         let m = v.len();
         let mut sides = Vec::with_capacity(m);
         let (mut s, mut perimeter, mut ds) = ([0.0; 2], 0.0, [0.0; 6]);
+        let (len_i, len_j) = (edge_lengths(pi), edge_lengths(pj));
         for k in 0..m {
             let (a, b) = (v[k], v[(k + 1) % m]);
             let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
             let nu = [b[1] - a[1], a[0] - b[0]];
             perimeter += nu[0].hypot(nu[1]);
-            let on_i = boundary_distance(pi, mid) >= -tol;
-            let on_j = boundary_distance(pj, mid) >= -tol;
+            let on_i = boundary_distance(pi, &len_i, mid) >= -tol;
+            let on_j = boundary_distance(pj, &len_j, mid) >= -tol;
             let (side, w_i) = match (on_i, on_j) {
                 (true, false) => (Side::I, 1.0),
                 (false, true) => (Side::J, 0.0),
