@@ -39,6 +39,29 @@ pub(super) fn compress<'a>(s: &'a Sample, opts: SolverOptions) -> Solver<'a> {
     solver
 }
 
+/// Asserts that `a` and `b` followed the same path: the same beams broken in the same order at
+/// the same states, the same recorded states (kind, broken counts), their load fractions within
+/// `t_tol` (when given) and their driven platen forces within `force_tol` of `b`'s peak force.
+fn assert_same_path(a: &Solver, b: &Solver, force_tol: f64, t_tol: Option<f64>, label: &str) {
+    let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
+    assert_eq!(seq(a), seq(b), "{label}");
+    assert_eq!(a.states().len(), b.states().len(), "{label}");
+    let peak = b.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
+    for (x, y) in a.states().iter().zip(b.states()) {
+        assert_eq!((x.kind, x.broken), (y.kind, y.broken), "{label}");
+        if let Some(t_tol) = t_tol {
+            assert!((x.t - y.t).abs() <= t_tol, "{label}: t {} vs {}", x.t, y.t);
+        }
+        let d = (x.platen_force[1][1] - y.platen_force[1][1]).abs();
+        assert!(
+            d <= force_tol * peak,
+            "{label}: force {} vs {} (peak {peak})",
+            x.platen_force[1][1],
+            y.platen_force[1][1]
+        );
+    }
+}
+
 #[test]
 fn predicted_load_steps_reach_the_same_equilibria() {
     // 120 random stones compressed far past the first cracks, with and without the load-step
@@ -51,18 +74,9 @@ fn predicted_load_steps_reach_the_same_equilibria() {
     let with = compress(&s, SolverOptions::default());
     let without = compress(&s, SolverOptions { predict_steps: false, ..Default::default() });
     assert!(with.broken().len() > 10, "breaks {}", with.broken().len());
-    let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
-    assert_eq!(seq(&with), seq(&without));
-    assert_eq!(with.states().len(), without.states().len());
-    let peak = without.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
-    for (a, b) in with.states().iter().zip(without.states()) {
-        assert_eq!((a.kind, a.broken), (b.kind, b.broken));
-        // A break's load fraction comes from the converged end of its step, known to the
-        // tolerance: 1e-7 of the stage (measured: 2e-9).
-        assert!((a.t - b.t).abs() <= 1e-7, "t {} vs {}", a.t, b.t);
-        let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
-        assert!(d <= 1e-6 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
-    }
+    // A break's load fraction comes from the converged end of its step, known to the
+    // tolerance: 1e-7 of the stage (measured: 2e-9).
+    assert_same_path(&with, &without, 1e-6, Some(1e-7), "predictor");
     assert!(with.profile.predicted_steps > 0 && without.profile.predicted_steps == 0);
     assert!(
         with.profile.newton_iterations < without.profile.newton_iterations,
@@ -87,16 +101,7 @@ fn linear_phase_reaches_the_same_equilibria_as_newton() {
         let linear = compress(&s, base);
         let newton = compress(&s, SolverOptions { linear_phase: false, ..base });
         assert!(newton.broken().len() > 10, "breaks {}", newton.broken().len());
-        let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
-        assert_eq!(seq(&linear), seq(&newton), "contacts {contacts}");
-        assert_eq!(linear.states().len(), newton.states().len());
-        let peak = newton.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
-        for (a, b) in linear.states().iter().zip(newton.states()) {
-            assert_eq!((a.kind, a.broken), (b.kind, b.broken));
-            assert!((a.t - b.t).abs() <= 1e-12, "t {} vs {}", a.t, b.t);
-            let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
-            assert!(d <= 1e-12 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
-        }
+        assert_same_path(&linear, &newton, 1e-12, Some(1e-12), &format!("contacts {contacts}"));
         assert!(linear.profile.linear_solves > 0 && newton.profile.linear_solves == 0);
         if contacts {
             let p = &linear.profile;
@@ -127,15 +132,7 @@ fn updates_in_place_reach_the_same_equilibria_as_woodbury() {
         let woodbury = compress(&s, base);
         let updown = compress(&s, SolverOptions { updates_in_place: true, max_rank: 1, ..base });
         assert!(woodbury.broken().len() > 10, "breaks {}", woodbury.broken().len());
-        let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
-        assert_eq!(seq(&updown), seq(&woodbury), "contacts {contacts}");
-        assert_eq!(updown.states().len(), woodbury.states().len());
-        let peak = woodbury.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
-        for (a, b) in updown.states().iter().zip(woodbury.states()) {
-            assert_eq!((a.kind, a.broken), (b.kind, b.broken));
-            let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
-            assert!(d <= 1e-6 * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
-        }
+        assert_same_path(&updown, &woodbury, 1e-6, None, &format!("contacts {contacts}"));
         let r = updown.profile.refactorizations;
         assert_eq!((r.initial, r.rank_cap), (1, 0), "{r:?}");
         if !contacts {
@@ -164,16 +161,8 @@ fn sparse_right_hand_sides_reach_the_same_equilibria_as_dense_solves() {
         let sparse = compress(&s, base);
         let dense = compress(&s, SolverOptions { sparse_rhs: false, ..base });
         assert!(dense.broken().len() > 10, "breaks {}", dense.broken().len());
-        let seq = |v: &Solver| v.broken().iter().map(|b| (b.beam, b.mode, b.state)).collect::<Vec<_>>();
-        assert_eq!(seq(&sparse), seq(&dense), "contacts {contacts}");
-        assert_eq!(sparse.states().len(), dense.states().len());
-        let peak = dense.states().iter().fold(0.0f64, |m, st| m.max(st.platen_force[1][1].abs()));
         let tol = if contacts { 1e-6 } else { 1e-9 };
-        for (a, b) in sparse.states().iter().zip(dense.states()) {
-            assert_eq!((a.kind, a.broken), (b.kind, b.broken));
-            let d = (a.platen_force[1][1] - b.platen_force[1][1]).abs();
-            assert!(d <= tol * peak, "force {} vs {} (peak {peak})", a.platen_force[1][1], b.platen_force[1][1]);
-        }
+        assert_same_path(&sparse, &dense, tol, None, &format!("contacts {contacts}"));
         let (p, n) = (&sparse.profile, sparse.model.map.n_eq());
         assert!(p.sparse_solves > 0 && dense.profile.sparse_solves == 0, "{} sparse solves", p.sparse_solves);
         assert!(
