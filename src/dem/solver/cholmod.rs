@@ -131,18 +131,6 @@ extern "C" {
     fn cholmod_solve(sys: c_int, l: *mut CholmodFactorHead, b: *mut CholmodDense, common: *mut u8)
         -> *mut CholmodDense;
     fn cholmod_updown(update: c_int, c: *mut CholmodSparse, l: *mut CholmodFactorHead, common: *mut u8) -> c_int;
-    #[allow(clippy::too_many_arguments)] // CHOLMOD's signature
-    fn cholmod_solve2(
-        sys: c_int,
-        l: *mut CholmodFactorHead,
-        b: *mut CholmodDense,
-        bset: *mut CholmodSparse,
-        x: *mut *mut CholmodDense,
-        xset: *mut *mut CholmodSparse,
-        y: *mut *mut CholmodDense,
-        e: *mut *mut CholmodDense,
-        common: *mut u8,
-    ) -> c_int;
 }
 
 /// `A` factorized as CHOLMOD's simplicial `LDLᵀ`, updated and downdated in place (module docs).
@@ -420,7 +408,7 @@ impl UpdatableCholesky {
     ///
     /// ```text
     ///   y = D⁻¹ L⁻¹ P b     column j of L applied only where y_j ≠ 0: the reach of P·support
-    ///   x = Pᵀ L⁻ᵀ y        dense (cholmod_solve2, CHOLMOD_Lt)
+    ///   x = Pᵀ L⁻ᵀ y        dense (cholmod_solve, CHOLMOD_Lt)
     /// ```
     ///
     /// The forward substitution of a sparse `b` touches only the columns of `L` on the elimination
@@ -444,8 +432,8 @@ impl UpdatableCholesky {
         let mut reach = 0;
         // SAFETY: a simplicial factor holds `p` (n + 1 ints), `nz` (n ints), `i` and `x`
         // (`nzmax` entries); column j's entries are `p[j] .. p[j] + nz[j]`, the diagonal (D_jj
-        // of an LDLᵀ factor) first, all within `nzmax`. Y is allocated here as n × 1, X and the
-        // workspaces by CHOLMOD as n × 1; all are freed before returning.
+        // of an LDLᵀ factor) first, all within `nzmax`. Y is allocated here as n × 1 and X by
+        // CHOLMOD as n × 1; both are freed before returning.
         unsafe {
             let l = &*self.factor;
             let lp = std::slice::from_raw_parts(l.p as *const c_int, n + 1);
@@ -476,33 +464,16 @@ impl UpdatableCholesky {
                 }
                 yx[j] = yj / lx[p0];
             }
-            let (mut xd, mut wy, mut we) = (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut());
-            let ok = cholmod_solve2(
-                CHOLMOD_LT,
-                self.factor,
-                y,
-                std::ptr::null_mut(),
-                &mut xd,
-                std::ptr::null_mut(),
-                &mut wy,
-                &mut we,
-                c,
-            );
-            let result = if ok == 0 || xd.is_null() {
-                Err(CholmodError(format!("cholmod_solve2 (Lᵀ): CHOLMOD status {}", self.status())))
-            } else {
-                let xx = std::slice::from_raw_parts((*xd).x as *const f64, n);
-                for (i, v) in x.iter_mut().enumerate() {
-                    *v = xx[self.inverse[i]];
-                }
-                Ok(())
-            };
-            for d in [&mut y, &mut xd, &mut wy, &mut we] {
-                if !d.is_null() {
-                    cholmod_free_dense(d, c);
-                }
+            let mut xd = cholmod_solve(CHOLMOD_LT, self.factor, y, c);
+            cholmod_free_dense(&mut y, c);
+            if xd.is_null() {
+                return Err(CholmodError(format!("cholmod_solve (Lᵀ): CHOLMOD status {}", self.status())));
             }
-            result?;
+            let xx = std::slice::from_raw_parts((*xd).x as *const f64, n);
+            for (i, v) in x.iter_mut().enumerate() {
+                *v = xx[self.inverse[i]];
+            }
+            cholmod_free_dense(&mut xd, c);
         }
         Ok(reach)
     }
