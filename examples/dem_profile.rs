@@ -6,6 +6,7 @@
 //!
 //!     target/release/examples/dem_profile 1000 2e-3 40 [curve.csv]
 //!
+//! `DEM_SEED=k` places the stones with seed k instead of 7.
 //! `DEM_MAX_EVENTS=N` stops after N beam breaks (the profile of the start of a long run).
 //! `DEM_JACOBIAN_REUSE=0` recomputes every contact Jacobian at every Newton iteration (the
 //! default reuses them while a contact has moved by little, `dem::solver::tangent`).
@@ -18,9 +19,11 @@
 //! `DEM_CONTACTS=0` runs without contacts between unbonded stones (the lattice alone: the
 //! linear phase of the algorithm throughout, `dem::solver::linear`).
 //! `DEM_UPDOWN=1` keeps the factor current by CHOLMOD's updates and downdates in place
-//! (`dem::solver::cholmod`) instead of Woodbury columns and refactorizations.
-//! `DEM_SPARSE_RHS=0` solves every contact-free Newton step densely (default, with
-//! `DEM_UPDOWN=1`: a sparse residual by a forward substitution over its reach,
+//! (`dem::solver::cholmod`), `DEM_UPDOWN=0` by Woodbury columns and refactorizations; unset,
+//! the solver's default chooses by size (`dem::solver::FactorUpdates::Auto`: in place from
+//! 1,000 unknowns, every sample of the benchmarks).
+//! `DEM_SPARSE_RHS=0` solves every contact-free Newton step densely (default, with updates in
+//! place: a sparse residual by a forward substitution over its reach,
 //! `dem::solver::factor`).
 //! `DEM_LINEAR=0` finds every equilibrium by Newton's method, also without contacts (the
 //! former path; default: one solve, `dem::solver::linear`).
@@ -47,7 +50,8 @@ use masonry_hpc::dem::mechanics::MechParams;
 mod random_sample;
 use masonry_hpc::dem::solver::gmres::Forcing;
 use masonry_hpc::dem::solver::{
-    DofControl, DofMap, LoadPoint, Model, Observer, Solver, SolverOptions, SolverProfile, StageEnd, StateRecord,
+    DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, Solver, SolverOptions, SolverProfile, StageEnd,
+    StateRecord,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -55,7 +59,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1000);
     let max_strain: f64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(2e-3);
     let steps: usize = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(40);
-    let sample = random_sample::random_square(n)?;
+    // DEM_SEED=k places the stones with seed k (default 7, the benchmarks' sample).
+    let seed = match std::env::var("DEM_SEED") {
+        Ok(v) => v.parse().map_err(|e| format!("DEM_SEED={v}: {e}"))?,
+        Err(_) => 7,
+    };
+    let sample = random_sample::random_square_seeded(n, seed)?;
     let mut params = MechParams::default();
     // DEM_CRUSHING=σ_c:G_c (Pa, J/m²) turns crushing on (a compressive peak).
     if let Ok(v) = std::env::var("DEM_CRUSHING") {
@@ -79,7 +88,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.contacts = v != "0";
     }
     if let Ok(v) = std::env::var("DEM_UPDOWN") {
-        opts.updates_in_place = v != "0";
+        opts.factor_updates = if v == "0" { FactorUpdates::Woodbury } else { FactorUpdates::InPlace };
     }
     if let Ok(v) = std::env::var("DEM_LINEAR") {
         opts.linear_phase = v != "0";
@@ -121,8 +130,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.trace = v != "0";
     }
     let settings = format!(
-        "tol={} slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} sparse_rhs={} updates_in_place={} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
-        opts.tol, opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.updates_in_place, opts.fill_refactor, opts.refresh_drift,
+        "tol={} slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
+        opts.tol, opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.factor_updates, opts.fill_refactor, opts.refresh_drift,
         opts.breaks_per_equilibrium
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;

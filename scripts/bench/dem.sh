@@ -16,7 +16,8 @@
 #  (c) the scaling: log-log slopes of seconds per event and of the factorization against size;
 #  (r) before (b): the 1k sample against its stored reference run (below);
 #  (m) before (b): several breaks per equilibrium (an opt-in approximation) against the exact path;
-#  (k) before (b): the contact-free phase at 10k stones against its bound (issue 25).
+#  (k) before (b): the contact-free phase at 10k stones against its bound (issue 25);
+#  (u) before (b): the factor's Woodbury path against its updates in place, side by side.
 # Every line carries the load average and `uptime` (the machine may be shared) and, for (b), the
 # CPU seconds of the run beside its wall seconds (on a loaded machine the CPU time is the cost),
 # and the peak memory twice: the maximum RSS from /usr/bin/time, VmHWM from the run itself.
@@ -34,7 +35,9 @@
 # projected at well over an hour on one core), DEM_BENCH_TIMEOUT (seconds per case of (b),
 # default 3600), DEM_BENCH_TENSION_SIZES (default "10000 50000", empty: none) the sizes of (t),
 # DEM_BENCH_SKIP_BATCH=1 skips (a). The DEM_* switches of examples/dem_profile.rs
-# pass through to (b) and (r): DEM_UPDOWN=1 keeps the factor current by CHOLMOD's updates in place.
+# pass through to (b) and (r): DEM_UPDOWN=0 keeps the factor by Woodbury columns and
+# refactorizations, DEM_UPDOWN=1 by CHOLMOD's updates in place (unset: the solver's default, in
+# place for every sample here: from 1,000 unknowns).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/env.sh
@@ -125,6 +128,31 @@ print(json.dumps({"case": "dem-contact-free-10k", "size": 10000, "ranks": 1, "ev
                   "meets_bound": ms(sparse) <= bound, "same_peak_rel": abs(sparse["peak_stress_pa"] / dense["peak_stress_pa"] - 1),
                   "load_average": sys.argv[3]}))
 PY
+fi
+
+# (u) the factor's two update paths side by side (`[analysis] factor_updates`, default "auto":
+#     in place from 1,000 unknowns): Woodbury columns with refactorizations against CHOLMOD's
+#     updates in place, on the 1k sample in compression to 2e-3 and the 10k sample in tension to
+#     loss of load; seconds, peak memory (VmHWM), and the peaks' relative difference (the same
+#     breaks either way). DEM_BENCH_SKIP_UPDATES=1 skips it.
+if [ "${DEM_BENCH_SKIP_UPDATES:-0}" != 1 ]; then
+  for spec in 1000:2e-3 10000:-2e-3; do
+    n=${spec%%:*}; strain=${spec#*:}
+    for u in 0 1; do
+      DEM_UPDOWN=$u "$PROFILE_BIN" "$n" "$strain" 40 > "$work/updates-$n-$u.json" 2>/dev/null || true
+    done
+    python3 - "$work/updates-$n-0.json" "$work/updates-$n-1.json" "$n" "$(load)" <<'PY' || true
+import json, sys
+w, u = (json.load(open(p)) for p in sys.argv[1:3])
+print(json.dumps({"case": "dem-factor-updates", "size": int(sys.argv[3]), "ranks": 1,
+                  "test": "tension" if "loss" in u["end"] else "compression", "events": [w["events"], u["events"]],
+                  "seconds_woodbury": round(w["seconds"], 2), "seconds_in_place": round(u["seconds"], 2),
+                  "ratio_woodbury_over_in_place": round(w["seconds"] / u["seconds"], 2),
+                  "vm_hwm_mb": [round(w["vm_hwm_kb"] / 1024), round(u["vm_hwm_kb"] / 1024)],
+                  "peak_rel_difference": abs(u["peak_stress_pa"] / w["peak_stress_pa"] - 1),
+                  "load_average": sys.argv[4]}))
+PY
+  done
 fi
 
 # (m) the opt-in approximation, several breaks per equilibrium (`[analysis]

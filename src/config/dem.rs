@@ -6,6 +6,7 @@
 //! samples = 16                 # samples with seeds seed, seed+1, ...: mean ± std in the summary
 //! particle_states = "steps"    # HDF5/XDMF particle states per sample: "none" | "steps" | "all"
 //! breaks_per_equilibrium = 1   # > 1: several beams break per equilibrium (approximate, opt-in)
+//! factor_updates = "auto"      # "auto" | "in_place" | "woodbury": how the factor follows breaks
 //! [sample]                     # dem::sample::SampleConfig
 //! seed = 1
 //! layout = { type = "coursed", width = 1.0, height = 1.2, n_courses = 10, n_per_course = 6, jitter = 0.2, size_variability = 0.2 }
@@ -19,7 +20,7 @@
 //! young_modulus = 2.885e9
 //! ```
 use crate::dem::sample::SampleConfig;
-use crate::dem::solver::VirtualTest;
+use crate::dem::solver::{FactorUpdates, VirtualTest};
 use serde::Deserialize;
 
 /// `[analysis]` of a DEM job.
@@ -41,6 +42,16 @@ pub struct DemAnalysis {
     /// (`dem::solver::SolverOptions::breaks_per_equilibrium`); the summary says so.
     #[serde(default = "one")]
     pub breaks_per_equilibrium: usize,
+    /// How the factorized operator follows breaks and contact changes (default `"auto"`: CHOLMOD's
+    /// updates in place from 1,000 unknowns, a Woodbury correction below;
+    /// `dem::solver::FactorUpdates`). The same physics either way, to round-off; in place is
+    /// faster and lighter on large samples.
+    #[serde(default = "auto")]
+    pub factor_updates: FactorUpdates,
+}
+
+fn auto() -> FactorUpdates {
+    FactorUpdates::Auto
 }
 
 fn one() -> usize {

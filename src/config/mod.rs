@@ -391,6 +391,35 @@ mod tests {
         assert_eq!(four.spec.analysis.breaks_per_equilibrium, 4);
     }
 
+    /// `factor_updates` defaults to "auto", reads "in_place" and "woodbury", and refuses anything
+    /// else at its key, naming the accepted values.
+    #[test]
+    fn factor_updates_is_read_and_checked() {
+        use crate::dem::solver::FactorUpdates;
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(root.join("jobs/wall-tension.toml")).unwrap();
+        let dir = std::env::temp_dir().join(format!("masonry-hpc-config-updates-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let with = |v: Option<&str>| {
+            let job = dir.join(format!("updates-{}.toml", v.unwrap_or("none")));
+            let t = match v {
+                Some(v) => text.replacen("type = \"dem\"", &format!("type = \"dem\"\nfactor_updates = \"{v}\""), 1),
+                None => text.clone(),
+            };
+            std::fs::write(&job, t).unwrap();
+            match load_job(&job) {
+                Ok(AnyJob::Dem(j)) => Ok(j.spec.analysis.factor_updates),
+                Ok(_) => panic!("a DEM job"),
+                Err(e) => Err(e.to_string()),
+            }
+        };
+        let read = [with(None), with(Some("in_place")), with(Some("woodbury"))];
+        let e = with(Some("cholmod")).expect_err("an unknown value is refused");
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(read, [Ok(FactorUpdates::Auto), Ok(FactorUpdates::InPlace), Ok(FactorUpdates::Woodbury)]);
+        assert!(e.contains("analysis.factor_updates") && e.contains("in_place") && e.contains("woodbury"), "{e}");
+    }
+
     /// `E ← s E`, `G ← s G`: the Poisson ratio ν = E/2G − 1 is unchanged (0.25 here).
     #[test]
     fn scaling_the_modulus_keeps_the_poisson_ratio() {

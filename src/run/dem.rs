@@ -89,7 +89,12 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
     let mut phases = Phases::default();
     ctx.log.info(format!("DEM: {n} sample(s) of {:?}, over {} rank(s)", job.spec.test, ctx.size));
     let states = job.spec.analysis.particle_states;
-    let opts = SolverOptions { breaks_per_equilibrium: job.spec.analysis.breaks_per_equilibrium, ..Default::default() };
+    let analysis = &job.spec.analysis;
+    let opts = SolverOptions {
+        breaks_per_equilibrium: analysis.breaks_per_equilibrium,
+        factor_updates: analysis.factor_updates,
+        ..Default::default()
+    };
     if opts.breaks_per_equilibrium > 1 {
         ctx.log.info(format!(
             "DEM: up to {} beams break per equilibrium: an approximation of the one-break path",

@@ -50,7 +50,7 @@
 //! operator with the shift `σM` in place of the regularization, refactorized when `σ` has moved
 //! by more than a factor 2 since the last factorization (contact terms entering or leaving in
 //! between are Woodbury terms, as in Newton's method); afterwards the unshifted operator is
-//! refactorized. With updates in place ([`super::SolverOptions::updates_in_place`]) the shifted
+//! refactorized. With updates in place ([`super::SolverOptions::factor_updates`]) the shifted
 //! operators are a Woodbury operator of their own (faer's supernodal factorization: at 50k
 //! stones about 1 s, against 4.5 s for CHOLMOD's simplicial one), kept between continuations;
 //! the updatable factor is refactorized once, on the way back.
@@ -82,7 +82,7 @@ impl<'a> Solver<'a> {
     /// pseudo-transient continuation (module docs); leaves the contacts of the equilibrium in
     /// [`Self::contacts`]. Errors: [`DemError::NoConvergence`] after `MAX_ITERATIONS`.
     pub(super) fn continuation(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
-        if !self.opts.updates_in_place {
+        if !self.operator.factor.updates_in_place() {
             let result = self.continue_to_equilibrium(load, extra, t);
             // Back to the unshifted operator for the next Newton iteration.
             self.operator.invalidate(Some(Refactor::Continuation));

@@ -354,8 +354,8 @@ fn continuation_with_updates_in_place_matches_the_woodbury_path() {
     let s = Sample::build(&SampleConfig::paper_wall(4)).unwrap();
     let p = crushing(2.2e6, 1e3);
     let t = VirtualTest::Compression { max_strain: 3e-3, steps: 60 };
-    let woodbury = run_test(&s, &p, &t).unwrap();
-    let updown = run_test_with(&s, &p, &t, SolverOptions { updates_in_place: true, ..Default::default() }).unwrap();
+    let with = |factor_updates| run_test_with(&s, &p, &t, SolverOptions { factor_updates, ..Default::default() });
+    let (woodbury, updown) = (with(FactorUpdates::Woodbury).unwrap(), with(FactorUpdates::InPlace).unwrap());
     let last = updown.curve.last().unwrap();
     let (a, b) = (woodbury.derived.peak_stress, updown.derived.peak_stress);
     println!("peaks {a} and {b} ({:e}); ends {:?} and {:?}; {:?}", (b - a) / a, woodbury.end, updown.end, updown.stats);

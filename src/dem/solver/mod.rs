@@ -5,7 +5,7 @@
 //! |---|---|
 //! | `solver.rs` | the solver of one test: the model and options, the state, the workspace, the diagnostics |
 //! | `state.rs` | the mechanical state (coordinates, intact beams, contacts and histories, load, energy, records): cloned, it continues in a new solver |
-//! | `options.rs`, `records.rs`, `scales.rs` | the options; what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
+//! | `options.rs`, `records.rs`, `scales.rs` | the options (among them how the factor follows breaks: in place from 1,000 unknowns, `FactorUpdates`); what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
 //! | `stage.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs) |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
@@ -68,7 +68,7 @@ pub mod virtual_test;
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
-pub use options::{FloatingPolicy, SolverOptions};
+pub use options::{FactorUpdates, FloatingPolicy, SolverOptions};
 pub use profile::{Counters, SolverProfile};
 pub use records::{BrokenBeam, FailureModeTag, LoadPoint, Observer, StageEnd, StateKind, StateRecord};
 pub use snapshots::{ParticleState, ParticleStates};

@@ -78,7 +78,7 @@ impl<'a> Solver<'a> {
         }
         Ok(Solver {
             scales: Scales::of(&model),
-            operator: Operator::new(map.n_eq(), opts.updates_in_place, opts.fill_refactor)?,
+            operator: Operator::new(map.n_eq(), opts.factor_updates.in_place(map.n_eq()), opts.fill_refactor)?,
             shifted: None,
             opts,
             state,

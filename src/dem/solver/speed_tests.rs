@@ -128,9 +128,16 @@ fn updates_in_place_reach_the_same_equilibria_as_woodbury() {
     // the update columns are counted.
     let s = random(120, 5);
     for contacts in [false, true] {
-        let base = SolverOptions { contacts, ..Default::default() };
+        let base = SolverOptions { contacts, factor_updates: FactorUpdates::Woodbury, ..Default::default() };
         let woodbury = compress(&s, base);
-        let updown = compress(&s, SolverOptions { updates_in_place: true, max_rank: 1, ..base });
+        let updown = compress(&s, SolverOptions { factor_updates: FactorUpdates::InPlace, max_rank: 1, ..base });
+        if !contacts {
+            // The default (`FactorUpdates::Auto`) keeps the Woodbury path below 1,000 unknowns:
+            // the same run, bit for bit.
+            assert!(woodbury.model.map.n_eq() < super::options::IN_PLACE_MIN_UNKNOWNS);
+            let auto = compress(&s, SolverOptions { contacts, ..Default::default() });
+            assert_same_path(&auto, &woodbury, 0.0, Some(0.0), "auto below 1,000 unknowns");
+        }
         assert!(woodbury.broken().len() > 10, "breaks {}", woodbury.broken().len());
         assert_same_path(&updown, &woodbury, 1e-6, None, &format!("contacts {contacts}"));
         let r = updown.profile.refactorizations;
@@ -157,8 +164,15 @@ fn sparse_right_hand_sides_reach_the_same_equilibria_as_dense_solves() {
     // and their forward substitutions visited fewer columns than dense ones would have.
     let s = random(400, 5);
     for contacts in [false, true] {
-        let base = SolverOptions { contacts, updates_in_place: true, ..Default::default() };
+        let base = SolverOptions { contacts, factor_updates: FactorUpdates::InPlace, ..Default::default() };
         let sparse = compress(&s, base);
+        if !contacts {
+            // The default (`FactorUpdates::Auto`) updates a system of 1,092 unknowns in place:
+            // the same run, bit for bit.
+            assert!(sparse.model.map.n_eq() >= super::options::IN_PLACE_MIN_UNKNOWNS);
+            let auto = compress(&s, SolverOptions { contacts, ..Default::default() });
+            assert_same_path(&auto, &sparse, 0.0, Some(0.0), "auto from 1,000 unknowns");
+        }
         let dense = compress(&s, SolverOptions { sparse_rhs: false, ..base });
         assert!(dense.broken().len() > 10, "breaks {}", dense.broken().len());
         let tol = if contacts { 1e-6 } else { 1e-9 };
