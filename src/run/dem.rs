@@ -347,7 +347,7 @@ fn log_summary(ctx: &Context, job: &DemJob, s: &DemSummary, tally: &Tally) {
     }
     line("first-crack stress", &s.first_crack_stress, 1e6, "MPa", ex.first_crack_stress);
     line("peak stress", &s.peak_stress, 1e6, "MPa", ex.peak_stress);
-    line("strain at peak", &s.strain_at_peak, 1.0, "", None);
+    line("strain at peak", &s.strain_at_peak, 1e-3, "‰", None);
     ctx.log.info(format!(
         "{} events in {:.2} s of test time ({:.0} events/s); batch wall time {:.2} s",
         tally.events, tally.test_seconds, s.events_per_second, s.seconds
