@@ -10,7 +10,7 @@
 //! rank 0 and all ranks exit with its code; an error only one rank has is printed by that rank,
 //! which then aborts every rank (`MPI_Abort`), so a run never hangs.
 use clap::{Parser, Subcommand};
-use masonry_hpc::parallel::Context;
+use masonry_hpc::parallel::{print_error, Context};
 use masonry_hpc::run::{self, Error};
 use mpi::traits::Communicator;
 use std::path::PathBuf;
@@ -52,11 +52,11 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     // Funneled: only the main thread calls MPI; batch runs compute on a second thread of rank 0.
     let Some((universe, threading)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
-        eprintln!("error: MPI could not be initialized (was it initialized twice?)");
+        print_error("error: MPI could not be initialized (was it initialized twice?)");
         return ExitCode::from(70);
     };
     if threading < mpi::Threading::Funneled {
-        eprintln!("error: the MPI library does not support MPI_THREAD_FUNNELED (got {threading:?})");
+        print_error(&format!("error: the MPI library does not support MPI_THREAD_FUNNELED (got {threading:?})"));
         return ExitCode::from(70);
     }
     let ctx = Context::new(universe.world(), cli.quiet);
@@ -65,7 +65,7 @@ fn main() -> ExitCode {
         (None, Some(job)) => run::run_job_with(&ctx, job, &cli.petsc, cli.restart),
         (None, None) => {
             if ctx.rank == 0 {
-                eprintln!("error: no job file given\n\nUsage: masonry-hpc <JOB> [PETSC_OPTIONS]...\n       masonry-hpc check <JOB>\n\nFor more information, try '--help'.");
+                print_error("error: no job file given\n\nUsage: masonry-hpc <JOB> [PETSC_OPTIONS]...\n       masonry-hpc check <JOB>\n\nFor more information, try '--help'.");
             }
             return ExitCode::from(2);
         }
@@ -74,24 +74,24 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(Error::Agreed(a)) => {
             if ctx.rank == 0 {
-                eprintln!("error: {}", a.message);
+                print_error(&format!("error: {}", a.message));
             }
             ExitCode::from(a.exit_code.clamp(1, 255) as u8)
         }
         Err(Error::Mechanism(m)) => {
             // Found identically by every rank: one message.
             if ctx.rank == 0 {
-                eprintln!("error: {m}");
+                print_error(&format!("error: {m}"));
             }
             ExitCode::from(2)
         }
         Err(e) => {
             let code = e.exit_code();
             if ctx.size > 1 {
-                eprintln!("error (rank {}): {e}", ctx.rank);
+                print_error(&format!("error (rank {}): {e}", ctx.rank));
                 ctx.comm.abort(code)
             }
-            eprintln!("error: {e}");
+            print_error(&format!("error: {e}"));
             ExitCode::from(code.clamp(1, 255) as u8)
         }
     }

@@ -42,7 +42,7 @@ impl Log {
     /// A warning, printed by rank 0 to stderr.
     pub fn warn(&self, msg: impl AsRef<str>) {
         if self.rank == 0 {
-            eprintln!("warning: {}", msg.as_ref());
+            print_error(&format!("warning: {}", msg.as_ref()));
         }
     }
 
@@ -50,6 +50,14 @@ impl Log {
     pub fn elapsed(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
     }
+}
+
+/// Writes `message` and a newline to stderr in one `write` call. `eprintln!` writes the pieces of
+/// its format one by one (stderr is unbuffered), and under `mpirun` another process's output,
+/// such as Open MPI's `MPI_ABORT` banner, can land between them and split the line.
+pub fn print_error(message: &str) {
+    let line = format!("{message}\n");
+    let _ = std::io::stderr().lock().write_all(line.as_bytes());
 }
 
 /// What every phase of a run needs: the communicator and the log.

@@ -16,7 +16,7 @@ mod phases;
 
 pub use agree::{agree, Agreed};
 pub use batch::{run_batch, BatchError, TaskResult};
-pub use context::{all_ranks, global_sum, Context, Log};
+pub use context::{all_ranks, global_sum, print_error, Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
 pub use groups::{Dispatcher, Groups};
 pub use partition::{partition_cells, PartitionError};
