@@ -20,13 +20,16 @@
 use crate::config::DemJob;
 use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
-use crate::dem::solver::{run_test_recording, FailureModeTag, SolverOptions, TestEnd, TestResult, VirtualTest};
+use crate::dem::solver::{
+    run_test_observed, FailureModeTag, Report, SolverOptions, StateRecord, TestEnd, TestResult, VirtualTest,
+};
 use crate::error::Error;
 use crate::identify::Stat;
-use crate::parallel::{agree, run_batch, Context, Phases};
+use crate::parallel::{agree, run_batch, Context, Log, Phases};
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;
 use std::path::Path;
+use std::time::{Duration, Instant};
 
 /// One sample's numbers.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -101,10 +104,13 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
             opts.breaks_per_equilibrium
         ));
     }
-    // Runs on the rank that got sample k; that rank writes the sample's particle states.
+    // Runs on the rank that got sample k; that rank writes the sample's particle states. Rank 0
+    // reports the progress of the samples it runs itself.
+    let log = &ctx.log;
     let work = |k: usize| -> Result<TestResult, String> {
         let sample = Sample::build(&sample_config(job, k)).map_err(|e| format!("sample {k}: {e}"))?;
-        let mut result = run_test_recording(&sample, &job.params, &job.spec.test, opts, states)
+        let report = log.is_root().then(|| sample_progress(log.clone(), k, PROGRESS_EVERY));
+        let mut result = run_test_observed(&sample, &job.params, &job.spec.test, opts, states, report)
             .map_err(|e| format!("sample {k}: {e}"))?;
         if !result.particle_states.is_empty() {
             let sdir = job.output_dir.join(format!("sample-{k:03}"));
@@ -115,7 +121,6 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
         }
         Ok(result)
     };
-    let log = &ctx.log;
     let results = phases.time("batch", || {
         let batch = run_batch(&ctx.comm, n, work, |done, total| log.info(format!("  {done}/{total} samples done")));
         agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)
@@ -144,6 +149,38 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::OutputDir { path: path.to_path_buf(), source }
+}
+
+/// How often the progress of a long sample is printed (a 10k-stone sample in compression runs
+/// for half an hour; the paper's wall, under a second, prints nothing).
+const PROGRESS_EVERY: Duration = Duration::from_secs(30);
+
+/// A report of sample `k`'s recorded states that logs a line at most once per `every`
+/// ([`progress_line`]).
+fn sample_progress<'a>(log: Log, k: usize, every: Duration) -> Report<'a> {
+    let start = Instant::now();
+    let mut last = start;
+    Box::new(move |index: usize, r: &StateRecord| {
+        if last.elapsed() >= every {
+            last = Instant::now();
+            log.info(progress_line(k, index, r, start.elapsed()));
+        }
+    })
+}
+
+/// The progress line of sample `k` at its recorded state number `index`, `r`: how far the load
+/// stage is, beams broken, states recorded, active contacts, and the time since the sample
+/// started.
+fn progress_line(k: usize, index: usize, r: &StateRecord, elapsed: Duration) -> String {
+    format!(
+        "  sample {k}: stage {}, {:.1} % of its load; {} beams broken, {} states, {} contacts ({:.0} s)",
+        r.stage + 1,
+        100.0 * r.t,
+        r.broken[0],
+        index + 1,
+        r.contacts,
+        elapsed.as_secs_f64()
+    )
 }
 
 /// The axes of the stress–strain pictures: labels and the sign that plots compression positive.

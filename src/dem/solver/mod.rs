@@ -76,4 +76,7 @@ pub use solver::Solver;
 pub use state::SolverState;
 pub use system::Model;
 pub use test_result::{CurvePoint, Derived, RunStats, TestEnd, TestResult};
-pub use virtual_test::{cyclic_protocol, run_test, run_test_recording, run_test_with, PlatenRotation, VirtualTest};
+pub use virtual_test::{
+    cyclic_protocol, run_test, run_test_observed, run_test_recording, run_test_with, PlatenRotation, Report,
+    VirtualTest,
+};

@@ -49,6 +49,27 @@ fn three_stone_column_breaks_at_the_hand_lambda() {
 }
 
 #[test]
+fn a_report_sees_every_recorded_state_beside_the_particle_states() {
+    // The small wall in compression with a report (`run_test_observed`): it is called once per
+    // recorded state, in order, with the records of the result's curve; the particle states are
+    // kept as without it, and the run is the same, state for state.
+    let s = small_wall(2);
+    let t = VirtualTest::Compression { max_strain: 1e-3, steps: 10 };
+    let (p, o) = (MechParams::default(), SolverOptions::default());
+    let mut seen: Vec<(usize, usize, usize)> = Vec::new();
+    let report = Box::new(|index: usize, r: &StateRecord| seen.push((index, r.stage, r.broken[0])));
+    let with = run_test_observed(&s, &p, &t, o, ParticleStates::Steps, Some(report)).unwrap();
+    let without = run_test_recording(&s, &p, &t, o, ParticleStates::Steps).unwrap();
+    assert!(with.stats.events > 3, "events {}", with.stats.events);
+    assert_eq!(seen.len(), with.curve.len());
+    assert!(seen.iter().enumerate().all(|(k, &(i, _, _))| i == k));
+    assert!(seen.iter().zip(&with.curve).all(|(&(_, _, b), c)| b == c.broken[0]));
+    assert!(!with.particle_states.is_empty());
+    assert_eq!(with.particle_states, without.particle_states);
+    assert_eq!(with.curve, without.curve);
+}
+
+#[test]
 fn woodbury_updates_match_refactorization_in_a_test() {
     // The same compression run with the default low-rank updates and with a refactorization at
     // every event (max_rank = 0) gives the same curve to 1e-8 relative.

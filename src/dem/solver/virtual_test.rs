@@ -38,7 +38,7 @@ use serde::{Deserialize, Serialize};
 use super::dofs::{DofControl, DofMap};
 use super::error::{positive, DemError};
 use super::options::SolverOptions;
-use super::records::{LoadPoint, StageEnd, StateRecord};
+use super::records::{LoadPoint, Observer, StageEnd, StateRecord};
 use super::snapshots::{ParticleStates, Recorder};
 use super::solver::Solver;
 use super::system::Model;
@@ -267,6 +267,25 @@ pub fn run_test_with(
     run_test_recording(sample, params, test, opts, ParticleStates::None)
 }
 
+/// A report of a test's recorded states, called with each state's index and record as it is
+/// committed ([`run_test_observed`]).
+pub type Report<'a> = Box<dyn FnMut(usize, &StateRecord) + 'a>;
+
+/// The particle-state recorder (if any) and a report of every recorded state, as one observer.
+struct Reporting<'a> {
+    recorder: Option<Box<dyn Observer + 'a>>,
+    report: Report<'a>,
+}
+
+impl Observer for Reporting<'_> {
+    fn recorded(&mut self, index: usize, record: &StateRecord, z: &[f64]) {
+        if let Some(r) = self.recorder.as_mut() {
+            r.recorded(index, record, z);
+        }
+        (self.report)(index, record);
+    }
+}
+
 /// One load stage of a test's protocol.
 struct Stage {
     target: LoadPoint,
@@ -369,6 +388,19 @@ pub fn run_test_recording(
     opts: SolverOptions,
     states: ParticleStates,
 ) -> Result<TestResult, DemError> {
+    run_test_observed(sample, params, test, opts, states, None)
+}
+
+/// [`run_test_recording`], with `report` called on every recorded state (its index and record) as
+/// the test goes, e.g. to print the progress of a long test.
+pub fn run_test_observed<'a>(
+    sample: &'a Sample,
+    params: &MechParams,
+    test: &VirtualTest,
+    opts: SolverOptions,
+    states: ParticleStates,
+    report: Option<Report<'a>>,
+) -> Result<TestResult, DemError> {
     test.validate()?;
     let clock = Instant::now();
     let (w, h, tz) = (sample.width, sample.height, params.t_z);
@@ -380,7 +412,10 @@ pub fn run_test_recording(
     let initial = LoadPoint { prescribed: vec![0.0; n_p], forces: vec![0.0; n_f] };
     let mut solver = Solver::new(model, opts, initial)?;
     let recorder = Recorder::new(states, first_driven, (1, driven));
-    solver.observer = recorder.observer();
+    solver.observer = match report {
+        Some(report) => Some(Box::new(Reporting { recorder: recorder.observer(), report })),
+        None => recorder.observer(),
+    };
     let mut end = TestEnd::Target;
     let mut envelope = CyclicEnvelope::default();
     let outcome = solver.start().and_then(|()| {
