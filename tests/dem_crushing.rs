@@ -53,6 +53,10 @@ fn small_wall_with_crushing_peaks_and_counts_crushed_beams() {
     }
     let text = summary.to_string();
     assert!(!text.contains("\"target\""), "every sample ends after a peak: {text}");
+    // A 15-stone wall has fewer than 1,000 unknowns: the default ("auto") keeps the Woodbury
+    // path, and each sample's report says so.
+    let samples = summary["samples"].as_array().unwrap();
+    assert!(samples.iter().all(|s| s["factor_updates"] == "woodbury"), "{text}");
     let peak = summary.pointer("/peak_stress/mean").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
     assert!(peak > 0.5e6 && peak < 3.0e6, "peak {peak}");
 }

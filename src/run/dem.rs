@@ -11,8 +11,8 @@
 //! * `sample-KKK/curve.png` (cyclic tests): that sample's hysteresis loops;
 //! * `stress_strain.png`: all samples' curves, with the experiment's modulus line and its
 //!   first-crack and peak stresses overlaid when `[experiment]` gives them;
-//! * `summary.json`: per sample E, ν, first-crack stress, peak stress, strain at peak, events and
-//!   timing; their mean and sample standard deviation (`null` when no sample has the quantity:
+//! * `summary.json`: per sample E, ν, first-crack stress, peak stress, strain at peak, events,
+//!   timing and how the factor followed the breaks (`factor_updates`); their mean and sample standard deviation (`null` when no sample has the quantity:
 //!   ν in shear, first crack in a sample that never cracked); the experiment's values beside them.
 //!
 //! Signs: the curve files keep the solver's convention (tension positive); the chart plots
@@ -49,6 +49,9 @@ pub struct SampleReport {
     pub events: usize,
     /// Wall time of the test [s].
     pub seconds: f64,
+    /// How the factor followed the breaks: "in_place" or "woodbury" (`[analysis]
+    /// factor_updates`); `None` when the test could not start.
+    pub factor_updates: Option<crate::dem::solver::FactorUpdates>,
 }
 
 /// What a DEM batch reports.
@@ -254,7 +257,16 @@ fn write_outputs(
             Err(msg) => {
                 ctx.log.warn(msg);
                 let result = Err(msg.clone());
-                SampleReport { sample: k, seed, result, end: None, counted: false, events: 0, seconds: 0.0 }
+                SampleReport {
+                    sample: k,
+                    seed,
+                    result,
+                    end: None,
+                    counted: false,
+                    events: 0,
+                    seconds: 0.0,
+                    factor_updates: None,
+                }
             }
             Ok(t) => {
                 let pts = write_sample(ctx, job, k, t, &axes)?;
@@ -268,6 +280,11 @@ fn write_outputs(
                     counted: t.end.is_valid(),
                     events: t.stats.events,
                     seconds: t.stats.seconds,
+                    factor_updates: Some(if t.stats.updates_in_place {
+                        crate::dem::solver::FactorUpdates::InPlace
+                    } else {
+                        crate::dem::solver::FactorUpdates::Woodbury
+                    }),
                 }
             }
         };

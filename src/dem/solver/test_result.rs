@@ -83,6 +83,10 @@ pub struct RunStats {
     /// Such steps left at the smallest increment and recorded as snaps.
     #[serde(default)]
     pub snaps_in_steps: usize,
+    /// Whether the factor followed the breaks by updates in place (else by a Woodbury
+    /// correction; [`super::FactorUpdates`]).
+    #[serde(default)]
+    pub updates_in_place: bool,
 }
 
 /// How a test ended.

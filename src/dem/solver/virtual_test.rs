@@ -448,6 +448,7 @@ pub fn run_test_observed<'a>(
     let derived = derive(&curve, solver.broken(), first_driven, solver.states());
     let loss = end == TestEnd::LossOfLoad;
     let (factorizations, _) = solver.factor_stats();
+    let updates_in_place = solver.operator.factor.updates_in_place();
     solver.observer = None;
     let last = solver.states().len().checked_sub(1).map(|i| (i, solver.state().z_commit.as_slice()));
     let c = solver.counters;
@@ -465,6 +466,7 @@ pub fn run_test_observed<'a>(
             continuations: c.continuations,
             imbalance_cutbacks: c.imbalance_cutbacks,
             snaps_in_steps: c.snaps_in_steps,
+            updates_in_place,
         },
         end,
         curve,
