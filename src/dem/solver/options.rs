@@ -118,10 +118,10 @@ impl Default for SolverOptions {
 /// |---|---|---|---|---|---|
 /// | 60 | 141 | compression | 0.026 | 0.024 | |
 /// | 200 | 522 | compression | 0.178 | 0.145 | |
-/// | 1,000 | 2,823 | compression | 7.27 | 5.25 | 27 → 18 |
-/// | 3,000 | 8,800 | compression, 600 breaks | 8.76 | 6.04 | 57 → 42 |
-/// | 3,000 | 8,800 | tension | 2.21 | 1.05 | 60 → 41 |
-/// | 10,000 | 29,448 | tension | 19.3 | 8.3 | 194 → 140 |
+/// | 1,000 | 2,823 | compression | 7.27 | 5.25 | 26 → 18 |
+/// | 3,000 | 8,703 | compression, 600 breaks | 8.76 | 6.04 | 56 → 41 |
+/// | 3,000 | 8,703 | tension | 2.21 | 1.05 | 58 → 40 |
+/// | 10,000 | 29,448 | tension | 19.3 | 8.3 | 190 → 137 |
 ///
 /// [`Self::Auto`] still keeps the Woodbury path below [`IN_PLACE_MIN_UNKNOWNS`]: there the
 /// difference is a fraction of a second, and the paper's wall (about 180 unknowns) keeps the
