@@ -4,7 +4,7 @@
 //! (`materials/rubble-identified.toml`) again from its run's saved sample curves; bad input.
 mod common;
 use common::*;
-use masonry_hpc::material::{run_path, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization};
+use masonry_hpc::material::{run_path, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization, Split};
 use std::path::{Path, PathBuf};
 
 /// The law that generates the synthetic "DEM" curves (rubble-masonry orders of magnitude).
@@ -19,6 +19,7 @@ fn known_law() -> DamageParams {
         b_c: 800.0,
         gf_c: None,
         regularization: Regularization::Hillerborg,
+        split: Split::Trace,
     }
 }
 
@@ -479,16 +480,33 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
 /// debug build (1 rank).
 #[test]
 fn committed_wall_law_is_refitted_from_its_saved_sample_curves() {
+    refit_committed_law("jobs/identify-wall.toml", "materials/rubble-identified.toml", "identify-wall-law-only");
+}
+
+#[test]
+fn committed_spectral_wall_law_is_refitted_from_its_saved_sample_curves() {
+    // The spectral split's law (jobs/identify-wall-spectral.toml) from the same sample curves.
+    refit_committed_law(
+        "jobs/identify-wall-spectral.toml",
+        "materials/rubble-identified-spectral.toml",
+        "identify-wall-spectral-law-only",
+    );
+}
+
+/// Runs the identification job `job` law only, on the committed sample curves of the paper's
+/// wall and with the E and ν of the committed material file `material`, and checks that it writes
+/// that file's [law] again (floats to 1e-6 relative, the rest exactly).
+fn refit_committed_law(job: &str, material: &str, scratch_name: &str) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let read_toml = |p: &Path| -> toml::Table {
         let text = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
     };
-    let committed = read_toml(&root.join("materials/rubble-identified.toml"));
+    let committed = read_toml(&root.join(material));
     let law = committed["law"].as_table().expect("[law] in the material file");
-    let mut job = read_toml(&root.join("jobs/identify-wall.toml"));
+    let mut job = read_toml(&root.join(job));
     job.remove("calibration");
-    let l = job.get_mut("law").and_then(|l| l.as_table_mut()).expect("[law] in jobs/identify-wall.toml");
+    let l = job.get_mut("law").and_then(|l| l.as_table_mut()).expect("[law] in the job");
     l.remove("material_file");
     let data = root.join("tests/data/identify-wall");
     let mut files = toml::Table::new();
@@ -505,7 +523,7 @@ fn committed_wall_law_is_refitted_from_its_saved_sample_curves() {
     out.insert("dir".into(), toml::Value::String("out".into()));
     out.insert("existing".into(), toml::Value::String("overwrite".into()));
     job.insert("output".into(), toml::Value::Table(out));
-    let dir = scratch("identify-wall-law-only");
+    let dir = scratch(scratch_name);
     let f = dir.join("law-only.toml");
     std::fs::write(&f, toml::to_string(&job).unwrap()).unwrap();
     let out = run(0, &[f.to_str().unwrap()]);

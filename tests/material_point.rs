@@ -137,3 +137,36 @@ fn unknown_path_key_is_located() {
         &["key 'path.step'", "unknown field `step`", "expected `max_strain` or `steps`"],
     );
 }
+
+#[test]
+fn unknown_split_is_located() {
+    // The [material] table's split names one of the two splits (material::split).
+    expect_error(
+        "mp-split",
+        "split = \"spectrl\"\n",
+        TENSION,
+        "hillerborg",
+        H,
+        2,
+        &["mp.toml:14:9: key 'material.split'", "unknown variant `spectrl`, expected `trace` or `spectral`"],
+    );
+}
+
+#[test]
+fn the_spectral_split_runs_through_the_job() {
+    // A cyclic path with the spectral split: the job runs on 1 and 2 ranks and its curve starts on
+    // the elastic line (σ = E ε in uniaxial stress below the threshold, 1e-9 relative).
+    let dir = scratch("mp-spectral");
+    let path = "type = \"uniaxial\"\ntargets = [2.0e-4, -4.0e-4, 3.0e-4]\nsteps_per_segment = 40";
+    let f = job(&dir, "split = \"spectral\"\n", path, "hillerborg", H);
+    for np in [0, 2] {
+        let out = run(np, &[f.to_str().unwrap()]);
+        assert!(out.status.success(), "np={np}: {}", stderr(&out));
+    }
+    let (head, rows) = read_csv(&dir.join("out/curve.csv"));
+    let (ie, is) =
+        (head.iter().position(|h| h == "strain_xx").unwrap(), head.iter().position(|h| h == "stress_xx").unwrap());
+    let first = &rows[1];
+    assert!(first[ie] > 0.0 && first[ie] < EPS0_T);
+    assert!((first[is] - E * first[ie]).abs() <= 1e-9 * E * first[ie], "{:?}", first);
+}

@@ -39,6 +39,8 @@
 //! regularization = "hillerborg"    # or "hillerborg_no_elastic" (G_f = the whole dissipation per
 //!                              # crack area; bounds.gf_t then bounds its softening part G_s =
 //!                              # G_f − f_t² h/(2E), so the whole box is admissible: identify::law_fit)
+//! # split = "spectral"          # the law's unilateral split: "trace" (the paper's, default) or
+//! #                            # "spectral" (material::split)
 //! # element_size = 1.2         # h of the comparison [m], default the sample height
 //! elastic = "experiment"       # E, ν of the law: "experiment" (else the DEM's means) or "dem"
 //! # young_modulus, poisson     # explicit values win over `elastic`
@@ -241,6 +243,9 @@ pub struct LawIdentConfig {
     /// Hillerborg variant.
     #[serde(default = "hillerborg")]
     pub regularization: Regularization,
+    /// The unilateral split of the identified law (`material::Split`; the paper's by default).
+    #[serde(default)]
+    pub split: crate::material::Split,
     /// Element size of the comparison [m]; default the sample height.
     pub element_size: Option<f64>,
     /// Where E and ν come from when not given here (default: the experiment, SPEC §3b).

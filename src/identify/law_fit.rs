@@ -48,7 +48,7 @@ use super::ego::EgoSettings;
 use super::error::IdentifyError;
 use super::error_measure::{curve_distance, CurveError, ErrorMeasure};
 use super::space::Space;
-use crate::material::{run_path, Control, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization};
+use crate::material::{run_path, Control, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization, Split};
 use crate::parallel::{Context, TaskResult};
 use serde::Serialize;
 
@@ -86,6 +86,8 @@ pub struct LawFit {
     pub poisson: f64,
     /// Hillerborg variant (not `none`).
     pub regularization: Regularization,
+    /// The law's unilateral split (the paths are uniaxial, but the splits draw different curves).
+    pub split: Split,
     /// Element size h of the comparison [m].
     pub element_size: f64,
     /// DEM tension curve on a uniform grid from 0 (test direction).
@@ -187,6 +189,7 @@ impl LawFit {
             b_c: x[4],
             gf_c: x.get(5).copied(),
             regularization: self.regularization,
+            split: self.split,
         }
     }
 
@@ -466,6 +469,7 @@ mod tests {
             young_modulus: 2.885e9,
             poisson: 0.19,
             regularization,
+            split: Split::Trace,
             element_size: 1.2,
             tension: curve(40, 1e-3),
             compression: curve(40, 3e-3),

@@ -232,6 +232,9 @@ fn law_table(law: &DamageParams) -> Result<String, String> {
         r => quoted(r.name()),
     };
     let _ = writeln!(s, "regularization = {reg}");
+    if !law.split.is_trace() {
+        let _ = writeln!(s, "split = {}", quoted(law.split.name()));
+    }
     Ok(s)
 }
 
@@ -488,6 +491,7 @@ mod tests {
             b_c: 900.0,
             gf_c: Some(104.3),
             regularization: Regularization::HillerborgNoElastic,
+            split: crate::material::Split::Trace,
         };
         let p = provenance();
         for reg in [
@@ -531,6 +535,7 @@ mod tests {
             b_c: 3400.0,
             gf_c: Some(687.0),
             regularization: Regularization::HillerborgNoElastic,
+            split: crate::material::Split::Trace,
         };
         let variant = |seed| VariantFigure {
             number: 2,

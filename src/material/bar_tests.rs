@@ -34,6 +34,7 @@ fn bar_params(regularization: Regularization) -> DamageParams {
         b_c: 800.0,
         gf_c: None,
         regularization,
+        split: super::Split::Trace,
     }
 }
 

@@ -2,6 +2,7 @@
 
 use super::damage::{self, CompressionSoftening, DamageValue};
 use super::params::{DamageParams, Regularization};
+use super::split::Split;
 use super::state::Side;
 
 /// The damage law with B_t (and B_c) fixed for one element size and the isotropic elastic constants
@@ -22,6 +23,7 @@ pub struct PointLaw {
     h: f64,
     regularization: Regularization,
     relaxation: f64,
+    split: Split,
 }
 
 impl PointLaw {
@@ -43,6 +45,7 @@ impl PointLaw {
             h,
             regularization: p.regularization,
             relaxation: f64::INFINITY,
+            split: p.split,
         }
     }
 
@@ -61,6 +64,12 @@ impl PointLaw {
     /// r = Δt/τ of the viscous regularization (∞: rate independent, the default).
     pub fn relaxation(&self) -> f64 {
         self.relaxation
+    }
+
+    /// The unilateral split of the free energy.
+    #[inline]
+    pub fn split(&self) -> Split {
+        self.split
     }
 
     /// Young modulus E (Pa).

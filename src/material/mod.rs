@@ -15,6 +15,8 @@
 //! | `state.rs`        | [`DamageState`], [`Side`], the history update                            |
 //! | `principal.rs`    | principal strains, ε_eq = sqrt(Σ⟨ε_i⟩₊²) and its gradient               |
 //! | `response.rs`     | [`Response`], stress / secant / consistent tangent, [`StressState`]      |
+//! | `split.rs`        | [`Split`]: the paper's split on tr σ̃ or the spectral split, and why      |
+//! | `spectral.rs`     | the spectral split's stress, tangents and energies in every kinematics   |
 //! | `plane_stress.rs` | shell layers: (ε_xx, ε_yy, γ_xy), ε_zz from σ_zz = 0                    |
 //! | `nonlocal.rs`     | shell layers with averaged damage-driving strains (nonlocal integral)    |
 //! | `uniaxial.rs`     | beam fibers: ε_11, lateral strains −ν ε in ε_eq                          |
@@ -45,10 +47,10 @@
 //!
 //! # Use
 //! ```
-//! use masonry_hpc::material::{plane_stress, DamageParams, DamageState, Regularization};
+//! use masonry_hpc::material::{plane_stress, DamageParams, DamageState, Regularization, Split};
 //! use nalgebra::Vector3;
 //! let params = DamageParams { e: 3.0e9, nu: 0.2, eps0_t: 1e-4, eps0_c: 2e-4, gf_t: 50.0,
-//!     a_c: 0.8, b_c: 1000.0, gf_c: None, regularization: Regularization::Hillerborg };
+//!     a_c: 0.8, b_c: 1000.0, gf_c: None, regularization: Regularization::Hillerborg, split: Split::Trace };
 //! let law = params.for_element(0.1).unwrap();          // once per element
 //! let committed = DamageState::default();                // per integration point
 //! let r = plane_stress::update(&law, &Vector3::new(2e-4, 0.0, 0.0), &committed);
@@ -65,6 +67,8 @@ pub mod path;
 pub mod plane_stress;
 pub mod principal;
 pub mod response;
+pub mod spectral;
+pub mod split;
 pub mod state;
 pub mod three_d;
 pub mod uniaxial;
@@ -80,6 +84,7 @@ pub use params::{DamageParams, Regularization};
 pub use path::{run_path, Control, LoadPath, NewtonSettings, PathError, PathRecord};
 pub use plane_stress::PlaneStress;
 pub use response::{Response, StressState};
+pub use split::Split;
 pub use state::{DamageState, Side};
 pub use three_d::ThreeD;
 pub use uniaxial::{Uniaxial, UniaxialResponse};

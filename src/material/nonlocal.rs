@@ -48,6 +48,8 @@ use nalgebra::Vector3;
 use super::law::PointLaw;
 use super::plane_stress::{blended, direction, elastic_matrix, equivalent_strain, tensile_weight, Blend};
 use super::response::Response;
+use super::spectral;
+use super::split::Split;
 use super::state::{DamageState, Side};
 
 /// The bell weight α(r) = ⟨1 − r²/R²⟩₊² (module docs).
@@ -99,7 +101,11 @@ pub fn update(
     let y = 0.5 * strain.dot(&sigma_tilde);
     let (x, dx) = direction(&c0, &sigma_tilde);
     let (w, dw) = tensile_weight(x);
-    blended(law, &Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw }, averaged, self_share, committed)
+    let kin = Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw };
+    match law.split() {
+        Split::Trace => blended(law, &kin, averaged, self_share, committed),
+        Split::Spectral => spectral::plane_stress(law, strain, &kin, averaged, self_share, committed),
+    }
 }
 
 #[cfg(test)]

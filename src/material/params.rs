@@ -12,6 +12,7 @@
 //! b_c = 1500.0           # compressive shape parameter B_c [1/strain]
 //! # gf_c = 2000.0        # optional compressive fracture energy G_c [J/m²]: post-peak softening from h
 //! regularization = "hillerborg"            # or "hillerborg_no_elastic"
+//! # split = "spectral"   # unilateral split: "trace" (the paper's, default) or "spectral" (split.rs)
 //! # regularization = { none = { b_t = 4000.0 } }   # explicit B_t [1/strain], G_f then unused
 //! ```
 //!
@@ -67,6 +68,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::MaterialError;
 use super::law::PointLaw;
+use super::split::Split;
 
 /// How `B_t` follows from the element characteristic length (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -123,6 +125,10 @@ pub struct DamageParams {
     pub gf_c: Option<f64>,
     /// How B_t is computed from the element size.
     pub regularization: Regularization,
+    /// The unilateral split of the free energy (`split = "trace"`, the paper's and the default, or
+    /// `"spectral"`; [`Split`] docs).
+    #[serde(default, skip_serializing_if = "Split::is_trace")]
+    pub split: Split,
 }
 
 /// A parameter must be finite and strictly positive.
@@ -283,6 +289,7 @@ mod tests {
             b_c: 1500.0,
             gf_c: None,
             regularization: Regularization::Hillerborg,
+            split: Split::Trace,
         }
     }
 

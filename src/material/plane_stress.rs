@@ -59,6 +59,8 @@ use nalgebra::{Matrix3, Vector3};
 use super::law::PointLaw;
 use super::principal::positive_part_2d;
 use super::response::{assemble, Response, StressState};
+use super::spectral;
+use super::split::Split;
 use super::state::{evolve, DamageState, Side};
 
 /// Whether the out-of-plane strain ε_zz of the plane-stress condition takes part in the equivalent
@@ -158,6 +160,10 @@ pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) ->
     let y = 0.5 * strain.dot(&sigma_tilde);
     let (x, dx) = direction(&c0, &sigma_tilde);
     let (w, dw) = tensile_weight(x);
+    if law.split() == Split::Spectral {
+        let kin = Blend { c0, sigma_tilde, side, eq, grad, y, dx, w, dw };
+        return spectral::plane_stress(law, strain, &kin, [w * eq, (1.0 - w) * eq], 1.0, committed);
+    }
     if w == 1.0 || w == 0.0 {
         // Outside the band: the sharp split (SPEC §2), exactly.
         let evo = evolve(law, side, eq, y, committed);

@@ -38,6 +38,7 @@ pub fn params() -> DamageParams {
         b_c: 800.0,
         gf_c: None,
         regularization: Regularization::Hillerborg,
+        split: super::Split::Trace,
     }
 }
 

@@ -10,6 +10,8 @@ use nalgebra::{Matrix6, Vector6};
 use super::law::PointLaw;
 use super::principal::positive_part_3d;
 use super::response::{assemble, Response, StressState};
+use super::spectral;
+use super::split::Split;
 use super::state::{evolve, DamageState, Side};
 
 /// Isotropic elastic matrix C₀ (Pa) in Voigt order `[xx, yy, zz, yz, xz, xy]`, engineering shear.
@@ -48,6 +50,9 @@ pub fn update(law: &PointLaw, strain: &Vector6<f64>, committed: &DamageState) ->
     let sigma_tilde = c0 * strain;
     let side = Side::of_trace(sigma_tilde[0] + sigma_tilde[1] + sigma_tilde[2]);
     let (eq, grad) = equivalent_strain(strain);
+    if law.split() == Split::Spectral {
+        return spectral::three_d(law, strain, side, eq, &grad, committed);
+    }
     let y = 0.5 * strain.dot(&sigma_tilde);
     let evo = evolve(law, side, eq, y, committed);
     assemble(&c0, &sigma_tilde, side, evo, &grad)

@@ -22,6 +22,8 @@ use nalgebra::{Matrix1, Vector1};
 use super::law::PointLaw;
 use super::plane_stress::EZZ_ENTERS_EQUIVALENT_STRAIN;
 use super::response::{Response, StressState};
+use super::spectral;
+use super::split::Split;
 use super::state::{evolve, DamageState, Side};
 
 /// The result of one fiber update (scalar form of [`Response`]).
@@ -66,6 +68,10 @@ pub fn update(law: &PointLaw, strain: f64, committed: &DamageState) -> UniaxialR
     let side = Side::of_trace(sigma_tilde);
     let r = equivalent_strain_ratio(law, strain);
     let eq = r * strain.abs();
+    if law.split() == Split::Spectral {
+        let deq = if strain >= 0.0 { r } else { -r };
+        return spectral::uniaxial(law, strain, side, eq, deq, committed);
+    }
     let y = 0.5 * strain * sigma_tilde;
     let evo = evolve(law, side, eq, y, committed);
     let secant = evo.integrity * e;

@@ -307,6 +307,7 @@ fn identify_law(
         young_modulus: e,
         poisson: nu,
         regularization: l.regularization,
+        split: l.split,
         element_size: h,
         tension,
         compression,
