@@ -512,6 +512,33 @@ ksp_rtol = 1e-10
         assert!(e.contains("key 'sections.s.area'") && e.contains("got 0"), "{e}");
     }
 
+    /// `[dynamics] max_damage_increment`: the default when absent, 1.0 (the control off) read as
+    /// given, and 0, a negative value, more than 1 and nan refused at the key, with its line and
+    /// column and what was expected.
+    #[test]
+    fn max_damage_increment_is_read_and_checked() {
+        let with = |value: Option<&str>| {
+            let line = value.map_or(String::new(), |v| format!("max_damage_increment = {v}\n"));
+            let text = GOOD.replace("type = \"linear_static\"", "type = \"time_history\"")
+                + "[dynamics]\nduration = 1.0\ndt = 0.01\n"
+                + &line
+                + "[[dynamics.ground_motion]]\ndirection = \"x\"\nsynthetic = \"vallorcine_like\"\n";
+            let row = text.lines().position(|l| l.starts_with("max_damage_increment")).map_or(0, |i| i + 1);
+            (load_str(&text).map(|j| j.spec.dynamics.unwrap().max_damage_increment), row)
+        };
+        assert_eq!(with(None).0.unwrap(), DEFAULT_MAX_DAMAGE_INCREMENT);
+        assert_eq!(with(Some("1.0")).0.unwrap(), 1.0);
+        assert_eq!(with(Some("0.05")).0.unwrap(), 0.05);
+        for bad in ["0.0", "-0.1", "1.5", "nan"] {
+            let (r, row) = with(Some(bad));
+            let e = r.err().unwrap_or_else(|| panic!("{bad} is refused")).to_string();
+            assert!(
+                e.contains(&format!(":{row}:1: key 'dynamics.max_damage_increment'")) && e.contains("(0, 1]"),
+                "{bad}: {e}"
+            );
+        }
+    }
+
     #[test]
     fn unknown_names_list_what_exists() {
         let e = err(&GOOD.replace("section = \"s\"", "section = \"t\""));

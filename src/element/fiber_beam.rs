@@ -320,6 +320,11 @@ impl Element for FiberBeam3d {
         self.trial_dissipated = self.dissipated;
     }
 
+    /// Over the fibers of every Gauss point ([`crate::element::damage_increment`]).
+    fn damage_increment(&self) -> f64 {
+        crate::element::damage_increment(&self.trial, &self.committed)
+    }
+
     fn mass(&self, kind: MassKind, m: &mut DMatrix<f64>) {
         prepare_matrix(m, N_DOFS);
         m.copy_from(&self.frame.mat12_to_global(&self.local_mass(kind)));

@@ -344,3 +344,37 @@ fn a_cut_and_retried_increment_equals_the_direct_smaller_one() {
     assert_eq!(a.dissipated_energy(), b.dissipated_energy());
     assert!(a.dissipated_energy() > 0.0);
 }
+
+/// `damage_increment` of a fiber beam in uniform tension (every fiber of both Gauss points at
+/// the axial strain ε = u/L, κ_t = ε for ν > 0: `material/uniaxial.rs`): 0 before any
+/// evaluation; d_t(ε₁) of the law at h = L after a stretch to ε₁ (1e-15 absolute: the same
+/// function); 0 after the commit and after a revert; d_t(ε₂) − d_t(ε₁) for a further stretch
+/// to ε₂; 0 for unloading to ε₁/2 (the damage does not heal).
+#[test]
+fn damage_increment_is_the_rise_of_the_fibers_damage() {
+    let p = params();
+    let l = 1.0;
+    let s = damage_section(Regularization::Hillerborg);
+    let law = DamageParams { regularization: Regularization::Hillerborg, ..p }.for_element(l).unwrap();
+    let d = |eps: f64| law.damage(crate::material::Side::Tension, eps).d;
+    let mut el = FiberBeam3d::new([0.0; 3], [l, 0.0, 0.0], [0.0, 0.0, 1.0], s).unwrap();
+    let mut out = ElementOutput::new(12);
+    let mut stretch = |el: &mut FiberBeam3d, eps: f64| {
+        let mut u = [0.0; 12];
+        u[6] = eps * l;
+        el.evaluate(&u, EvalRequest::Force, &mut out).unwrap();
+    };
+    assert_eq!(el.damage_increment(), 0.0);
+    let (e1, e2) = (2.0 * p.eps0_t, 5.0 * p.eps0_t);
+    stretch(&mut el, e1);
+    assert!((el.damage_increment() - d(e1)).abs() < 1e-15 && d(e1) > 0.1, "{} vs {}", el.damage_increment(), d(e1));
+    el.commit();
+    assert_eq!(el.damage_increment(), 0.0);
+    stretch(&mut el, e2);
+    let want = d(e2) - d(e1);
+    assert!((el.damage_increment() - want).abs() < 1e-15 && want > 0.1, "{} vs {want}", el.damage_increment());
+    el.revert();
+    assert_eq!(el.damage_increment(), 0.0);
+    stretch(&mut el, 0.5 * e1);
+    assert_eq!(el.damage_increment(), 0.0);
+}

@@ -74,6 +74,14 @@ pub use shell::{
 };
 pub use tie::{pretension_load, tie_axis, Tie, TieSection, CELL_OUTPUT_NAMES as TIE_CELL_OUTPUT_NAMES};
 
+/// The largest damage increment from the `committed` to the `trial` states of the same points:
+/// `max_i max(d_t,trial − d_t,committed, d_c,trial − d_c,committed)`, at least 0 (none for no
+/// point).
+pub fn damage_increment(trial: &[crate::material::DamageState], committed: &[crate::material::DamageState]) -> f64 {
+    debug_assert_eq!(trial.len(), committed.len());
+    trial.iter().zip(committed).fold(0.0, |m: f64, (t, c)| m.max(t.d_t - c.d_t).max(t.d_c - c.d_c))
+}
+
 /// Degrees of freedom per node: ux uy uz rx ry rz.
 pub const DOFS_PER_NODE: usize = 6;
 
@@ -163,6 +171,14 @@ pub trait Element: Debug {
     /// Σ ∫ (Y_t ḋ_t + Y_c ḋ_c) dV over the element's integration points, never negative and
     /// never decreasing. 0 for elastic elements.
     fn dissipated_energy(&self) -> f64 {
+        0.0
+    }
+
+    /// The largest damage increment of the trial state over the committed one: over the
+    /// element's integration points, `max(d_t,trial − d_t,committed, d_c,trial − d_c,committed)`
+    /// ([`damage_increment`]); 0 for elastic elements (the default). The time history's step
+    /// control reads it after a converged substep, before the commit.
+    fn damage_increment(&self) -> f64 {
         0.0
     }
 

@@ -14,7 +14,9 @@
 //! step, elements, node-envelope and cell-envelope lengths; f64 time and the eight energies
 //! ([`super::EnergyBalance::to_array`]); the
 //! vectors u, v, a, f_int, C v; per element its state length (u64) then all states (f64); the
-//! envelopes; an FNV-1a checksum of everything before it. A restart needs the same rank count
+//! envelopes; the substep level the next step starts with (u64, [`State::substep_level`]; a
+//! file without it, written before the damage control, reads as level 0); an FNV-1a checksum
+//! of everything before it. A restart needs the same rank count
 //! (the partition, hence the owned DOFs and elements, depends on it).
 use super::envelope::Envelopes;
 use super::integration::SavedEnvelopes;
@@ -49,6 +51,8 @@ pub struct Checkpoint {
     pub node_envelope: Vec<f64>,
     /// Cell envelopes (owned cells).
     pub cell_envelope: Vec<f64>,
+    /// [`State::substep_level`].
+    pub substep_level: u32,
 }
 
 /// The committed states of `elements`.
@@ -113,6 +117,7 @@ fn encode(c: &Checkpoint, ranks: usize, rank: usize) -> Vec<u8> {
     }
     f(&mut b, &c.node_envelope);
     f(&mut b, &c.cell_envelope);
+    b.extend_from_slice(&(c.substep_level as u64).to_le_bytes());
     let h = fnv(&b);
     b.extend_from_slice(&h.to_le_bytes());
     b
@@ -173,8 +178,10 @@ fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, String> {
     let states = lens.iter().map(|&l| r.f64s(l)).collect::<Option<Vec<_>>>().ok_or_else(bad)?;
     let node_envelope = r.f64s(n_ne).ok_or_else(bad)?;
     let cell_envelope = r.f64s(n_ce).ok_or_else(bad)?;
+    // Absent from the files written before the damage control: level 0, dt.
+    let substep_level = if r.at == body.len() { 0 } else { r.u64().ok_or_else(bad)?.min(u32::MAX as u64) as u32 };
     let [u, v, a, fi, cv]: [Vec<f64>; 5] = vecs.try_into().map_err(|_| bad())?;
-    Ok(Checkpoint { step, t, energy, vectors: [u, v, a, fi, cv], states, node_envelope, cell_envelope })
+    Ok(Checkpoint { step, t, energy, vectors: [u, v, a, fi, cv], states, node_envelope, cell_envelope, substep_level })
 }
 
 /// Collective. Writes `c` (this rank's part) as the latest checkpoint under `results`.
@@ -264,7 +271,8 @@ pub(super) fn restore(
     })();
     agree(&ctx.comm, loaded, Error::exit_code)?;
     let [u, v, a, f_int, cv] = c.vectors;
-    let state = State { step: c.step, t: c.t, u, v, a, f_int, cv, energy: EnergyBalance::from_array(c.energy) };
+    let energy = EnergyBalance::from_array(c.energy);
+    let state = State { step: c.step, t: c.t, u, v, a, f_int, cv, energy, substep_level: c.substep_level };
     Ok((state, Some((c.node_envelope, c.cell_envelope))))
 }
 
@@ -286,6 +294,7 @@ pub(super) fn save(
         states,
         node_envelope: env.node.clone(),
         cell_envelope: env.cell.clone(),
+        substep_level: state.substep_level,
     };
     write(ctx, dir, &c)
 }
@@ -304,9 +313,15 @@ mod tests {
             states: vec![vec![], vec![0.1, 0.2, 0.3]],
             node_envelope: vec![1.5],
             cell_envelope: vec![0.25, 0.5],
+            substep_level: 3,
         };
         let b = encode(&c, 2, 1);
         assert_eq!(decode(&b, 2, 1).unwrap(), c);
+        // A file of the layout without the substep level (its last u64 before the checksum)
+        // reads as level 0, the rest unchanged.
+        let mut old = b[..b.len() - 16].to_vec();
+        old.extend_from_slice(&fnv(&old).to_le_bytes());
+        assert_eq!(decode(&old, 2, 1).unwrap(), Checkpoint { substep_level: 0, ..c.clone() });
         assert!(decode(&b, 1, 0).unwrap_err().contains("2 rank(s)"));
         let mut bad = b.clone();
         bad[100] ^= 1;

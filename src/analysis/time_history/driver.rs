@@ -71,6 +71,21 @@ pub struct TimeHistorySummary {
     pub substepped_steps: usize,
     /// Newton iterations of the attempts that failed and were halved (not in `iterations`).
     pub failed_iterations: usize,
+    /// The damage control's limit on a substep's damage increment (`[dynamics]
+    /// max_damage_increment`; 1: off).
+    pub max_damage_increment: f64,
+    /// Steps with at least one substep cut by the damage control.
+    pub damage_cut_steps: usize,
+    /// Substeps cut by the damage control (taken again as two halves).
+    pub damage_cuts: usize,
+    /// Newton iterations of the cut substeps (not in `iterations`).
+    pub damage_cut_iterations: usize,
+    /// Substeps accepted at the smallest size with a damage increment over the limit.
+    pub over_limit_substeps: usize,
+    /// The smallest substep accepted [s].
+    pub smallest_substep: f64,
+    /// The largest damage increment of an accepted substep (0 with the control off).
+    pub max_step_damage_increment: f64,
     /// Jacobian factorizations (operator changes).
     pub factorizations: usize,
     /// Krylov–Newton: steps that started on the tangent kept from an earlier step, and steps
@@ -106,6 +121,18 @@ pub struct TimeHistorySummary {
     /// Per group of shell parts: area shares with peak damage above 0.05 and 0.5 at the end
     /// (`damage_shares.rs`).
     pub damage_by_group: Vec<GroupDamage>,
+}
+
+impl TimeHistorySummary {
+    /// A step's damage cuts and substep sizes (`stepper.rs`, "Damage control").
+    fn add_damage_control(&mut self, report: &StepReport) {
+        self.damage_cut_steps += (report.damage_cuts > 0) as usize;
+        self.damage_cuts += report.damage_cuts;
+        self.damage_cut_iterations += report.damage_cut_iterations;
+        self.over_limit_substeps += report.over_limit;
+        self.smallest_substep = self.smallest_substep.min(report.smallest_substep);
+        self.max_step_damage_increment = self.max_step_damage_increment.max(report.damage_increment);
+    }
 }
 
 /// The ground motion of the job's components.
@@ -215,6 +242,7 @@ pub fn run_from(
         max_iterations: cfg.max_iterations,
         tolerance: cfg.force_tolerance,
         max_substeps: cfg.max_substeps,
+        max_damage_increment: cfg.max_damage_increment,
     };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes, observer)?;
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
@@ -248,6 +276,7 @@ pub fn save_gravity(
         states,
         node_envelope: Vec::new(),
         cell_envelope: Vec::new(),
+        substep_level: 0,
     };
     checkpoint::write(ctx, dir, &c)?;
     Ok(())
@@ -338,6 +367,8 @@ pub fn integrate(
         scheme: [settings.scheme.beta, settings.scheme.gamma, settings.scheme.alpha],
         solver: sys.describe_solver(),
         dt,
+        max_damage_increment: settings.max_damage_increment,
+        smallest_substep: dt,
         steps: n_steps,
         first_step: state.step,
         results: out.writer.xdmf_path().display().to_string(),
@@ -363,6 +394,7 @@ pub fn integrate(
             if report.substeps > 1 {
                 summary.substepped_steps += 1;
             }
+            summary.add_damage_control(&report);
             summary.max_balance_error = summary.max_balance_error.max(state.energy.relative_error());
             out.record(ctx, it, &state);
             progress.step(log, state.step, state.t, report.iterations, report.substeps, report.residual);
@@ -469,6 +501,25 @@ impl CheckpointClock {
     }
 }
 
+/// The substeps and the damage control in the run's last lines: how many steps were substepped
+/// and cut by damage, the smallest substep.
+fn substep_line(s: &TimeHistorySummary) -> String {
+    let control = if s.max_damage_increment >= 1.0 {
+        "damage control off".to_string()
+    } else {
+        format!(
+            "damage control (Δd ≤ {}): {} step(s) cut by damage ({} cut(s), {} iteration(s)), {} substep(s) over the limit at the smallest size, largest Δd {:.3}",
+            s.max_damage_increment,
+            s.damage_cut_steps,
+            s.damage_cuts,
+            s.damage_cut_iterations,
+            s.over_limit_substeps,
+            s.max_step_damage_increment
+        )
+    };
+    format!("{} step(s) substepped, smallest substep {:.4e} s; {control}", s.substepped_steps, s.smallest_substep)
+}
+
 /// Collective. The summary's totals (time, energies, peaks over ranks), the envelopes written,
 /// the outputs closed, and the run's last log lines.
 fn finish(
@@ -499,12 +550,13 @@ fn finish(
     summary.damage_by_group = damage_shares::by_group(ctx, &sys.disc, env, it.mesh, it.model, it.job);
     out.close(ctx, sys, dir, state.t)?;
     log.info(format!(
-        "time history done: t = {:.4} s, {} iteration(s), {} factorization(s) ({} step(s) on a kept tangent), {:.4} s per step; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",
+        "time history done: t = {:.4} s, {} iteration(s), {} factorization(s) ({} step(s) on a kept tangent), {:.4} s per step; {}; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",
         state.t,
         summary.iterations,
         summary.factorizations,
         summary.tangents_kept,
         summary.seconds_per_step,
+        substep_line(&summary),
         peak[0],
         peak[1],
         peak[2],

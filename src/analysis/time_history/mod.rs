@@ -15,6 +15,8 @@
 //! | `system.rs`        | the [`DynamicSystem`] trait and a dense implementation            |
 //! | `state.rs`         | the state after a converged step; the external force `f(t)`      |
 //! | `stepper.rs`       | one step: Newton (tangent, modified, initial, krylov), substepping |
+//! |                    | on Newton failures and on damage increments over the limit        |
+//! | `substeps.rs`      | the substeps of a step: sizes dt/2^k on the step's dyadic grid    |
 //! | `krylov.rs`        | Krylov subspace acceleration of modified Newton (Carlson–Miller)  |
 //! | `linear_step.rs`   | the step of a linear system: one solve, two products              |
 //! | `refresh.rs`       | when Krylov–Newton forms the tangent again: a cost in iterations |
@@ -32,6 +34,8 @@
 //! | `integration.rs`   | what the stepping loop reads: settings, job, mesh, model, ground  |
 //! | `driver.rs`        | the `time_history` job, its starts (gravity, restart, a saved gravity state) and the reusable stepping loop |
 mod checkpoint;
+#[cfg(test)]
+mod damage_control_tests;
 mod damage_shares;
 mod damping;
 mod diagnosis;
@@ -52,6 +56,7 @@ mod scheme;
 mod state;
 mod step_output;
 mod stepper;
+mod substeps;
 mod system;
 #[cfg(test)]
 mod tests;

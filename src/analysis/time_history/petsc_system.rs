@@ -494,6 +494,14 @@ impl DynamicSystem for PetscSystem<'_> {
         global
     }
 
+    /// Collective: one max-reduction over the ranks.
+    fn max_damage_increment(&self) -> f64 {
+        let local = self.disc.elements.iter().fold(0.0f64, |m, e| m.max(e.damage_increment()));
+        let mut global = 0.0;
+        self.ctx.comm.all_reduce_into(&local, &mut global, mpi::collective::SystemOperation::max());
+        global
+    }
+
     fn commit(&mut self) {
         for e in self.disc.elements.iter_mut() {
             e.commit();

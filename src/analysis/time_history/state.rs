@@ -21,6 +21,10 @@ pub struct State {
     pub cv: Vec<f64>,
     /// Energies so far.
     pub energy: EnergyBalance,
+    /// The next step starts with substeps of `dt / 2^substep_level`: the size the damage control
+    /// of [`super::stepper`] left the last step at (0 without the control). Part of the state, so
+    /// that a checkpoint carries it and a restart continues as the uninterrupted run.
+    pub substep_level: u32,
 }
 
 impl State {
@@ -61,7 +65,7 @@ impl State {
             damage0: damage,
             ..Default::default()
         };
-        Ok(State { step: 0, t: 0.0, u, v, a, f_int, cv, energy })
+        Ok(State { step: 0, t: 0.0, u, v, a, f_int, cv, energy, substep_level: 0 })
     }
 }
 

@@ -21,12 +21,38 @@
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
 //! (for the diagnosis) and the caller decides.
+//!
+//! # Damage control
+//! The damage of an integration point is an implicit function of its strain history; a step that
+//! crosses a large part of the softening branch in one go gives a damage that moves with `dt`.
+//! With `[dynamics] max_damage_increment = Δd_max < 1` (and an element with state), the substeps
+//! follow the damage, as load increments do in quasi-static damage analyses:
+//!
+//! ```text
+//!   Δd = max over points of max(d_t,trial − d_t,committed, d_c,trial − d_c,committed)
+//!   converged substep h, Δd > Δd_max, h/2 ≥ h_min    → revert, halve: a damage cut
+//!   converged substep h, Δd > Δd_max, h = h_min       → accepted (counted: over the limit)
+//!   accepted substep with Δd < Δd_max / 4             → the next substep may double
+//!   h_min = dt / 2^max_substeps
+//! ```
+//!
+//! Doubling keeps every size `dt / 2^k` and the substeps on the step's dyadic grid
+//! ([`super::substeps`]), so the nominal step's end is hit exactly. The size reached at the end
+//! of a step is where the next one starts ([`State::substep_level`]): a phase of strong damage
+//! does not try `dt` again at every step, and quiet steps bring the size back up to `dt`, one
+//! doubling per quiet substep. A quarter of the limit for growth leaves a margin: a substep
+//! that doubles at Δd < Δd_max/4 takes roughly twice the increment (under Δd_max/2, where the
+//! damage grows steadily) and is not cut at once. Newton failures halve as before, and the size
+//! they leave is kept the same way. `Δd_max = 1` switches the control off: every step then
+//! starts at `dt`, no increment is measured (no reduction over ranks) and the steps are those
+//! of a stepper without the control. A linear system takes no substeps of its own.
 use super::energy::StepVectors;
 use super::krylov::KrylovAccelerator;
 use super::linear_step::{LinearStep, Outcome};
 use super::refresh::RefreshPolicy;
 use super::scheme::Scheme;
 pub use super::state::{external_force, State};
+use super::substeps::Substeps;
 use super::system::DynamicSystem;
 use crate::config::NewtonKind;
 
@@ -48,6 +74,16 @@ pub struct StepSettings {
     pub tolerance: f64,
     /// Halvings allowed.
     pub max_substeps: usize,
+    /// The largest damage increment of a substep (module docs, "Damage control"); 1 or more:
+    /// no control.
+    pub max_damage_increment: f64,
+}
+
+impl StepSettings {
+    /// Whether the damage control is on for `sys`: a limit below 1 and an element with state.
+    fn damage_control<S: DynamicSystem>(&self, sys: &S) -> bool {
+        self.max_damage_increment < 1.0 && !sys.is_linear()
+    }
 }
 
 /// What a converged step took.
@@ -62,6 +98,18 @@ pub struct StepReport {
     pub residual: f64,
     /// Newton iterations of the attempts that failed and were halved (not in `iterations`).
     pub failed_iterations: usize,
+    /// Converged substeps taken again as two halves because their damage increment exceeded
+    /// the limit (module docs, "Damage control").
+    pub damage_cuts: usize,
+    /// Newton iterations of those substeps (not in `iterations`).
+    pub damage_cut_iterations: usize,
+    /// Substeps accepted at the smallest size with a damage increment over the limit.
+    pub over_limit: usize,
+    /// The smallest substep accepted [s].
+    pub smallest_substep: f64,
+    /// The largest damage increment of the accepted substeps (0 without the control: not
+    /// measured).
+    pub damage_increment: f64,
 }
 
 /// Why a step failed.
@@ -234,8 +282,9 @@ impl Stepper {
         self.linear.invalidate();
     }
 
-    /// Advances `state` to time `target` (one nominal step), substepping if needed. On success
-    /// every element is committed; on failure the elements hold the last failed trial state.
+    /// Advances `state` to time `target` (one nominal step), substepping if needed (module docs).
+    /// On success every element is committed; on failure the elements hold the last failed trial
+    /// state. Collective.
     pub fn advance<S: DynamicSystem>(
         &mut self,
         sys: &mut S,
@@ -248,47 +297,102 @@ impl Stepper {
         // the Jacobian's coefficients and defeat the reuse of its factorization); the last one
         // ends exactly at `target`.
         let h_min = dt / f64::powi(2.0, self.settings.max_substeps as i32);
-        let mut h = dt.min(target - state.t).max(f64::MIN_POSITIVE);
-        if (h - dt).abs() <= 1e-9 * dt {
-            h = dt;
+        let mut big = dt.min(target - state.t).max(f64::MIN_POSITIVE);
+        if (big - dt).abs() <= 1e-9 * dt {
+            big = dt;
         }
-        if sys.is_linear() && target - state.t <= h * (1.0 + 1e-9) {
+        if sys.is_linear() && target - state.t <= big * (1.0 + 1e-9) {
             let sc = self.settings.scheme;
-            match self.linear.step(sys, ground, state, (target, h), sc, self.settings.tolerance) {
+            match self.linear.step(sys, ground, state, (target, big), sc, self.settings.tolerance) {
                 Ok(Outcome::Done { residual }) => {
-                    return Ok(StepReport { iterations: 1, substeps: 1, residual, failed_iterations: 0 })
+                    return Ok(StepReport {
+                        iterations: 1,
+                        substeps: 1,
+                        residual,
+                        smallest_substep: big,
+                        ..Default::default()
+                    })
                 }
                 // The Newton path iterates the step to the tolerance, or substeps and reports.
                 Ok(Outcome::Missed) | Err(_) => self.linear.invalidate(),
             }
         }
-        let mut report = StepReport::default();
+        let control = self.settings.damage_control(sys);
+        let first = if control { state.substep_level } else { 0 };
+        let mut sub = Substeps::new(Substeps::halvings_allowed(big, h_min), first);
+        let mut report = StepReport { smallest_substep: f64::INFINITY, ..Default::default() };
         loop {
-            let last = target - state.t <= h * (1.0 + 1e-9);
+            let h = sub.size(big);
+            let last = sub.is_last();
             let t1 = if last { target } else { state.t + h };
             match self.attempt(sys, ground, state, t1, h) {
                 Attempt::Converged { iterations, residual } => {
-                    sys.commit();
-                    self.accept(sys, ground, state, t1);
-                    report.iterations += iterations;
-                    report.substeps += 1;
-                    report.residual = report.residual.max(residual);
+                    if !self.settle(sys, ground, state, (t1, h), &mut sub, &mut report, iterations, residual) {
+                        continue;
+                    }
                     if last {
                         state.step += 1;
+                        // Only a step of the job's dt sets the size of the next one.
+                        if control && big == dt {
+                            state.substep_level = sub.level();
+                        }
                         return Ok(report);
                     }
                 }
                 Attempt::Failed { iterations, residual, reason } => {
                     report.failed_iterations += iterations;
                     self.refresh.failed();
-                    if h / 2.0 < h_min * (1.0 - 1e-9) {
+                    if !sub.can_halve() {
                         return Err(StepFailure { t: state.t, h, residual, r: self.s.r.clone(), reason });
                     }
                     sys.revert();
-                    h /= 2.0;
+                    sub.halve();
                 }
             }
         }
+    }
+
+    /// A converged substep `(t1, h)`: with the damage control on, taken again as two halves when
+    /// its damage increment exceeds the limit and it can still be halved (returns false: the
+    /// elements reverted); else committed and accepted into `state`, the next substep doubled
+    /// where the increment stayed below a quarter of the limit (returns true). Collective.
+    #[allow(clippy::too_many_arguments)]
+    fn settle<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        ground: &dyn Fn(f64) -> [f64; 3],
+        state: &mut State,
+        (t1, h): (f64, f64),
+        sub: &mut Substeps,
+        report: &mut StepReport,
+        iterations: usize,
+        residual: f64,
+    ) -> bool {
+        let limit = self.settings.max_damage_increment;
+        let control = self.settings.damage_control(sys);
+        let increment = if control { sys.max_damage_increment() } else { 0.0 };
+        if increment > limit {
+            if sub.can_halve() {
+                report.damage_cuts += 1;
+                report.damage_cut_iterations += iterations;
+                sys.revert();
+                sub.halve();
+                return false;
+            }
+            report.over_limit += 1;
+        }
+        sys.commit();
+        self.accept(sys, ground, state, t1);
+        report.iterations += iterations;
+        report.substeps += 1;
+        report.residual = report.residual.max(residual);
+        report.smallest_substep = report.smallest_substep.min(h);
+        report.damage_increment = report.damage_increment.max(increment);
+        sub.accept();
+        if control && increment < 0.25 * limit {
+            sub.try_double();
+        }
+        true
     }
 
     /// Newton iterations from `state` to `t1`; the trial solution is left in the scratch vectors.

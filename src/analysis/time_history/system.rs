@@ -69,6 +69,14 @@ pub trait DynamicSystem {
     fn dissipated_energy(&self) -> f64 {
         0.0
     }
+    /// The largest damage increment of the elements' trial states over their committed ones,
+    /// over all elements of all ranks (`Element::damage_increment`); 0 for a system without
+    /// damage (the default). Collective: every rank must call it at the same point (the stepper
+    /// does after every converged substep while its damage control is on, a decision every rank
+    /// takes alike), or the ranks that call it wait for the others forever.
+    fn max_damage_increment(&self) -> f64 {
+        0.0
+    }
     /// Accepts the trial state of every element.
     fn commit(&mut self);
     /// Discards the trial state of every element.

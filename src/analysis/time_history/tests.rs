@@ -15,6 +15,7 @@ fn settings(scheme: Scheme) -> StepSettings {
         max_iterations: 10,
         tolerance: 1e-12,
         max_substeps: 3,
+        max_damage_increment: 1.0,
     }
 }
 
@@ -352,6 +353,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
             max_iterations,
             tolerance: 1e-12,
             max_substeps,
+            max_damage_increment: 1.0,
         });
         let mut reports = Vec::new();
         for k in 1..=steps {
@@ -389,6 +391,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
             max_iterations: 40,
             tolerance: 1e-12,
             max_substeps: 0,
+            max_damage_increment: 1.0,
         });
         let (mut us, mut its) = (Vec::new(), 0);
         for k in 1..=40 {

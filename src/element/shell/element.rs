@@ -331,28 +331,6 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             &all[p * nz..(p + 1) * nz]
         }
     }
-
-    /// Mass matrix in the flat local frame.
-    fn local_mass(&self, kind: MassKind) -> SMatrix<f64, D, D> {
-        let m0 = self.section.mass_per_area();
-        let ir = self.section.rotary_inertia_per_area();
-        let dens = [m0, m0, m0, ir, ir, ir];
-        let mut m = SMatrix::<f64, D, D>::zeros();
-        for pt in &self.points {
-            for a in 0..N {
-                for b in 0..N {
-                    let v = pt.weight * pt.shape[a] * pt.shape[b];
-                    for (k, d) in dens.iter().enumerate() {
-                        match kind {
-                            MassKind::Consistent => m[(6 * a + k, 6 * b + k)] += d * v,
-                            MassKind::Lumped => m[(6 * a + k, 6 * a + k)] += d * v,
-                        }
-                    }
-                }
-            }
-        }
-        m
-    }
 }
 
 impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
@@ -447,6 +425,11 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
     fn revert(&mut self) {
         self.trial.copy_from_slice(&self.committed);
         self.trial_dissipated = self.dissipated;
+    }
+
+    /// Over the layer points of every in-plane point ([`crate::element::damage_increment`]).
+    fn damage_increment(&self) -> f64 {
+        crate::element::damage_increment(&self.trial, &self.committed)
     }
 
     fn mass(&self, kind: MassKind, m: &mut DMatrix<f64>) {

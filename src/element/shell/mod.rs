@@ -7,6 +7,7 @@
 //! | `layers.rs`   | [`ThicknessRule`] (Simpson per layer) and the section update N, M, A B D    |
 //! | `geometry.rs` | local frame of a flat element, projection of a warped quad, rigid links    |
 //! | `element.rs`  | [`ShellElement`]: force, tangent, state, mass, gravity, outputs, checkpoint|
+//! | `mass.rs`     | the mass matrix in the flat local frame, consistent or lumped               |
 //! | `products.rs` | the element matrices' products over nonzero columns and node blocks        |
 //! | `mitc4.rs`    | [`ShellQuad4`]: bilinear membrane + MITC4 bending/shear + drilling          |
 //! | `tri3.rs`     | [`ShellTri3`]: Allman membrane (vertex rotations) + DKT bending + drilling |
@@ -20,6 +21,7 @@ pub mod element;
 mod error;
 pub mod geometry;
 pub mod layers;
+mod mass;
 mod mitc4;
 mod products;
 mod section;

@@ -927,3 +927,35 @@ fn node_block_transformation_equals_the_whole_product() {
         assert!((a - b).abs() <= 1e-13 * scale, "{a} vs {b}");
     }
 }
+
+/// `damage_increment` of a damage quad: 0 before any evaluation; after a stretch past the
+/// threshold, the largest rise of d_t or d_c over its layer points, as the committed states
+/// show once it is committed (exactly: the same numbers); 0 right after the commit and after a
+/// revert; a larger stretch adds the rise from the committed damage, not from zero.
+#[test]
+fn damage_increment_is_the_largest_rise_of_a_layer_points_damage() {
+    let x = test_quad();
+    let mut el = ShellQuad4::new(x, &damage_section(0.2)).unwrap();
+    let mut out = ElementOutput::new(24);
+    assert_eq!(el.damage_increment(), 0.0);
+    let rise = |before: &[crate::material::DamageState], after: &[crate::material::DamageState]| {
+        before.iter().zip(after).fold(0.0f64, |m, (b, a)| m.max(a.d_t - b.d_t).max(a.d_c - b.d_c))
+    };
+    let mut largest = 0.0f64;
+    for scale in [3.0, 6.0] {
+        let u = strain_field(&x, [scale * 1e-4, -1e-5, 2e-5], [1e-3, -5e-4], 1e-7);
+        let before = el.committed_states().to_vec();
+        el.evaluate(&u, EvalRequest::Force, &mut out).unwrap();
+        let inc = el.damage_increment();
+        el.revert();
+        assert_eq!(el.damage_increment(), 0.0);
+        el.evaluate(&u, EvalRequest::Force, &mut out).unwrap();
+        el.commit();
+        assert_eq!(el.damage_increment(), 0.0);
+        let want = rise(&before, el.committed_states());
+        assert!(want > 0.01, "the stretch damages: {want}");
+        assert_eq!(inc, want);
+        largest = largest.max(el.committed_states().iter().fold(0.0f64, |m, s| m.max(s.d_t)));
+        assert!(inc < largest + 1e-15);
+    }
+}
