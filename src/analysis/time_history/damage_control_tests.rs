@@ -49,6 +49,7 @@ fn wall_law() -> PointLaw {
         b_c: 2000.0,
         gf_c: None,
         regularization: Regularization::Hillerborg,
+        split: crate::material::Split::Trace,
     }
     .for_element(LENGTH)
     .unwrap()
