@@ -40,9 +40,6 @@
 //!   (all of it while d_t < 1 keeps the lateral extension resisted), and a closed diagonal crack
 //!   keeps the shear of its compressive strut. Chosen.
 //!
-//! The lab decides between the paper's split and this one on its cyclic tests
-//! (`scripts/compare_splits.sh`).
-//!
 //! # Crack-band regularization under the spectral split
 //! B_t follows from G_f by the same Hillerborg formulas, which integrate the paper's uniaxial
 //! curve σ = (1 − d_t) E ε. Under the spectral split the lateral contraction of a bar in tension
