@@ -4,7 +4,8 @@
 //! **Cycles.** The law's files are one concept, the damage law at a point, split by what a
 //! reader looks for: [`PointLaw`] (`law.rs`) is built from the parameters of `params.rs` and
 //! reads the damage sides of `state.rs`, whose evolution in `state.rs`, `response.rs` and
-//! `plane_stress.rs` is computed with the point's law.
+//! `plane_stress.rs` is computed with the point's law; `plane_stress.rs` and `uniaxial.rs` hand
+//! the spectral split to `spectral.rs`, which returns their response types.
 //!
 //! | file              | concept                                                                  |
 //! |-------------------|--------------------------------------------------------------------------|
