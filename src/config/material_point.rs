@@ -66,6 +66,8 @@ pub enum PathConfig {
     Biaxial(BiaxialPath),
     /// γ_xy: 0 → max_gamma, normal stresses free.
     PureShear(PureShearPath),
+    /// σ_yy held at −vertical_stress, γ_xy through `targets` (the lab's cyclic shear test).
+    ShearUnderCompression(ShearUnderCompressionPath),
 }
 
 /// `type = "uniaxial_tension"`
@@ -132,6 +134,25 @@ pub struct PureShearPath {
     pub max_gamma: f64,
     /// Number of steps.
     pub steps: usize,
+}
+
+/// `type = "shear_under_compression"`
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ShearUnderCompressionPath {
+    /// The compressive stress held on yy [Pa] (> 0).
+    pub vertical_stress: f64,
+    /// Engineering shear γ_xy targets, reached in turn from 0.
+    pub targets: Vec<f64>,
+    /// Steps per segment.
+    pub steps_per_segment: usize,
+    /// Steps of the compressive preload (default 5).
+    #[serde(default = "five")]
+    pub preload_steps: usize,
+}
+
+fn five() -> usize {
+    5
 }
 
 /// A material-point job file, as written.

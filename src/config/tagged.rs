@@ -50,6 +50,7 @@ pub fn refine(src: &Source, err: ConfigError) -> ConfigError {
             "cyclic" => sub::<CyclicPath>(src, t, &table_path),
             "biaxial" => sub::<BiaxialPath>(src, t, &table_path),
             "pure_shear" => sub::<PureShearPath>(src, t, &table_path),
+            "shear_under_compression" => sub::<ShearUnderCompressionPath>(src, t, &table_path),
             _ => None,
         }),
         _ => None,

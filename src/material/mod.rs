@@ -82,7 +82,7 @@ pub(crate) mod test_support;
 pub use error::MaterialError;
 pub use law::PointLaw;
 pub use params::{DamageParams, Regularization};
-pub use path::{run_path, Control, LoadPath, NewtonSettings, PathError, PathRecord};
+pub use path::{run_path, run_path_into, Control, LoadPath, NewtonSettings, PathError, PathRecord};
 pub use plane_stress::PlaneStress;
 pub use response::{Response, StressState};
 pub use split::Split;

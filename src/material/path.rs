@@ -204,6 +204,45 @@ impl<const N: usize> LoadPath<N> {
         Self::ramp(&[(i, 0.0)], &[(i, max_gamma)], n_steps, &mut steps);
         Ok(LoadPath { steps })
     }
+
+    /// Shear under a held compression, the lab's cyclic shear test at a point: σ_yy ramped to
+    /// −`vertical_stress` (> 0, Pa) in `preload_steps` with γ_xy held at 0, then γ_xy driven
+    /// piecewise linearly through `targets`, `steps_per_segment` each, with σ_yy held; every other
+    /// component stress-free (σ_xx = 0: the wall's sides are free).
+    pub fn shear_under_compression<M: StressState<N>>(
+        vertical_stress: f64,
+        targets: &[f64],
+        steps_per_segment: usize,
+        preload_steps: usize,
+    ) -> Result<Self, PathError> {
+        let Some(i) = M::SHEAR_XY.filter(|_| N >= 3) else {
+            return Err(invalid("a shear path under compression needs the yy and xy components (plane stress or 3D)"));
+        };
+        check_positive("vertical_stress", vertical_stress)?;
+        check_steps(steps_per_segment)?;
+        check_steps(preload_steps)?;
+        if targets.is_empty() || targets.iter().any(|t| !t.is_finite()) {
+            return Err(invalid(format!("shear targets must be finite and non-empty, got {targets:?}")));
+        }
+        let mut steps = Vec::with_capacity(preload_steps + targets.len() * steps_per_segment);
+        for k in 1..=preload_steps {
+            let mut c = [Control::Stress(0.0); N];
+            c[1] = Control::Stress(-vertical_stress * k as f64 / preload_steps as f64);
+            c[i] = Control::Strain(0.0);
+            steps.push(c);
+        }
+        let mut from = 0.0;
+        for &t in targets {
+            for k in 1..=steps_per_segment {
+                let mut c = [Control::Stress(0.0); N];
+                c[1] = Control::Stress(-vertical_stress);
+                c[i] = Control::Strain(from + (t - from) * k as f64 / steps_per_segment as f64);
+                steps.push(c);
+            }
+            from = t;
+        }
+        Ok(LoadPath { steps })
+    }
 }
 
 /// Solve `a x = b` by Gaussian elimination with partial pivoting (N ≤ 6 here, no allocation);
@@ -288,15 +327,29 @@ pub struct PathRecord<const N: usize> {
 /// [`PlaneStress`](super::PlaneStress)), from the virgin state at zero strain. Returns one record
 /// per step, with the initial state first.
 pub fn run_path<const N: usize, M: StressState<N>>(
-    _kinematics: M,
+    kinematics: M,
     law: &PointLaw,
     path: &LoadPath<N>,
     settings: &NewtonSettings,
 ) -> Result<Vec<PathRecord<N>>, PathError> {
+    let mut records = Vec::with_capacity(path.len() + 1);
+    run_path_into(kinematics, law, path, settings, &mut records)?;
+    Ok(records)
+}
+
+/// [`run_path`] appending each converged step's record to `records` (cleared first), so that a
+/// path that stops keeps the states it reached.
+pub fn run_path_into<const N: usize, M: StressState<N>>(
+    _kinematics: M,
+    law: &PointLaw,
+    path: &LoadPath<N>,
+    settings: &NewtonSettings,
+    records: &mut Vec<PathRecord<N>>,
+) -> Result<(), PathError> {
     let mut committed = DamageState::virgin(law);
     let mut eps = SVector::<f64, N>::zeros();
     let mut dissipated = 0.0;
-    let mut records = Vec::with_capacity(path.len() + 1);
+    records.clear();
     records.push(PathRecord {
         step: 0,
         strain: [0.0; N],
@@ -379,164 +432,9 @@ pub fn run_path<const N: usize, M: StressState<N>>(
             iterations,
         });
     }
-    Ok(records)
+    Ok(())
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::material::test_support::{law, params};
-    use crate::material::{PlaneStress, ThreeD, Uniaxial};
-
-    /// Closed-form uniaxial stress–strain curve (SPEC §2; lateral-extension ε_eq^c = √2 ν|ε|).
-    fn closed_form(law: &PointLaw, eps: f64, kappa_t: f64, kappa_c: f64) -> f64 {
-        let p = params();
-        if eps >= 0.0 {
-            let k = kappa_t.max(p.eps0_t);
-            law.e() * eps * p.eps0_t / k * (-law.b_t() * (k - p.eps0_t)).exp()
-        } else {
-            let k = kappa_c.max(p.eps0_c);
-            law.e() * eps * ((1.0 - p.a_c) * p.eps0_c / k + p.a_c * (-p.b_c * (k - p.eps0_c)).exp())
-        }
-    }
-
-    fn check_uniaxial<const N: usize>(records: &[PathRecord<N>], law: &PointLaw) {
-        // The lateral components are solved by Newton to rtol = 1e-12 of E·ε, so σ_xx matches the
-        // closed form to 1e-10 f_t + 1e-9 |σ_xx| (absolute part as σ_xx → 0 in the softening;
-        // relative part: the lateral residual is amplified through d(ε_eq) at large strain).
-        let ft = law.tensile_strength();
-        let nu = law.nu();
-        let (mut kt, mut kc) = (0.0f64, 0.0f64);
-        for r in records {
-            let eps = r.strain[0];
-            kt = kt.max(eps);
-            kc = kc.max(-2f64.sqrt() * nu * eps);
-            let exact = closed_form(law, eps, kt, kc);
-            assert!(
-                (r.stress[0] - exact).abs() <= 1e-10 * ft + 1e-9 * exact.abs(),
-                "step {}: {} vs {exact}",
-                r.step,
-                r.stress[0]
-            );
-            // The free components satisfy the Newton criterion ‖r‖∞ ≤ 1e-12 E max(‖ε‖∞, ε₀^t).
-            let newton_tol = 1e-12 * law.e() * eps.abs().max(law.eps0_t());
-            for i in 1..N {
-                assert!(r.stress[i].abs() <= newton_tol, "step {} component {i}: {}", r.step, r.stress[i]);
-            }
-            if N >= 2 {
-                assert!((r.strain[1] + nu * eps).abs() <= 1e-10 * eps.abs().max(1e-6));
-            }
-        }
-    }
-
-    #[test]
-    fn uniaxial_tension_in_every_kinematics() {
-        let law = law();
-        let path1 = LoadPath::<1>::uniaxial_tension(10.0 * law.eps0_t(), 50).unwrap();
-        let path3 = LoadPath::<3>::uniaxial_tension(10.0 * law.eps0_t(), 50).unwrap();
-        let path6 = LoadPath::<6>::uniaxial_tension(10.0 * law.eps0_t(), 50).unwrap();
-        let s = NewtonSettings::default();
-        let r1 = run_path(Uniaxial, &law, &path1, &s).unwrap();
-        let r3 = run_path(PlaneStress, &law, &path3, &s).unwrap();
-        let r6 = run_path(ThreeD, &law, &path6, &s).unwrap();
-        assert_eq!((r1.len(), r3.len(), r6.len()), (51, 51, 51));
-        check_uniaxial(&r1, &law);
-        check_uniaxial(&r3, &law);
-        check_uniaxial(&r6, &law);
-        // Same dissipation in the three (1e-9 relative: the lateral strains are Newton solutions).
-        let d = r1[50].dissipated;
-        assert!(d > 0.0);
-        assert!((r3[50].dissipated - d).abs() <= 1e-9 * d && (r6[50].dissipated - d).abs() <= 1e-9 * d);
-    }
-
-    #[test]
-    fn uniaxial_compression_in_every_kinematics() {
-        let law = law();
-        let s = NewtonSettings::default();
-        let r1 = run_path(Uniaxial, &law, &LoadPath::uniaxial_compression(0.05, 50).unwrap(), &s).unwrap();
-        let r3 = run_path(PlaneStress, &law, &LoadPath::uniaxial_compression(0.05, 50).unwrap(), &s).unwrap();
-        let r6 = run_path(ThreeD, &law, &LoadPath::uniaxial_compression(0.05, 50).unwrap(), &s).unwrap();
-        check_uniaxial(&r1, &law);
-        check_uniaxial(&r3, &law);
-        check_uniaxial(&r6, &law);
-        assert!(r6[50].d_c > 0.5 && r6[50].d_t == 0.0);
-    }
-
-    #[test]
-    fn cyclic_path_shows_the_unilateral_effect() {
-        // Tension to 6 ε₀^t, compression to −6 ε₀^t (below the compressive onset ε₀^c/(√2ν) ≈ 7 ε₀^t):
-        // every compressive state has σ = E ε exactly (d_c = 0), the tensile damage is kept.
-        let law = law();
-        let path = LoadPath::<3>::cyclic_tension_compression(6.0 * law.eps0_t(), 6.0 * law.eps0_t(), 3, 20).unwrap();
-        assert_eq!(path.len(), 7 * 20);
-        let rec = run_path(PlaneStress, &law, &path, &NewtonSettings::default()).unwrap();
-        check_uniaxial(&rec, &law);
-        let mut prev = &rec[0];
-        for r in &rec[1..] {
-            assert!(r.d_t >= prev.d_t && r.dissipated >= prev.dissipated);
-            if r.strain[0] < 0.0 {
-                assert_eq!(r.d_c, 0.0);
-                assert!((r.stress[0] - law.e() * r.strain[0]).abs() <= 1e-10 * law.tensile_strength());
-            }
-            prev = r;
-        }
-        assert!(rec.last().map(|r| r.d_t).unwrap_or(0.0) > 0.5);
-    }
-
-    #[test]
-    fn biaxial_tension_keeps_sigma_zz_free() {
-        let law = law();
-        let rec = run_path(
-            ThreeD,
-            &law,
-            &LoadPath::biaxial(5.0 * law.eps0_t(), 1.0, 20).unwrap(),
-            &NewtonSettings::default(),
-        )
-        .unwrap();
-        let last = rec[20];
-        // σ_zz = 0 and the shears are free (Newton tolerance, 1e-10 f_t); ε_zz = −2ν/(1−ν) ε_xx.
-        for i in 2..6 {
-            assert!(last.stress[i].abs() <= 1e-10 * law.tensile_strength());
-        }
-        let nu = law.nu();
-        assert!((last.strain[2] + 2.0 * nu / (1.0 - nu) * last.strain[0]).abs() <= 1e-10 * last.strain[0]);
-        assert!(last.d_t > 0.0 && last.stress[0] == last.stress[1]);
-    }
-
-    #[test]
-    fn pure_shear_in_plane_stress_and_3d() {
-        // γ imposed, normal stresses free: ε_xx = ε_yy = 0, κ_t = γ/2, τ = (1 − d_t) μ γ.
-        let law = law();
-        let g = 8.0 * law.eps0_t();
-        let s = NewtonSettings::default();
-        let r3 = run_path(PlaneStress, &law, &LoadPath::pure_shear::<PlaneStress>(g, 16).unwrap(), &s).unwrap();
-        let r6 = run_path(ThreeD, &law, &LoadPath::pure_shear::<ThreeD>(g, 16).unwrap(), &s).unwrap();
-        let (a, b) = (r3[16], r6[16]);
-        assert!((a.kappa_t - g / 2.0).abs() <= 1e-15 && (b.kappa_t - g / 2.0).abs() <= 1e-15);
-        let tau = (1.0 - a.d_t) * law.mu() * g;
-        assert!((a.stress[2] - tau).abs() <= 1e-12 * tau && (b.stress[5] - tau).abs() <= 1e-12 * tau);
-        assert_eq!(a.d_c, 0.0);
-    }
-
-    #[test]
-    fn newton_failure_names_the_step() {
-        // No iteration allowed: the first step with a stress-controlled component fails, typed.
-        let law = law();
-        let s = NewtonSettings { max_iterations: 0, rtol: 1e-12 };
-        let err = run_path(PlaneStress, &law, &LoadPath::uniaxial_tension(1e-3, 5).unwrap(), &s).unwrap_err();
-        assert!(matches!(err, PathError::NoConvergence { step: 1, iterations: 0, .. }), "{err:?}");
-        assert!(err.to_string().contains("step 1"), "{err}");
-        // Fully strain-controlled paths need no iteration.
-        let path = LoadPath::<1>::uniaxial_tension(1e-3, 5).unwrap();
-        assert_eq!(run_path(Uniaxial, &law, &path, &s).map(|r| r.len()), Ok(6));
-    }
-
-    #[test]
-    fn invalid_paths_are_rejected() {
-        assert!(matches!(LoadPath::<1>::pure_shear::<Uniaxial>(1e-3, 5), Err(PathError::InvalidPath { .. })));
-        assert!(matches!(LoadPath::<1>::biaxial(1e-3, 1.0, 5), Err(PathError::InvalidPath { .. })));
-        assert!(matches!(LoadPath::<3>::uniaxial_tension(1e-3, 0), Err(PathError::InvalidPath { .. })));
-        assert!(matches!(LoadPath::<3>::uniaxial_tension(-1e-3, 4), Err(PathError::InvalidPath { .. })));
-        assert!(matches!(LoadPath::<3>::uniaxial(&[f64::NAN], 4), Err(PathError::InvalidPath { .. })));
-    }
-}
+#[path = "path_tests.rs"]
+mod tests;

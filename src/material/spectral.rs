@@ -184,12 +184,24 @@ pub(super) fn condensed_strain(lambda: f64, mu: f64, a: [f64; 2], t0: f64, k: f6
     let kink = -t0 / k;
     let (b1, b2) = if kink < 0.0 { (kink, 0.0) } else { (0.0, kink) };
     let (g1, g2) = (g(b1), g(b2));
+    // A side with no integrity left (d = 1 to round-off) has a flat piece: every z on it is a
+    // root, and the kink is taken.
     if g1 >= 0.0 {
         // Left of both kinks: z < 0 and t < 0, slope (k λ + 2μ) a_c.
-        b1 - g1 / ((k * lambda + 2.0 * mu) * a[1])
+        let slope = (k * lambda + 2.0 * mu) * a[1];
+        if slope > 0.0 {
+            b1 - g1 / slope
+        } else {
+            b1
+        }
     } else if g2 <= 0.0 {
         // Right of both kinks: z ≥ 0 and t ≥ 0, slope (k λ + 2μ) a_t.
-        b2 - g2 / ((k * lambda + 2.0 * mu) * a[0])
+        let slope = (k * lambda + 2.0 * mu) * a[0];
+        if slope > 0.0 {
+            b2 - g2 / slope
+        } else {
+            b2
+        }
     } else {
         b1 - g1 * (b2 - b1) / (g2 - g1)
     }
@@ -249,13 +261,15 @@ pub(super) fn plane_stress(
     let one = Vector3::new(1.0, 1.0, 0.0);
     let ones = one * one.transpose();
     let lam = lambda * weight(a, tr);
+    // ∂σ_z/∂ε over D_zz; D_zz = 0 only where both pieces at z have lost all integrity (then λA = 0).
     let d_zz = lam + 2.0 * mu * weight(a, z);
-    let secant = ones * (lam - lam * lam / d_zz) + sp.part_derivative(a) * (2.0 * mu);
+    let cond = if d_zz > 0.0 { lam / d_zz } else { 0.0 };
+    let secant = ones * (lam - lam * cond) + sp.part_derivative(a) * (2.0 * mu);
     let stress = one * (lambda * weight(a, tr) * tr) + sp.part(a) * (2.0 * mu);
     let side_stress = |w: [f64; 2]| {
         let s = one * (lambda * weight(w, tr) * tr) + sp.part(w) * (2.0 * mu);
         let s_z = lambda * weight(w, tr) * tr + 2.0 * mu * weight(w, z) * z;
-        s - one * (lam * s_z / d_zz)
+        s - one * (cond * s_z)
     };
     let (t_plus, t_minus) = (side_stress(POSITIVE), side_stress(NEGATIVE));
     let psi = |w: [f64; 2]| volumetric_energy(w, lambda, tr) + sp.shear_energy(w, mu) + mu * weight(w, z) * z * z;
@@ -327,11 +341,12 @@ pub(super) fn uniaxial(
     let tr = strain + 2.0 * z;
     let lam = lambda * weight(a, tr);
     let d_zz = 2.0 * lam + 2.0 * mu * weight(a, z);
-    let secant = lam + 2.0 * mu * weight(a, strain) - 2.0 * lam * lam / d_zz;
+    let cond = if d_zz > 0.0 { lam / d_zz } else { 0.0 };
+    let secant = lam + 2.0 * mu * weight(a, strain) - 2.0 * lam * cond;
     let axial = |w: [f64; 2]| lambda * weight(w, tr) * tr + 2.0 * mu * weight(w, strain) * strain;
     let side_stress = |w: [f64; 2]| {
         let s_z = lambda * weight(w, tr) * tr + 2.0 * mu * weight(w, z) * z;
-        axial(w) - 2.0 * lam * s_z / d_zz
+        axial(w) - 2.0 * cond * s_z
     };
     let psi = |w: [f64; 2]| {
         volumetric_energy(w, lambda, tr) + mu * (weight(w, strain) * strain * strain + 2.0 * weight(w, z) * z * z)

@@ -355,3 +355,25 @@ fn uniaxial_tension_to_failure_dissipates_what_it_works() {
         }
     }
 }
+
+#[test]
+fn a_point_with_no_tensile_integrity_left_stays_finite() {
+    // κ_t = 1 gives d_t = 1 to round-off (exp(−600) underflows against 1): the tensile pieces of
+    // σ_z are flat, the condensed strain takes the kink, and every response is finite; in
+    // uniaxial tension the fiber carries nothing, in compression it closes with 2μ = E/(1 + ν):
+    // with a_t = 0 the lateral extensions are free and ψ = μ ε² (the split's docs), 1e-9.
+    let s = spectral_law();
+    let st = DamageState { kappa_t: 1.0, ..DamageState::default() };
+    assert_eq!(s.damage(Side::Tension, 1.0).d, 1.0);
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    for e in [Vector3::new(3e-4, -1e-4, 2e-4), Vector3::new(1e-4, 1e-4, 0.0), Vector3::new(-2e-4, 1e-4, 3e-4)] {
+        let r = plane_stress::update(&s, &e, &st);
+        assert!(finite(r.stress.as_slice()) && finite(r.tangent.as_slice()), "{e:?}: {r:?}");
+    }
+    let r = three_d::update(&s, &Vector6::new(3e-4, -1e-4, 0.5e-4, 0.0, 1e-4, 2e-4), &st);
+    assert!(finite(r.stress.as_slice()) && finite(r.tangent.as_slice()));
+    let t = uniaxial::update(&s, 3e-4, &st);
+    assert!(t.stress.is_finite() && t.tangent.is_finite() && t.stress.abs() <= 1e-9 * s.e() * 3e-4, "{t:?}");
+    let c = uniaxial::update(&s, -1e-5, &st);
+    assert!((c.stress + 2.0 * s.mu() * 1e-5).abs() <= 1e-9 * s.e() * 1e-5, "{c:?}");
+}

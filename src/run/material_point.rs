@@ -12,7 +12,7 @@
 use crate::config::{Kinematics, MaterialPointJob, PathConfig};
 use crate::error::Error;
 use crate::material::{
-    run_path, LoadPath, NewtonSettings, PathError, PathRecord, PlaneStress, StressState, ThreeD, Uniaxial,
+    run_path_into, LoadPath, NewtonSettings, PathError, PathRecord, PlaneStress, StressState, ThreeD, Uniaxial,
 };
 use crate::parallel::Context;
 use crate::plot::{LineChart, SeriesStyle};
@@ -95,6 +95,9 @@ fn build_path<const N: usize, M: StressState<N>>(p: &PathConfig) -> Result<LoadP
         ),
         PathConfig::Biaxial(c) => LoadPath::biaxial(c.max_strain_xx, c.ratio, c.steps),
         PathConfig::PureShear(c) => LoadPath::pure_shear::<M>(c.max_gamma, c.steps),
+        PathConfig::ShearUnderCompression(c) => {
+            LoadPath::shear_under_compression::<M>(c.vertical_stress, &c.targets, c.steps_per_segment, c.preload_steps)
+        }
     }
 }
 
@@ -106,9 +109,11 @@ fn drive<const N: usize, M: StressState<N>>(
 ) -> Result<MaterialPointSummary, Error> {
     let path = build_path::<N, M>(&job.spec.path).map_err(|e| path_error(job, e))?;
     ctx.log.info(format!("material point: {name}, {} steps, h = {} m", path.len(), job.spec.analysis.element_size));
-    let records = run_path(kinematics, &job.law, &path, &NewtonSettings::default()).map_err(|e| path_error(job, e))?;
+    // A path the law cannot follow to its end keeps the steps it reached (curve and pictures).
+    let mut records = Vec::with_capacity(path.len() + 1);
+    let stopped = run_path_into(kinematics, &job.law, &path, &NewtonSettings::default(), &mut records).err();
     let driven = match (&job.spec.path, M::SHEAR_XY) {
-        (PathConfig::PureShear(_), Some(i)) => i,
+        (PathConfig::PureShear(_) | PathConfig::ShearUnderCompression(_), Some(i)) => i,
         _ => 0,
     };
     let comp = M::COMPONENTS[driven];
@@ -131,6 +136,13 @@ fn drive<const N: usize, M: StressState<N>>(
         .series("d_c (compression)", records.iter().map(|r| (r.strain[driven], r.d_c)).collect(), SeriesStyle::Line)
         .save_png(&dir.join("damage.png"))
         .map_err(plot)?;
+    if let Some(e) = stopped {
+        let kept = format!("; the {} step(s) reached are in {}", records.len() - 1, dir.join("curve.csv").display());
+        return Err(match path_error(job, e) {
+            Error::MaterialPoint(m) => Error::MaterialPoint(m + &kept),
+            other => other,
+        });
+    }
     let peak = records
         .iter()
         .max_by(|a, b| a.stress[driven].abs().total_cmp(&b.stress[driven].abs()))
