@@ -61,7 +61,18 @@ impl PointLaw {
         self
     }
 
-    /// r = Δt/τ of the viscous regularization (∞: rate independent, the default).
+    /// The law with the damage histories frozen at the state it is evaluated from: r = 0, the
+    /// τ → ∞ limit of the viscous update (`material::state` docs), so κ = κ_committed exactly,
+    /// the damage terms of the tangent vanish (∂κ/∂ε_eq = 0) and nothing is dissipated. The
+    /// stress is then the law's response at fixed damage, and the tangent its exact derivative.
+    /// IMPL-EX ([`super::implex`]) evaluates the stress of a step this way, from the extrapolated
+    /// history.
+    pub fn with_frozen_history(mut self) -> Self {
+        self.relaxation = 0.0;
+        self
+    }
+
+    /// r = Δt/τ of the viscous regularization (∞: rate independent, the default; 0: frozen).
     pub fn relaxation(&self) -> f64 {
         self.relaxation
     }

@@ -22,6 +22,7 @@
 //! | `nonlocal.rs`     | shell layers with averaged damage-driving strains (nonlocal integral)    |
 //! | `uniaxial.rs`     | beam fibers: ε_11, lateral strains −ν ε in ε_eq                          |
 //! | `three_d.rs`      | general 3D, Voigt `[xx, yy, zz, yz, xz, xy]`                             |
+//! | `implex.rs`       | IMPL-EX: the step's stress from the extrapolated history (any kinematics)|
 //! | `path.rs`         | material-point driver under mixed strain/stress control                  |
 //!
 //! # The law
@@ -61,6 +62,7 @@
 
 pub mod damage;
 pub mod error;
+pub mod implex;
 pub mod law;
 pub mod nonlocal;
 pub mod params;

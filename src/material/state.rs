@@ -11,7 +11,9 @@
 //!   dissipated:              c [F(κ) − F(κ_old)],  c = y / κ²    (Y = y at the end of the step)
 //! ```
 //! r = ∞ gives κ = ε_eq and c = y/ε_eq², the rate-independent update exactly; as Δt → 0 at fixed
-//! τ the update converges to the viscous solution. d = d(κ) keeps its closed form, so the state
+//! τ the update converges to the viscous solution. r = 0 freezes the history: κ = κ_old, no
+//! damage term in the tangent, nothing dissipated ([`PointLaw::with_frozen_history`], the stress
+//! of an IMPL-EX step). d = d(κ) keeps its closed form, so the state
 //! layout, the output and the checkpoints are unchanged. The viscous law lets the stress exceed
 //! the rate-independent envelope for a time of order τ: it delays localization and snap-back in
 //! quasi-static runs, at the price of a response that depends on τ and on the loading rate.
