@@ -45,7 +45,8 @@
 //!
 //! # State and checkpoint layout
 //! Damage material only (elastic fibers are stateless, `n_state() = 0`): one [`DamageState`] per
-//! (Gauss point g, fiber f), g-major, then the dissipated energy:
+//! (Gauss point g, fiber f), g-major, then the dissipated energy, kept by a [`PointStates`]
+//! (with IMPL-EX, the histories one step back after them: its docs):
 //! ```text
 //!   state[4 (g n_f + f) + 0..4] = [κ_t, κ_c, d_t, d_c],   state[4 n_g n_f] = dissipated energy (J)
 //! ```
@@ -64,8 +65,8 @@ use super::error::{check_finite_displacement, check_len, ElementError};
 use super::fiber_section::{gauss_points, Fiber, FiberMaterial, FiberSection};
 use super::local_frame::{LocalFrame, Mat12, Vec12};
 use super::output::{prepare_matrix, prepare_vector, ElementOutput, EvalRequest};
-use super::{AppliedLoads, Element, MassKind};
-use crate::material::{uniaxial, DamageState, PointLaw};
+use super::{AppliedLoads, Element, Histories, MassKind, PointStates};
+use crate::material::{DamageState, PointLaw, StressState, Uniaxial};
 
 /// Number of DOF of the element.
 const N_DOFS: usize = 12;
@@ -116,10 +117,8 @@ pub struct FiberBeam3d {
     law: FiberLaw,
     /// GJ/L.
     torsion_stiffness: f64,
-    committed: Vec<DamageState>,
-    trial: Vec<DamageState>,
-    dissipated: f64,
-    trial_dissipated: f64,
+    /// The fibers' damage histories, g-major (module docs); empty for elastic fibers.
+    states: PointStates,
 }
 
 /// The result of one evaluation in local axes.
@@ -180,10 +179,7 @@ impl FiberBeam3d {
             points,
             law,
             torsion_stiffness,
-            committed: vec![DamageState::default(); n_states],
-            trial: vec![DamageState::default(); n_states],
-            dissipated: 0.0,
-            trial_dissipated: 0.0,
+            states: PointStates::new(n_states),
         })
     }
 
@@ -204,12 +200,12 @@ impl FiberBeam3d {
 
     /// Energy dissipated up to the committed state (J).
     pub fn dissipated_energy(&self) -> f64 {
-        self.dissipated
+        self.states.dissipated()
     }
 
     /// The committed states, g-major (module docs); empty for elastic fibers.
     pub fn committed_states(&self) -> &[DamageState] {
-        &self.committed
+        self.states.committed()
     }
 
     fn local_displacement(&self, u_e: &[f64]) -> Result<Vec12, ElementError> {
@@ -218,14 +214,14 @@ impl FiberBeam3d {
         Ok(self.frame.vec12_to_local(&Vec12::from_column_slice(u_e)))
     }
 
-    /// Force, tangent (if `want_k`) and dissipation in local axes at `u_l`, from `committed`
-    /// into `trial` (both empty for elastic fibers). Pure in (committed, u_l).
+    /// Force, tangent (if `want_k`) and dissipation in local axes at `u_l`, from `histories`
+    /// into `trial` (both empty for elastic fibers). Pure in (histories, u_l).
     fn respond(
         &self,
         u_l: &Vec12,
         want_k: bool,
         secant: bool,
-        committed: &[DamageState],
+        histories: Histories,
         trial: &mut [DamageState],
     ) -> LocalResponse {
         let l = self.frame.length();
@@ -244,10 +240,11 @@ impl FiberBeam3d {
                 let (sigma, tangent) = match &self.law {
                     FiberLaw::Elastic(modulus) => (modulus * eps, *modulus),
                     FiberLaw::Damage(law) => {
-                        let r = uniaxial::update(law, eps, &committed[g * nf + i]);
+                        let strain = nalgebra::Vector1::new(eps);
+                        let r = histories.respond(law, g * nf + i, |l, s| Uniaxial::evaluate(l, &strain, s));
                         trial[g * nf + i] = r.state;
                         diss += fib.area * r.dissipation;
-                        (r.stress, if secant { r.secant } else { r.tangent })
+                        (r.stress[0], if secant { r.secant[0] } else { r.tangent[0] })
                     }
                 };
                 s += a * (fib.area * sigma);
@@ -274,8 +271,8 @@ impl FiberBeam3d {
     /// Local tangent stiffness at `u_e` from the committed state (for tests and diagnostics).
     pub fn local_tangent(&self, u_e: &[f64]) -> Result<Mat12, ElementError> {
         let u_l = self.local_displacement(u_e)?;
-        let mut scratch = self.committed.clone();
-        Ok(self.respond(&u_l, true, false, &self.committed, &mut scratch).k)
+        let mut scratch = self.states.committed().to_vec();
+        Ok(self.respond(&u_l, true, false, Histories::implicit(self.states.committed()), &mut scratch).k)
     }
 
     /// Local mass matrix of the chosen kind ([`beam_inertia`](super::beam_inertia)).
@@ -298,10 +295,11 @@ impl Element for FiberBeam3d {
         let u_l = self.local_displacement(u_e)?;
         out.prepare(N_DOFS);
         let want_k = request.wants_tangent();
-        let mut trial = std::mem::take(&mut self.trial);
-        let r = self.respond(&u_l, want_k, request.wants_secant(), &self.committed, &mut trial);
-        self.trial = trial;
-        self.trial_dissipated = self.dissipated + r.dissipation;
+        let mut states = std::mem::replace(&mut self.states, PointStates::new(0));
+        let (histories, trial) = states.for_update();
+        let r = self.respond(&u_l, want_k, request.wants_secant(), histories, trial);
+        states.set_trial_dissipation(r.dissipation);
+        self.states = states;
         out.f_int.copy_from(&self.frame.vec12_to_global(&r.f));
         if want_k {
             out.k_t.copy_from(&self.frame.mat12_to_global(&r.k));
@@ -311,18 +309,16 @@ impl Element for FiberBeam3d {
     }
 
     fn commit(&mut self) {
-        self.committed.copy_from_slice(&self.trial);
-        self.dissipated = self.trial_dissipated;
+        self.states.commit();
     }
 
     fn revert(&mut self) {
-        self.trial.copy_from_slice(&self.committed);
-        self.trial_dissipated = self.dissipated;
+        self.states.revert();
     }
 
     /// Over the fibers of every Gauss point ([`crate::element::damage_increment`]).
     fn damage_increment(&self) -> f64 {
-        crate::element::damage_increment(&self.trial, &self.committed)
+        self.states.damage_increment()
     }
 
     fn mass(&self, kind: MassKind, m: &mut DMatrix<f64>) {
@@ -343,8 +339,8 @@ impl Element for FiberBeam3d {
     fn cell_output(&self, u_e: &[f64], loads: &AppliedLoads, values: &mut [f64]) -> Result<(), ElementError> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let u_l = self.local_displacement(u_e)?;
-        let mut scratch = self.committed.clone();
-        let r = self.respond(&u_l, false, false, &self.committed, &mut scratch);
+        let mut scratch = self.states.committed().to_vec();
+        let r = self.respond(&u_l, false, false, Histories::implicit(self.states.committed()), &mut scratch);
         let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
         if !scratch.is_empty() {
             let nf = self.fibers.len();
@@ -367,45 +363,34 @@ impl Element for FiberBeam3d {
         values[3] = dc_mean;
         values[4] = 0.5 * (end[6] - end[0]);
         values[5..17].copy_from_slice(end.as_slice());
-        values[17] = self.dissipated + r.dissipation;
+        values[17] = self.states.dissipated() + r.dissipation;
         Ok(())
     }
 
     fn dissipated_energy(&self) -> f64 {
-        self.dissipated
+        self.states.dissipated()
     }
 
     fn n_state(&self) -> usize {
-        if self.committed.is_empty() {
-            0
-        } else {
-            DamageState::N_VALUES * self.committed.len() + 1
-        }
+        self.states.n_state()
     }
 
     fn save_state(&self, out: &mut [f64]) -> Result<(), ElementError> {
-        check_len("state", self.n_state(), out.len())?;
-        if self.committed.is_empty() {
-            return Ok(());
-        }
-        for (chunk, s) in out.chunks_exact_mut(DamageState::N_VALUES).zip(&self.committed) {
-            chunk.copy_from_slice(&s.to_array());
-        }
-        out[out.len() - 1] = self.dissipated;
-        Ok(())
+        self.states.save(out)
     }
 
     fn load_state(&mut self, state: &[f64]) -> Result<(), ElementError> {
-        check_len("state", self.n_state(), state.len())?;
-        if self.committed.is_empty() {
-            return Ok(());
+        self.states.load(state)
+    }
+
+    fn set_implex(&mut self, on: bool) {
+        self.states.set_implex(on);
+    }
+
+    fn set_implex_step(&mut self, h: f64) {
+        if let FiberLaw::Damage(law) = &self.law {
+            self.states.set_implex_step(law, h);
         }
-        for (chunk, s) in state.chunks_exact(DamageState::N_VALUES).zip(self.committed.iter_mut()) {
-            *s = DamageState::from_array([chunk[0], chunk[1], chunk[2], chunk[3]]);
-        }
-        self.dissipated = state[state.len() - 1];
-        self.revert();
-        Ok(())
     }
 }
 

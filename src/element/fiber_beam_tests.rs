@@ -146,7 +146,7 @@ fn tangent_matches_finite_differences() {
         *x *= 1.3;
     }
     el.evaluate(&u, EvalRequest::ForceAndTangent, &mut out).unwrap();
-    assert!(el.trial.iter().zip(&el.committed).any(|(t, c)| t.d_t > c.d_t), "no loading fiber");
+    assert!(el.states.trial().iter().zip(el.states.committed()).any(|(t, c)| t.d_t > c.d_t), "no loading fiber");
     let k = out.k_t.clone();
     let h = 1e-9 * l;
     let mut fd = DMatrix::zeros(12, 12);
@@ -296,8 +296,8 @@ fn secant_request_gives_the_damaged_elastic_stiffness() {
     u[6] = 3.0 * params().eps0_t;
     let mut out = ElementOutput::new(12);
     el.evaluate(&u, EvalRequest::ForceAndSecant, &mut out).unwrap();
-    let d = el.trial[0].d_t;
-    assert!(d > 0.1 && el.trial.iter().all(|t| (t.d_t - d).abs() < 1e-15));
+    let d = el.states.trial()[0].d_t;
+    assert!(d > 0.1 && el.states.trial().iter().all(|t| (t.d_t - d).abs() < 1e-15));
     let want = (1.0 - d) * params().e * s.area();
     assert!((out.k_t[(6, 6)] - want).abs() < 1e-12 * want, "{} vs {want}", out.k_t[(6, 6)]);
     el.evaluate(&u, EvalRequest::ForceAndTangent, &mut out).unwrap();
@@ -323,7 +323,7 @@ fn a_cut_and_retried_increment_equals_the_direct_smaller_one() {
     let u_half: Vec<f64> = u_full.iter().map(|x| 0.5 * x).collect();
     let (mut oa, mut ob) = (ElementOutput::new(12), ElementOutput::new(12));
     a.evaluate(&u_full, EvalRequest::ForceAndTangent, &mut oa).unwrap();
-    let trial_damage = a.trial.iter().fold(0.0f64, |m, st| m.max(st.d_t));
+    let trial_damage = a.states.trial().iter().fold(0.0f64, |m, st| m.max(st.d_t));
     assert!(trial_damage > 0.5, "the abandoned trial should damage: {trial_damage}");
     a.revert();
     for (el, o) in [(&mut a, &mut oa), (&mut b, &mut ob)] {

@@ -12,6 +12,7 @@
 //! | `fiber_section.rs` | [`FiberSection`]: rectangular fiber grid, Gauss points            |
 //! | `fiber_beam.rs`    | [`FiberBeam3d`]: displacement-based fiber beam, damage per fiber  |
 //! | `tie.rs`           | [`Tie`]: 2-node tie rod, axial only, pretension, tension only     |
+//! | `point_states.rs`  | [`PointStates`]: damage histories of the points, IMPL-EX's too    |
 //!
 //! # DOF layout
 //! Every node carries [`DOFS_PER_NODE`] = 6 DOF, in the order ux uy uz rx ry rz (global axes,
@@ -50,8 +51,11 @@ mod fiber_beam;
 mod fiber_section;
 mod frame;
 mod frame_section;
+#[cfg(test)]
+mod implex_tests;
 mod local_frame;
 mod output;
+mod point_states;
 mod shell;
 mod tie;
 
@@ -68,6 +72,7 @@ pub use frame::ElasticFrame3d;
 pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};
 pub use output::{ElementOutput, EvalRequest};
+pub use point_states::{Histories, PointStates};
 pub use shell::{
     PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3, ThicknessRule,
     DEFAULT_LAYERS, DRILLING_FACTOR, SHEAR_CORRECTION, SHELL_CELL_OUTPUT_NAMES, WARPING_LIMIT,
@@ -189,13 +194,27 @@ pub trait Element: Debug {
     fn save_state(&self, out: &mut [f64]) -> Result<(), ElementError>;
 
     /// Restore the committed (and trial) state from `state` (length `n_state()`), as written by
-    /// [`Element::save_state`].
+    /// [`Element::save_state`]. A damage element also reads the other layout of
+    /// [`PointStates`]: IMPL-EX's switches IMPL-EX on with its history, the implicit one read
+    /// under IMPL-EX starts it with no step behind.
     fn load_state(&mut self, state: &[f64]) -> Result<(), ElementError>;
 
     /// The increment of (pseudo-)time `dt` of the next evaluations and the relaxation time `tau`
     /// of the optional viscous regularization of the damage law (`None`: rate independent).
     /// Elements without that law ignore it (the default).
     fn set_damage_relaxation(&mut self, _dt: f64, _tau: Option<f64>) {}
+
+    /// IMPL-EX (`material::implex`) on or off for the element's damage law: on, the element
+    /// keeps its points' committed histories one step back (the checkpoint layout grows by them,
+    /// [`PointStates`]), and the stress of each step is computed from the extrapolated history
+    /// once [`Element::set_implex_step`] has set the step. Off (the default of every element)
+    /// is the implicit law. Elements without that law ignore it (the default).
+    fn set_implex(&mut self, _on: bool) {}
+
+    /// With IMPL-EX on, the size `h` of the step the next evaluations belong to: the histories
+    /// are extrapolated by the ratio of `h` to the last committed step's size. Elements without
+    /// the damage law ignore it (the default).
+    fn set_implex_step(&mut self, _h: f64) {}
 
     /// Switch the element's damage law to nonlocal driving strains (`material::nonlocal`), the
     /// softening regularized by `length` instead of the element size; returns the points whose

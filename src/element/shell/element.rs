@@ -44,7 +44,8 @@
 //!
 //! # State and checkpoint layout
 //! Damage material only (elastic elements are stateless, `n_state() = 0`): one [`DamageState`]
-//! per (in-plane point p, thickness point j), p-major, and the dissipated energy:
+//! per (in-plane point p, thickness point j), p-major, and the dissipated energy, kept by a
+//! [`PointStates`] (with IMPL-EX, the histories one step back after them: its docs):
 //!
 //! ```text
 //!   state[4 (p n_z + j) + 0..4] = [κ_t, κ_c, d_t, d_c]     p < n_points, j < n_z = 2 layers + 1
@@ -65,7 +66,9 @@ use super::section::{ShellMaterial, ShellSection};
 use super::ShellError;
 use crate::element::error::{check_finite_displacement, check_len};
 use crate::element::output::{prepare_matrix, prepare_vector};
-use crate::element::{AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind, NonlocalPoint};
+use crate::element::{
+    AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, Histories, MassKind, NonlocalPoint, PointStates,
+};
 use crate::material::{nonlocal, DamageState, MaterialError, PointLaw};
 
 /// α of the drilling stiffness k_δ = α G t (module docs).
@@ -124,10 +127,8 @@ pub struct ShellElement<const N: usize, const D: usize> {
     law: SectionLaw,
     shear_stiffness: f64,
     drilling_stiffness: f64,
-    committed: Vec<DamageState>,
-    trial: Vec<DamageState>,
-    dissipated: f64,
-    trial_dissipated: f64,
+    /// The layer points' damage histories, p-major (module docs); empty for elastic sections.
+    states: PointStates,
     /// Nonlocal averaging ([`Element::enable_nonlocal`]): `[ε̄_t, ε̄_c]` per state point, set by
     /// the driver before each evaluation; empty for the local law.
     averaged: Vec<[f64; 2]>,
@@ -178,10 +179,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             law,
             shear_stiffness: section.shear_stiffness(),
             drilling_stiffness: DRILLING_FACTOR * section.material.shear_modulus() * section.thickness,
-            committed: vec![DamageState::default(); n_states],
-            trial: vec![DamageState::default(); n_states],
-            dissipated: 0.0,
-            trial_dissipated: 0.0,
+            states: PointStates::new(n_states),
             averaged: Vec::new(),
             self_share: Vec::new(),
             elastic_k: None,
@@ -195,7 +193,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             SectionLaw::Elastic(_) => true,
             SectionLaw::Damage(law) => {
                 let v = DamageState::virgin(law);
-                self.trial.iter().all(|s| *s == v)
+                self.states.trial().iter().all(|s| *s == v)
             }
         }
     }
@@ -243,12 +241,12 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
 
     /// Energy dissipated up to the committed state (J).
     pub fn dissipated_energy(&self) -> f64 {
-        self.dissipated
+        self.states.dissipated()
     }
 
     /// The committed states, p-major (module docs); empty for elastic sections.
     pub fn committed_states(&self) -> &[DamageState] {
-        &self.committed
+        self.states.committed()
     }
 
     fn flat_displacement(&self, u_e: &[f64]) -> Result<SVector<f64, D>, ElementError> {
@@ -257,16 +255,16 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         Ok(self.g * SVector::<f64, D>::from_column_slice(u_e))
     }
 
-    /// Section response at point `p` for the flat displacement `uf`, from `committed` (the states of
-    /// this point) into `trial`. (The point's own data, each argument distinct: no struct would
-    /// name them better.)
+    /// Section response at point `p` for the flat displacement `uf`, from `histories` (the states
+    /// of this point's layer points) into `trial`. (The point's own data, each argument distinct:
+    /// no struct would name them better.)
     #[allow(clippy::too_many_arguments)]
     fn section_at(
         law: &SectionLaw,
         rule: &ThicknessRule,
         pt: &PlanePoint<N, D>,
         uf: &SVector<f64, D>,
-        committed: &[DamageState],
+        histories: Histories,
         trial: &mut [DamageState],
         secant: bool,
         nonlocal: Option<NonlocalInput>,
@@ -285,7 +283,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             SectionLaw::Damage(law) => {
                 let e0: Vector3<f64> = strain.fixed_rows::<3>(0).into_owned();
                 let ka: Vector3<f64> = strain.fixed_rows::<3>(3).into_owned();
-                damage_section(law, rule, &e0, &ka, committed, trial, secant, nonlocal)
+                damage_section(law, rule, &e0, &ka, histories, trial, secant, nonlocal)
             }
         }
     }
@@ -298,13 +296,13 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         let mut scratch = vec![DamageState::default(); nz];
         let mut out = Vec::with_capacity(self.points.len());
         for (p, pt) in self.points.iter().enumerate() {
-            let committed = self.states_of(p, &self.committed);
+            let committed = self.states_of(p, self.states.committed());
             let r = Self::section_at(
                 &self.law,
                 &self.rule,
                 pt,
                 &uf,
-                committed,
+                Histories::implicit(committed),
                 &mut scratch[..committed.len()],
                 false,
                 self.nonlocal_input(p),
@@ -353,12 +351,13 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         out.prepare(D);
         let want_k = request.wants_tangent();
         let nz = self.rule.len();
-        let has_state = !self.committed.is_empty();
+        let has_state = !self.states.is_empty();
         let mut f = SVector::<f64, D>::zeros();
         let mut dissipation = 0.0;
         // The section tangents of the points (at most 4), for the tangent after the loop.
         let mut tangents = [Matrix6::zeros(); 4];
         debug_assert!(self.points.len() <= tangents.len());
+        let (histories, trial) = self.states.for_update();
         for (p, pt) in self.points.iter().enumerate() {
             let range = if has_state { p * nz..(p + 1) * nz } else { 0..0 };
             let r = Self::section_at(
@@ -366,8 +365,8 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
                 &self.rule,
                 pt,
                 &uf,
-                &self.committed[range.clone()],
-                &mut self.trial[range],
+                histories.slice(range.clone()),
+                &mut trial[range],
                 request.wants_secant(),
                 if self.averaged.is_empty() {
                     None
@@ -388,7 +387,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
             tangents[p] = r.tangent;
             dissipation += w * r.dissipation;
         }
-        self.trial_dissipated = self.dissipated + dissipation;
+        self.states.set_trial_dissipation(dissipation);
         out.f_int.copy_from(&self.g.tr_mul(&f));
         if want_k {
             let elastic = !request.wants_secant() && self.averaged.is_empty() && self.trial_is_elastic();
@@ -418,18 +417,16 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
     }
 
     fn commit(&mut self) {
-        self.committed.copy_from_slice(&self.trial);
-        self.dissipated = self.trial_dissipated;
+        self.states.commit();
     }
 
     fn revert(&mut self) {
-        self.trial.copy_from_slice(&self.committed);
-        self.trial_dissipated = self.dissipated;
+        self.states.revert();
     }
 
     /// Over the layer points of every in-plane point ([`crate::element::damage_increment`]).
     fn damage_increment(&self) -> f64 {
-        crate::element::damage_increment(&self.trial, &self.committed)
+        self.states.damage_increment()
     }
 
     fn mass(&self, kind: MassKind, m: &mut DMatrix<f64>) {
@@ -460,20 +457,20 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let uf = self.flat_displacement(u_e)?;
         let nz = self.rule.len();
-        let mut scratch = vec![DamageState::default(); if self.committed.is_empty() { 0 } else { nz }];
+        let mut scratch = vec![DamageState::default(); if self.states.is_empty() { 0 } else { nz }];
         let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
         let mut n = Vector3::zeros();
         let mut m = Vector3::zeros();
         let mut dissipation = 0.0;
         let mut volume = 0.0;
         for (p, pt) in self.points.iter().enumerate() {
-            let committed = self.states_of(p, &self.committed);
+            let committed = self.states_of(p, self.states.committed());
             let r = Self::section_at(
                 &self.law,
                 &self.rule,
                 pt,
                 &uf,
-                committed,
+                Histories::implicit(committed),
                 &mut scratch,
                 false,
                 self.nonlocal_input(p),
@@ -496,45 +493,24 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         values[3] = dc_mean / volume;
         values[4..7].copy_from_slice((n / np).as_slice());
         values[7..10].copy_from_slice((m / np).as_slice());
-        values[10] = self.dissipated + dissipation;
+        values[10] = self.states.dissipated() + dissipation;
         Ok(())
     }
 
     fn dissipated_energy(&self) -> f64 {
-        self.dissipated
+        self.states.dissipated()
     }
 
     fn n_state(&self) -> usize {
-        if self.committed.is_empty() {
-            0
-        } else {
-            DamageState::N_VALUES * self.committed.len() + 1
-        }
+        self.states.n_state()
     }
 
     fn save_state(&self, out: &mut [f64]) -> Result<(), ElementError> {
-        check_len("state", self.n_state(), out.len())?;
-        if self.committed.is_empty() {
-            return Ok(());
-        }
-        for (chunk, s) in out.chunks_exact_mut(DamageState::N_VALUES).zip(&self.committed) {
-            chunk.copy_from_slice(&s.to_array());
-        }
-        out[out.len() - 1] = self.dissipated;
-        Ok(())
+        self.states.save(out)
     }
 
     fn load_state(&mut self, state: &[f64]) -> Result<(), ElementError> {
-        check_len("state", self.n_state(), state.len())?;
-        if self.committed.is_empty() {
-            return Ok(());
-        }
-        for (chunk, s) in state.chunks_exact(DamageState::N_VALUES).zip(self.committed.iter_mut()) {
-            *s = DamageState::from_array([chunk[0], chunk[1], chunk[2], chunk[3]]);
-        }
-        self.dissipated = state[state.len() - 1];
-        self.revert();
-        Ok(())
+        self.states.load(state)
     }
 
     /// Damage layers only: the law rebuilt with the regularization length `length` in place of
@@ -594,6 +570,16 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
     fn set_damage_relaxation(&mut self, dt: f64, tau: Option<f64>) {
         if let SectionLaw::Damage(law) = &mut self.law {
             *law = law.with_relaxation(dt, tau);
+        }
+    }
+
+    fn set_implex(&mut self, on: bool) {
+        self.states.set_implex(on);
+    }
+
+    fn set_implex_step(&mut self, h: f64) {
+        if let SectionLaw::Damage(law) = &self.law {
+            self.states.set_implex_step(law, h);
         }
     }
 }

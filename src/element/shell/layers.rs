@@ -30,6 +30,7 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
+use crate::element::Histories;
 use crate::material::{nonlocal, plane_stress, DamageState, PointLaw};
 
 /// Points and weights of the through-thickness rule (module docs).
@@ -127,22 +128,23 @@ pub struct NonlocalInput<'a> {
     pub self_share: &'a [f64],
 }
 
-/// Damage-law update of all layer points of one in-plane point from the `committed` states,
-/// writing the `trial` states (both of length `rule.len()`). Pure in the committed states.
-/// With `nonlocal` the damage is driven by the given averages (`material::nonlocal`), else by the
-/// points' own strains (`material::plane_stress`).
+/// Damage-law update of all layer points of one in-plane point from their `histories`, writing
+/// the `trial` states (both of length `rule.len()`). Pure in the histories. With `nonlocal` the
+/// damage is driven by the given averages (`material::nonlocal`), else by the points' own
+/// strains (`material::plane_stress`); with extrapolated histories the stress is IMPL-EX's
+/// (`material::implex`).
 #[allow(clippy::too_many_arguments)]
 pub fn damage_section(
     law: &PointLaw,
     rule: &ThicknessRule,
     eps0: &Vector3<f64>,
     kappa: &Vector3<f64>,
-    committed: &[DamageState],
+    histories: Histories,
     trial: &mut [DamageState],
     secant: bool,
     nonlocal: Option<NonlocalInput>,
 ) -> SectionResponse {
-    debug_assert_eq!(committed.len(), rule.len());
+    debug_assert_eq!(histories.committed.len(), rule.len());
     debug_assert_eq!(trial.len(), rule.len());
     let mut n = Vector3::zeros();
     let mut m = Vector3::zeros();
@@ -153,10 +155,10 @@ pub fn damage_section(
     for j in 0..rule.len() {
         let (z, w) = (rule.z[j], rule.w[j]);
         let strain = eps0 + kappa * z;
-        let r = match nonlocal {
-            None => plane_stress::update(law, &strain, &committed[j]),
-            Some(nl) => nonlocal::update(law, &strain, &committed[j], nl.averaged[j], nl.self_share[j]),
-        };
+        let r = histories.respond(law, j, |l, s| match nonlocal {
+            None => plane_stress::update(l, &strain, s),
+            Some(nl) => nonlocal::update(l, &strain, s, nl.averaged[j], nl.self_share[j]),
+        });
         n += r.stress * w;
         m += r.stress * (w * z);
         let c = if secant { r.secant } else { r.tangent };

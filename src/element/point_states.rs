@@ -1,0 +1,256 @@
+//! [`PointStates`]: the damage histories of an element's integration points (shell layer points,
+//! beam fibers): committed and trial, the energy dissipated up to each, and with IMPL-EX the
+//! committed history one step back.
+//!
+//! # Trial and committed (the [`Element`](super::Element) contract)
+//! ```text
+//!   evaluate(u)   reads the committed states (and, with IMPL-EX, the extrapolated ones),
+//!                 writes the trial states and the trial dissipation
+//!   commit()      trial → committed                    revert()   committed → trial
+//! ```
+//!
+//! # IMPL-EX (`material::implex`)
+//! With IMPL-EX on, the store also keeps per point the committed state of the step before,
+//! κ_{n−1}, and the size Δt_n of the last committed step. [`PointStates::set_implex_step`]`(law,
+//! h)` computes, before the evaluations of a step of size h, every point's extrapolated history
+//! with the ratio h/Δt_n (0 while no step has been committed since IMPL-EX was switched on, so
+//! the first step uses the committed damage); the evaluations' stress uses it, their trial
+//! state is the implicit update. A commit shifts committed → previous and records Δt_n = h;
+//! the extrapolated states are then reset to the committed ones until the next step sets them.
+//!
+//! # Checkpoint layout
+//! ```text
+//!   implicit:  [κ_t, κ_c, d_t, d_c] per point, then the dissipated energy (J)        4 n + 1
+//!   IMPL-EX:   the same, then [κ_t, κ_c] of κ_{n−1} per point, then Δt_n (s)          6 n + 2
+//! ```
+//! [`PointStates::load`] reads either: the implicit layout under IMPL-EX (a state written by an
+//! implicit run, such as a saved gravity state) has no step behind it (κ_{n−1} = κ_n, Δt_n = 0);
+//! the IMPL-EX layout switches IMPL-EX on, with its history.
+
+use super::error::{check_len, ElementError};
+use crate::material::{implex, DamageState, PointLaw};
+
+/// The IMPL-EX part of the store (module docs).
+#[derive(Clone, Debug, PartialEq)]
+struct ImplexHistory {
+    /// κ_t, κ_c of the committed states one step back.
+    previous: Vec<[f64; 2]>,
+    /// Δt_n: the size of the step from `previous` to the committed states (0: none).
+    last_step: f64,
+    /// The size of the step the next evaluations belong to.
+    step: f64,
+    /// The histories their stress uses.
+    extrapolated: Vec<DamageState>,
+}
+
+impl ImplexHistory {
+    /// No step behind the committed states `committed`.
+    fn starting_at(committed: &[DamageState]) -> ImplexHistory {
+        let previous = committed.iter().map(|s| [s.kappa_t, s.kappa_c]).collect();
+        ImplexHistory { previous, last_step: 0.0, step: 0.0, extrapolated: committed.to_vec() }
+    }
+}
+
+/// The histories an evaluation of a group of points reads: their committed states and, with
+/// IMPL-EX, the extrapolated ones.
+#[derive(Clone, Copy, Debug)]
+pub struct Histories<'a> {
+    /// Committed states.
+    pub committed: &'a [DamageState],
+    /// Extrapolated states (IMPL-EX), same layout.
+    pub extrapolated: Option<&'a [DamageState]>,
+}
+
+impl<'a> Histories<'a> {
+    /// Only the committed states: the implicit law.
+    pub fn implicit(committed: &'a [DamageState]) -> Histories<'a> {
+        Histories { committed, extrapolated: None }
+    }
+
+    /// The points `range` of these.
+    pub fn slice(&self, range: std::ops::Range<usize>) -> Histories<'a> {
+        Histories { committed: &self.committed[range.clone()], extrapolated: self.extrapolated.map(|x| &x[range]) }
+    }
+
+    /// The response of point `j` under the law `eval` (`material::implex::evaluate`).
+    #[inline]
+    pub fn respond<const N: usize>(
+        &self,
+        law: &PointLaw,
+        j: usize,
+        eval: impl Fn(&PointLaw, &DamageState) -> crate::material::Response<N>,
+    ) -> crate::material::Response<N> {
+        implex::evaluate(law, &self.committed[j], self.extrapolated.map(|x| &x[j]), eval)
+    }
+}
+
+/// The damage states of an element's points (module docs). Empty for an elastic element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointStates {
+    committed: Vec<DamageState>,
+    trial: Vec<DamageState>,
+    dissipated: f64,
+    trial_dissipated: f64,
+    implex: Option<ImplexHistory>,
+}
+
+impl PointStates {
+    /// `n` virgin points, implicit.
+    pub fn new(n: usize) -> PointStates {
+        let v = vec![DamageState::default(); n];
+        PointStates { committed: v.clone(), trial: v, dissipated: 0.0, trial_dissipated: 0.0, implex: None }
+    }
+
+    /// Whether there is no point (an elastic element).
+    pub fn is_empty(&self) -> bool {
+        self.committed.is_empty()
+    }
+
+    /// The committed states.
+    pub fn committed(&self) -> &[DamageState] {
+        &self.committed
+    }
+
+    /// The trial states.
+    pub fn trial(&self) -> &[DamageState] {
+        &self.trial
+    }
+
+    /// The energy dissipated up to the committed states (J).
+    pub fn dissipated(&self) -> f64 {
+        self.dissipated
+    }
+
+    /// What an evaluation reads, and the trial states it writes.
+    pub fn for_update(&mut self) -> (Histories<'_>, &mut [DamageState]) {
+        let extrapolated = self.implex.as_ref().map(|x| x.extrapolated.as_slice());
+        (Histories { committed: &self.committed, extrapolated }, &mut self.trial)
+    }
+
+    /// The energy the trial states dissipated from the committed ones (J).
+    pub fn set_trial_dissipation(&mut self, dissipation: f64) {
+        self.trial_dissipated = self.dissipated + dissipation;
+    }
+
+    /// Trial → committed (with IMPL-EX, committed → previous first).
+    pub fn commit(&mut self) {
+        if let Some(x) = &mut self.implex {
+            for (p, c) in x.previous.iter_mut().zip(&self.committed) {
+                *p = [c.kappa_t, c.kappa_c];
+            }
+            x.last_step = x.step;
+            x.extrapolated.copy_from_slice(&self.trial);
+        }
+        self.committed.copy_from_slice(&self.trial);
+        self.dissipated = self.trial_dissipated;
+    }
+
+    /// Committed → trial.
+    pub fn revert(&mut self) {
+        self.trial.copy_from_slice(&self.committed);
+        self.trial_dissipated = self.dissipated;
+    }
+
+    /// The largest damage increment of the trial states over the committed ones.
+    pub fn damage_increment(&self) -> f64 {
+        super::damage_increment(&self.trial, &self.committed)
+    }
+
+    /// IMPL-EX on (the history starts at the committed states, no step behind them, unless it is
+    /// on already) or off (the history dropped).
+    pub fn set_implex(&mut self, on: bool) {
+        match (on, self.implex.is_some()) {
+            (true, false) if !self.is_empty() => self.implex = Some(ImplexHistory::starting_at(&self.committed)),
+            (false, true) => self.implex = None,
+            _ => {}
+        }
+    }
+
+    /// Whether IMPL-EX is on.
+    pub fn is_implex(&self) -> bool {
+        self.implex.is_some()
+    }
+
+    /// With IMPL-EX on, the size `h` of the step the next evaluations belong to: every point's
+    /// history extrapolated by the ratio h/Δt_n (0 without a step behind). Else nothing.
+    pub fn set_implex_step(&mut self, law: &PointLaw, h: f64) {
+        let Some(x) = &mut self.implex else { return };
+        let ratio = if x.last_step > 0.0 { h / x.last_step } else { 0.0 };
+        x.step = h;
+        for ((e, c), p) in x.extrapolated.iter_mut().zip(&self.committed).zip(&x.previous) {
+            let previous = DamageState { kappa_t: p[0], kappa_c: p[1], ..DamageState::default() };
+            *e = implex::extrapolate(law, c, &previous, ratio);
+        }
+    }
+
+    /// Values of the checkpoint layout (module docs); 0 for an elastic element.
+    pub fn n_state(&self) -> usize {
+        match (self.is_empty(), &self.implex) {
+            (true, _) => 0,
+            (false, None) => Self::implicit_len(self.committed.len()),
+            (false, Some(_)) => Self::implex_len(self.committed.len()),
+        }
+    }
+
+    fn implicit_len(n: usize) -> usize {
+        DamageState::N_VALUES * n + 1
+    }
+
+    fn implex_len(n: usize) -> usize {
+        Self::implicit_len(n) + 2 * n + 1
+    }
+
+    /// The committed states into `out` (length [`Self::n_state`]).
+    pub fn save(&self, out: &mut [f64]) -> Result<(), ElementError> {
+        check_len("state", self.n_state(), out.len())?;
+        if self.is_empty() {
+            return Ok(());
+        }
+        let n = self.committed.len();
+        for (chunk, s) in out.chunks_exact_mut(DamageState::N_VALUES).zip(&self.committed) {
+            chunk.copy_from_slice(&s.to_array());
+        }
+        out[DamageState::N_VALUES * n] = self.dissipated;
+        if let Some(x) = &self.implex {
+            let tail = &mut out[Self::implicit_len(n)..];
+            for (chunk, p) in tail.chunks_exact_mut(2).zip(&x.previous) {
+                chunk.copy_from_slice(p);
+            }
+            tail[2 * n] = x.last_step;
+        }
+        Ok(())
+    }
+
+    /// The committed (and trial) states from `state`, in either layout (module docs).
+    pub fn load(&mut self, state: &[f64]) -> Result<(), ElementError> {
+        if self.is_empty() {
+            return check_len("state", 0, state.len());
+        }
+        let n = self.committed.len();
+        let with_history = state.len() == Self::implex_len(n);
+        if !with_history {
+            check_len("state", Self::implicit_len(n), state.len())?;
+        }
+        for (chunk, s) in state.chunks_exact(DamageState::N_VALUES).zip(self.committed.iter_mut()) {
+            *s = DamageState::from_array([chunk[0], chunk[1], chunk[2], chunk[3]]);
+        }
+        self.dissipated = state[DamageState::N_VALUES * n];
+        if with_history || self.implex.is_some() {
+            let mut x = ImplexHistory::starting_at(&self.committed);
+            if with_history {
+                let tail = &state[Self::implicit_len(n)..];
+                for (chunk, p) in tail.chunks_exact(2).zip(x.previous.iter_mut()) {
+                    *p = [chunk[0], chunk[1]];
+                }
+                x.last_step = tail[2 * n];
+            }
+            self.implex = Some(x);
+        }
+        self.revert();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+#[path = "point_states_tests.rs"]
+mod tests;

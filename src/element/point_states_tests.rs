@@ -1,0 +1,111 @@
+//! Tests of [`PointStates`]: the implicit store as before, the IMPL-EX history through steps,
+//! commits and checkpoints.
+use super::*;
+use crate::material::{DamageParams, Regularization, Side, Split};
+
+fn law() -> PointLaw {
+    DamageParams {
+        e: 3.0e9,
+        nu: 0.2,
+        eps0_t: 1.0e-4,
+        eps0_c: 2.0e-4,
+        gf_t: 50.0,
+        a_c: 0.8,
+        b_c: 800.0,
+        gf_c: None,
+        regularization: Regularization::Hillerborg,
+        split: Split::Trace,
+    }
+    .for_element(0.1)
+    .unwrap()
+}
+
+/// A state with κ_t = k ε₀ᵗ (d_t = d(κ_t)), κ_c at its threshold.
+fn with_kappa_t(law: &PointLaw, k: f64) -> DamageState {
+    let kappa_t = k * law.eps0_t();
+    DamageState { kappa_t, kappa_c: law.eps0_c(), d_t: law.damage(Side::Tension, kappa_t).d, d_c: 0.0 }
+}
+
+/// Writes `trial` as the evaluation of a step would, then commits.
+fn step(s: &mut PointStates, trial: &[DamageState], dissipation: f64) {
+    let (_, t) = s.for_update();
+    t.copy_from_slice(trial);
+    s.set_trial_dissipation(dissipation);
+    s.commit();
+}
+
+#[test]
+fn the_implicit_store_keeps_its_layout() {
+    // 4 values per point and the dissipated energy; a round trip restores it exactly; no
+    // extrapolated history is handed to the evaluations.
+    let law = law();
+    let mut s = PointStates::new(3);
+    step(&mut s, &[with_kappa_t(&law, 2.0); 3], 0.5);
+    assert_eq!(s.n_state(), 4 * 3 + 1);
+    let mut out = vec![0.0; s.n_state()];
+    s.save(&mut out).unwrap();
+    assert_eq!(out[12], 0.5);
+    let mut back = PointStates::new(3);
+    back.load(&out).unwrap();
+    assert_eq!(back, s);
+    assert!(back.for_update().0.extrapolated.is_none());
+    assert!(back.load(&out[..5]).is_err());
+    assert_eq!(PointStates::new(0).n_state(), 0);
+}
+
+#[test]
+fn the_implex_history_follows_the_steps_and_survives_a_checkpoint() {
+    // Steps of 0.01 s then 0.02 s: κ_t = 2, 3 ε₀ after them; the third step of 0.01 s
+    // extrapolates with the ratio 0.01/0.02 to κ̃_t = 3.5 ε₀ (exact in binary to 1e-15). The
+    // first step extrapolates nothing (no step behind). A checkpoint read into a fresh
+    // (implicit) store switches IMPL-EX on with the same history and gives the same
+    // extrapolation.
+    let law = law();
+    let mut s = PointStates::new(2);
+    s.set_implex(true);
+    assert_eq!(s.n_state(), 6 * 2 + 2);
+    s.set_implex_step(&law, 0.01);
+    assert_eq!(s.for_update().0.extrapolated.unwrap(), &[DamageState::virgin(&law); 2]);
+    step(&mut s, &[with_kappa_t(&law, 2.0); 2], 0.1);
+    s.set_implex_step(&law, 0.02);
+    // κ_{n−1} = ε₀ (the virgin state clamped), κ_n = 2 ε₀, ratio 2: κ̃ = 4 ε₀.
+    let x = s.for_update().0.extrapolated.unwrap()[0];
+    assert!((x.kappa_t - 4.0 * law.eps0_t()).abs() <= 1e-15 * x.kappa_t, "{x:?}");
+    step(&mut s, &[with_kappa_t(&law, 3.0); 2], 0.2);
+    let mut out = vec![0.0; s.n_state()];
+    s.save(&mut out).unwrap();
+    assert_eq!(&out[9..], &[2e-4, 2e-4, 2e-4, 2e-4, 0.02]);
+    let mut back = PointStates::new(2);
+    back.load(&out).unwrap();
+    assert!(back.is_implex());
+    for st in [&mut s, &mut back] {
+        st.set_implex_step(&law, 0.01);
+    }
+    assert_eq!(back, s);
+    let x = s.for_update().0.extrapolated.unwrap()[1];
+    assert!((x.kappa_t - 3.5 * law.eps0_t()).abs() <= 1e-15 * x.kappa_t, "{x:?}");
+    assert_eq!(x.d_t, law.damage(Side::Tension, x.kappa_t).d);
+    // A revert keeps the history; IMPL-EX off drops it and the layout shrinks.
+    s.revert();
+    assert_eq!(s.committed(), &[with_kappa_t(&law, 3.0); 2]);
+    s.set_implex(false);
+    assert_eq!(s.n_state(), 4 * 2 + 1);
+}
+
+#[test]
+fn an_implicit_state_read_under_implex_has_no_step_behind_it() {
+    // A gravity state (implicit layout) read by an IMPL-EX store: κ_{n−1} = κ_n, so the first
+    // step's history is the committed one whatever its size.
+    let law = law();
+    let mut implicit = PointStates::new(1);
+    step(&mut implicit, &[with_kappa_t(&law, 5.0)], 1.0);
+    let mut out = vec![0.0; implicit.n_state()];
+    implicit.save(&mut out).unwrap();
+    let mut s = PointStates::new(1);
+    s.set_implex(true);
+    s.load(&out).unwrap();
+    assert!(s.is_implex());
+    s.set_implex_step(&law, 0.01);
+    assert_eq!(s.for_update().0.extrapolated.unwrap(), &[with_kappa_t(&law, 5.0)]);
+    assert_eq!(s.dissipated(), 1.0);
+}
