@@ -1,0 +1,50 @@
+//! `[dynamics] integration`: read, defaulted, refused with the key named.
+use crate::config::{IntegrationKind, Job, NewtonKind};
+
+/// A time-history job (frame elements; the mesh is not read at load) with `extra` in
+/// `[dynamics]`, loaded from a file of its own.
+fn load(extra: &str) -> Result<Job, String> {
+    let text = format!(
+        "[analysis]\ntype = \"time_history\"\n[mesh]\nfile = \"m.msh\"\n\
+         [materials.steel]\ntype = \"elastic\"\nE = 210e9\nnu = 0.3\n\
+         [sections.s]\ntype = \"frame\"\narea = 1e-3\niy = 1e-6\niz = 1e-6\nj = 2e-6\n\
+         [[parts]]\ngroup = \"beams\"\nsection = \"s\"\nmaterial = \"steel\"\n\
+         [dynamics]\nduration = 1.0\ndt = 0.01\n{extra}\n\
+         [[dynamics.ground_motion]]\ndirection = \"x\"\nsynthetic = \"vallorcine_like\"\n"
+    );
+    let dir = std::env::temp_dir().join(format!("mhpc-dynamics-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    let f = dir.join(format!("job-{k}.toml"));
+    std::fs::write(&f, text).unwrap();
+    Job::load(&f).map_err(|e| e.to_string())
+}
+
+fn integration(job: &Job) -> (IntegrationKind, NewtonKind) {
+    let d = job.spec.dynamics.as_ref().unwrap();
+    (d.integration, d.newton)
+}
+
+#[test]
+fn implicit_is_the_default_and_implex_is_read() {
+    assert_eq!(integration(&load("").unwrap()), (IntegrationKind::Implicit, NewtonKind::Modified));
+    assert_eq!(integration(&load("integration = \"implicit\"").unwrap()).0, IntegrationKind::Implicit);
+    for newton in ["modified", "tangent", "krylov"] {
+        let job = load(&format!("integration = \"implex\"\nnewton = \"{newton}\"")).unwrap();
+        assert_eq!(integration(&job).0, IntegrationKind::Implex, "{newton}");
+    }
+}
+
+#[test]
+fn an_unknown_integration_is_refused_at_its_key() {
+    let e = load("integration = \"explicit\"").err().expect("refused");
+    assert!(e.contains("dynamics.integration") && e.contains("implicit") && e.contains("implex"), "{e}");
+}
+
+#[test]
+fn implex_with_the_initial_stiffness_is_refused_at_the_newton_key() {
+    let e = load("integration = \"implex\"\nnewton = \"initial\"").err().expect("refused");
+    assert!(e.contains("dynamics.newton") && e.contains("implex"), "{e}");
+    assert!(load("integration = \"implicit\"\nnewton = \"initial\"").is_ok());
+}
