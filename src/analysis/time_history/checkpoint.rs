@@ -24,11 +24,13 @@ use super::petsc_system::PetscSystem;
 use super::stepper::State;
 use super::system::DynamicSystem;
 use super::EnergyBalance;
+use crate::config::DynamicsConfig;
 use crate::element::Element;
 use crate::error::Error;
 use crate::parallel::{agree, Context};
-use mpi::traits::CommunicatorCollectives;
+use mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 const MAGIC: &[u8; 8] = b"MHPCCKP2";
 /// The layout before the law's dissipation was part of the energies (six of them).
@@ -256,16 +258,12 @@ pub(super) fn restore(
                 sys.disc.elements.len()
             )));
         }
+        // An element reads the layouts it knows (implicit, or with IMPL-EX's history: either is
+        // a valid start for either integration) and refuses any other length.
         for (e, s) in sys.disc.elements.iter_mut().zip(&c.states) {
-            if s.len() != e.n_state() {
-                return Err(Error::Analysis(format!(
-                    "the checkpoint's {} state has {} values, the element {}",
-                    e.kind_name(),
-                    s.len(),
-                    e.n_state()
-                )));
-            }
-            e.load_state(s).map_err(|source| Error::Analysis(format!("checkpoint: {source}")))?;
+            e.load_state(s).map_err(|source| {
+                Error::Analysis(format!("the checkpoint's {} state ({} values): {source}", e.kind_name(), s.len()))
+            })?;
         }
         Ok(())
     })();
@@ -297,6 +295,38 @@ pub(super) fn save(
         substep_level: state.substep_level,
     };
     write(ctx, dir, &c)
+}
+
+/// When a checkpoint is due by wall time (`[dynamics.checkpoint] every_minutes`): a clock, not a
+/// phase timer; rank 0's reading decides for every rank.
+pub(super) struct CheckpointClock {
+    last: Instant,
+}
+
+impl Default for CheckpointClock {
+    fn default() -> Self {
+        CheckpointClock { last: Instant::now() }
+    }
+}
+
+impl CheckpointClock {
+    /// Collective. Whether a checkpoint is due after `step`: every `every_steps` steps, or when
+    /// `every_minutes` have passed since the last one.
+    pub(super) fn due(&self, ctx: &Context, cfg: &DynamicsConfig, step: usize) -> bool {
+        let c = &cfg.checkpoint;
+        let mut due = c.every_steps > 0 && step % c.every_steps == 0;
+        if c.every_minutes > 0.0 {
+            let mut by_time = self.last.elapsed().as_secs_f64() >= 60.0 * c.every_minutes;
+            ctx.comm.process_at_rank(0).broadcast_into(&mut by_time);
+            due |= by_time;
+        }
+        due
+    }
+
+    /// A checkpoint was just written.
+    pub(super) fn restart(&mut self) {
+        self.last = Instant::now();
+    }
 }
 
 #[cfg(test)]

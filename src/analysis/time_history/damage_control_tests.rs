@@ -145,6 +145,7 @@ fn run(dt: f64, duration: f64, a0: f64, limit: f64, max_substeps: usize) -> Run 
     let mut stepper = Stepper::new(StepSettings {
         scheme: Scheme::default(),
         newton: NewtonKind::Tangent,
+        integration: crate::config::IntegrationKind::Implicit,
         krylov_dimension: 3,
         refresh_cost: 0,
         max_iterations: 200,

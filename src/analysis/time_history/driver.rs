@@ -14,7 +14,7 @@
 //!
 //! [`integrate`] is the stepping loop on its own, callable by a driver that chains analyses
 //! (modal → updating → gravity → earthquake) on the same [`PetscSystem`].
-use super::checkpoint;
+use super::checkpoint::{self, CheckpointClock};
 use super::damage_shares::{self, GroupDamage};
 use super::damping::Rayleigh;
 use super::diagnosis::{self, agreed};
@@ -34,9 +34,7 @@ use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
-use mpi::traits::{Communicator, Root};
 use std::path::Path;
-use std::time::Instant;
 
 /// What a time-history run reports (`summary.json`).
 #[derive(Debug, Clone, Default, serde::Serialize)]
@@ -55,6 +53,8 @@ pub struct TimeHistorySummary {
     pub rayleigh: [f64; 2],
     /// Newton variant.
     pub newton: String,
+    /// How the steps integrate the damage law: `implicit` or `implex` (`stepper.rs`).
+    pub integration: String,
     /// Linear solver.
     pub solver: String,
     /// Time step [s].
@@ -230,6 +230,8 @@ pub fn run_from(
             }
         }
     })?;
+    // After gravity (implicit) or the restored state (either layout): the history starts here.
+    sys.set_implex(cfg.integration == crate::config::IntegrationKind::Implex);
     let restart = matches!(start, Start::Restart);
     let first_step = state.step;
     let stem = if restart { format!("{RESULTS_STEM}-restart-{first_step:06}") } else { RESULTS_STEM.to_string() };
@@ -237,6 +239,7 @@ pub fn run_from(
     let settings = StepSettings {
         scheme: Scheme { beta, gamma, alpha },
         newton: cfg.newton,
+        integration: cfg.integration,
         krylov_dimension: cfg.krylov_dimension,
         refresh_cost: cfg.refresh_cost,
         max_iterations: cfg.max_iterations,
@@ -248,6 +251,7 @@ pub fn run_from(
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
     summary.rayleigh = [rayleigh.alpha, rayleigh.beta];
     summary.newton = format!("{:?}", cfg.newton).to_lowercase();
+    summary.integration = cfg.integration.name().to_string();
     Ok(summary)
 }
 
@@ -293,7 +297,7 @@ fn log_setup(
 ) {
     let log = &ctx.log;
     log.info(format!(
-        "setup: {} equations, {} element(s) ({}), {:?} mass; Newmark β = {beta}, γ = {gamma}, HHT α = {alpha}; Rayleigh α = {:.4e} 1/s, β = {:.4e} s; {:?} Newton; {}",
+        "setup: {} equations, {} element(s) ({}), {:?} mass; Newmark β = {beta}, γ = {gamma}, HHT α = {alpha}; Rayleigh α = {:.4e} 1/s, β = {:.4e} s; {:?} Newton, {} damage; {}",
         6 * sys.disc.dofs.n_global_nodes,
         model.cells.len(),
         if sys.linear { "all linear" } else { "with damage" },
@@ -301,6 +305,7 @@ fn log_setup(
         rayleigh.alpha,
         rayleigh.beta,
         cfg.newton,
+        cfg.integration.name(),
         sys.describe_solver()
     ));
     for g in &cfg.ground_motion {
@@ -467,38 +472,6 @@ fn step(
     );
     // Every rank has the same failure: agree on it so it is printed once.
     Err(agreed(ctx, Error::Analysis(msg)))
-}
-
-/// When a checkpoint is due by wall time (`[dynamics.checkpoint] every_minutes`): a clock, not a
-/// phase timer; rank 0's reading decides for every rank.
-struct CheckpointClock {
-    last: Instant,
-}
-
-impl Default for CheckpointClock {
-    fn default() -> Self {
-        CheckpointClock { last: Instant::now() }
-    }
-}
-
-impl CheckpointClock {
-    /// Collective. Whether a checkpoint is due after `step`: every `every_steps` steps, or when
-    /// `every_minutes` have passed since the last one.
-    fn due(&self, ctx: &Context, cfg: &DynamicsConfig, step: usize) -> bool {
-        let c = &cfg.checkpoint;
-        let mut due = c.every_steps > 0 && step % c.every_steps == 0;
-        if c.every_minutes > 0.0 {
-            let mut by_time = self.last.elapsed().as_secs_f64() >= 60.0 * c.every_minutes;
-            ctx.comm.process_at_rank(0).broadcast_into(&mut by_time);
-            due |= by_time;
-        }
-        due
-    }
-
-    /// A checkpoint was just written.
-    fn restart(&mut self) {
-        self.last = Instant::now();
-    }
 }
 
 /// The substeps and the damage control in the run's last lines: how many steps were substepped

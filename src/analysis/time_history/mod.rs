@@ -45,6 +45,8 @@ mod envelope;
 mod gravity;
 mod gravity_failure;
 mod ground;
+#[cfg(test)]
+mod implex_tests;
 mod integration;
 mod krylov;
 mod linear_step;

@@ -196,6 +196,14 @@ impl<'a> PetscSystem<'a> {
         })
     }
 
+    /// IMPL-EX on or off in every element (`Element::set_implex`): on, each keeps its
+    /// histories one step back from its committed state on.
+    pub fn set_implex(&mut self, on: bool) {
+        for e in self.disc.elements.iter_mut() {
+            e.set_implex(on);
+        }
+    }
+
     /// The solver in one line.
     pub fn describe_solver(&self) -> String {
         self.ksp.describe().unwrap_or_else(|e| e.to_string())
@@ -500,6 +508,12 @@ impl DynamicSystem for PetscSystem<'_> {
         let mut global = 0.0;
         self.ctx.comm.all_reduce_into(&local, &mut global, mpi::collective::SystemOperation::max());
         global
+    }
+
+    fn set_implex_step(&mut self, h: f64) {
+        for e in self.disc.elements.iter_mut() {
+            e.set_implex_step(h);
+        }
     }
 
     fn commit(&mut self) {

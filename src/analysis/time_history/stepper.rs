@@ -17,6 +17,17 @@
 //! A linear system (no element with state) takes the step of [`super::linear_step`] instead: one
 //! solve and two products, its residual checked with fresh products every few steps.
 //!
+//! # IMPL-EX
+//! With `[dynamics] integration = "implex"` every attempt of a (sub)step of size h first gives
+//! the elements h ([`DynamicSystem::set_implex_step`]): their damage histories are extrapolated
+//! by the ratio of h to the last committed (sub)step's size and held for the attempt
+//! (`material::implex`). The residual at the predictor is then evaluated by the elements (their
+//! stress at u_n differs from the committed `f_int,n` by the new extrapolation), and the
+//! iterations solve an equilibrium without softening: one iteration where the stress is linear
+//! at fixed damage, a few across the unilateral switch or with the spectral split. Everything
+//! else is the implicit stepper's: the convergence test, the substeps on a failure or a damage
+//! increment (that of the histories' implicit update) over the limit, the commit, the energies.
+//!
 //! A step that does not converge (too many iterations, a non-finite residual, an element or solver
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
@@ -54,7 +65,7 @@ use super::scheme::Scheme;
 pub use super::state::{external_force, State};
 use super::substeps::Substeps;
 use super::system::DynamicSystem;
-use crate::config::NewtonKind;
+use crate::config::{IntegrationKind, NewtonKind};
 
 /// Settings of the iterations.
 #[derive(Clone, Copy, Debug)]
@@ -63,6 +74,8 @@ pub struct StepSettings {
     pub scheme: Scheme,
     /// Newton variant.
     pub newton: NewtonKind,
+    /// Implicit damage, or IMPL-EX (module docs).
+    pub integration: IntegrationKind,
     /// Subspace size of [`NewtonKind::Krylov`].
     pub krylov_dimension: usize,
     /// [`NewtonKind::Krylov`]: extra iterations that pay for a tangent refresh
@@ -405,6 +418,10 @@ impl Stepper {
         h: f64,
     ) -> Attempt {
         let st = self.settings;
+        let implex = st.integration == IntegrationKind::Implex;
+        if implex {
+            sys.set_implex_step(h);
+        }
         let rhs_norm = match self.s.start_step(sys, ground, state, t1, h, st.scheme) {
             Ok(norm) => norm,
             Err(e) => return Attempt::Failed { iterations: 0, residual: f64::INFINITY, reason: e.to_string() },
@@ -415,7 +432,8 @@ impl Stepper {
         // Whether the first correction formed the tangent, and how often the others did.
         let (mut fresh, mut within) = (false, 0);
         for it in 0..=st.max_iterations {
-            let known = (it == 0).then_some(state.f_int.as_slice());
+            // IMPL-EX: the stress at u_n is that of the step's extrapolated damage.
+            let known = (it == 0 && !implex).then_some(state.f_int.as_slice());
             let failed = |residual, reason| Attempt::Failed { iterations: it, residual, reason };
             let (rn, current) = match self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm, known) {
                 Ok(norms) => norms,

@@ -77,6 +77,10 @@ pub trait DynamicSystem {
     fn max_damage_increment(&self) -> f64 {
         0.0
     }
+    /// IMPL-EX: the size `h` of the (sub)step the next evaluations belong to; every element
+    /// extrapolates its damage histories by the ratio of `h` to the last committed step's size
+    /// (`Element::set_implex_step`). Nothing for a system without damage (the default).
+    fn set_implex_step(&mut self, _h: f64) {}
     /// Accepts the trial state of every element.
     fn commit(&mut self);
     /// Discards the trial state of every element.

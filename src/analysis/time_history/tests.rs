@@ -10,6 +10,7 @@ fn settings(scheme: Scheme) -> StepSettings {
     StepSettings {
         scheme,
         newton: NewtonKind::Modified,
+        integration: crate::config::IntegrationKind::Implicit,
         krylov_dimension: 3,
         refresh_cost: 0,
         max_iterations: 10,
@@ -348,6 +349,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
         let mut stepper = Stepper::new(StepSettings {
             scheme: Scheme::default(),
             newton: NewtonKind::Modified,
+            integration: crate::config::IntegrationKind::Implicit,
             krylov_dimension: 3,
             refresh_cost: 0,
             max_iterations,
@@ -386,6 +388,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
         let mut stepper = Stepper::new(StepSettings {
             scheme: Scheme::default(),
             newton,
+            integration: crate::config::IntegrationKind::Implicit,
             krylov_dimension: 3,
             refresh_cost: 0,
             max_iterations: 40,
