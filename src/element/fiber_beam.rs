@@ -65,7 +65,7 @@ use super::error::{check_finite_displacement, check_len, ElementError};
 use super::fiber_section::{gauss_points, Fiber, FiberMaterial, FiberSection};
 use super::local_frame::{LocalFrame, Mat12, Vec12};
 use super::output::{prepare_matrix, prepare_vector, ElementOutput, EvalRequest};
-use super::{AppliedLoads, Element, Histories, MassKind, PointStates};
+use super::{AppliedLoads, Element, MassKind, PointStates, PointUpdate};
 use crate::material::{DamageState, PointLaw, StressState, Uniaxial};
 
 /// Number of DOF of the element.
@@ -179,7 +179,7 @@ impl FiberBeam3d {
             points,
             law,
             torsion_stiffness,
-            states: PointStates::new(n_states),
+            states: PointStates::new(n_states, 1),
         })
     }
 
@@ -214,16 +214,10 @@ impl FiberBeam3d {
         Ok(self.frame.vec12_to_local(&Vec12::from_column_slice(u_e)))
     }
 
-    /// Force, tangent (if `want_k`) and dissipation in local axes at `u_l`, from `histories`
-    /// into `trial` (both empty for elastic fibers). Pure in (histories, u_l).
-    fn respond(
-        &self,
-        u_l: &Vec12,
-        want_k: bool,
-        secant: bool,
-        histories: Histories,
-        trial: &mut [DamageState],
-    ) -> LocalResponse {
+    /// Force, tangent (if `want_k`) and dissipation in local axes at `u_l`, the fibers' states
+    /// read and written through `states` (none for elastic fibers). Pure in (the states it
+    /// reads, u_l).
+    fn respond(&self, u_l: &Vec12, want_k: bool, secant: bool, states: &mut PointUpdate) -> LocalResponse {
         let l = self.frame.length();
         let nf = self.fibers.len();
         let mut f = Vec12::zeros();
@@ -241,8 +235,7 @@ impl FiberBeam3d {
                     FiberLaw::Elastic(modulus) => (modulus * eps, *modulus),
                     FiberLaw::Damage(law) => {
                         let strain = nalgebra::Vector1::new(eps);
-                        let r = histories.respond(law, g * nf + i, |l, s| Uniaxial::evaluate(l, &strain, s));
-                        trial[g * nf + i] = r.state;
+                        let r = states.respond(law, g * nf + i, &strain, |l, e, s| Uniaxial::evaluate(l, e, s));
                         diss += fib.area * r.dissipation;
                         (r.stress[0], if secant { r.secant[0] } else { r.tangent[0] })
                     }
@@ -272,7 +265,8 @@ impl FiberBeam3d {
     pub fn local_tangent(&self, u_e: &[f64]) -> Result<Mat12, ElementError> {
         let u_l = self.local_displacement(u_e)?;
         let mut scratch = self.states.committed().to_vec();
-        Ok(self.respond(&u_l, true, false, Histories::implicit(self.states.committed()), &mut scratch).k)
+        let mut states = PointUpdate::implicit(self.states.committed(), &mut scratch);
+        Ok(self.respond(&u_l, true, false, &mut states).k)
     }
 
     /// Local mass matrix of the chosen kind ([`beam_inertia`](super::beam_inertia)).
@@ -295,9 +289,8 @@ impl Element for FiberBeam3d {
         let u_l = self.local_displacement(u_e)?;
         out.prepare(N_DOFS);
         let want_k = request.wants_tangent();
-        let mut states = std::mem::replace(&mut self.states, PointStates::new(0));
-        let (histories, trial) = states.for_update();
-        let r = self.respond(&u_l, want_k, request.wants_secant(), histories, trial);
+        let mut states = std::mem::replace(&mut self.states, PointStates::new(0, 1));
+        let r = self.respond(&u_l, want_k, request.wants_secant(), &mut states.for_update());
         states.set_trial_dissipation(r.dissipation);
         self.states = states;
         out.f_int.copy_from(&self.frame.vec12_to_global(&r.f));
@@ -340,7 +333,7 @@ impl Element for FiberBeam3d {
         check_len("cell output", CELL_OUTPUT_NAMES.len(), values.len())?;
         let u_l = self.local_displacement(u_e)?;
         let mut scratch = self.states.committed().to_vec();
-        let r = self.respond(&u_l, false, false, Histories::implicit(self.states.committed()), &mut scratch);
+        let r = self.respond(&u_l, false, false, &mut PointUpdate::implicit(self.states.committed(), &mut scratch));
         let (mut dt_max, mut dt_mean, mut dc_max, mut dc_mean) = (0.0f64, 0.0, 0.0f64, 0.0);
         if !scratch.is_empty() {
             let nf = self.fibers.len();

@@ -109,7 +109,7 @@ fn a_shell_steps_with_the_extrapolated_damage_and_checkpoints_its_history() {
     ex.set_implex_step(0.01);
     force(ex.as_mut(), &(&u1 * 1.4));
     ex.commit();
-    assert_eq!(ex.n_state(), 6 * 4 * 15 + 2);
+    assert_eq!(ex.n_state(), (6 + 3) * 4 * 15 + 2);
     let mut saved = vec![0.0; ex.n_state()];
     ex.save_state(&mut saved).unwrap();
     let mut fresh: Box<dyn Element> = Box::new(shell(Split::Trace));
@@ -122,6 +122,15 @@ fn a_shell_steps_with_the_extrapolated_damage_and_checkpoints_its_history() {
     let (a, b) = (force(ex.as_mut(), &u3), force(fresh.as_mut(), &u3));
     assert_eq!(a, b);
     assert!((&a - &frozen).amax() > 1e-3 * a.amax(), "the extrapolation changed nothing");
+    // With a committed IMPL-EX step behind, the split is frozen at its strains: the force is
+    // linear in u (1e-12 of its size) and the tangent is symmetric (1e-12).
+    let u4 = cracking(24, -2e-4).map(|x| x * x.abs().sqrt() * 50.0);
+    let combo = force(ex.as_mut(), &(&u3 * 0.6 + &u4 * 1.7));
+    let sum = force(ex.as_mut(), &u3) * 0.6 + force(ex.as_mut(), &u4) * 1.7;
+    assert!((&combo - &sum).amax() <= 1e-12 * combo.amax(), "{:e}", (&combo - &sum).amax() / combo.amax());
+    let mut out = ElementOutput::new(24);
+    ex.evaluate(u3.as_slice(), EvalRequest::ForceAndTangent, &mut out).unwrap();
+    assert!((&out.k_t - out.k_t.transpose()).amax() <= 1e-12 * out.k_t.amax());
 }
 
 #[test]

@@ -72,7 +72,7 @@ pub use frame::ElasticFrame3d;
 pub use frame_section::FrameSection;
 pub use local_frame::{LocalFrame, Mat12, Vec12};
 pub use output::{ElementOutput, EvalRequest};
-pub use point_states::{Histories, PointStates};
+pub use point_states::{PointStates, PointUpdate};
 pub use shell::{
     PointResultants, ShellElement, ShellError, ShellMaterial, ShellQuad4, ShellSection, ShellTri3, ThicknessRule,
     DEFAULT_LAYERS, DRILLING_FACTOR, SHEAR_CORRECTION, SHELL_CELL_OUTPUT_NAMES, WARPING_LIMIT,

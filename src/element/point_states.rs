@@ -5,30 +5,37 @@
 //! # Trial and committed (the [`Element`](super::Element) contract)
 //! ```text
 //!   evaluate(u)   reads the committed states (and, with IMPL-EX, the extrapolated ones),
-//!                 writes the trial states and the trial dissipation
+//!                 writes the trial states and the trial dissipation ([`PointUpdate`])
 //!   commit()      trial → committed                    revert()   committed → trial
 //! ```
 //!
 //! # IMPL-EX (`material::implex`)
 //! With IMPL-EX on, the store also keeps per point the committed state of the step before,
-//! κ_{n−1}, and the size Δt_n of the last committed step. [`PointStates::set_implex_step`]`(law,
-//! h)` computes, before the evaluations of a step of size h, every point's extrapolated history
-//! with the ratio h/Δt_n (0 while no step has been committed since IMPL-EX was switched on, so
-//! the first step uses the committed damage); the evaluations' stress uses it, their trial
-//! state is the implicit update. A commit shifts committed → previous and records Δt_n = h;
-//! the extrapolated states are then reset to the committed ones until the next step sets them.
+//! κ_{n−1}, the committed strain ε_n (m components) and the size Δt_n of the last committed
+//! step. [`PointStates::set_implex_step`]`(law, h)` computes, before the evaluations of a step of
+//! size h, every point's extrapolated history with the ratio h/Δt_n (0 while no step has been
+//! committed since IMPL-EX was switched on, so the first step uses the committed damage); the
+//! evaluations ([`PointUpdate::respond`]) take their stress from it with the split frozen at ε_n
+//! (not frozen on that first step: ε_n is known once a step is behind), their trial state from
+//! the implicit update, and record their strain. A commit shifts committed → previous, records
+//! Δt_n = h and ε_n; the extrapolated states are then reset to the committed ones until the next
+//! step sets them.
 //!
 //! # Checkpoint layout
 //! ```text
-//!   implicit:  [κ_t, κ_c, d_t, d_c] per point, then the dissipated energy (J)        4 n + 1
-//!   IMPL-EX:   the same, then [κ_t, κ_c] of κ_{n−1} per point, then Δt_n (s)          6 n + 2
+//!   implicit:  [κ_t, κ_c, d_t, d_c] per point, then the dissipated energy (J)     4 n + 1
+//!   IMPL-EX:   the same, then [κ_t, κ_c] of κ_{n−1} per point, Δt_n (s),
+//!              then ε_n per point (m values)                                     (6 + m) n + 2
 //! ```
 //! [`PointStates::load`] reads either: the implicit layout under IMPL-EX (a state written by an
 //! implicit run, such as a saved gravity state) has no step behind it (κ_{n−1} = κ_n, Δt_n = 0);
 //! the IMPL-EX layout switches IMPL-EX on, with its history.
 
+use nalgebra::SVector;
+
 use super::error::{check_len, ElementError};
-use crate::material::{implex, DamageState, PointLaw};
+use crate::material::implex::{self, Extrapolated};
+use crate::material::{DamageState, PointLaw, Response};
 
 /// The IMPL-EX part of the store (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -41,46 +48,89 @@ struct ImplexHistory {
     step: f64,
     /// The histories their stress uses.
     extrapolated: Vec<DamageState>,
+    /// The committed strains (`strain_len` per point), where the split is frozen; known once a
+    /// step is behind the committed states (`last_step > 0`).
+    strains: Vec<f64>,
+    /// The strains of the last evaluation.
+    trial_strains: Vec<f64>,
 }
 
 impl ImplexHistory {
-    /// No step behind the committed states `committed`.
-    fn starting_at(committed: &[DamageState]) -> ImplexHistory {
+    /// No step behind the committed states `committed` (`strain_len` strains per point).
+    fn starting_at(committed: &[DamageState], strain_len: usize) -> ImplexHistory {
         let previous = committed.iter().map(|s| [s.kappa_t, s.kappa_c]).collect();
-        ImplexHistory { previous, last_step: 0.0, step: 0.0, extrapolated: committed.to_vec() }
+        let strains = vec![0.0; strain_len * committed.len()];
+        ImplexHistory {
+            previous,
+            last_step: 0.0,
+            step: 0.0,
+            extrapolated: committed.to_vec(),
+            trial_strains: strains.clone(),
+            strains,
+        }
     }
 }
 
-/// The histories an evaluation of a group of points reads: their committed states and, with
-/// IMPL-EX, the extrapolated ones.
-#[derive(Clone, Copy, Debug)]
-pub struct Histories<'a> {
-    /// Committed states.
-    pub committed: &'a [DamageState],
-    /// Extrapolated states (IMPL-EX), same layout.
-    pub extrapolated: Option<&'a [DamageState]>,
+/// The IMPL-EX part of a [`PointUpdate`].
+#[derive(Debug)]
+struct ImplexUpdate<'a> {
+    extrapolated: &'a [DamageState],
+    strains: Option<&'a [f64]>,
+    trial_strains: &'a mut [f64],
 }
 
-impl<'a> Histories<'a> {
-    /// Only the committed states: the implicit law.
-    pub fn implicit(committed: &'a [DamageState]) -> Histories<'a> {
-        Histories { committed, extrapolated: None }
+/// What an evaluation of a group of points reads (their committed states and, with IMPL-EX,
+/// the extrapolated histories and committed strains) and writes (their trial states and, with
+/// IMPL-EX, strains).
+#[derive(Debug)]
+pub struct PointUpdate<'a> {
+    committed: &'a [DamageState],
+    trial: &'a mut [DamageState],
+    implex: Option<ImplexUpdate<'a>>,
+}
+
+impl<'a> PointUpdate<'a> {
+    /// The implicit law from `committed`, into `trial` (an output's scratch states).
+    pub fn implicit(committed: &'a [DamageState], trial: &'a mut [DamageState]) -> PointUpdate<'a> {
+        PointUpdate { committed, trial, implex: None }
     }
 
-    /// The points `range` of these.
-    pub fn slice(&self, range: std::ops::Range<usize>) -> Histories<'a> {
-        Histories { committed: &self.committed[range.clone()], extrapolated: self.extrapolated.map(|x| &x[range]) }
+    /// The points `range` of these (`strain_len` strains per point).
+    pub fn slice(&mut self, range: std::ops::Range<usize>, strain_len: usize) -> PointUpdate<'_> {
+        let r = range.start * strain_len..range.end * strain_len;
+        PointUpdate {
+            committed: &self.committed[range.clone()],
+            trial: &mut self.trial[range.clone()],
+            implex: self.implex.as_mut().map(|x| ImplexUpdate {
+                extrapolated: &x.extrapolated[range.clone()],
+                strains: x.strains.map(|s| &s[r.clone()]),
+                trial_strains: &mut x.trial_strains[r],
+            }),
+        }
     }
 
-    /// The response of point `j` under the law `eval` (`material::implex::evaluate`).
+    /// The response of point `j` at `strain` under the law `eval(law, strain, history)`
+    /// (`material::implex::evaluate`); its trial state (and strain) written.
     #[inline]
     pub fn respond<const N: usize>(
-        &self,
+        &mut self,
         law: &PointLaw,
         j: usize,
-        eval: impl Fn(&PointLaw, &DamageState) -> crate::material::Response<N>,
-    ) -> crate::material::Response<N> {
-        implex::evaluate(law, &self.committed[j], self.extrapolated.map(|x| &x[j]), eval)
+        strain: &SVector<f64, N>,
+        eval: impl Fn(&PointLaw, &SVector<f64, N>, &DamageState) -> Response<N>,
+    ) -> Response<N> {
+        let r = match &mut self.implex {
+            None => eval(law, strain, &self.committed[j]),
+            Some(x) => {
+                let at = x.strains.map(|s| SVector::<f64, N>::from_column_slice(&s[N * j..N * (j + 1)]));
+                let frozen = Extrapolated { history: &x.extrapolated[j], strain: at.as_ref() };
+                let r = implex::evaluate(law, &self.committed[j], strain, Some(frozen), eval);
+                x.trial_strains[N * j..N * (j + 1)].copy_from_slice(strain.as_slice());
+                r
+            }
+        };
+        self.trial[j] = r.state;
+        r
     }
 }
 
@@ -91,14 +141,16 @@ pub struct PointStates {
     trial: Vec<DamageState>,
     dissipated: f64,
     trial_dissipated: f64,
+    /// Strain components per point (1 for a fiber, 3 for a shell layer point).
+    strain_len: usize,
     implex: Option<ImplexHistory>,
 }
 
 impl PointStates {
-    /// `n` virgin points, implicit.
-    pub fn new(n: usize) -> PointStates {
+    /// `n` virgin points with `strain_len` strain components each, implicit.
+    pub fn new(n: usize, strain_len: usize) -> PointStates {
         let v = vec![DamageState::default(); n];
-        PointStates { committed: v.clone(), trial: v, dissipated: 0.0, trial_dissipated: 0.0, implex: None }
+        PointStates { committed: v.clone(), trial: v, dissipated: 0.0, trial_dissipated: 0.0, strain_len, implex: None }
     }
 
     /// Whether there is no point (an elastic element).
@@ -121,10 +173,19 @@ impl PointStates {
         self.dissipated
     }
 
-    /// What an evaluation reads, and the trial states it writes.
-    pub fn for_update(&mut self) -> (Histories<'_>, &mut [DamageState]) {
-        let extrapolated = self.implex.as_ref().map(|x| x.extrapolated.as_slice());
-        (Histories { committed: &self.committed, extrapolated }, &mut self.trial)
+    /// What an evaluation reads and writes (its trial states).
+    pub fn for_update(&mut self) -> PointUpdate<'_> {
+        let implex = self.implex.as_mut().map(|x| ImplexUpdate {
+            extrapolated: &x.extrapolated,
+            strains: (x.last_step > 0.0).then_some(x.strains.as_slice()),
+            trial_strains: &mut x.trial_strains,
+        });
+        PointUpdate { committed: &self.committed, trial: &mut self.trial, implex }
+    }
+
+    /// Strain components per point.
+    pub fn strain_len(&self) -> usize {
+        self.strain_len
     }
 
     /// The energy the trial states dissipated from the committed ones (J).
@@ -140,6 +201,7 @@ impl PointStates {
             }
             x.last_step = x.step;
             x.extrapolated.copy_from_slice(&self.trial);
+            x.strains.copy_from_slice(&x.trial_strains);
         }
         self.committed.copy_from_slice(&self.trial);
         self.dissipated = self.trial_dissipated;
@@ -149,6 +211,9 @@ impl PointStates {
     pub fn revert(&mut self) {
         self.trial.copy_from_slice(&self.committed);
         self.trial_dissipated = self.dissipated;
+        if let Some(x) = &mut self.implex {
+            x.trial_strains.copy_from_slice(&x.strains);
+        }
     }
 
     /// The largest damage increment of the trial states over the committed ones.
@@ -160,7 +225,9 @@ impl PointStates {
     /// on already) or off (the history dropped).
     pub fn set_implex(&mut self, on: bool) {
         match (on, self.implex.is_some()) {
-            (true, false) if !self.is_empty() => self.implex = Some(ImplexHistory::starting_at(&self.committed)),
+            (true, false) if !self.is_empty() => {
+                self.implex = Some(ImplexHistory::starting_at(&self.committed, self.strain_len))
+            }
             (false, true) => self.implex = None,
             _ => {}
         }
@@ -188,7 +255,7 @@ impl PointStates {
         match (self.is_empty(), &self.implex) {
             (true, _) => 0,
             (false, None) => Self::implicit_len(self.committed.len()),
-            (false, Some(_)) => Self::implex_len(self.committed.len()),
+            (false, Some(_)) => self.implex_len(),
         }
     }
 
@@ -196,8 +263,9 @@ impl PointStates {
         DamageState::N_VALUES * n + 1
     }
 
-    fn implex_len(n: usize) -> usize {
-        Self::implicit_len(n) + 2 * n + 1
+    fn implex_len(&self) -> usize {
+        let n = self.committed.len();
+        Self::implicit_len(n) + (2 + self.strain_len) * n + 1
     }
 
     /// The committed states into `out` (length [`Self::n_state`]).
@@ -217,6 +285,7 @@ impl PointStates {
                 chunk.copy_from_slice(p);
             }
             tail[2 * n] = x.last_step;
+            tail[2 * n + 1..].copy_from_slice(&x.strains);
         }
         Ok(())
     }
@@ -227,7 +296,7 @@ impl PointStates {
             return check_len("state", 0, state.len());
         }
         let n = self.committed.len();
-        let with_history = state.len() == Self::implex_len(n);
+        let with_history = state.len() == self.implex_len();
         if !with_history {
             check_len("state", Self::implicit_len(n), state.len())?;
         }
@@ -236,13 +305,14 @@ impl PointStates {
         }
         self.dissipated = state[DamageState::N_VALUES * n];
         if with_history || self.implex.is_some() {
-            let mut x = ImplexHistory::starting_at(&self.committed);
+            let mut x = ImplexHistory::starting_at(&self.committed, self.strain_len);
             if with_history {
                 let tail = &state[Self::implicit_len(n)..];
                 for (chunk, p) in tail.chunks_exact(2).zip(x.previous.iter_mut()) {
                     *p = [chunk[0], chunk[1]];
                 }
                 x.last_step = tail[2 * n];
+                x.strains.copy_from_slice(&tail[2 * n + 1..]);
             }
             self.implex = Some(x);
         }

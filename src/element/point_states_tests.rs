@@ -26,12 +26,28 @@ fn with_kappa_t(law: &PointLaw, k: f64) -> DamageState {
     DamageState { kappa_t, kappa_c: law.eps0_c(), d_t: law.damage(Side::Tension, kappa_t).d, d_c: 0.0 }
 }
 
-/// Writes `trial` as the evaluation of a step would, then commits.
+/// Writes `trial` (and with IMPL-EX the strains `10⁻⁴ (k + 1)`, k the value's index) as the
+/// evaluation of a step would, then commits.
 fn step(s: &mut PointStates, trial: &[DamageState], dissipation: f64) {
-    let (_, t) = s.for_update();
-    t.copy_from_slice(trial);
+    let u = s.for_update();
+    u.trial.copy_from_slice(trial);
+    if let Some(x) = u.implex {
+        for (k, e) in x.trial_strains.iter_mut().enumerate() {
+            *e = 1e-4 * (k + 1) as f64;
+        }
+    }
     s.set_trial_dissipation(dissipation);
     s.commit();
+}
+
+/// The extrapolated histories an evaluation reads (none: implicit).
+fn extrapolated(s: &mut PointStates) -> Option<Vec<DamageState>> {
+    s.for_update().implex.map(|x| x.extrapolated.to_vec())
+}
+
+/// The committed strains an evaluation freezes the split at (none: not known, or implicit).
+fn frozen_at(s: &mut PointStates) -> Option<Vec<f64>> {
+    s.for_update().implex.and_then(|x| x.strains.map(|e| e.to_vec()))
 }
 
 #[test]
@@ -39,50 +55,55 @@ fn the_implicit_store_keeps_its_layout() {
     // 4 values per point and the dissipated energy; a round trip restores it exactly; no
     // extrapolated history is handed to the evaluations.
     let law = law();
-    let mut s = PointStates::new(3);
+    let mut s = PointStates::new(3, 3);
     step(&mut s, &[with_kappa_t(&law, 2.0); 3], 0.5);
     assert_eq!(s.n_state(), 4 * 3 + 1);
     let mut out = vec![0.0; s.n_state()];
     s.save(&mut out).unwrap();
     assert_eq!(out[12], 0.5);
-    let mut back = PointStates::new(3);
+    let mut back = PointStates::new(3, 3);
     back.load(&out).unwrap();
     assert_eq!(back, s);
-    assert!(back.for_update().0.extrapolated.is_none());
+    assert!(extrapolated(&mut back).is_none());
     assert!(back.load(&out[..5]).is_err());
-    assert_eq!(PointStates::new(0).n_state(), 0);
+    assert_eq!(PointStates::new(0, 3).n_state(), 0);
 }
 
 #[test]
 fn the_implex_history_follows_the_steps_and_survives_a_checkpoint() {
     // Steps of 0.01 s then 0.02 s: κ_t = 2, 3 ε₀ after them; the third step of 0.01 s
     // extrapolates with the ratio 0.01/0.02 to κ̃_t = 3.5 ε₀ (exact in binary to 1e-15). The
-    // first step extrapolates nothing (no step behind). A checkpoint read into a fresh
-    // (implicit) store switches IMPL-EX on with the same history and gives the same
+    // first step extrapolates nothing (no step behind) and freezes the split nowhere (no
+    // committed strain); the next ones at the strains of the last commit. A checkpoint read into
+    // a fresh (implicit) store switches IMPL-EX on with the same history and gives the same
     // extrapolation.
     let law = law();
-    let mut s = PointStates::new(2);
+    let mut s = PointStates::new(2, 3);
     s.set_implex(true);
-    assert_eq!(s.n_state(), 6 * 2 + 2);
+    assert_eq!(s.n_state(), (6 + 3) * 2 + 2);
     s.set_implex_step(&law, 0.01);
-    assert_eq!(s.for_update().0.extrapolated.unwrap(), &[DamageState::virgin(&law); 2]);
+    assert_eq!(extrapolated(&mut s).unwrap(), &[DamageState::virgin(&law); 2]);
+    assert_eq!(frozen_at(&mut s), None);
     step(&mut s, &[with_kappa_t(&law, 2.0); 2], 0.1);
     s.set_implex_step(&law, 0.02);
     // κ_{n−1} = ε₀ (the virgin state clamped), κ_n = 2 ε₀, ratio 2: κ̃ = 4 ε₀.
-    let x = s.for_update().0.extrapolated.unwrap()[0];
+    let x = extrapolated(&mut s).unwrap()[0];
     assert!((x.kappa_t - 4.0 * law.eps0_t()).abs() <= 1e-15 * x.kappa_t, "{x:?}");
+    assert_eq!(frozen_at(&mut s).unwrap(), (1..=6).map(|k| 1e-4 * k as f64).collect::<Vec<_>>());
     step(&mut s, &[with_kappa_t(&law, 3.0); 2], 0.2);
     let mut out = vec![0.0; s.n_state()];
     s.save(&mut out).unwrap();
-    assert_eq!(&out[9..], &[2e-4, 2e-4, 2e-4, 2e-4, 0.02]);
-    let mut back = PointStates::new(2);
+    assert_eq!(&out[9..14], &[2e-4, 2e-4, 2e-4, 2e-4, 0.02]);
+    assert_eq!(&out[14..], &(1..=6).map(|k| 1e-4 * k as f64).collect::<Vec<_>>()[..]);
+    let mut back = PointStates::new(2, 3);
     back.load(&out).unwrap();
     assert!(back.is_implex());
     for st in [&mut s, &mut back] {
         st.set_implex_step(&law, 0.01);
     }
     assert_eq!(back, s);
-    let x = s.for_update().0.extrapolated.unwrap()[1];
+    assert_eq!(frozen_at(&mut back), frozen_at(&mut s));
+    let x = extrapolated(&mut s).unwrap()[1];
     assert!((x.kappa_t - 3.5 * law.eps0_t()).abs() <= 1e-15 * x.kappa_t, "{x:?}");
     assert_eq!(x.d_t, law.damage(Side::Tension, x.kappa_t).d);
     // A revert keeps the history; IMPL-EX off drops it and the layout shrinks.
@@ -90,6 +111,7 @@ fn the_implex_history_follows_the_steps_and_survives_a_checkpoint() {
     assert_eq!(s.committed(), &[with_kappa_t(&law, 3.0); 2]);
     s.set_implex(false);
     assert_eq!(s.n_state(), 4 * 2 + 1);
+    assert!(extrapolated(&mut s).is_none());
 }
 
 #[test]
@@ -97,15 +119,16 @@ fn an_implicit_state_read_under_implex_has_no_step_behind_it() {
     // A gravity state (implicit layout) read by an IMPL-EX store: κ_{n−1} = κ_n, so the first
     // step's history is the committed one whatever its size.
     let law = law();
-    let mut implicit = PointStates::new(1);
+    let mut implicit = PointStates::new(1, 3);
     step(&mut implicit, &[with_kappa_t(&law, 5.0)], 1.0);
     let mut out = vec![0.0; implicit.n_state()];
     implicit.save(&mut out).unwrap();
-    let mut s = PointStates::new(1);
+    let mut s = PointStates::new(1, 3);
     s.set_implex(true);
     s.load(&out).unwrap();
     assert!(s.is_implex());
     s.set_implex_step(&law, 0.01);
-    assert_eq!(s.for_update().0.extrapolated.unwrap(), &[with_kappa_t(&law, 5.0)]);
+    assert_eq!(extrapolated(&mut s).unwrap(), &[with_kappa_t(&law, 5.0)]);
+    assert_eq!(frozen_at(&mut s), None);
     assert_eq!(s.dissipated(), 1.0);
 }

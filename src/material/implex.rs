@@ -6,18 +6,31 @@
 //! # The update of a point over the step n → n+1 (size Δt_{n+1})
 //! ```text
 //!   κ̃_{n+1} = κ_n + (Δt_{n+1}/Δt_n) (κ_n − κ_{n−1})        per side (t, c); κ ≥ ε₀ on both
-//!   σ_{n+1}  = σ(ε_{n+1}; d(κ̃_{n+1}))                      the law at fixed damage
-//!   C_{n+1}  = ∂σ_{n+1}/∂ε_{n+1}  at fixed d(κ̃_{n+1})
+//!   S_{n+1}  = ∂σ/∂ε (ε_n; d(κ̃_{n+1}))                     the secant at the committed strain
+//!   σ_{n+1}  = S_{n+1} ε_{n+1},   C_{n+1} = S_{n+1}          the step's stress and tangent
 //!   κ_{n+1}  = max(κ_n, ε_eq(ε_{n+1}))                      the implicit update: committed
 //! ```
 //! κ never decreases, so κ̃ ≥ κ_n, and Δt_{n+1}/Δt_n = 0 (no earlier step, or its size unknown)
-//! gives κ̃ = κ_n. The stress of the step is the law's at the frozen history κ̃
-//! ([`PointLaw::with_frozen_history`]): no damage grows inside the step, so the tangent has no
-//! softening term. With the paper's split outside the plane-stress switch band and in every
-//! uniaxial state the stress is then linear in ε (the secant (1 − d̃) C₀ of the side of tr σ̃),
-//! so the step's equilibrium is a linear system on each side of the unilateral switch; with the
-//! spectral split it is piecewise linear in the principal strains. The tangent is the exact
-//! derivative of that stress (tested against finite differences below).
+//! gives κ̃ = κ_n. The law is evaluated at the frozen history κ̃
+//! ([`PointLaw::with_frozen_history`]): no damage grows inside the step, so there is no
+//! softening term.
+//!
+//! # The unilateral split frozen at the committed strain
+//! At fixed damage the law is still not linear: the paper's split switches between 1 − d_t and
+//! 1 − d_c with the sign of tr σ̃ (smoothed over a band of stress directions in plane stress,
+//! where the stress falls as the direction turns when d_t > d_c), the spectral split with the
+//! signs and directions of the principal strains. A step in which cracks open and close then
+//! needs Newton iterations again, and inside the plane-stress band their equilibrium can lose
+//! uniqueness: on the church, steps at fixed damage took 10 to 40 iterations and some failed.
+//! As OpenSees' ASDConcrete3D does with its stress decomposition (`-implex`), the split is
+//! therefore frozen too: the point's secant S at fixed damage is taken at its committed strain
+//! ε_n, where the law is homogeneous of degree 1 at fixed damage, σ(ε) = S(ε) ε for both
+//! splits, so S(ε_n) ε_n is the law's stress at ε_n exactly. The step's stress S_{n+1} ε is
+//! linear in ε, and its equilibrium is one linear system with a symmetric positive definite
+//! Jacobian: one Newton iteration. A crack that closes or opens within the step is seen one
+//! step late, an error of the same first order in Δt as the extrapolation. Without a committed
+//! strain (the first step after IMPL-EX is switched on) the stress is the law's at the
+//! extrapolated history, σ(ε_{n+1}; d(κ̃_{n+1})), whose tangent is its exact derivative.
 //!
 //! The committed history is the implicit law's, from κ_n at the converged strain ε_{n+1}: the
 //! same state, damage and dissipation as the implicit update of [`super::state`] would give from
@@ -35,10 +48,11 @@
 //! its `unilateral` column with the crack-closure exchange of the paper's split.
 //!
 //! # Use
-//! An element keeps, per point, the committed state and the one before it, and the size of the
-//! step between them; before the evaluations of a step it computes [`extrapolate`] once per
-//! point, then [`evaluate`] gives each evaluation's response: the stress, secant and tangent of
-//! the extrapolated history, the trial state and dissipation of the implicit update.
+//! An element keeps, per point, the committed state and strain and the state before, and the
+//! size of the step between them; before the evaluations of a step it computes [`extrapolate`]
+//! once per point, then [`evaluate`] gives each evaluation's response: the stress, secant and
+//! tangent of the extrapolated history with the split frozen at the committed strain, the trial
+//! state and dissipation of the implicit update.
 
 use nalgebra::SVector;
 
@@ -70,32 +84,51 @@ pub fn combine<const N: usize>(stress: Response<N>, history: Response<N>) -> Res
     Response { stress: stress.stress, secant: stress.secant, tangent: stress.tangent, side: stress.side, ..history }
 }
 
-/// The response of a point whose law is `eval` (any kinematics, local or nonlocal), from its
-/// `committed` state: with `extrapolated` (IMPL-EX), [`combine`] of the frozen law at that
-/// history and the implicit update; without, the implicit update alone.
+/// What the stress of an IMPL-EX step is computed from (module docs): the extrapolated
+/// history, and the point's committed strain where the split is frozen (none: not frozen).
+#[derive(Clone, Copy, Debug)]
+pub struct Extrapolated<'a, const N: usize> {
+    /// κ̃ and d(κ̃).
+    pub history: &'a DamageState,
+    /// ε_n.
+    pub strain: Option<&'a SVector<f64, N>>,
+}
+
+/// The response at `strain` of a point whose law is `eval(law, strain, history)` (any
+/// kinematics, local or nonlocal), from its `committed` state: with `implex`, [`combine`] of the
+/// step's stress (module docs) and the implicit update; without, the implicit update alone.
 #[inline]
 pub fn evaluate<const N: usize>(
     law: &PointLaw,
     committed: &DamageState,
-    extrapolated: Option<&DamageState>,
-    eval: impl Fn(&PointLaw, &DamageState) -> Response<N>,
+    strain: &SVector<f64, N>,
+    implex: Option<Extrapolated<N>>,
+    eval: impl Fn(&PointLaw, &SVector<f64, N>, &DamageState) -> Response<N>,
 ) -> Response<N> {
-    let implicit = eval(law, committed);
-    match extrapolated {
-        None => implicit,
-        Some(x) => combine(eval(&law.with_frozen_history(), x), implicit),
-    }
+    let implicit = eval(law, strain, committed);
+    let Some(x) = implex else { return implicit };
+    let frozen = law.with_frozen_history();
+    let stress = match x.strain {
+        None => eval(&frozen, strain, x.history),
+        Some(at) => {
+            let s = eval(&frozen, at, x.history);
+            Response { stress: s.secant * strain, tangent: s.secant, ..s }
+        }
+    };
+    combine(stress, implicit)
 }
 
-/// [`evaluate`] for the kinematics `K` at `strain`.
+/// [`evaluate`] for the kinematics `K` at `strain`, the split frozen at `frozen_at` if given.
 #[inline]
 pub fn update<const N: usize, K: StressState<N>>(
     law: &PointLaw,
     strain: &SVector<f64, N>,
     committed: &DamageState,
     extrapolated: &DamageState,
+    frozen_at: Option<&SVector<f64, N>>,
 ) -> Response<N> {
-    evaluate(law, committed, Some(extrapolated), |l, s| K::evaluate(l, strain, s))
+    let x = Extrapolated { history: extrapolated, strain: frozen_at };
+    evaluate(law, committed, strain, Some(x), |l, e, s| K::evaluate(l, e, s))
 }
 
 #[cfg(test)]

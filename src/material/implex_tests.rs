@@ -63,8 +63,9 @@ fn the_extrapolation_never_goes_below_the_committed_history() {
     assert_eq!(extrapolate(&law, &grown, &above, 1.0), grown);
 }
 
-/// Along `steps` random strain increments from a virgin point, stepping the committed and
-/// previous states as an element does (ratio 1): the IMPL-EX trial state and dissipation equal
+/// Along random strain increments from a virgin point, stepping the committed and previous
+/// states as an element does (ratio 1, the split frozen at the last strain): the IMPL-EX trial
+/// state and dissipation equal
 /// the implicit law's from the same committed state bit for bit. Returns the number of loading
 /// updates (the check has teeth only where the history grows).
 fn committed_state_follows_the_implicit_law<const N: usize, K: StressState<N>>(law: &PointLaw, seed: u64) -> usize {
@@ -75,9 +76,10 @@ fn committed_state_follows_the_implicit_law<const N: usize, K: StressState<N>>(l
         let (mut previous, mut committed) = (DamageState::default(), DamageState::default());
         let mut eps = SVector::<f64, N>::zeros();
         for _ in 0..40 {
+            let before = eps;
             eps += random_strain::<N>(&mut rng, scale);
             let x = extrapolate(law, &committed, &previous, 1.0);
-            let r = update::<N, K>(law, &eps, &committed, &x);
+            let r = update::<N, K>(law, &eps, &committed, &x, Some(&before));
             let implicit = K::evaluate(law, &eps, &committed);
             assert_eq!(r.state, implicit.state);
             assert_eq!(r.dissipation.to_bits(), implicit.dissipation.to_bits());
@@ -133,18 +135,19 @@ fn tangent_matches_differences<const N: usize, K: StressState<N>>(law: &PointLaw
         let x = DamageState { kappa_t: kt, kappa_c: kc, d_t: dt, d_c: dc };
         let eps = random_strain::<N>(&mut rng, 4.0 * law.eps0_c());
         let delta = 1e-7 * eps.amax();
-        let side = |e: &SVector<f64, N>| update::<N, K>(law, e, &committed, &x).side;
+        let side = |e: &SVector<f64, N>| update::<N, K>(law, e, &committed, &x, None).side;
         let s0 = side(&eps);
         if side(&(eps + SVector::repeat(2.0 * delta))) != s0 || side(&(eps - SVector::repeat(2.0 * delta))) != s0 {
             continue;
         }
-        let r = update::<N, K>(law, &eps, &committed, &x);
+        let r = update::<N, K>(law, &eps, &committed, &x, None);
         let mut fd = SMatrix::<f64, N, N>::zeros();
         for j in 0..N {
             let (mut p, mut m) = (eps, eps);
             p[j] += delta;
             m[j] -= delta;
-            let ds = update::<N, K>(law, &p, &committed, &x).stress - update::<N, K>(law, &m, &committed, &x).stress;
+            let ds = update::<N, K>(law, &p, &committed, &x, None).stress
+                - update::<N, K>(law, &m, &committed, &x, None).stress;
             fd.set_column(j, &(ds / (2.0 * delta)));
         }
         let err = rel_diff(r.tangent.as_slice(), fd.as_slice());
@@ -178,7 +181,7 @@ fn with_the_history_guessed_exactly_the_stress_is_the_implicit_one() {
         let previous = DamageState { kappa_t: k(Side::Tension), kappa_c: k(Side::Compression), d_t: 0.0, d_c: 0.0 };
         assert!(previous.kappa_t >= law.eps0_t(), "{previous:?}");
         let x = extrapolate(&law, &committed, &previous, 1.0);
-        let r = update::<6, ThreeD>(&law, &eps, &committed, &x);
+        let r = update::<6, ThreeD>(&law, &eps, &committed, &x, None);
         assert!(rel_diff(r.stress.as_slice(), implicit.stress.as_slice()) <= 1e-12, "{split:?}");
     }
 }
@@ -193,12 +196,67 @@ fn at_fixed_damage_the_papers_split_is_linear_on_each_side() {
     let x = extrapolate(&law, &committed, &DamageState::default(), 0.0);
     let x = DamageState { kappa_t: 3.0 * x.kappa_t, d_t: law.damage(Side::Tension, 3.0 * x.kappa_t).d, ..x };
     let (e1, e2) = (Vector3::new(3e-4, 0.5e-4, 1e-4), Vector3::new(1e-4, 2e-4, -0.5e-4));
-    let s = |e: &Vector3<f64>| update::<3, PlaneStress>(&law, e, &committed, &x);
+    let s = |e: &Vector3<f64>| update::<3, PlaneStress>(&law, e, &committed, &x, None);
     let combo = s(&(e1 * 0.7 + e2 * 1.9)).stress;
     let sum = s(&e1).stress * 0.7 + s(&e2).stress * 1.9;
     assert!(rel_diff(combo.as_slice(), sum.as_slice()) <= 1e-12);
     assert_eq!(s(&e1).tangent, s(&e1).secant);
     assert!(s(&e1).stress.norm() < (plane_stress::elastic_matrix(&law) * e1).norm());
-    let fiber = |e: f64| update::<1, Uniaxial>(&law, &SVector::<f64, 1>::new(e), &committed, &x).stress[0];
+    let fiber = |e: f64| update::<1, Uniaxial>(&law, &SVector::<f64, 1>::new(e), &committed, &x, None).stress[0];
     assert!((fiber(5e-4) - 5.0 * fiber(1e-4)).abs() <= 1e-12 * fiber(5e-4).abs());
+}
+
+/// At `n` random committed strains ε_n and damaged extrapolated histories, the split frozen at
+/// ε_n: the stress at ε_n is the law's at the extrapolated history (1e-10 relative: the
+/// homogeneity σ = S ε of the law at fixed damage, to the round-off of the spectral
+/// decomposition); the stress is linear in ε (1e-12); the tangent is the secant, symmetric
+/// (1e-10 relative), and positive definite.
+fn frozen_split_is_linear_and_exact_at_the_committed_strain<const N: usize, K: StressState<N>>(
+    law: &PointLaw,
+    seed: u64,
+    n: usize,
+) {
+    let mut rng = Rng::new(seed);
+    for k in 0..n {
+        let scale = 4.0 * law.eps0_c();
+        let kt = law.eps0_t() * rng.range(1.0, 30.0);
+        let kc = law.eps0_c() * rng.range(1.0, 3.0);
+        let x = DamageState {
+            kappa_t: kt,
+            kappa_c: kc,
+            d_t: law.damage(Side::Tension, kt).d,
+            d_c: law.damage(Side::Compression, kc).d,
+        };
+        let committed = DamageState::virgin(law);
+        let at = random_strain::<N>(&mut rng, scale);
+        let (e1, e2) = (random_strain::<N>(&mut rng, scale), random_strain::<N>(&mut rng, scale));
+        let frozen = |e: &SVector<f64, N>| update::<N, K>(law, e, &committed, &x, Some(&at));
+        let free = update::<N, K>(law, &at, &committed, &x, None);
+        let r = frozen(&at);
+        let what = format!("{:?} point {k}", law.split());
+        assert!(
+            rel_diff(r.stress.as_slice(), free.stress.as_slice()) <= 1e-10,
+            "{what}: {} vs {}",
+            r.stress,
+            free.stress
+        );
+        let combo = frozen(&(e1 * 0.7 - e2 * 1.3)).stress;
+        let sum = frozen(&e1).stress * 0.7 - frozen(&e2).stress * 1.3;
+        assert!(rel_diff(combo.as_slice(), sum.as_slice()) <= 1e-12, "{what}");
+        assert_eq!(r.tangent, r.secant);
+        assert!(rel_diff(r.tangent.as_slice(), r.tangent.transpose().as_slice()) <= 1e-10, "{what}: {}", r.tangent);
+        let sym = (r.tangent + r.tangent.transpose()) * 0.5;
+        let dense = nalgebra::DMatrix::from_column_slice(N, N, sym.as_slice());
+        assert!(dense.cholesky().is_some(), "{what}: not positive definite {}", r.tangent);
+    }
+}
+
+#[test]
+fn with_the_split_frozen_the_step_is_linear_and_exact_at_the_committed_strain() {
+    for split in [Split::Trace, Split::Spectral] {
+        let law = law_with(split);
+        frozen_split_is_linear_and_exact_at_the_committed_strain::<1, Uniaxial>(&law, 21, 100);
+        frozen_split_is_linear_and_exact_at_the_committed_strain::<3, PlaneStress>(&law, 22, 300);
+        frozen_split_is_linear_and_exact_at_the_committed_strain::<6, ThreeD>(&law, 23, 300);
+    }
 }

@@ -67,7 +67,7 @@ use super::ShellError;
 use crate::element::error::{check_finite_displacement, check_len};
 use crate::element::output::{prepare_matrix, prepare_vector};
 use crate::element::{
-    AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, Histories, MassKind, NonlocalPoint, PointStates,
+    AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind, NonlocalPoint, PointStates, PointUpdate,
 };
 use crate::material::{nonlocal, DamageState, MaterialError, PointLaw};
 
@@ -179,7 +179,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             law,
             shear_stiffness: section.shear_stiffness(),
             drilling_stiffness: DRILLING_FACTOR * section.material.shear_modulus() * section.thickness,
-            states: PointStates::new(n_states),
+            states: PointStates::new(n_states, 3),
             averaged: Vec::new(),
             self_share: Vec::new(),
             elastic_k: None,
@@ -255,8 +255,8 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         Ok(self.g * SVector::<f64, D>::from_column_slice(u_e))
     }
 
-    /// Section response at point `p` for the flat displacement `uf`, from `histories` (the states
-    /// of this point's layer points) into `trial`. (The point's own data, each argument distinct:
+    /// Section response at point `p` for the flat displacement `uf`, the states of its layer
+    /// points read and written through `points`. (The point's own data, each argument distinct:
     /// no struct would name them better.)
     #[allow(clippy::too_many_arguments)]
     fn section_at(
@@ -264,8 +264,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
         rule: &ThicknessRule,
         pt: &PlanePoint<N, D>,
         uf: &SVector<f64, D>,
-        histories: Histories,
-        trial: &mut [DamageState],
+        points: &mut PointUpdate,
         secant: bool,
         nonlocal: Option<NonlocalInput>,
     ) -> SectionResponse {
@@ -283,7 +282,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
             SectionLaw::Damage(law) => {
                 let e0: Vector3<f64> = strain.fixed_rows::<3>(0).into_owned();
                 let ka: Vector3<f64> = strain.fixed_rows::<3>(3).into_owned();
-                damage_section(law, rule, &e0, &ka, histories, trial, secant, nonlocal)
+                damage_section(law, rule, &e0, &ka, points, secant, nonlocal)
             }
         }
     }
@@ -302,8 +301,7 @@ impl<const N: usize, const D: usize> ShellElement<N, D> {
                 &self.rule,
                 pt,
                 &uf,
-                Histories::implicit(committed),
-                &mut scratch[..committed.len()],
+                &mut PointUpdate::implicit(committed, &mut scratch[..committed.len()]),
                 false,
                 self.nonlocal_input(p),
             );
@@ -357,7 +355,8 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         // The section tangents of the points (at most 4), for the tangent after the loop.
         let mut tangents = [Matrix6::zeros(); 4];
         debug_assert!(self.points.len() <= tangents.len());
-        let (histories, trial) = self.states.for_update();
+        let strain_len = self.states.strain_len();
+        let mut states = self.states.for_update();
         for (p, pt) in self.points.iter().enumerate() {
             let range = if has_state { p * nz..(p + 1) * nz } else { 0..0 };
             let r = Self::section_at(
@@ -365,8 +364,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
                 &self.rule,
                 pt,
                 &uf,
-                histories.slice(range.clone()),
-                &mut trial[range],
+                &mut states.slice(range, strain_len),
                 request.wants_secant(),
                 if self.averaged.is_empty() {
                     None
@@ -470,8 +468,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
                 &self.rule,
                 pt,
                 &uf,
-                Histories::implicit(committed),
-                &mut scratch,
+                &mut PointUpdate::implicit(committed, &mut scratch),
                 false,
                 self.nonlocal_input(p),
             );

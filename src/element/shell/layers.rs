@@ -30,8 +30,8 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
-use crate::element::Histories;
-use crate::material::{nonlocal, plane_stress, DamageState, PointLaw};
+use crate::element::PointUpdate;
+use crate::material::{nonlocal, plane_stress, PointLaw};
 
 /// Points and weights of the through-thickness rule (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -128,8 +128,8 @@ pub struct NonlocalInput<'a> {
     pub self_share: &'a [f64],
 }
 
-/// Damage-law update of all layer points of one in-plane point from their `histories`, writing
-/// the `trial` states (both of length `rule.len()`). Pure in the histories. With `nonlocal` the
+/// Damage-law update of all layer points of one in-plane point (`rule.len()` points in
+/// `points`), their trial states written. Pure in the histories `points` reads. With `nonlocal` the
 /// damage is driven by the given averages (`material::nonlocal`), else by the points' own
 /// strains (`material::plane_stress`); with extrapolated histories the stress is IMPL-EX's
 /// (`material::implex`).
@@ -139,13 +139,10 @@ pub fn damage_section(
     rule: &ThicknessRule,
     eps0: &Vector3<f64>,
     kappa: &Vector3<f64>,
-    histories: Histories,
-    trial: &mut [DamageState],
+    points: &mut PointUpdate,
     secant: bool,
     nonlocal: Option<NonlocalInput>,
 ) -> SectionResponse {
-    debug_assert_eq!(histories.committed.len(), rule.len());
-    debug_assert_eq!(trial.len(), rule.len());
     let mut n = Vector3::zeros();
     let mut m = Vector3::zeros();
     let mut a = Matrix3::zeros();
@@ -155,9 +152,9 @@ pub fn damage_section(
     for j in 0..rule.len() {
         let (z, w) = (rule.z[j], rule.w[j]);
         let strain = eps0 + kappa * z;
-        let r = histories.respond(law, j, |l, s| match nonlocal {
-            None => plane_stress::update(l, &strain, s),
-            Some(nl) => nonlocal::update(l, &strain, s, nl.averaged[j], nl.self_share[j]),
+        let r = points.respond(law, j, &strain, |l, e, s| match nonlocal {
+            None => plane_stress::update(l, e, s),
+            Some(nl) => nonlocal::update(l, e, s, nl.averaged[j], nl.self_share[j]),
         });
         n += r.stress * w;
         m += r.stress * (w * z);
@@ -166,7 +163,6 @@ pub fn damage_section(
         b += c * (w * z);
         d += c * (w * z * z);
         dissipation += w * r.dissipation;
-        trial[j] = r.state;
     }
     SectionResponse { n, m, tangent: block_section(&a, &b, &d), dissipation }
 }
