@@ -93,15 +93,34 @@ fn implex_converges_to_the_implicit_wall_as_dt_shrinks() {
     // at dt = 0.01, 0.005, 0.0025 s; the top's u_y compared at the times of the coarsest step,
     // over the peak; the dissipated energy and the largest d_t against the reference's. The
     // printout gives the measured figures and orders (see the report in the commit).
+    //   dt [s]                      0.01      0.005     0.0025
+    //   IMPL-EX |Δu_top| / peak     2.1e-1    8.9e-2    2.2e-2    (orders 1.25, 2.0)
+    //   dissipated / reference      0.828     0.945     0.996     (2.77 J)
+    //   iterations per step         1.00      1.00      1.00      (0 in failed attempts)
+    //   implicit |Δu_top| / peak    3.1e-2    2.3e-2    7.5e-3    (full Newton, 1.64 to 1.46
+    //                                                              iterations per step)
+    // IMPL-EX at dt/4 is about as close to the reference as the implicit law at dt here.
+    // Asserted: the error falls by more than 1.8 per halving, below 5 % at 0.0025 s, with the
+    // dissipated energy within 2 %; at most 1.05 iterations per step, none failed.
     let (u_ref, s_ref) = wall_run("implex-wall-reference", 0, 0.00125, "implicit", "tangent");
     let scale = peak(&u_ref);
     let d_ref = s_ref["energy"][4].as_f64().unwrap();
     let mut errors = Vec::new();
+    let error = |u: &[f64], k: usize| {
+        let (a, b) = (every(u, 8 / k), every(&u_ref, 8));
+        assert_eq!(a.len(), b.len());
+        a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f64, f64::max) / scale
+    };
     for (k, dt) in [(8, 0.01), (4, 0.005), (2, 0.0025)] {
         let (u, s) = wall_run(&format!("implex-wall-{dt}"), 0, dt, "implex", "modified");
-        let (a, b) = (every(&u, 8 / k), every(&u_ref, 8));
-        assert_eq!(a.len(), b.len());
-        let e = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f64, f64::max) / scale;
+        let (v, t) = wall_run(&format!("implicit-wall-{dt}"), 0, dt, "implicit", "tangent");
+        eprintln!(
+            "dt {dt}: implicit |Δu_top|/peak {:.3e}, dissipated {:.4e} J, {:.2} iterations per step",
+            error(&v, k),
+            t["energy"][4].as_f64().unwrap(),
+            t["iterations"].as_f64().unwrap() / t["steps"].as_f64().unwrap()
+        );
+        let e = error(&u, k);
         let steps = s["steps"].as_f64().unwrap();
         let per_step = s["iterations"].as_f64().unwrap() / steps;
         let failed = s["failed_iterations"].as_u64().unwrap();
@@ -118,10 +137,75 @@ fn implex_converges_to_the_implicit_wall_as_dt_shrinks() {
         );
         assert!(d_max > 0.1, "dt {dt}: the wall should crack");
         assert_eq!(failed, 0, "dt {dt}");
-        assert!(per_step <= 3.0, "dt {dt}: {per_step} iterations per step");
+        assert!(per_step <= 1.05, "dt {dt}: {per_step} iterations per step");
         errors.push((e, (dissipated - d_ref).abs() / d_ref));
     }
     let orders: Vec<f64> = errors.windows(2).map(|w| (w[0].0 / w[1].0).log2()).collect();
     eprintln!("observed orders of the top's error: {orders:?}");
-    assert!(errors[0].0 > errors[1].0 && errors[1].0 > errors[2].0, "{errors:?}");
+    assert!(errors.windows(2).all(|w| w[0].0 > 1.8 * w[1].0), "{errors:?}");
+    assert!(errors[2].0 < 0.05 && errors[2].1 < 0.02, "{errors:?}");
+}
+
+/// u, v, a and the element states of a checkpoint rank file (layout in
+/// `time_history/checkpoint.rs`).
+fn checkpoint_values(file: &Path) -> (usize, Vec<f64>, Vec<f64>) {
+    let b = std::fs::read(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    assert_eq!(&b[..8], b"MHPCCKP2");
+    let u64_at = |at: usize| u64::from_le_bytes(b[at..at + 8].try_into().unwrap()) as usize;
+    let (n, step, n_el) = (u64_at(8 + 16), u64_at(8 + 24), u64_at(8 + 32));
+    let f64s = |at: usize, k: usize| -> Vec<f64> {
+        b[at..at + 8 * k].chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect()
+    };
+    let start = 8 + 7 * 8 + 8 + 8 * 8;
+    let motion = f64s(start, 3 * n);
+    let lens_at = start + 5 * n * 8;
+    let total: usize = (0..n_el).map(|e| u64_at(lens_at + 8 * e)).sum();
+    let states = f64s(lens_at + 8 * n_el, total);
+    (step, motion, states)
+}
+
+#[test]
+fn an_implex_run_stopped_and_restarted_ends_like_an_uninterrupted_one() {
+    // 50 steps of 0.01 s, checkpoints every 20; the fault stops the second run at step 33;
+    // `--restart` continues from step 20 with the histories one step back and the strains the
+    // checkpoint holds (each layer point: (6 + 3) values + 2 per element). The final u, v, a and
+    // every state agree within 1e-12 of their largest magnitude.
+    let mut finals = Vec::new();
+    for case in ["whole", "restarted"] {
+        let dir = scratch(&format!("implex-restart-{case}"));
+        write_wall(&dir, 0.01, "implex", "modified", "[dynamics.checkpoint]\nevery_steps = 20");
+        let job = dir.join("th.toml");
+        if case == "restarted" {
+            let mut cmd = std::process::Command::new(exe());
+            cmd.arg(&job).env("MASONRY_HPC_INJECT_FAULT", "time_step_33@0");
+            let out = run_with_timeout(cmd, std::time::Duration::from_secs(300));
+            assert!(!out.status.success(), "the fault should stop the run");
+            let out = run_ok(0, &["--restart", job.to_str().unwrap()]);
+            assert!(stdout(&out).contains("restart from the checkpoint of step 20"), "{}", stdout(&out));
+        } else {
+            run_ok(0, &[job.to_str().unwrap()]);
+            assert_eq!(summary(&dir.join("out"))["integration"], "implex");
+        }
+        let (step, motion, states) = checkpoint_values(&dir.join("out/checkpoint/step-000000050/rank-0000.bin"));
+        assert_eq!(step, 50);
+        assert_eq!(states.len(), 6 * ((6 + 3) * 4 * 7 + 2), "6 shells, 4 × 7 layer points each");
+        finals.push((motion, states));
+    }
+    for (a, b) in [(&finals[0].0, &finals[1].0), (&finals[0].1, &finals[1].1)] {
+        let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        assert!(scale > 0.0);
+        assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * scale));
+    }
+}
+
+#[test]
+fn implex_agrees_on_one_and_two_ranks() {
+    // The wall at dt = 0.01 s on 1 and 2 ranks: the top's history agrees within 1e-6 of its
+    // peak (the bound of the implicit wall's test: the force tolerance is 1e-9).
+    let (one, _) = wall_run("implex-ranks-1", 1, 0.01, "implex", "modified");
+    let (two, s) = wall_run("implex-ranks-2", 2, 0.01, "implex", "modified");
+    assert_eq!(s["ranks"], 2);
+    let worst = one.iter().zip(&two).map(|(a, b)| (a - b).abs()).fold(0.0f64, f64::max);
+    eprintln!("top: peak {:.6e} m, largest 1-vs-2-rank difference {worst:.3e} m", peak(&one));
+    assert!(one.len() == two.len() && worst <= 1e-6 * peak(&one));
 }
