@@ -15,7 +15,8 @@
 //! | `system.rs`        | the [`DynamicSystem`] trait and a dense implementation            |
 //! | `state.rs`         | the state after a converged step; the external force `f(t)`      |
 //! | `stepper.rs`       | one step: Newton (tangent, modified, initial, krylov), substepping |
-//! |                    | on Newton failures and on damage increments over the limit        |
+//! |                    | on Newton failures and on damage increments over the limit; with  |
+//! |                    | IMPL-EX, each attempt at the extrapolated damage                  |
 //! | `substeps.rs`      | the substeps of a step: sizes dt/2^k on the step's dyadic grid    |
 //! | `krylov.rs`        | Krylov subspace acceleration of modified Newton (Carlson–Miller)  |
 //! | `linear_step.rs`   | the step of a linear system: one solve, two products              |
