@@ -31,7 +31,7 @@
 //! implicit run, such as a saved gravity state) has no step behind it (κ_{n−1} = κ_n, Δt_n = 0);
 //! the IMPL-EX layout switches IMPL-EX on, with its history.
 
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
 use super::error::{check_len, ElementError};
 use crate::material::implex::{self, Extrapolated};
@@ -53,6 +53,11 @@ struct ImplexHistory {
     strains: Vec<f64>,
     /// The strains of the last evaluation.
     trial_strains: Vec<f64>,
+    /// The step's secants S (m × m per point, column-major), computed at a point's first
+    /// evaluation of the step (they depend on the extrapolated history and ε_n only).
+    secants: Vec<f64>,
+    /// Whether a point's secant is computed for this step.
+    secant_known: Vec<bool>,
 }
 
 impl ImplexHistory {
@@ -66,6 +71,8 @@ impl ImplexHistory {
             step: 0.0,
             extrapolated: committed.to_vec(),
             trial_strains: strains.clone(),
+            secants: vec![0.0; strain_len * strain_len * committed.len()],
+            secant_known: vec![false; committed.len()],
             strains,
         }
     }
@@ -77,6 +84,8 @@ struct ImplexUpdate<'a> {
     extrapolated: &'a [DamageState],
     strains: Option<&'a [f64]>,
     trial_strains: &'a mut [f64],
+    secants: &'a mut [f64],
+    secant_known: &'a mut [bool],
 }
 
 /// What an evaluation of a group of points reads (their committed states and, with IMPL-EX,
@@ -105,12 +114,17 @@ impl<'a> PointUpdate<'a> {
                 extrapolated: &x.extrapolated[range.clone()],
                 strains: x.strains.map(|s| &s[r.clone()]),
                 trial_strains: &mut x.trial_strains[r],
+                secants: &mut x.secants[range.start * strain_len * strain_len..range.end * strain_len * strain_len],
+                secant_known: &mut x.secant_known[range],
             }),
         }
     }
 
     /// The response of point `j` at `strain` under the law `eval(law, strain, history)`
-    /// (`material::implex::evaluate`); its trial state (and strain) written.
+    /// (`material::implex::evaluate`); its trial state (and strain) written. With the split
+    /// frozen, the point's secant is computed at its first evaluation of the step and kept, so
+    /// the later ones evaluate the law once (the implicit update), not twice; `side` is then the
+    /// implicit update's.
     #[inline]
     pub fn respond<const N: usize>(
         &mut self,
@@ -122,11 +136,25 @@ impl<'a> PointUpdate<'a> {
         let r = match &mut self.implex {
             None => eval(law, strain, &self.committed[j]),
             Some(x) => {
-                let at = x.strains.map(|s| SVector::<f64, N>::from_column_slice(&s[N * j..N * (j + 1)]));
-                let frozen = Extrapolated { history: &x.extrapolated[j], strain: at.as_ref() };
-                let r = implex::evaluate(law, &self.committed[j], strain, Some(frozen), eval);
                 x.trial_strains[N * j..N * (j + 1)].copy_from_slice(strain.as_slice());
-                r
+                match x.strains {
+                    None => {
+                        let frozen = Extrapolated { history: &x.extrapolated[j], strain: None };
+                        implex::evaluate(law, &self.committed[j], strain, Some(frozen), eval)
+                    }
+                    Some(strains) => {
+                        let cell = &mut x.secants[N * N * j..N * N * (j + 1)];
+                        if !x.secant_known[j] {
+                            let at = SVector::<f64, N>::from_column_slice(&strains[N * j..N * (j + 1)]);
+                            let s = eval(&law.with_frozen_history(), &at, &x.extrapolated[j]).secant;
+                            cell.copy_from_slice(s.as_slice());
+                            x.secant_known[j] = true;
+                        }
+                        let s = SMatrix::<f64, N, N>::from_column_slice(cell);
+                        let implicit = eval(law, strain, &self.committed[j]);
+                        Response { stress: s * strain, secant: s, tangent: s, ..implicit }
+                    }
+                }
             }
         };
         self.trial[j] = r.state;
@@ -179,6 +207,8 @@ impl PointStates {
             extrapolated: &x.extrapolated,
             strains: (x.last_step > 0.0).then_some(x.strains.as_slice()),
             trial_strains: &mut x.trial_strains,
+            secants: &mut x.secants,
+            secant_known: &mut x.secant_known,
         });
         PointUpdate { committed: &self.committed, trial: &mut self.trial, implex }
     }
@@ -202,6 +232,7 @@ impl PointStates {
             x.last_step = x.step;
             x.extrapolated.copy_from_slice(&self.trial);
             x.strains.copy_from_slice(&x.trial_strains);
+            x.secant_known.fill(false);
         }
         self.committed.copy_from_slice(&self.trial);
         self.dissipated = self.trial_dissipated;
@@ -244,6 +275,7 @@ impl PointStates {
         let Some(x) = &mut self.implex else { return };
         let ratio = if x.last_step > 0.0 { h / x.last_step } else { 0.0 };
         x.step = h;
+        x.secant_known.fill(false);
         for ((e, c), p) in x.extrapolated.iter_mut().zip(&self.committed).zip(&x.previous) {
             let previous = DamageState { kappa_t: p[0], kappa_c: p[1], ..DamageState::default() };
             *e = implex::extrapolate(law, c, &previous, ratio);

@@ -132,3 +132,38 @@ fn an_implicit_state_read_under_implex_has_no_step_behind_it() {
     assert_eq!(frozen_at(&mut s), None);
     assert_eq!(s.dissipated(), 1.0);
 }
+
+#[test]
+fn the_kept_secants_give_the_material_updates_response() {
+    // A plane-stress point cracked by an implicit step, then IMPL-EX steps: every evaluation's
+    // response equals `material::implex::update` at the same extrapolated history and committed
+    // strain bit for bit, the secant kept from the step's first evaluation and recomputed when
+    // the step (hence the extrapolation) or the committed strain changes.
+    use crate::material::{implex, plane_stress, PlaneStress};
+    use nalgebra::Vector3;
+    let law = law();
+    let eval = |l: &PointLaw, e: &Vector3<f64>, s: &DamageState| plane_stress::update(l, e, s);
+    let mut s = PointStates::new(1, 3);
+    let e0 = Vector3::new(3e-4, -0.5e-4, 1e-4);
+    s.for_update().respond(&law, 0, &e0, eval);
+    s.commit();
+    s.set_implex(true);
+    let mut at = e0;
+    for (k, h) in [0.01, 0.01, 0.02, 0.005].into_iter().enumerate() {
+        s.set_implex_step(&law, h);
+        let strains = [e0 * (1.1 + 0.2 * k as f64), Vector3::new(-2e-4, 1e-4, 3e-4), e0 * 0.5];
+        for e in &strains {
+            let got = s.for_update().respond(&law, 0, e, eval);
+            let x = extrapolated(&mut s).unwrap()[0];
+            let frozen = frozen_at(&mut s).map(|v| Vector3::from_column_slice(&v));
+            assert_eq!(frozen.is_some(), k > 0, "step {k}");
+            let want = implex::update::<3, PlaneStress>(&law, e, &s.committed()[0], &x, frozen.as_ref());
+            assert_eq!((got.stress, got.tangent, got.state), (want.stress, want.tangent, want.state), "step {k}");
+        }
+        s.for_update().respond(&law, 0, &strains[0], eval);
+        s.commit();
+        assert_ne!(at, strains[0]);
+        at = strains[0];
+        assert_eq!(frozen_at(&mut s).unwrap(), at.as_slice());
+    }
+}
