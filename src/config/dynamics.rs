@@ -14,6 +14,7 @@
 //! mass = "consistent"             # or "lumped"
 //! newton = "modified"             # tangent | modified | initial | krylov
 //! integration = "implicit"        # or "implex": the damage extrapolated (see IntegrationKind)
+//! # implex_split = "current"      # implex: the split at the step's strain, or "frozen"
 //! krylov_dimension = 3            # newton = "krylov": subspace size before a tangent refresh
 //! refresh_cost = 8                # newton = "krylov": extra iterations that pay for a fresh
 //!                                 # tangent at a step's start (0: at every step)
@@ -229,6 +230,9 @@ pub struct DynamicsConfig {
     /// How a step integrates the damage law (default `implicit`; [`IntegrationKind`]).
     #[serde(default)]
     pub integration: IntegrationKind,
+    /// With `integration = "implex"`: where the unilateral split of a step's stress is taken,
+    /// `current` (the default) or `frozen` (`material::implex::SplitAt`; [`IntegrationKind`]).
+    pub implex_split: Option<crate::material::implex::SplitAt>,
     /// With `newton = "krylov"`: corrections kept in the acceleration subspace before the
     /// tangent is refreshed (default 3, as OpenSees).
     #[serde(default = "three")]
@@ -379,6 +383,9 @@ fn check_iterations_and_output(src: &Source, d: &DynamicsConfig) -> Result<(), C
     let at = |k: &str| Seg::path(&["dynamics", k]);
     if d.max_iterations == 0 {
         return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
+    }
+    if d.integration == IntegrationKind::Implicit && d.implex_split.is_some() {
+        return Err(src.error_at(&at("implex_split"), "implex_split applies to integration = \"implex\" only"));
     }
     if d.integration == IntegrationKind::Implex && d.newton == NewtonKind::Initial {
         return Err(src.error_at(

@@ -48,3 +48,16 @@ fn implex_with_the_initial_stiffness_is_refused_at_the_newton_key() {
     assert!(e.contains("dynamics.newton") && e.contains("implex"), "{e}");
     assert!(load("integration = \"implicit\"\nnewton = \"initial\"").is_ok());
 }
+
+#[test]
+fn the_implex_split_is_read_and_refused_without_implex() {
+    use crate::material::implex::SplitAt;
+    let split = |extra: &str| load(extra).map(|j| j.spec.dynamics.unwrap().implex_split);
+    assert_eq!(split("integration = \"implex\"").unwrap(), None);
+    assert_eq!(split("integration = \"implex\"\nimplex_split = \"frozen\"").unwrap(), Some(SplitAt::Frozen));
+    assert_eq!(split("integration = \"implex\"\nimplex_split = \"current\"").unwrap(), Some(SplitAt::Current));
+    let e = split("implex_split = \"frozen\"").err().expect("refused");
+    assert!(e.contains("dynamics.implex_split") && e.contains("implex"), "{e}");
+    let e = split("integration = \"implex\"\nimplex_split = \"late\"").err().expect("refused");
+    assert!(e.contains("dynamics.implex_split") && e.contains("frozen"), "{e}");
+}

@@ -302,6 +302,7 @@ impl Element for FiberBeam3d {
     }
 
     fn commit(&mut self) {
+        self.settle_implex();
         self.states.commit();
     }
 
@@ -376,14 +377,25 @@ impl Element for FiberBeam3d {
         self.states.load(state)
     }
 
-    fn set_implex(&mut self, on: bool) {
-        self.states.set_implex(on);
+    fn set_implex(&mut self, split: Option<crate::material::implex::SplitAt>) {
+        self.states.set_implex(split);
     }
 
     fn set_implex_step(&mut self, h: f64) {
         if let FiberLaw::Damage(law) = &self.law {
             self.states.set_implex_step(law, h);
         }
+    }
+
+    /// Fiber i of Gauss point g (j = g n_f + i): the energy weighted by w_g L A_f as in
+    /// [`Self::evaluate`].
+    fn settle_implex(&mut self) {
+        let FiberLaw::Damage(law) = &self.law else { return };
+        let (nf, l, points, fibers) = (self.fibers.len(), self.frame.length(), &self.points, &self.fibers);
+        self.states.settle(|j, e, c| {
+            let r = Uniaxial::evaluate(law, &nalgebra::Vector1::new(e[0]), c);
+            (r.state, points[j / nf].0 * l * fibers[j % nf].area * r.dissipation)
+        });
     }
 }
 

@@ -204,17 +204,24 @@ pub trait Element: Debug {
     /// Elements without that law ignore it (the default).
     fn set_damage_relaxation(&mut self, _dt: f64, _tau: Option<f64>) {}
 
-    /// IMPL-EX (`material::implex`) on or off for the element's damage law: on, the element
-    /// keeps its points' committed histories one step back (the checkpoint layout grows by them,
+    /// IMPL-EX (`material::implex`) on, with the split of the steps' stress taken where
+    /// `split` says, or off (`None`) for the element's damage law: on, the element keeps its
+    /// points' committed histories one step back (the checkpoint layout grows by them,
     /// [`PointStates`]), and the stress of each step is computed from the extrapolated history
     /// once [`Element::set_implex_step`] has set the step. Off (the default of every element)
     /// is the implicit law. Elements without that law ignore it (the default).
-    fn set_implex(&mut self, _on: bool) {}
+    fn set_implex(&mut self, _split: Option<crate::material::implex::SplitAt>) {}
 
     /// With IMPL-EX on, the size `h` of the step the next evaluations belong to: the histories
     /// are extrapolated by the ratio of `h` to the last committed step's size. Elements without
     /// the damage law ignore it (the default).
     fn set_implex_step(&mut self, _h: f64) {}
+
+    /// With IMPL-EX on, the trial state of the last evaluation's strains, the implicit update
+    /// that evaluations with a frozen split leave for later ([`PointStates::settle`]). `commit`
+    /// calls it; the time history calls it before it measures [`Element::damage_increment`].
+    /// Nothing otherwise (the default).
+    fn settle_implex(&mut self) {}
 
     /// Switch the element's damage law to nonlocal driving strains (`material::nonlocal`), the
     /// softening regularized by `length` instead of the element size; returns the points whose

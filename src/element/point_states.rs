@@ -15,11 +15,17 @@
 //! step. [`PointStates::set_implex_step`]`(law, h)` computes, before the evaluations of a step of
 //! size h, every point's extrapolated history with the ratio h/Δt_n (0 while no step has been
 //! committed since IMPL-EX was switched on, so the first step uses the committed damage); the
-//! evaluations ([`PointUpdate::respond`]) take their stress from it with the split frozen at ε_n
-//! (not frozen on that first step: ε_n is known once a step is behind), their trial state from
-//! the implicit update, and record their strain. A commit shifts committed → previous, records
-//! Δt_n = h and ε_n; the extrapolated states are then reset to the committed ones until the next
-//! step sets them.
+//! evaluations ([`PointUpdate::respond`]) take their stress from it with the split at their own
+//! strain or frozen at ε_n (`material::implex::SplitAt`; not frozen on that first step: ε_n is
+//! known once a step is behind), and record their strain.
+//! A commit shifts committed → previous, records Δt_n = h and ε_n; the extrapolated states are
+//! then reset to the committed ones until the next step sets them.
+//!
+//! An IMPL-EX evaluation is the law at fixed damage (one law evaluation per point), or with the
+//! split frozen `S ε` with the point's secant S of the step (kept from its first evaluation);
+//! the trial state, the implicit update at the evaluated strain, is needed only for the step
+//! that converged: [`PointStates::settle`] computes it then, once per step instead of once per
+//! iteration, and the element calls it before it commits or measures its damage increment.
 //!
 //! # Checkpoint layout
 //! ```text
@@ -34,8 +40,8 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::{check_len, ElementError};
-use crate::material::implex::{self, Extrapolated};
-use crate::material::{DamageState, PointLaw, Response};
+use crate::material::implex::{self, SplitAt};
+use crate::material::{DamageState, PointLaw, Response, Side};
 
 /// The IMPL-EX part of the store (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -58,11 +64,15 @@ struct ImplexHistory {
     secants: Vec<f64>,
     /// Whether a point's secant is computed for this step.
     secant_known: Vec<bool>,
+    /// Whether the trial states wait for [`PointStates::settle`] (module docs).
+    pending: bool,
+    /// Where the split of the step's stress is taken.
+    split: SplitAt,
 }
 
 impl ImplexHistory {
     /// No step behind the committed states `committed` (`strain_len` strains per point).
-    fn starting_at(committed: &[DamageState], strain_len: usize) -> ImplexHistory {
+    fn starting_at(committed: &[DamageState], strain_len: usize, split: SplitAt) -> ImplexHistory {
         let previous = committed.iter().map(|s| [s.kappa_t, s.kappa_c]).collect();
         let strains = vec![0.0; strain_len * committed.len()];
         ImplexHistory {
@@ -74,6 +84,8 @@ impl ImplexHistory {
             secants: vec![0.0; strain_len * strain_len * committed.len()],
             secant_known: vec![false; committed.len()],
             strains,
+            pending: false,
+            split,
         }
     }
 }
@@ -86,6 +98,7 @@ struct ImplexUpdate<'a> {
     trial_strains: &'a mut [f64],
     secants: &'a mut [f64],
     secant_known: &'a mut [bool],
+    pending: &'a mut bool,
 }
 
 /// What an evaluation of a group of points reads (their committed states and, with IMPL-EX,
@@ -116,15 +129,17 @@ impl<'a> PointUpdate<'a> {
                 trial_strains: &mut x.trial_strains[r],
                 secants: &mut x.secants[range.start * strain_len * strain_len..range.end * strain_len * strain_len],
                 secant_known: &mut x.secant_known[range],
+                pending: &mut *x.pending,
             }),
         }
     }
 
     /// The response of point `j` at `strain` under the law `eval(law, strain, history)`
-    /// (`material::implex::evaluate`); its trial state (and strain) written. With the split
-    /// frozen, the point's secant is computed at its first evaluation of the step and kept, so
-    /// the later ones evaluate the law once (the implicit update), not twice; `side` is then the
-    /// implicit update's.
+    /// (`material::implex::evaluate`); its trial state (and strain) written. With IMPL-EX the
+    /// stress is the law's at fixed damage, at the step's strain or, frozen, `S ε` with the
+    /// point's secant S of the step (kept from its first evaluation); the implicit update waits
+    /// for [`PointStates::settle`]: the response's trial state is the committed one, its
+    /// dissipation 0 and `loading` false (module docs).
     #[inline]
     pub fn respond<const N: usize>(
         &mut self,
@@ -133,32 +148,30 @@ impl<'a> PointUpdate<'a> {
         strain: &SVector<f64, N>,
         eval: impl Fn(&PointLaw, &SVector<f64, N>, &DamageState) -> Response<N>,
     ) -> Response<N> {
-        let r = match &mut self.implex {
-            None => eval(law, strain, &self.committed[j]),
-            Some(x) => {
-                x.trial_strains[N * j..N * (j + 1)].copy_from_slice(strain.as_slice());
-                match x.strains {
-                    None => {
-                        let frozen = Extrapolated { history: &x.extrapolated[j], strain: None };
-                        implex::evaluate(law, &self.committed[j], strain, Some(frozen), eval)
-                    }
-                    Some(strains) => {
-                        let cell = &mut x.secants[N * N * j..N * N * (j + 1)];
-                        if !x.secant_known[j] {
-                            let at = SVector::<f64, N>::from_column_slice(&strains[N * j..N * (j + 1)]);
-                            let s = eval(&law.with_frozen_history(), &at, &x.extrapolated[j]).secant;
-                            cell.copy_from_slice(s.as_slice());
-                            x.secant_known[j] = true;
-                        }
-                        let s = SMatrix::<f64, N, N>::from_column_slice(cell);
-                        let implicit = eval(law, strain, &self.committed[j]);
-                        Response { stress: s * strain, secant: s, tangent: s, ..implicit }
-                    }
+        let Some(x) = &mut self.implex else {
+            let r = eval(law, strain, &self.committed[j]);
+            self.trial[j] = r.state;
+            return r;
+        };
+        x.trial_strains[N * j..N * (j + 1)].copy_from_slice(strain.as_slice());
+        self.trial[j] = self.committed[j];
+        *x.pending = true;
+        let stress = match x.strains {
+            None => eval(&law.with_frozen_history(), strain, &x.extrapolated[j]),
+            Some(strains) => {
+                let cell = &mut x.secants[N * N * j..N * N * (j + 1)];
+                if !x.secant_known[j] {
+                    let at = SVector::<f64, N>::from_column_slice(&strains[N * j..N * (j + 1)]);
+                    let s = eval(&law.with_frozen_history(), &at, &x.extrapolated[j]).secant;
+                    cell.copy_from_slice(s.as_slice());
+                    x.secant_known[j] = true;
                 }
+                let s = SMatrix::<f64, N, N>::from_column_slice(cell);
+                let (state, side) = (self.committed[j], Side::Tension);
+                Response { stress: s * strain, secant: s, tangent: s, state, dissipation: 0.0, side, loading: false }
             }
         };
-        self.trial[j] = r.state;
-        r
+        Response { state: self.committed[j], dissipation: 0.0, loading: false, ..stress }
     }
 }
 
@@ -205,10 +218,11 @@ impl PointStates {
     pub fn for_update(&mut self) -> PointUpdate<'_> {
         let implex = self.implex.as_mut().map(|x| ImplexUpdate {
             extrapolated: &x.extrapolated,
-            strains: (x.last_step > 0.0).then_some(x.strains.as_slice()),
+            strains: (x.split == SplitAt::Frozen && x.last_step > 0.0).then_some(x.strains.as_slice()),
             trial_strains: &mut x.trial_strains,
             secants: &mut x.secants,
             secant_known: &mut x.secant_known,
+            pending: &mut x.pending,
         });
         PointUpdate { committed: &self.committed, trial: &mut self.trial, implex }
     }
@@ -223,9 +237,32 @@ impl PointStates {
         self.trial_dissipated = self.dissipated + dissipation;
     }
 
-    /// Trial → committed (with IMPL-EX, committed → previous first).
+    /// With IMPL-EX and the split frozen, the trial states of the last evaluations: the implicit
+    /// update of every point at the strain it was last evaluated at, `update(j, strain,
+    /// committed)` giving its state and the energy it dissipates (J, weighted by the point's
+    /// volume). Nothing when no evaluation waits for it (module docs). An element calls it
+    /// before it commits and before it measures its damage increment.
+    pub fn settle(&mut self, mut update: impl FnMut(usize, &[f64], &DamageState) -> (DamageState, f64)) {
+        let Some(x) = &mut self.implex else { return };
+        if !x.pending {
+            return;
+        }
+        let m = self.strain_len;
+        let mut dissipation = 0.0;
+        for (j, (t, c)) in self.trial.iter_mut().zip(&self.committed).enumerate() {
+            let (s, d) = update(j, &x.trial_strains[m * j..m * (j + 1)], c);
+            *t = s;
+            dissipation += d;
+        }
+        self.trial_dissipated = self.dissipated + dissipation;
+        x.pending = false;
+    }
+
+    /// Trial → committed (with IMPL-EX, committed → previous first). The trial states must be
+    /// settled ([`Self::settle`]).
     pub fn commit(&mut self) {
         if let Some(x) = &mut self.implex {
+            debug_assert!(!x.pending, "an IMPL-EX commit of trial states not settled");
             for (p, c) in x.previous.iter_mut().zip(&self.committed) {
                 *p = [c.kappa_t, c.kappa_c];
             }
@@ -244,6 +281,7 @@ impl PointStates {
         self.trial_dissipated = self.dissipated;
         if let Some(x) = &mut self.implex {
             x.trial_strains.copy_from_slice(&x.strains);
+            x.pending = false;
         }
     }
 
@@ -252,14 +290,17 @@ impl PointStates {
         super::damage_increment(&self.trial, &self.committed)
     }
 
-    /// IMPL-EX on (the history starts at the committed states, no step behind them, unless it is
-    /// on already) or off (the history dropped).
-    pub fn set_implex(&mut self, on: bool) {
-        match (on, self.implex.is_some()) {
-            (true, false) if !self.is_empty() => {
-                self.implex = Some(ImplexHistory::starting_at(&self.committed, self.strain_len))
+    /// IMPL-EX on with the split taken where `split` says (the history starts at the committed
+    /// states, no step behind them, unless it is on already), or off (`None`: the history
+    /// dropped).
+    pub fn set_implex(&mut self, split: Option<SplitAt>) {
+        let empty = self.is_empty();
+        match (split, &mut self.implex) {
+            (Some(split), None) if !empty => {
+                self.implex = Some(ImplexHistory::starting_at(&self.committed, self.strain_len, split))
             }
-            (false, true) => self.implex = None,
+            (Some(split), Some(x)) => x.split = split,
+            (None, _) => self.implex = None,
             _ => {}
         }
     }
@@ -337,7 +378,8 @@ impl PointStates {
         }
         self.dissipated = state[DamageState::N_VALUES * n];
         if with_history || self.implex.is_some() {
-            let mut x = ImplexHistory::starting_at(&self.committed, self.strain_len);
+            let split = self.implex.as_ref().map_or(SplitAt::default(), |x| x.split);
+            let mut x = ImplexHistory::starting_at(&self.committed, self.strain_len, split);
             if with_history {
                 let tail = &state[Self::implicit_len(n)..];
                 for (chunk, p) in tail.chunks_exact(2).zip(x.previous.iter_mut()) {

@@ -6,8 +6,8 @@
 //! # The update of a point over the step n → n+1 (size Δt_{n+1})
 //! ```text
 //!   κ̃_{n+1} = κ_n + (Δt_{n+1}/Δt_n) (κ_n − κ_{n−1})        per side (t, c); κ ≥ ε₀ on both
-//!   S_{n+1}  = ∂σ/∂ε (ε_n; d(κ̃_{n+1}))                     the secant at the committed strain
-//!   σ_{n+1}  = S_{n+1} ε_{n+1},   C_{n+1} = S_{n+1}          the step's stress and tangent
+//!   current:  σ_{n+1} = σ(ε_{n+1}; d(κ̃_{n+1})),  C_{n+1} = ∂σ/∂ε there   (law at fixed damage)
+//!   frozen:   σ_{n+1} = S_{n+1} ε_{n+1},  C_{n+1} = S_{n+1},  S_{n+1} = ∂σ/∂ε (ε_n; d(κ̃_{n+1}))
 //!   κ_{n+1}  = max(κ_n, ε_eq(ε_{n+1}))                      the implicit update: committed
 //! ```
 //! κ never decreases, so κ̃ ≥ κ_n, and Δt_{n+1}/Δt_n = 0 (no earlier step, or its size unknown)
@@ -15,22 +15,28 @@
 //! ([`PointLaw::with_frozen_history`]): no damage grows inside the step, so there is no
 //! softening term.
 //!
-//! # The unilateral split frozen at the committed strain
+//! # Where the unilateral split is taken: [`SplitAt`]
 //! At fixed damage the law is still not linear: the paper's split switches between 1 − d_t and
 //! 1 − d_c with the sign of tr σ̃ (smoothed over a band of stress directions in plane stress,
 //! where the stress falls as the direction turns when d_t > d_c), the spectral split with the
-//! signs and directions of the principal strains. A step in which cracks open and close then
-//! needs Newton iterations again, and inside the plane-stress band their equilibrium can lose
-//! uniqueness: on the church, steps at fixed damage took 10 to 40 iterations and some failed.
-//! As OpenSees' ASDConcrete3D does with its stress decomposition (`-implex`), the split is
-//! therefore frozen too: the point's secant S at fixed damage is taken at its committed strain
-//! ε_n, where the law is homogeneous of degree 1 at fixed damage, σ(ε) = S(ε) ε for both
-//! splits, so S(ε_n) ε_n is the law's stress at ε_n exactly. The step's stress S_{n+1} ε is
-//! linear in ε, and its equilibrium is one linear system with a symmetric positive definite
-//! Jacobian: one Newton iteration. A crack that closes or opens within the step is seen one
-//! step late, an error of the same first order in Δt as the extrapolation. Without a committed
-//! strain (the first step after IMPL-EX is switched on) the stress is the law's at the
-//! extrapolated history, σ(ε_{n+1}; d(κ̃_{n+1})), whose tangent is its exact derivative.
+//! signs and directions of the principal strains.
+//! * `current`: the law's own split at the step's strain. With the spectral split the stress
+//!   at fixed damage derives from the potential ψ(ε; d̃), piecewise linear in the principal
+//!   strains: Newton needs a few iterations where cracks open or close, and a closed strain
+//!   cycle within a step does no work. With the paper's split a step in which points cross the
+//!   plane-stress band can need many (on the church, 10 to 40, some steps halved).
+//! * `frozen` (as OpenSees' ASDConcrete3D freezes its stress decomposition, `-implex`): the
+//!   point's secant S at fixed damage is taken at its committed strain ε_n. The law is
+//!   homogeneous of degree 1 at fixed damage, σ(ε) = S(ε) ε for both splits, so S(ε_n) ε_n is
+//!   its stress at ε_n exactly. The step's stress S_{n+1} ε is linear in ε and its equilibrium
+//!   one linear system with a symmetric positive definite Jacobian: one Newton iteration. A
+//!   crack that closes within the step is seen one step late: it carries the cracked stiffness
+//!   while it closes and the full one while it reopens, a cycle that returns more work than it
+//!   took (energy from nothing, in the `unilateral` column of the time history's balance),
+//!   which grows with the step and with the shaking.
+//!
+//! Without a committed strain (the first step after IMPL-EX is switched on) `frozen` takes the
+//! split at the step's strain as `current` does.
 //!
 //! The committed history is the implicit law's, from κ_n at the converged strain ε_{n+1}: the
 //! same state, damage and dissipation as the implicit update of [`super::state`] would give from
@@ -51,10 +57,12 @@
 //! An element keeps, per point, the committed state and strain and the state before, and the
 //! size of the step between them; before the evaluations of a step it computes [`extrapolate`]
 //! once per point, then [`evaluate`] gives each evaluation's response: the stress, secant and
-//! tangent of the extrapolated history with the split frozen at the committed strain, the trial
-//! state and dissipation of the implicit update.
+//! tangent of the extrapolated history with the split where [`SplitAt`] says, the trial state
+//! and dissipation of the implicit update (`element::PointStates` keeps the frozen secant of a
+//! step and computes the implicit update once, for the converged step).
 
 use nalgebra::SVector;
+use serde::{Deserialize, Serialize};
 
 use super::law::PointLaw;
 use super::response::{Response, StressState};
@@ -82,6 +90,30 @@ pub fn extrapolate(law: &PointLaw, committed: &DamageState, previous: &DamageSta
 #[inline]
 pub fn combine<const N: usize>(stress: Response<N>, history: Response<N>) -> Response<N> {
     Response { stress: stress.stress, secant: stress.secant, tangent: stress.tangent, side: stress.side, ..history }
+}
+
+/// Where the unilateral split of an IMPL-EX step's stress is taken (module docs): at the
+/// step's own strain (`current`: the law at the extrapolated damage, Newton iterates across
+/// crack closure) or at the committed strain (`frozen`: the step is linear, a crack is seen
+/// closing one step late).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SplitAt {
+    /// At the step's strain.
+    #[default]
+    Current,
+    /// At the committed strain.
+    Frozen,
+}
+
+impl SplitAt {
+    /// The job-file name of the variant.
+    pub fn name(&self) -> &'static str {
+        match self {
+            SplitAt::Current => "current",
+            SplitAt::Frozen => "frozen",
+        }
+    }
 }
 
 /// What the stress of an IMPL-EX step is computed from (module docs): the extrapolated

@@ -55,6 +55,8 @@ pub struct TimeHistorySummary {
     pub newton: String,
     /// How the steps integrate the damage law: `implicit` or `implex` (`stepper.rs`).
     pub integration: String,
+    /// With IMPL-EX, where the split of a step's stress is taken: `current` or `frozen`.
+    pub implex_split: Option<String>,
     /// Linear solver.
     pub solver: String,
     /// Time step [s].
@@ -231,7 +233,9 @@ pub fn run_from(
         }
     })?;
     // After gravity (implicit) or the restored state (either layout): the history starts here.
-    sys.set_implex(cfg.integration == crate::config::IntegrationKind::Implex);
+    let implex =
+        (cfg.integration == crate::config::IntegrationKind::Implex).then(|| cfg.implex_split.unwrap_or_default());
+    sys.set_implex(implex);
     let restart = matches!(start, Start::Restart);
     let first_step = state.step;
     let stem = if restart { format!("{RESULTS_STEM}-restart-{first_step:06}") } else { RESULTS_STEM.to_string() };
@@ -252,6 +256,7 @@ pub fn run_from(
     summary.rayleigh = [rayleigh.alpha, rayleigh.beta];
     summary.newton = format!("{:?}", cfg.newton).to_lowercase();
     summary.integration = cfg.integration.name().to_string();
+    summary.implex_split = implex.map(|s| s.name().to_string());
     Ok(summary)
 }
 

@@ -196,11 +196,12 @@ impl<'a> PetscSystem<'a> {
         })
     }
 
-    /// IMPL-EX on or off in every element (`Element::set_implex`): on, each keeps its
-    /// histories one step back from its committed state on.
-    pub fn set_implex(&mut self, on: bool) {
+    /// IMPL-EX on (with the split where `split` says) or off (`None`) in every element
+    /// (`Element::set_implex`): on, each keeps its histories one step back from its committed
+    /// state on.
+    pub fn set_implex(&mut self, split: Option<crate::material::implex::SplitAt>) {
         for e in self.disc.elements.iter_mut() {
-            e.set_implex(on);
+            e.set_implex(split);
         }
     }
 
@@ -513,6 +514,12 @@ impl DynamicSystem for PetscSystem<'_> {
     fn set_implex_step(&mut self, h: f64) {
         for e in self.disc.elements.iter_mut() {
             e.set_implex_step(h);
+        }
+    }
+
+    fn update_histories(&mut self) {
+        for e in self.disc.elements.iter_mut() {
+            e.settle_implex();
         }
     }
 

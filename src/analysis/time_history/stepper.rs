@@ -384,6 +384,9 @@ impl Stepper {
     ) -> bool {
         let limit = self.settings.max_damage_increment;
         let control = self.settings.damage_control(sys);
+        if control && self.settings.integration == IntegrationKind::Implex {
+            sys.update_histories();
+        }
         let increment = if control { sys.max_damage_increment() } else { 0.0 };
         if increment > limit {
             if sub.can_halve() {

@@ -81,6 +81,11 @@ pub trait DynamicSystem {
     /// extrapolates its damage histories by the ratio of `h` to the last committed step's size
     /// (`Element::set_implex_step`). Nothing for a system without damage (the default).
     fn set_implex_step(&mut self, _h: f64) {}
+    /// IMPL-EX: every element's trial state settled at the strains of its last evaluation (the
+    /// implicit update its frozen-split evaluations leave for later, `Element::settle_implex`),
+    /// before the damage increment is measured. Nothing for a system without damage (the
+    /// default).
+    fn update_histories(&mut self) {}
     /// Accepts the trial state of every element.
     fn commit(&mut self);
     /// Discards the trial state of every element.

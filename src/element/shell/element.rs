@@ -69,7 +69,7 @@ use crate::element::output::{prepare_matrix, prepare_vector};
 use crate::element::{
     AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind, NonlocalPoint, PointStates, PointUpdate,
 };
-use crate::material::{nonlocal, DamageState, MaterialError, PointLaw};
+use crate::material::{nonlocal, plane_stress, DamageState, MaterialError, PointLaw};
 
 /// α of the drilling stiffness k_δ = α G t (module docs).
 pub const DRILLING_FACTOR: f64 = 1e-2;
@@ -415,6 +415,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
     }
 
     fn commit(&mut self) {
+        self.settle_implex();
         self.states.commit();
     }
 
@@ -570,13 +571,29 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         }
     }
 
-    fn set_implex(&mut self, on: bool) {
-        self.states.set_implex(on);
+    fn set_implex(&mut self, split: Option<crate::material::implex::SplitAt>) {
+        self.states.set_implex(split);
     }
 
     fn set_implex_step(&mut self, h: f64) {
         if let SectionLaw::Damage(law) = &self.law {
             self.states.set_implex_step(law, h);
         }
+    }
+
+    /// Layer point j = p n_z + l: the law at its strain (nonlocal with its averages), the energy
+    /// weighted by w_p w_l as in [`Self::evaluate`].
+    fn settle_implex(&mut self) {
+        let SectionLaw::Damage(law) = &self.law else { return };
+        let (nz, points, weights) = (self.rule.len(), &self.points, self.rule.weights());
+        let (averaged, share) = (&self.averaged, &self.self_share);
+        self.states.settle(|j, e, c| {
+            let strain = Vector3::from_column_slice(e);
+            let r = match averaged.is_empty() {
+                true => plane_stress::update(law, &strain, c),
+                false => nonlocal::update(law, &strain, c, averaged[j], share[j]),
+            };
+            (r.state, points[j / nz].weight * weights[j % nz] * r.dissipation)
+        });
     }
 }
