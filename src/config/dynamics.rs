@@ -23,6 +23,8 @@
 //!                                 # (1.0, the default: no control; DEFAULT_MAX_DAMAGE_INCREMENT)
 //! output_every = 5                # steps between results (XDMF), CSV rows every step
 //! gravity_steps = 1               # load steps of the static gravity phase
+//! convergence = "church-convergence.json"  # a convergence study's band (scripts/convergence.py):
+//!                                 # the damage shares are reported with it (config::convergence)
 //! [dynamics.damping]              # Rayleigh C = α M + β K₀
 //! frequencies = [1.0, 10.0]       # [Hz] two frequencies with the same ratio ...
 //! ratio = 0.05
@@ -225,6 +227,13 @@ pub struct DynamicsConfig {
     /// Monitored nodes.
     #[serde(default)]
     pub monitor: Vec<MonitorConfig>,
+    /// A convergence study's band file (`scripts/convergence.py`'s `band.json`), relative to the
+    /// job file: the damage shares are reported with its band where its settings are this job's
+    /// (`config::convergence`).
+    pub convergence: Option<PathBuf>,
+    /// That file, read at load.
+    #[serde(skip)]
+    pub convergence_band: Option<super::convergence::ConvergenceBand>,
 }
 
 /// The default of `[dynamics] max_damage_increment`: 1.0, the control off. On the church's main
@@ -281,6 +290,13 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     check_damping(src, &d.damping)?;
     read_ground_motions(src, folder, d)?;
     check_monitors(src, &d.monitor)?;
+    if let Some(p) = &d.convergence {
+        let file = super::resolve(folder, p);
+        let band = super::convergence::ConvergenceBand::read(&file)
+            .map_err(|m| src.error_at(&Seg::path(&["dynamics", "convergence"]), m))?;
+        d.convergence = Some(file);
+        d.convergence_band = Some(band);
+    }
     let c = &d.checkpoint;
     if !(c.every_minutes.is_finite() && c.every_minutes >= 0.0) {
         return Err(src.error_at(&Seg::path(&["dynamics", "checkpoint", "every_minutes"]), "expected minutes >= 0"));

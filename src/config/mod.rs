@@ -9,6 +9,7 @@
 //! updating check is `validate.rs`'s.
 mod analysis;
 mod assessment;
+mod convergence;
 mod dem;
 mod dynamics;
 mod error;
@@ -28,6 +29,7 @@ mod validate;
 
 pub use analysis::*;
 pub use assessment::*;
+pub use convergence::{BandReport, ConvergenceBand};
 pub use dem::*;
 pub use dynamics::*;
 pub use error::{ConfigError, Location};
@@ -537,6 +539,22 @@ ksp_rtol = 1e-10
                 "{bad}: {e}"
             );
         }
+    }
+
+    /// `[dynamics] convergence`: a band file that cannot be read is refused at the key, with the
+    /// file named.
+    #[test]
+    fn a_missing_convergence_band_file_is_refused_at_its_key() {
+        let text = GOOD.replace("type = \"linear_static\"", "type = \"time_history\"")
+            + "[dynamics]\nduration = 1.0\ndt = 0.01\nconvergence = \"/nonexistent/band.json\"\n"
+            + "[[dynamics.ground_motion]]\ndirection = \"x\"\nsynthetic = \"vallorcine_like\"\n";
+        let row = text.lines().position(|l| l.starts_with("convergence")).unwrap() + 1;
+        let e = load_str(&text).err().expect("a missing band file is refused").to_string();
+        assert!(
+            e.contains(&format!(":{row}:1: key 'dynamics.convergence'"))
+                && e.contains("cannot read convergence band file /nonexistent/band.json"),
+            "{e}"
+        );
     }
 
     #[test]
