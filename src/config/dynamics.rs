@@ -21,6 +21,8 @@
 //! max_substeps = 4                # halvings of a failing step
 //! max_damage_increment = 0.1      # [-] largest d_t or d_c increment of a point in one substep
 //!                                 # (1.0, the default: no control; DEFAULT_MAX_DAMAGE_INCREMENT)
+//! damage_relaxation_time = 0.01   # [s] viscous (Duvaut-Lions) damage in the time history
+//!                                 # (default none: rate independent)
 //! output_every = 5                # steps between results (XDMF), CSV rows every step
 //! gravity_steps = 1               # load steps of the static gravity phase
 //! convergence = "church-convergence.json"  # a convergence study's band (scripts/convergence.py):
@@ -209,6 +211,12 @@ pub struct DynamicsConfig {
     /// [`DEFAULT_MAX_DAMAGE_INCREMENT`].
     #[serde(default = "default_max_damage_increment")]
     pub max_damage_increment: f64,
+    /// Relaxation time τ [s] of viscous (Duvaut–Lions) damage during the time history
+    /// (`material::state`): the damage histories relax towards the rate-independent value over
+    /// τ, which keeps the softening response unique (Needleman 1988) at the price of a
+    /// rate effect of order E τ ε̇ on the stress. None (the default): rate independent. The
+    /// gravity phase stays rate independent.
+    pub damage_relaxation_time: Option<f64>,
     /// Results every this many steps (default 1).
     #[serde(default = "one_usize")]
     pub output_every: usize,
@@ -290,6 +298,14 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     check_damping(src, &d.damping)?;
     read_ground_motions(src, folder, d)?;
     check_monitors(src, &d.monitor)?;
+    if let Some(tau) = d.damage_relaxation_time {
+        if !(tau.is_finite() && tau > 0.0) {
+            return Err(src.error_at(
+                &Seg::path(&["dynamics", "damage_relaxation_time"]),
+                format!("expected a relaxation time > 0 [s], got {tau}"),
+            ));
+        }
+    }
     if let Some(p) = &d.convergence {
         let file = super::resolve(folder, p);
         let band = super::convergence::ConvergenceBand::read(&file)

@@ -405,6 +405,7 @@ impl Stepper {
         h: f64,
     ) -> Attempt {
         let st = self.settings;
+        sys.set_step_size(h);
         let rhs_norm = match self.s.start_step(sys, ground, state, t1, h, st.scheme) {
             Ok(norm) => norm,
             Err(e) => return Attempt::Failed { iterations: 0, residual: f64::INFINITY, reason: e.to_string() },

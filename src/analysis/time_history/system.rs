@@ -77,6 +77,9 @@ pub trait DynamicSystem {
     fn max_damage_increment(&self) -> f64 {
         0.0
     }
+    /// Sets the size `h` of the (sub)step about to be solved, for laws whose update depends on
+    /// it (viscous damage, `[dynamics] damage_relaxation_time`); nothing by default.
+    fn set_step_size(&mut self, _h: f64) {}
     /// Accepts the trial state of every element.
     fn commit(&mut self);
     /// Discards the trial state of every element.
