@@ -2,7 +2,7 @@
 """Convergence of what the church job reports: time step, mesh and ranks (scripts/convergence.sh).
 
     python3 scripts/convergence.py [--job jobs/church.toml] [--out results/convergence]
-                                   [--only CASE ...] [--rerun] [--table-only]
+                                   [--only CASE ...] [--rerun] [--table-only] [--set KEY=VALUE]
 
 Two loadings of the same model, each run as derived job files (results/convergence/jobs/):
   code     the job as given (its record, its duration);
@@ -23,8 +23,12 @@ Reads each run's summary.json and writes into --out:
                       coarse against fine (reported, with what it shows)
   band.json         per loading, per substructure: |share(dt) - share(dt/4)| and |share(1 rank)
                     - share(2 ranks)|, with the settings they hold for; the job reads it through
-                    [output] convergence (jobs/church-convergence.json is the committed copy)
-A case whose summary.json exists is not run again (--rerun runs it again). Exit 1 when a
+                    [dynamics] convergence (--publish: jobs/church-convergence.json, and the
+                    table as docs/convergence.md)
+A case whose summary.json exists is not run again (--rerun runs it again). --set KEY=VALUE sets a
+[dynamics] key in every case, to study a setting before the job takes it (with its own --out).
+Needs the release build (cargo build --release). Time on 2 cores: about 2 hours in all, most of it
+the dt/4 runs and the fine mesh. Exit 1 when a
 comparison misses its band, 2 on bad input.
 """
 import argparse
@@ -86,7 +90,7 @@ def absolute_paths(text, job_dir):
         if os.path.isabs(p):
             return m.group(0)
         return f'{m.group(1)}"{os.path.normpath(os.path.join(job_dir, p))}"'
-    return re.sub(r'^(\s*(?:file|law_file|dir|target_shapes)\s*=\s*)"([^"]+)"', fix, text, flags=re.M)
+    return re.sub(r'^(\s*(?:file|law_file|dir|target_shapes|convergence)\s*=\s*)"([^"]+)"', fix, text, flags=re.M)
 
 
 def toml_float(x):
@@ -121,10 +125,12 @@ def cases():
     return out
 
 
-def derive(base_text, base, case, out, member_record, member_factor, member_duration):
-    """The job text of `case`."""
+def derive(base_text, base, case, out, member_record, member_factor, member_duration, sets=()):
+    """The job text of `case`, with the [dynamics] keys `sets` ((key, TOML literal) pairs)."""
     job_dir = os.path.dirname(os.path.abspath(base["path"]))
     t = absolute_paths(base_text, job_dir)
+    for k, v in sets:
+        t = set_key(t, "[dynamics]", k, v)
     dyn = base["dynamics"]
     dt = dyn["dt"] / case.dt_div
     t = set_key(t, "[dynamics]", "dt", toml_float(dt))
@@ -192,7 +198,16 @@ def diff(a, b):
     return worst
 
 
-def write_tables(out, rows, checks, machine):
+def git_commit():
+    try:
+        r = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+        dirty = subprocess.run(["git", "-C", ROOT, "diff", "--quiet", "HEAD", "--", "src"]).returncode != 0
+        return r.stdout.strip() + (" with uncommitted changes in src/" if dirty else "")
+    except OSError:
+        return "unknown"
+
+
+def write_tables(out, rows, checks, machine, loadings):
     groups = []
     for r in rows:
         for g in r["shares"]:
@@ -207,8 +222,13 @@ def write_tables(out, rows, checks, machine):
             fh.write(",".join([str(r[c]) for c in cols] +
                               [f"{r['shares'][g]:.4f}" if g in r["shares"] else "" for g in groups]) + "\n")
     md = [f"# Convergence of the church job's answers\n",
-          f"Written by scripts/convergence.py on {datetime.date.today()}, {machine}.",
-          "Shares: % of each substructure's shell area with d_t > 0.5 at the end of the run.\n"]
+          f"Written by `scripts/convergence.py` on {datetime.date.today()} (commit {git_commit()}), {machine}.",
+          "Shares: % of each substructure's shell area with d_t > 0.5 at the end of the run; seconds: "
+          "the whole job's wall time (modal analysis, updating, gravity, time history), as it ran, on a "
+          "machine that may have been shared: speed is measured by scripts/bench (docs/benchmarks.md).\n"]
+    for name, what in loadings.items():
+        md.append(f"* **{name}**: {what}")
+    md.append("")
     for loading in ("code", "member"):
         rs = [r for r in rows if r["loading"] == loading]
         if not rs:
@@ -291,6 +311,12 @@ def main():
     ap.add_argument("--rerun", action="store_true", help="run cases whose summary.json exists again")
     ap.add_argument("--table-only", action="store_true", help="run nothing: tables from what exists")
     ap.add_argument("--binary", default="target/release/masonry-hpc")
+    ap.add_argument("--publish", action="store_true",
+                    help="copy the table to docs/convergence.md and band.json beside the job "
+                         "(<job stem>-convergence.json, which the job names in [dynamics] convergence)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a [dynamics] key set in every case (e.g. max_damage_increment=0.2): to study a "
+                         "setting before it becomes the job's; use its own --out")
     a = ap.parse_args()
     os.chdir(ROOT)
     out = os.path.abspath(a.out)
@@ -304,6 +330,16 @@ def main():
     except (OSError, tomllib.TOMLDecodeError, KeyError) as e:
         fail(f"{a.job} / {a.sweep}: {e}")
     base["path"] = a.job
+    sets = []
+    for kv in a.set:
+        k, sep, v = kv.partition("=")
+        if not sep or not k.strip():
+            fail(f"--set {kv}: expected KEY=VALUE")
+        try:
+            base["dynamics"][k.strip()] = tomllib.loads(f"x = {v}")["x"]
+        except tomllib.TOMLDecodeError:
+            fail(f"--set {kv}: the value is not a TOML value")
+        sets.append((k.strip(), v.strip()))
     if "dynamics" not in base:
         fail(f"{a.job}: no [dynamics]")
     record = os.path.join(ROOT, "results/record-set-ec8/record-01.txt")
@@ -323,7 +359,7 @@ def main():
             if os.path.isfile(summary) and not a.rerun:
                 print(f"convergence: {c.name}: done before ({summary})")
                 continue
-            text = derive(base_text, base, c, out, record, factor, sweep.get("duration", 4.0))
+            text = derive(base_text, base, c, out, record, factor, sweep.get("duration", 4.0), sets)
             path = os.path.join(out, "jobs", f"{c.name}.toml")
             with open(path, "w") as fh:
                 fh.write(f"# Convergence case {c.name} of {a.job} (scripts/convergence.py); "
@@ -332,7 +368,10 @@ def main():
                     fh.write(f"# record 01 of the EC8 set scaled by {factor:.6f} to PGA {level:g} m/s^2\n")
                 fh.write(text)
             print(f"convergence: {c.name} on {c.ranks} rank(s) ...", flush=True)
-            env = dict(os.environ, OMPI_MCA_mpi_yield_when_idle="1")
+            # Ranks yield the core while they wait (a machine shared with other work), unless the
+            # caller says otherwise (0: they poll, and win the cores against niced work).
+            env = dict(os.environ)
+            env.setdefault("OMPI_MCA_mpi_yield_when_idle", "1")
             r = subprocess.run(["mpirun", "-n", str(c.ranks), a.binary, path], env=env,
                                stdout=open(os.path.join(out, "jobs", f"{c.name}.log"), "w"),
                                stderr=subprocess.STDOUT)
@@ -350,13 +389,26 @@ def main():
             if x in rows_by and y in rows_by:
                 d, g = diff(rows_by[x], rows_by[y])
                 checks.append({"loading": loading, "what": what, "diff": d, "group": g, "band": band})
-    write_tables(out, rows, checks, machine())
     job_dir = os.path.dirname(os.path.abspath(a.job))
     code_pga = max(record_pga(os.path.join(job_dir, g["file"])) * g.get("scale", 1.0)
                    * (9.81 if g.get("units") == "g" else 1.0) for g in base["dynamics"]["ground_motion"])
     member_pga = MEMBER_FACTOR * sweep["code_level"] * max(g.get("scale", 1.0) for g in base["dynamics"]["ground_motion"])
+    loadings = {
+        "code": f"{a.job} as given: its record, PGA {code_pga:.3g} m/s^2, its duration",
+        "member": f"EC8 record 01 (results/record-set-ec8/) scaled to PGA {member_pga:.3g} m/s^2, "
+                  f"{MEMBER_FACTOR:g} times the code level of {a.sweep}, for its first "
+                  f"{sweep.get('duration', 4.0):g} s, as a sweep member runs it",
+    }
+    write_tables(out, rows, checks, machine(), loadings)
     band_file(out, rows_by, base, a.job, {"code": code_pga, "member": member_pga})
     missed = [c for c in checks if c["band"] is not None and c["diff"] > c["band"]]
+    if a.publish:
+        import shutil
+        os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
+        shutil.copyfile(os.path.join(out, "convergence.md"), os.path.join(ROOT, "docs", "convergence.md"))
+        stem = os.path.splitext(a.job)[0]
+        shutil.copyfile(os.path.join(out, "band.json"), f"{stem}-convergence.json")
+        print(f"convergence: published docs/convergence.md and {stem}-convergence.json")
     sys.exit(1 if missed else 0)
 
 

@@ -84,6 +84,8 @@ fn write_job(dir: &Path, mesh: &Path) -> PathBuf {
             "existing = \"overwrite\"".to_string()
         } else if line.starts_with("law_file = ") {
             line.replace("\"../materials/", &format!("\"{}/materials/", root().display()))
+        } else if line.starts_with("convergence = ") {
+            line.replace("= \"", &format!("= \"{}/jobs/", root().display()))
         } else {
             line.to_string()
         };
