@@ -21,9 +21,9 @@ Writes into `<results>/pictures/` (or --out):
   envelope-drift.png       the peak drift ratio of envelopes.xdmf (when the folder has it)
   damage-by-substructure.csv  per state ("gravity": the first step, "end": the last) and
                            substructure (shells): area, area share with d_t > 0.05 and > 0.5,
-                           the latter's convergence band at the end (from summary.json, when the
-                           job's [dynamics] convergence applies; empty otherwise), largest d_t,
-                           area-weighted mean d_t (printed as well)
+                           largest d_t, area-weighted mean d_t (printed as well), and last the
+                           convergence band of the share above 0.5 at the end (from summary.json,
+                           when the job's [dynamics] convergence applies; empty otherwise)
 
 Needs modes.xdmf and results.xdmf (with their .h5) in the folder; a missing one is an error
 (exit 1) that names it. The XDMF files are read with ParaView's Xdmf3ReaderS, the reader
@@ -220,13 +220,13 @@ def main():
         with open(f, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["state", "substructure", "area_m2", "share_dt_above_0.05", "share_dt_above_0.5",
-                        "share_dt_above_0.5_band", "max_dt", "mean_dt"])
+                        "max_dt", "mean_dt", "share_dt_above_0.5_band"])
             bands = share_bands(os.path.join(res, "summary.json"))
             for state, table in (("gravity", gravity_rows), ("end", rows)):
                 for r in table:
                     band = f"{bands[r[0]]:.4f}" if state == "end" and r[0] in bands else ""
-                    w.writerow([state, r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}", band,
-                                f"{r[4]:.4f}", f"{r[5]:.4f}"])
+                    w.writerow([state, r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}",
+                                f"{r[4]:.4f}", f"{r[5]:.4f}", band])
         written.append(f)
         print("tensile damage by substructure (area share with d_t > 0.05 / > 0.5, max, area mean), "
               f"after gravity (t = {t0:g} s) | at t = {t:g} s:")
