@@ -24,7 +24,8 @@
 # Reproducible: the identification from its seeds writes both material files and the
 # sample curves again byte for byte; the summary says whether they equal the committed files.
 # Time on 2 cores (measured): identification 5-8 min, church and pictures 5 min, --compare
-# 3.6 min more; 13 min 36 s in all with --compare (2026-11-26).
+# 3.6 min more; 13 min 36 s in all with --compare (2026-11-26, before the spectral
+# identification joined the chain: about 30 s more).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 usage() { sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; }
