@@ -5,7 +5,7 @@
                                      [--material materials/rubble-identified.toml]
                                      [--timings results/chain/timings.json]
                                      [--church-log results/chain/church.log]
-                                     [--comparison results/church-comparison] [--out results/chain]
+                                     [--comparison results/church-comparison-assumed] [--out results/chain]
 
 Writes <out>/summary.md and <out>/summary.json:
   1. calibration against Table 1   <identify>/calibration.json: target, DEM mean +- std (n), error
@@ -293,7 +293,7 @@ def main():
     ap.add_argument("--material", default="materials/rubble-identified.toml")
     ap.add_argument("--timings", default="results/chain/timings.json")
     ap.add_argument("--church-log", default="results/chain/church.log")
-    ap.add_argument("--comparison", default="results/church-comparison")
+    ap.add_argument("--comparison", default="results/church-comparison-assumed")
     ap.add_argument("--out", default="results/chain")
     a = ap.parse_args()
 

@@ -1,50 +1,64 @@
 #!/usr/bin/env bash
-# The main job on the identified law against the same job on the assumed law, side by side.
-#   1. jobs/church.toml with its law files switched to materials/rubble-masonry.toml (the
-#      assumed alternative), on $NP ranks (default 2), into results/church-assumed/, and its
-#      pictures (scripts/post_church.sh);
-#   2. scripts/compare_church.py results/church results/church-assumed: the damage after gravity
-#      and at the end of the record in both runs, and the shares per substructure, in
-#      results/church-comparison/ (damage-side-by-side.png, comparison.csv).
+# The main job on its law against the same job on another law, side by side.
+#   1. jobs/church.toml with its law files switched to the other law, on $NP ranks (default 2),
+#      into results/church-<other>/, and its pictures (scripts/post_church.sh):
+#        --against trace     materials/rubble-identified.toml: the same identification under the
+#                            paper's unilateral split (split "trace"), which creates energy when
+#                            a crack closes under shear (the default)
+#        --against assumed   materials/rubble-masonry.toml: the assumed law (its header)
+#   2. scripts/compare_church.py results/church results/church-<other>: the damage after gravity
+#      and at the end of the record in both runs, the shares per substructure and the energy
+#      terms, in results/church-comparison-<other>/ (damage-side-by-side.png, comparison.csv,
+#      energy.csv).
 # results/church must hold the main job's results and pictures (scripts/run.sh).
 #
-# Usage: scripts/compare_laws.sh [--reuse]
-#   --reuse   keep results/church-assumed when it holds a finished run (summary.json)
-# Time on 2 cores: about 4 min for the assumed-law run and its pictures.
+# Usage: scripts/compare_laws.sh [--against trace|assumed] [--reuse]
+#   --reuse   keep results/church-<other> when it holds a finished run (summary.json)
+# Time on 2 cores: about 4 min for the other law's run and its pictures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-usage() { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; }
-reuse=0
-for a in "$@"; do
-  case "$a" in
+usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; }
+reuse=0 against=trace
+while [ $# -gt 0 ]; do
+  case "$1" in
     --reuse) reuse=1 ;;
+    --against) shift; against="${1:-}" ;;
     -h|--help) usage; exit 0 ;;
-    *) echo "compare_laws.sh: unknown option '$a'" >&2; usage >&2; exit 2 ;;
+    *) echo "compare_laws.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
   esac
+  shift
 done
+case "$against" in
+  trace) law=materials/rubble-identified.toml label="paper's split (trace)" ;;
+  assumed) law=materials/rubble-masonry.toml label="assumed law" ;;
+  *) echo "compare_laws.sh: --against expects trace or assumed, got '$against'" >&2; exit 2 ;;
+esac
+main_law=materials/rubble-identified-spectral.toml
+other=results/church-$against
 [ -f results/church/pictures/damage-by-substructure.csv ] || {
   echo "compare_laws.sh: results/church/pictures/damage-by-substructure.csv missing: run scripts/run.sh first" >&2; exit 1; }
 source scripts/env.sh
 cargo build --release --quiet
 
-if [ "$reuse" = 1 ] && [ -f results/church-assumed/summary.json ]; then
-  echo "compare_laws: reusing results/church-assumed"
+if [ "$reuse" = 1 ] && [ -f "$other/summary.json" ]; then
+  echo "compare_laws: reusing $other"
 else
   # The job beside jobs/church.toml, so that its relative paths hold; removed on exit.
-  job=jobs/.church-assumed-$$.toml
+  job=jobs/.church-$against-$$.toml
   trap 'rm -f "$job"' EXIT
-  sed -e 's#law_file = "../materials/rubble-identified.toml"#law_file = "../materials/rubble-masonry.toml"#' \
-      -e 's#dir = "../results/church"#dir = "../results/church-assumed"#' jobs/church.toml > "$job"
-  grep -q 'rubble-masonry.toml' "$job" && grep -q 'results/church-assumed' "$job" || {
-    echo "compare_laws.sh: jobs/church.toml's law_file or [output] dir changed: cannot derive the assumed-law job" >&2; exit 2; }
-  echo "compare_laws: jobs/church.toml on materials/rubble-masonry.toml, $NP rank(s) -> results/church-assumed"
+  sed -e "s#law_file = \"../$main_law\"#law_file = \"../$law\"#" \
+      -e "s#dir = \"../results/church\"#dir = \"../$other\"#" \
+      -e '/^convergence = /d' jobs/church.toml > "$job"
+  grep -q "$law" "$job" && grep -q "$other" "$job" || {
+    echo "compare_laws.sh: jobs/church.toml's law_file ($main_law) or [output] dir changed: cannot derive the other law's job" >&2; exit 2; }
+  echo "compare_laws: jobs/church.toml on $law, ${NP:-2} rank(s) -> $other"
   OMPI_MCA_mpi_yield_when_idle=1 mpirun -n "${NP:-2}" target/release/masonry-hpc "$job"
 fi
-bash scripts/post_church.sh results/church-assumed
+bash scripts/post_church.sh "$other"
 py=""
 for p in python3 /usr/bin/python3; do
   if command -v "$p" >/dev/null 2>&1 && "$p" -c "import matplotlib" 2>/dev/null; then py="$p"; break; fi
 done
 [ -n "$py" ] || { echo "compare_laws.sh: no Python with matplotlib (scripts/setup.sh --paraview)" >&2; exit 1; }
-"$py" scripts/compare_church.py results/church results/church-assumed \
-  --labels "identified law" "assumed law" --out results/church-comparison
+"$py" scripts/compare_church.py results/church "$other" \
+  --labels "spectral split (main job)" "$label" --out "results/church-comparison-$against"

@@ -25,7 +25,7 @@ Axes: x along the nave axis from the entrance facade (x = 0) to the east end, y 
 the tower side, north), z up from the nave floor. Metres. All dimensions are those of the wall
 MID-SURFACES (the shells' reference planes), not of the clear interior.
 
-ASSUMED DIMENSIONS. The paper (and SPEC §8) publishes none; they are assumed from the paper's
+ASSUMED DIMENSIONS. The paper (and paper §4) publishes none; they are assumed from the paper's
 description, typical Savoyard baroque churches of this size and the site's photographs:
 
   Nave (single nave, four bays)

@@ -21,7 +21,9 @@ Writes into `<results>/pictures/` (or --out):
   envelope-drift.png       the peak drift ratio of envelopes.xdmf (when the folder has it)
   damage-by-substructure.csv  per state ("gravity": the first step, "end": the last) and
                            substructure (shells): area, area share with d_t > 0.05 and > 0.5,
-                           largest d_t, area-weighted mean d_t (printed as well)
+                           largest d_t, area-weighted mean d_t (printed as well), and last the
+                           convergence band of the share above 0.5 at the end (from summary.json,
+                           when the job's [dynamics] convergence applies; empty otherwise)
 
 Needs modes.xdmf and results.xdmf (with their .h5) in the folder; a missing one is an error
 (exit 1) that names it. The XDMF files are read with ParaView's Xdmf3ReaderS, the reader
@@ -72,6 +74,19 @@ def find_frequencies(summary, updated):
         path, f = picks[0]
         return f, ".".join(path)
     return [], None
+
+
+def share_bands(summary):
+    """The convergence band of each substructure's share with d_t > 0.5 at the end, from
+    summary.json (time_history.damage_by_group[].share_dt_band, written when the job's
+    [dynamics] convergence applies): {group: band}, empty when there is none."""
+    try:
+        with open(summary) as f:
+            s = json.load(f)
+    except (OSError, ValueError):
+        return {}
+    th = s.get("time_history") or s.get("stages", {}).get("time_history") or {}
+    return {g["group"]: g["share_dt_band"] for g in th.get("damage_by_group", []) if "share_dt_band" in g}
 
 
 def damage_table(src, field, names, path):
@@ -204,10 +219,14 @@ def main():
         f = os.path.join(out, "damage-by-substructure.csv")
         with open(f, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(["state", "substructure", "area_m2", "share_dt_above_0.05", "share_dt_above_0.5", "max_dt", "mean_dt"])
+            w.writerow(["state", "substructure", "area_m2", "share_dt_above_0.05", "share_dt_above_0.5",
+                        "max_dt", "mean_dt", "share_dt_above_0.5_band"])
+            bands = share_bands(os.path.join(res, "summary.json"))
             for state, table in (("gravity", gravity_rows), ("end", rows)):
                 for r in table:
-                    w.writerow([state, r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}", f"{r[4]:.4f}", f"{r[5]:.4f}"])
+                    band = f"{bands[r[0]]:.4f}" if state == "end" and r[0] in bands else ""
+                    w.writerow([state, r[0], f"{r[1]:.4g}", f"{r[2]:.4f}", f"{r[3]:.4f}",
+                                f"{r[4]:.4f}", f"{r[5]:.4f}", band])
         written.append(f)
         print("tensile damage by substructure (area share with d_t > 0.05 / > 0.5, max, area mean), "
               f"after gravity (t = {t0:g} s) | at t = {t:g} s:")

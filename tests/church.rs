@@ -84,6 +84,8 @@ fn write_job(dir: &Path, mesh: &Path) -> PathBuf {
             "existing = \"overwrite\"".to_string()
         } else if line.starts_with("law_file = ") {
             line.replace("\"../materials/", &format!("\"{}/materials/", root().display()))
+        } else if line.starts_with("convergence = ") {
+            line.replace("= \"", &format!("= \"{}/jobs/", root().display()))
         } else {
             line.to_string()
         };
@@ -194,7 +196,9 @@ fn church_job_checks_and_bad_updating_input_is_located() {
         "{e}"
     );
     // A seismic assessment without [dynamics].
-    let cut = text[..text.find("[dynamics]").unwrap()].to_string() + &text[text.find("[output]").unwrap()..];
+    // (the tables' header lines, not their names in the header's comments)
+    let table = |name: &str| text.find(&format!("\n{name}\n")).unwrap() + 1;
+    let cut = text[..table("[dynamics]")].to_string() + &text[table("[output]")..];
     let job2 = dir.join("no-dynamics.toml");
     std::fs::write(
         &job2,

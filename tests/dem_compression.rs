@@ -1,4 +1,4 @@
-//! Why the paper's wall has no compressive peak in the SPEC §1 lattice model (a regression test of
+//! Why the paper's wall has no compressive peak in the paper §2.1 lattice model (a regression test of
 //! the mechanism, not of a number).
 //!
 //! Uniaxial compression between bonded platens (the default `[test] type = "compression"`): the

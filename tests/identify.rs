@@ -1,4 +1,4 @@
-//! The identification job through the whole program (SPEC §3): the damage law recovered from
+//! The identification job through the whole program (paper §3.2): the damage law recovered from
 //! curves the law itself produced; the DEM calibrated against numbers the DEM itself produced;
 //! the chain on a tiny wall under `mpirun -n 2`; the committed law of the paper's wall
 //! (`materials/rubble-identified.toml`) again from its run's saved sample curves; bad input.
@@ -407,7 +407,7 @@ fn chain_on_a_tiny_wall_records_consistent_numbers_and_a_rank_independent_design
     let cal = &summaries[0]["calibration"];
     // Stage 1 (staged, the default) finds the truth's elastic parameters: ν̄ within its
     // tolerance 1e-3 relative of the truth's (same samples), so α within 1e-3 ν / |dν/dα|
-    // ≈ 1e-3 · 0.13 / 0.12 ≈ 1.1e-3 of 0.8 (README table: dν/dα ≈ −0.12 near α = 0.8, ν 0.13);
+    // ≈ 1e-3 · 0.13 / 0.12 ≈ 1.1e-3 of 0.8 (docs/dem-elastic-constants.md: dν/dα ≈ −0.12 near α = 0.8, ν 0.13);
     // Ē within |d ln ḡ/dα| · 1.1e-3 ≈ 0.25 · 1.1e-3 ≈ 3e-4 of 2.5 GPa, with E met exactly.
     assert_eq!(cal["strategy"], "staged");
     let el = &cal["elastic"];
@@ -485,7 +485,8 @@ fn committed_wall_law_is_refitted_from_its_saved_sample_curves() {
 
 #[test]
 fn committed_spectral_wall_law_is_refitted_from_its_saved_sample_curves() {
-    // The spectral split's law (jobs/identify-wall-spectral.toml) from the same sample curves.
+    // The spectral split's law (jobs/identify-wall-spectral.toml) and its two variants on halves
+    // of the samples (the sweep's materials), from the same sample curves.
     refit_committed_law(
         "jobs/identify-wall-spectral.toml",
         "materials/rubble-identified-spectral.toml",
@@ -508,6 +509,11 @@ fn refit_committed_law(job: &str, material: &str, scratch_name: &str) {
     job.remove("calibration");
     let l = job.get_mut("law").and_then(|l| l.as_table_mut()).expect("[law] in the job");
     l.remove("material_file");
+    // Variants are checked against their committed copies below, not written over them.
+    let variants = l.get_mut("variants").and_then(|v| v.as_table_mut()).map(|v| {
+        v.remove("material_file");
+        v["count"].as_integer().unwrap() as usize
+    });
     let data = root.join("tests/data/identify-wall");
     let mut files = toml::Table::new();
     for side in ["tension", "compression"] {
@@ -537,6 +543,17 @@ fn refit_committed_law(job: &str, material: &str, scratch_name: &str) {
         }
     }
     assert_eq!(law.len(), refit.len(), "committed {law:?}\nrefitted {refit:?}");
+    for k in 1..=variants.unwrap_or(0) {
+        let stem = material.trim_end_matches(".toml");
+        let committed = read_toml(&root.join(format!("{stem}-variant-{k}.toml")));
+        let refit = read_toml(&dir.join(format!("out/material-variant-{k}.toml")));
+        assert_same_law(
+            committed["law"].as_table().unwrap(),
+            refit["law"].as_table().unwrap(),
+            1e-6,
+            &format!("{stem} variant {k}"),
+        );
+    }
 }
 
 /// The committed sample curves of the paper's wall (`tests/data/identify-wall/`, 4 samples per

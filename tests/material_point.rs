@@ -1,5 +1,5 @@
 //! The material-point job through the whole program: the curve against the closed form of the
-//! law (SPEC §2), the pictures, and bad input — alone and under `mpirun -n 2`.
+//! law (paper §3.1), the pictures, and bad input — alone and under `mpirun -n 2`.
 mod common;
 use common::*;
 use std::path::{Path, PathBuf};
@@ -33,7 +33,7 @@ fn read_csv(file: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
 
 #[test]
 fn uniaxial_tension_follows_the_closed_form() {
-    // Closed form (SPEC §2, uniaxial stress, Hillerborg B_t = f_t h / G_f):
+    // Closed form (paper §3.1, uniaxial stress, Hillerborg B_t = f_t h / G_f):
     //   σ = E ε up to ε₀;  σ = E ε₀ exp(−B_t (ε − ε₀)) after.  Tolerance 1e-9 relative
     //   (the driver's Newton tolerance on the free stress components is 1e-12).
     for np in [0, 2] {

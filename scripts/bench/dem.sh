@@ -3,7 +3,7 @@
 #  (a) 32 tension tests of the paper's wall as one batch on 2 ranks (the paper: about 2 hours
 #      for 32): seconds and the ratio paper/ours (target: under 10 s);
 #  (b) compression of random samples of 1k, 10k and 50k stones on one core to the maximum
-#      strain (SPEC's model has no compressive peak for random samples; see below):
+#      strain (the paper's model has no compressive peak for random samples; see below):
 #      seconds, events, events per second, peak memory (VmHWM), how the test ended, the solver's
 #      profile (examples/dem_profile.rs), or how far it got when the time limit stopped it;
 #      beside it one sparse factorization of the same operator alone
@@ -203,7 +203,7 @@ for item in $(for s in $SIZES; do echo "compression:$s"; done; for s in $TENSION
   # The same test as a job file `[test] type = "compression", max_strain = 2e-3, steps = 40` on
   # `layout = { type = "random", n_particles = N }` (seed 7), run by examples/dem_profile.rs so
   # the line carries the solver's profile and, when the time limit stops it, how far it got.
-  # SPEC's model has no compressive peak for random samples (no crushing): "post-peak" here
+  # The paper's model has no compressive peak for random samples (no crushing): "post-peak" here
   # means the configured maximum strain, 2e-3, far past the first cracks (about 0.2e-3).
   # The tension test (`max_strain = 4e-4`, dem_profile's negative strain) has a peak: the
   # sample splits, and the run ends on loss of load (below 5 % of the peak) well before 4e-4.

@@ -4,7 +4,7 @@
     scripts/bench/dem_breaks_compare.py CASE EXACT_DIR APPROX_DIR [--peak-tol 0.02] [--energy-tol 0.05]
 
 EXACT_DIR and APPROX_DIR are the output directories of the same job run with
-`[analysis] breaks_per_equilibrium = 1` (the algorithm of SPEC §1) and `= n`. For each sample it
+`[analysis] breaks_per_equilibrium = 1` (the algorithm of paper §2.1) and `= n`. For each sample it
 reads the peak |stress| and the strain at the peak from `summary.json` (the samples counted in
 both runs: a sample stopped before its peak is left out), and the dissipated
 energy (fracture + friction + relaxation + crushing, the last row of `sample-KKK/curve.csv`).

@@ -346,6 +346,17 @@ pub fn lowest_eigenpairs(
     lanczos(ctx, k, m, nev, diagonal_mass, b, (2 * nev + 4 * b).max(12 * b).max(48))
 }
 
+/// The shift-invert solver: K factored once by MUMPS Cholesky (options prefix `modal_`).
+fn cholesky_solver(ctx: &Context, k: &Matrix) -> Result<Ksp, Error> {
+    let mut ksp = Ksp::new(&ctx.comm, "modal_")?;
+    ksp.set_operators(k)?;
+    ksp.set_type("preonly")?;
+    ksp.set_pc_type("cholesky")?;
+    ksp.set_factor_solver("mumps")?;
+    ksp.set_from_options()?;
+    Ok(ksp)
+}
+
 /// [`lowest_eigenpairs`] with blocks of `b` vectors and at most `max_basis` basis vectors.
 fn lanczos(
     ctx: &Context,
@@ -360,12 +371,7 @@ fn lanczos(
     let n = hi - lo;
     let n_global = k.size_global();
     let mass = if diagonal_mass { Mass::Diagonal(m.get_diagonal()?.owned_values()?) } else { Mass::Sparse(m) };
-    let mut ksp = Ksp::new(&ctx.comm, "modal_")?;
-    ksp.set_operators(k)?;
-    ksp.set_type("preonly")?;
-    ksp.set_pc_type("cholesky")?;
-    ksp.set_factor_solver("mumps")?;
-    ksp.set_from_options()?;
+    let mut ksp = cholesky_solver(ctx, k)?;
 
     let cap = n * (max_basis + b);
     let mut basis = Basis {

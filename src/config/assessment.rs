@@ -1,6 +1,6 @@
 //! `[analysis] type = "seismic_assessment"`: the church job's chain in one run — modal analysis of
 //! the elastic model, modal updating of substructure moduli to target frequencies, then gravity
-//! and the earthquake of `[dynamics]` on the updated model (SPEC §4).
+//! and the earthquake of `[dynamics]` on the updated model (paper §4.2).
 //!
 //! ```toml
 //! [analysis]

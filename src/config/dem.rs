@@ -37,7 +37,7 @@ pub struct DemAnalysis {
     /// steps, the first crack, the peak and the last state; see `dem::solver::snapshots`).
     #[serde(default)]
     pub particle_states: crate::dem::solver::ParticleStates,
-    /// Beams broken together before one re-equilibration (default 1: SPEC §1's exact
+    /// Beams broken together before one re-equilibration (default 1: paper §2.1's exact
     /// algorithm). More is an approximation for large samples
     /// (`dem::solver::SolverOptions::breaks_per_equilibrium`); the summary says so.
     #[serde(default = "one")]
@@ -58,7 +58,7 @@ fn one() -> usize {
     1
 }
 
-/// `[mechanics]`: the lattice's parameters (SPEC §1). Defaults are the paper's set
+/// `[mechanics]`: the lattice's parameters (paper §2.1). Defaults are the paper's set
 /// (Ē = 2.5 GPa, ε_cr = 1e-4, θ_cr = 7e-4, μ = 0.6); α is in `[sample]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
@@ -73,9 +73,9 @@ pub struct MechanicsConfig {
     pub mu: f64,
     /// Tangential over normal contact stiffness.
     pub kt_over_kn: f64,
-    /// Crushing stress σ_c [Pa] (an extension of SPEC §1, `dem::mechanics::crushing`): beams
+    /// Crushing stress σ_c [Pa] (an extension of paper §2.1, `dem::mechanics::crushing`): beams
     /// crush when their compressive stress reaches it, contact pressures are bounded by it and
-    /// soften. Absent (default): SPEC §1's model, no compressive failure.
+    /// soften. Absent (default): paper §2.1's model, no compressive failure.
     pub crushing_stress: Option<f64>,
     /// Crushing fracture energy G_c [J/m² of contact area], the area under the contact's linear
     /// softening (plastic penetration at full crushing 2 G_c/σ_c); required with

@@ -1,4 +1,4 @@
-//! The job file of an identification (SPEC §3): (a) calibrate the DEM against experimental
+//! The job file of an identification (paper §3.2): (a) calibrate the DEM against experimental
 //! numbers, (b) identify the damage law from the DEM's virtual tests, or both in a chain.
 //! A stage runs when its table is present; with both, (b) uses the DEM calibrated by (a).
 //!
@@ -168,7 +168,7 @@ pub struct CalibrationConfig {
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ElasticSource {
-    /// `[experiment]` young_modulus and poisson (SPEC §3b; else the DEM's means).
+    /// `[experiment]` young_modulus and poisson (paper §3.2b; else the DEM's means).
     #[default]
     Experiment,
     /// The virtual tests' mean initial modulus and Poisson ratio, so the law's elastic branch
@@ -248,7 +248,7 @@ pub struct LawIdentConfig {
     pub split: crate::material::Split,
     /// Element size of the comparison [m]; default the sample height.
     pub element_size: Option<f64>,
-    /// Where E and ν come from when not given here (default: the experiment, SPEC §3b).
+    /// Where E and ν come from when not given here (default: the experiment, paper §3.2b).
     #[serde(default)]
     pub elastic: ElasticSource,
     /// E [Pa]; default per `elastic`.

@@ -77,7 +77,7 @@ pub struct MeshConfig {
 pub enum MaterialConfig {
     /// Isotropic linear elasticity.
     Elastic(ElasticMaterial),
-    /// The masonry damage law (SPEC §2), for shell layers and beam fibers.
+    /// The masonry damage law (paper §3.1), for shell layers and beam fibers.
     Damage(DamageMaterial),
 }
 
@@ -100,7 +100,7 @@ impl MaterialConfig {
 
     /// The material with `E ← s E` (and `G ← s G` when given): the whole elastic stiffness
     /// scaled by `s`, the Poisson ratio held. A damage law keeps its strain thresholds, so its
-    /// strengths (f_t = E ε₀ᵗ) scale with it (modal updating, SPEC §4.2).
+    /// strengths (f_t = E ε₀ᵗ) scale with it (modal updating, paper §4.2).
     pub fn with_modulus_scaled(&self, s: f64) -> MaterialConfig {
         let mut m = self.clone();
         match &mut m {

@@ -9,6 +9,7 @@
 //! updating check is `validate.rs`'s.
 mod analysis;
 mod assessment;
+mod convergence;
 mod dem;
 mod dynamics;
 mod error;
@@ -28,6 +29,7 @@ mod validate;
 
 pub use analysis::*;
 pub use assessment::*;
+pub use convergence::{BandReport, BandSettings, ConvergenceBand};
 pub use dem::*;
 pub use dynamics::*;
 pub use error::{ConfigError, Location};
@@ -537,6 +539,28 @@ ksp_rtol = 1e-10
                 "{bad}: {e}"
             );
         }
+    }
+
+    /// `[dynamics] convergence`: a band file that cannot be read is refused at the key, with the
+    /// file named; a `damage_relaxation_time` <= 0 at its key.
+    #[test]
+    fn a_missing_convergence_band_file_and_a_bad_relaxation_time_are_refused_at_their_keys() {
+        let text = GOOD.replace("type = \"linear_static\"", "type = \"time_history\"")
+            + "[dynamics]\nduration = 1.0\ndt = 0.01\nconvergence = \"/nonexistent/band.json\"\n"
+            + "[[dynamics.ground_motion]]\ndirection = \"x\"\nsynthetic = \"vallorcine_like\"\n";
+        let row = text.lines().position(|l| l.starts_with("convergence")).unwrap() + 1;
+        let e = load_str(&text).err().expect("a missing band file is refused").to_string();
+        let bad = text.replace("convergence = \"/nonexistent/band.json\"", "damage_relaxation_time = -1.0");
+        let e2 = load_str(&bad).err().expect("a negative relaxation time is refused").to_string();
+        assert!(
+            e2.contains(&format!(":{row}:1: key 'dynamics.damage_relaxation_time'")) && e2.contains("> 0 [s]"),
+            "{e2}"
+        );
+        assert!(
+            e.contains(&format!(":{row}:1: key 'dynamics.convergence'"))
+                && e.contains("cannot read convergence band file /nonexistent/band.json"),
+            "{e}"
+        );
     }
 
     #[test]

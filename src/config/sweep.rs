@@ -219,197 +219,221 @@ impl SweepJob {
         // Absolute: the members' job files live in another folder.
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let folder = absolute(&folder);
-        let c = &spec.sweep;
-        let err = |keys: &[&str], msg: String| source.error_at(&at(keys), msg);
-        if spec.analysis.group_size == 0 {
-            return Err(source.error_at(
-                &[Seg::key("analysis"), Seg::key("group_size")],
-                "expected at least 1 rank per group".to_string(),
-            ));
-        }
-        if c.intensities.is_empty() {
-            return Err(err(&["intensities"], "give at least one intensity [m/s^2]".into()));
-        }
-        for (i, &x) in c.intensities.iter().enumerate() {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(source.error_at(
-                    &[Seg::key("sweep"), Seg::key("intensities"), Seg::Index(i)],
-                    format!("expected an intensity > 0 [m/s^2], got {x}"),
-                ));
-            }
-        }
-        if c.intensities.windows(2).any(|w| w[1] <= w[0]) {
-            return Err(err(&["intensities"], "expected intensities in increasing order, each once".into()));
-        }
-        let period = match (c.scale_by, c.period) {
-            (IntensityMeasure::SaT1, None) => {
-                return Err(err(&["period"], "scale_by = \"sa_t1\" needs period = T1 [s]".into()))
-            }
-            (_, Some(t)) if !(t.is_finite() && t > 0.0) => {
-                return Err(err(&["period"], format!("expected T1 > 0 [s], got {t}")))
-            }
-            (_, p) => p,
-        };
-        if let Some(x) = c.code_level {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(err(&["code_level"], format!("expected a code level > 0 [m/s^2], got {x}")));
-            }
-        }
-        if let Some(d) = c.duration {
-            if !(d.is_finite() && d > 0.0) {
-                return Err(err(&["duration"], format!("expected a duration > 0 [s], got {d}")));
-            }
-        }
-        if !(c.threshold > 0.0 && c.threshold < 1.0) {
-            return Err(err(&["threshold"], format!("expected a damage threshold in (0, 1), got {}", c.threshold)));
-        }
-        for (i, l) in c.limit.iter().enumerate() {
-            if !(l.share > 0.0 && l.share <= 1.0) {
-                return Err(source.error_at(
-                    &[Seg::key("sweep"), Seg::key("limit"), Seg::Index(i), Seg::key("share")],
-                    format!("expected a share in (0, 1], got {}", l.share),
-                ));
-            }
-        }
-
-        // The base job.
-        let base_at = [Seg::key("analysis"), Seg::key("job")];
-        let base_file = super::resolve(&folder, &spec.analysis.job);
-        let base_text = std::fs::read_to_string(&base_file)
-            .map_err(|e| source.error_at(&base_at, format!("cannot read the base job {}: {e}", base_file.display())))?;
-        let base = Job::load(&base_file).map_err(|e| source.error_at(&base_at, format!("the base job: {e}")))?;
-        use super::AnalysisConfig as A;
-        if !matches!(base.spec.analysis, A::TimeHistory | A::SeismicAssessment(_)) {
-            return Err(source.error_at(
-                &base_at,
-                format!("the base job {} must be a time_history or seismic_assessment job", base_file.display()),
-            ));
-        }
-        let dynamics =
-            base.spec.dynamics.as_ref().ok_or_else(|| source.error_at(&base_at, "the base job has no [dynamics]"))?;
-        if dynamics.ground_motion.iter().any(|g| g.record.is_none()) {
-            return Err(
-                source.error_at(&base_at, "every [[dynamics.ground_motion]] of the base job must name a record")
-            );
-        }
-        if limit_group_missing(&base, c) {
-            let names: Vec<&str> = base.spec.parts.iter().map(|p| p.group.as_str()).collect();
-            let i = c.limit.iter().position(|l| !names.contains(&l.group.as_str())).unwrap_or(0);
-            return Err(source.error_at(
-                &[Seg::key("sweep"), Seg::key("limit"), Seg::Index(i), Seg::key("group")],
-                format!("no part of the base job is group '{}'; its parts: {}", c.limit[i].group, names.join(", ")),
-            ));
-        }
-
-        // The records, each with the key its errors point at.
-        let mut listed: Vec<(PathBuf, RecordConfig, Vec<Seg>)> = Vec::new();
-        if let Some(dir) = &c.record_set {
-            let dir = super::resolve(&folder, dir);
-            for (file, rc) in read_record_set(&dir, c.require_compatible).map_err(|m| err(&["record_set"], m))? {
-                listed.push((file, rc, at(&["record_set"])));
-            }
-        }
-        for (i, r) in c.record.iter().enumerate() {
-            let file = super::resolve(&folder, &r.file);
-            let rc = RecordConfig {
-                file: Some(file.clone()),
-                format: Some(r.format),
-                units: r.units.clone(),
-                dt: r.dt,
-                synthetic: None,
-                scale: 1.0,
-            };
-            listed.push((file, rc, vec![Seg::key("sweep"), Seg::key("record"), Seg::Index(i), Seg::key("file")]));
-        }
-        if listed.is_empty() {
-            return Err(err(
-                &[],
-                "the sweep has no record: give record_set = <a record_set job's results> or [[sweep.record]]".into(),
-            ));
-        }
-        let duration = c.duration.unwrap_or(dynamics.duration);
-        let mut out: Vec<SweepRecord> = Vec::new();
-        for (file, rc, key) in listed {
-            // A [[sweep.record]]'s own keys (units, dt) where the reader names one; the
-            // record_set key for a record of a set.
-            let keys = |k: &str| {
-                let mut p = key.clone();
-                if matches!(p.get(1), Some(Seg::Key(s)) if s == "record") {
-                    p.pop();
-                    p.push(Seg::key(k));
-                }
-                p
-            };
-            let record = super::record::read_record(&source, &folder, &rc, &keys)?;
-            record.require_duration(duration).map_err(|e| {
-                source.error_at(&key, format!("{}: {e} (the sweep's duration is {duration} s)", file.display()))
-            })?;
-            let intensity = match c.scale_by {
-                IntensityMeasure::Pga => crate::seismic::pga(&record),
-                IntensityMeasure::SaT1 => sa_at(&record, period.unwrap_or(1.0)),
-            };
-            if !(intensity.is_finite() && intensity > 0.0) {
-                return Err(source.error_at(
-                    &key,
-                    format!("{}: its {} is {intensity}: it cannot be scaled", file.display(), c.scale_by.label()),
-                ));
-            }
-            let stem = file.file_stem().map_or_else(|| "record".into(), |s| s.to_string_lossy().into_owned());
-            let mut name = stem.clone();
-            let mut k = 2;
-            while out.iter().any(|r| r.name == name) {
-                name = format!("{stem}-{k}");
-                k += 1;
-            }
-            out.push(SweepRecord {
-                name,
-                file,
-                format: rc.format.unwrap_or(RecordFormat::TwoColumn),
-                units: rc.units,
-                dt: rc.dt,
-                record,
-                intensity,
-            });
-        }
-
-        // The variants.
-        let mut variants = Vec::new();
-        if c.materials.is_empty() {
-            variants.push(Variant { name: "base".into(), law_file: None });
-        } else {
-            let has_law_file = base
-                .spec
-                .materials
-                .values()
-                .any(|m| matches!(m, super::MaterialConfig::Damage(d) if d.law_file.is_some()));
-            if !has_law_file {
-                return Err(err(
-                    &["materials"],
-                    "the base job has no damage material with a law_file for the variants to replace".into(),
-                ));
-            }
-            for (i, p) in c.materials.iter().enumerate() {
-                let file = super::resolve(&folder, p);
-                super::read_law_file(&file).map_err(|m| {
-                    source.error_at(
-                        &[Seg::key("sweep"), Seg::key("materials"), Seg::Index(i)],
-                        format!("{}: {m}", file.display()),
-                    )
-                })?;
-                let stem =
-                    file.file_stem().map_or_else(|| format!("variant-{i}"), |s| s.to_string_lossy().into_owned());
-                let name = if variants.iter().any(|v: &Variant| v.name == stem) { format!("{stem}-{i}") } else { stem };
-                variants.push(Variant { name, law_file: Some(file) });
-            }
-        }
+        let period = check_keys(&source, &spec)?;
+        let (base_file, base_text, base) = load_base(&source, &spec, &folder)?;
+        let records = read_records(&source, &spec.sweep, &folder, &base, period)?;
+        let variants = read_variants(&source, &spec.sweep, &folder, &base)?;
         let output_dir = absolute(&super::output_dir(path, &spec.output));
-        Ok(SweepJob { source, spec, base_file, base, base_text, records: out, variants, output_dir })
+        Ok(SweepJob { source, spec, base_file, base, base_text, records, variants, output_dir })
     }
 
     /// The scale factor on the record (as written) for intensity `x`.
     pub fn factor(&self, record: &SweepRecord, x: f64) -> f64 {
         x / record.intensity
     }
+}
+
+/// The `[analysis]` and `[sweep]` keys checked; the period of `sa_t1` scaling.
+fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<Option<f64>, ConfigError> {
+    let c = &spec.sweep;
+    let err = |keys: &[&str], msg: String| source.error_at(&at(keys), msg);
+    if spec.analysis.group_size == 0 {
+        return Err(source.error_at(
+            &[Seg::key("analysis"), Seg::key("group_size")],
+            "expected at least 1 rank per group".to_string(),
+        ));
+    }
+    if c.intensities.is_empty() {
+        return Err(err(&["intensities"], "give at least one intensity [m/s^2]".into()));
+    }
+    for (i, &x) in c.intensities.iter().enumerate() {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(source.error_at(
+                &[Seg::key("sweep"), Seg::key("intensities"), Seg::Index(i)],
+                format!("expected an intensity > 0 [m/s^2], got {x}"),
+            ));
+        }
+    }
+    if c.intensities.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(err(&["intensities"], "expected intensities in increasing order, each once".into()));
+    }
+    let period = match (c.scale_by, c.period) {
+        (IntensityMeasure::SaT1, None) => {
+            return Err(err(&["period"], "scale_by = \"sa_t1\" needs period = T1 [s]".into()))
+        }
+        (_, Some(t)) if !(t.is_finite() && t > 0.0) => {
+            return Err(err(&["period"], format!("expected T1 > 0 [s], got {t}")))
+        }
+        (_, p) => p,
+    };
+    if let Some(x) = c.code_level {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(err(&["code_level"], format!("expected a code level > 0 [m/s^2], got {x}")));
+        }
+    }
+    if let Some(d) = c.duration {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(err(&["duration"], format!("expected a duration > 0 [s], got {d}")));
+        }
+    }
+    if !(c.threshold > 0.0 && c.threshold < 1.0) {
+        return Err(err(&["threshold"], format!("expected a damage threshold in (0, 1), got {}", c.threshold)));
+    }
+    for (i, l) in c.limit.iter().enumerate() {
+        if !(l.share > 0.0 && l.share <= 1.0) {
+            return Err(source.error_at(
+                &[Seg::key("sweep"), Seg::key("limit"), Seg::Index(i), Seg::key("share")],
+                format!("expected a share in (0, 1], got {}", l.share),
+            ));
+        }
+    }
+    Ok(period)
+}
+
+/// The base job: its file, its text and the job, checked to be a time history with records and
+/// the limits' groups.
+fn load_base(source: &Source, spec: &SweepJobFile, folder: &Path) -> Result<(PathBuf, String, Job), ConfigError> {
+    let c = &spec.sweep;
+    let base_at = [Seg::key("analysis"), Seg::key("job")];
+    let base_file = super::resolve(folder, &spec.analysis.job);
+    let base_text = std::fs::read_to_string(&base_file)
+        .map_err(|e| source.error_at(&base_at, format!("cannot read the base job {}: {e}", base_file.display())))?;
+    let base = Job::load(&base_file).map_err(|e| source.error_at(&base_at, format!("the base job: {e}")))?;
+    use super::AnalysisConfig as A;
+    if !matches!(base.spec.analysis, A::TimeHistory | A::SeismicAssessment(_)) {
+        return Err(source.error_at(
+            &base_at,
+            format!("the base job {} must be a time_history or seismic_assessment job", base_file.display()),
+        ));
+    }
+    let dynamics =
+        base.spec.dynamics.as_ref().ok_or_else(|| source.error_at(&base_at, "the base job has no [dynamics]"))?;
+    if dynamics.ground_motion.iter().any(|g| g.record.is_none()) {
+        return Err(source.error_at(&base_at, "every [[dynamics.ground_motion]] of the base job must name a record"));
+    }
+    if limit_group_missing(&base, c) {
+        let names: Vec<&str> = base.spec.parts.iter().map(|p| p.group.as_str()).collect();
+        let i = c.limit.iter().position(|l| !names.contains(&l.group.as_str())).unwrap_or(0);
+        return Err(source.error_at(
+            &[Seg::key("sweep"), Seg::key("limit"), Seg::Index(i), Seg::key("group")],
+            format!("no part of the base job is group '{}'; its parts: {}", c.limit[i].group, names.join(", ")),
+        ));
+    }
+    Ok((base_file, base_text, base))
+}
+
+/// The records of `[sweep] record_set` and `[[sweep.record]]`, read, long enough and with their
+/// intensity; each named after its file, unique.
+fn read_records(
+    source: &Source,
+    c: &SweepConfig,
+    folder: &Path,
+    base: &Job,
+    period: Option<f64>,
+) -> Result<Vec<SweepRecord>, ConfigError> {
+    let err = |keys: &[&str], msg: String| source.error_at(&at(keys), msg);
+    let dynamics = base.spec.dynamics.as_ref().expect("load_base checked [dynamics]");
+    let mut listed: Vec<(PathBuf, RecordConfig, Vec<Seg>)> = Vec::new();
+    if let Some(dir) = &c.record_set {
+        let dir = super::resolve(folder, dir);
+        for (file, rc) in read_record_set(&dir, c.require_compatible).map_err(|m| err(&["record_set"], m))? {
+            listed.push((file, rc, at(&["record_set"])));
+        }
+    }
+    for (i, r) in c.record.iter().enumerate() {
+        let file = super::resolve(folder, &r.file);
+        let rc = RecordConfig {
+            file: Some(file.clone()),
+            format: Some(r.format),
+            units: r.units.clone(),
+            dt: r.dt,
+            synthetic: None,
+            scale: 1.0,
+        };
+        listed.push((file, rc, vec![Seg::key("sweep"), Seg::key("record"), Seg::Index(i), Seg::key("file")]));
+    }
+    if listed.is_empty() {
+        return Err(err(
+            &[],
+            "the sweep has no record: give record_set = <a record_set job's results> or [[sweep.record]]".into(),
+        ));
+    }
+    let duration = c.duration.unwrap_or(dynamics.duration);
+    let mut out: Vec<SweepRecord> = Vec::new();
+    for (file, rc, key) in listed {
+        // A [[sweep.record]]'s own keys (units, dt) where the reader names one; the
+        // record_set key for a record of a set.
+        let keys = |k: &str| {
+            let mut p = key.clone();
+            if matches!(p.get(1), Some(Seg::Key(s)) if s == "record") {
+                p.pop();
+                p.push(Seg::key(k));
+            }
+            p
+        };
+        let record = super::record::read_record(source, folder, &rc, &keys)?;
+        record.require_duration(duration).map_err(|e| {
+            source.error_at(&key, format!("{}: {e} (the sweep's duration is {duration} s)", file.display()))
+        })?;
+        let intensity = match c.scale_by {
+            IntensityMeasure::Pga => crate::seismic::pga(&record),
+            IntensityMeasure::SaT1 => sa_at(&record, period.unwrap_or(1.0)),
+        };
+        if !(intensity.is_finite() && intensity > 0.0) {
+            return Err(source.error_at(
+                &key,
+                format!("{}: its {} is {intensity}: it cannot be scaled", file.display(), c.scale_by.label()),
+            ));
+        }
+        let stem = file.file_stem().map_or_else(|| "record".into(), |s| s.to_string_lossy().into_owned());
+        let mut name = stem.clone();
+        let mut k = 2;
+        while out.iter().any(|r| r.name == name) {
+            name = format!("{stem}-{k}");
+            k += 1;
+        }
+        out.push(SweepRecord {
+            name,
+            file,
+            format: rc.format.unwrap_or(RecordFormat::TwoColumn),
+            units: rc.units,
+            dt: rc.dt,
+            record,
+            intensity,
+        });
+    }
+    Ok(out)
+}
+
+/// The material variants of `[sweep] materials` (one, "base", without).
+fn read_variants(source: &Source, c: &SweepConfig, folder: &Path, base: &Job) -> Result<Vec<Variant>, ConfigError> {
+    let err = |keys: &[&str], msg: String| source.error_at(&at(keys), msg);
+    let mut variants = Vec::new();
+    if c.materials.is_empty() {
+        variants.push(Variant { name: "base".into(), law_file: None });
+    } else {
+        let has_law_file =
+            base.spec.materials.values().any(|m| matches!(m, super::MaterialConfig::Damage(d) if d.law_file.is_some()));
+        if !has_law_file {
+            return Err(err(
+                &["materials"],
+                "the base job has no damage material with a law_file for the variants to replace".into(),
+            ));
+        }
+        for (i, p) in c.materials.iter().enumerate() {
+            let file = super::resolve(folder, p);
+            super::read_law_file(&file).map_err(|m| {
+                source.error_at(
+                    &[Seg::key("sweep"), Seg::key("materials"), Seg::Index(i)],
+                    format!("{}: {m}", file.display()),
+                )
+            })?;
+            let stem = file.file_stem().map_or_else(|| format!("variant-{i}"), |s| s.to_string_lossy().into_owned());
+            let name = if variants.iter().any(|v: &Variant| v.name == stem) { format!("{stem}-{i}") } else { stem };
+            variants.push(Variant { name, law_file: Some(file) });
+        }
+    }
+    Ok(variants)
 }
 
 /// `p` as an absolute path (the empty path: the working folder).

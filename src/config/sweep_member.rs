@@ -90,6 +90,9 @@ impl SweepJob {
         if let Some(d) = self.spec.sweep.duration {
             dynamics.insert("duration".into(), Value::Float(d));
         }
+        if let Some(band) = self.base.spec.dynamics.as_ref().and_then(|d| d.convergence.as_ref()) {
+            dynamics.insert("convergence".into(), path(band));
+        }
         let components = dynamics
             .get_mut("ground_motion")
             .and_then(Value::as_array_mut)

@@ -1,4 +1,4 @@
-//! The 2D discrete-element virtual testing lab (SPEC §1): rigid polygonal stones bonded by
+//! The 2D discrete-element virtual testing lab (paper §2.1): rigid polygonal stones bonded by
 //! brittle Euler–Bernoulli beams, with contact and Coulomb friction once the bonds break.
 pub mod mechanics;
 pub mod output;

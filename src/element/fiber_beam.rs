@@ -1,5 +1,5 @@
 //! 2-node 3D beam with a fiber section (displacement-based, Euler–Bernoulli), 12 DOF: masonry
-//! pilasters and arches with the uniaxial damage law in every fiber (SPEC §4).
+//! pilasters and arches with the uniaxial damage law in every fiber (paper §4.2).
 //!
 //! # Kinematics (local axes and DOF of [`ElasticFrame3d`](super::ElasticFrame3d))
 //! Linear axial displacement, cubic (Hermite) transverse displacements, ξ = x/L ∈ [0, 1]:

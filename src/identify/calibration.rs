@@ -1,4 +1,4 @@
-//! DEM calibration against experiments (SPEC §3a): find the lattice parameters
+//! DEM calibration against experiments (paper §3.2a): find the lattice parameters
 //! `x = (α, Ē, ε_cr, θ_cr)`, optionally with the crushing stress σ_c as a fifth unknown
 //! (`dem::mechanics::crushing`; its energy G_c fixed), μ fixed, for which the mean over random
 //! samples of the virtual test's E, ν, first-crack stress and peak stress match the measured
@@ -25,7 +25,7 @@
 //!   40 points in 5 unknowns settled at α's upper bound with ν −5.4 %, in the shallow basin
 //!   where α alone meets the first crack, and missed the narrow valley where ε_cr and σ_c do. Staging removes that
 //!   trade: ν is met to 0.1 % by construction, and EGO works in 2 or 3 unknowns.
-//! * `joint`: all unknowns at once by kriging + EI on J (SPEC §3a as written).
+//! * `joint`: all unknowns at once by kriging + EI on J (paper §3.2a as written).
 //!
 //! A point whose samples all fail is a failed evaluation; if no sample cracks, the first-crack
 //! term counts as a 100% error. A sample whose solver stopped at its peak without equilibrium

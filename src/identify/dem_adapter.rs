@@ -8,7 +8,7 @@ use crate::dem::sample::{Sample, SampleConfig};
 use crate::dem::solver::{run_test, TestEnd, VirtualTest};
 use serde::{Deserialize, Serialize};
 
-/// The lattice parameters the identification varies or fixes (SPEC §1): α enters the sample
+/// The lattice parameters the identification varies or fixes (paper §2.1): α enters the sample
 /// (beam inertias), the others the mechanics.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DemParameters {
@@ -24,7 +24,7 @@ pub struct DemParameters {
     pub mu: f64,
     /// Tangential over normal contact stiffness.
     pub kt_over_kn: f64,
-    /// Crushing stress σ_c [Pa] (`dem::mechanics::crushing`; `None`: SPEC §1's model).
+    /// Crushing stress σ_c [Pa] (`dem::mechanics::crushing`; `None`: paper §2.1's model).
     #[serde(default)]
     pub crushing_stress: Option<f64>,
     /// Crushing fracture energy G_c [J/m²], with `crushing_stress`.

@@ -11,7 +11,7 @@
 //!   Ē(α, Ē, …)  = Ē · ḡ(α),    ḡ(α) = mean_k E_k / Ē
 //! ```
 //! independent of the strengths (they act only after the first break). ν̄ decreases with α (a
-//! stiffer bending response restrains the lateral expansion: README table, 0.238 at α = 0.2 to
+//! stiffer bending response restrains the lateral expansion: docs/dem-elastic-constants.md, 0.238 at α = 0.2 to
 //! 0.082 at 1.2). Hence:
 //!
 //! 1. `ν̄(α) = ν_target` is a one-dimensional root: a grid of `GRID` values of α over its
@@ -253,7 +253,7 @@ impl ElasticSearch {
 mod tests {
     use super::*;
 
-    /// A synthetic lattice: ν̄(α) decreasing and curved (the README table's wall values, 0.238 at
+    /// A synthetic lattice: ν̄(α) decreasing and curved (docs/dem-elastic-constants.md's wall values, 0.238 at
     /// α 0.2 to 0.082 at 1.2, follow ν ≈ 0.3 − 0.35 α + 0.12 α²), E = Ē (0.7 + 0.25 α).
     fn means(alpha: f64) -> ElasticMeans {
         let nu = 0.3 - 0.35 * alpha + 0.12 * alpha * alpha;

@@ -1,5 +1,5 @@
 //! The distance between a reference curve (DEM) and a model curve (the damage law) sampled at
-//! the same abscissae (paper eq. 15, SPEC §3b):
+//! the same abscissae (paper eq. 15, paper §3.2b):
 //!
 //! ```text
 //!   F(x) = Σ_i sqrt( |f_i^DEM − f_i^con(x)| / |f_i^DEM| )       over i with |f_i^DEM| > η max_j |f_j^DEM|

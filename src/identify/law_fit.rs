@@ -1,4 +1,4 @@
-//! Identification of the damage law from DEM virtual tests (SPEC §3b).
+//! Identification of the damage law from DEM virtual tests (paper §3.2b).
 //!
 //! Unknowns `x = (ε₀^t, ε₀^c, G_f, A_c, B_c)`, optionally a sixth, the compressive fracture
 //! energy G_c (`material::params`: it regularizes the compressive softening after the peak, so
@@ -251,7 +251,7 @@ impl LawFit {
         Ok((run(&self.tension, 1.0, peak_t)?, run(&self.compression, -1.0, peak_c)?))
     }
 
-    /// The axial strains (magnitudes) at the law's uniaxial peaks, SPEC §2: in tension the
+    /// The axial strains (magnitudes) at the law's uniaxial peaks, paper §3.1: in tension the
     /// threshold ε₀ᵗ (ε_eq = ε_xx: the lateral strains are contractions); in compression the
     /// equivalent strain is κ = r |ε_xx| (r = `DamageParams::uniaxial_compression_ratio`, the
     /// lateral extensions) and eq. 14's stress (1 − A_c) f_c + A_c f_c (κ/ε₀ᶜ) e^{−B_c(κ−ε₀ᶜ)}
@@ -364,7 +364,7 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
 
 /// The unknowns each curve depends on ([`UNKNOWNS`] order): tension (ε₀ᵗ, G_s) and compression
 /// (ε₀ᶜ, A_c, B_c[, G_c]). Under uniaxial tension tr σ̃ > 0 and only d_t grows, under uniaxial
-/// compression only d_c (SPEC §2's split; the plane-stress switch band lies inside
+/// compression only d_c (paper §3.1's split; the plane-stress switch band lies inside
 /// −0.1‖σ̃‖ < tr σ̃ < 0, which neither path enters), so F = F_t(tension block) + F_c(compression block).
 pub fn blocks(dim: usize) -> [Vec<usize>; 2] {
     [vec![0, 2], (0..dim).filter(|&i| i != 0 && i != 2).collect()]

@@ -277,7 +277,7 @@ fn header(job: &str, variant: Option<&VariantFigure>, notes: Option<&str>) -> St
     let mut s = String::new();
     let _ = write!(
         s,
-        "# Masonry damage law identified from DEM virtual tests (SPEC §3), written by the identification job\n\
+        "# Masonry damage law identified from DEM virtual tests (paper §3.2), written by the identification job\n\
          # {job} (path from this file's folder) of {}: do not edit by hand.\n\
          # Regenerate it by running that job again: from the same seeds it writes this file again, byte\n\
          # for byte. Structural jobs read the [law] table: [materials.NAME] type = \"damage\",\n\

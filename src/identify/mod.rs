@@ -1,4 +1,4 @@
-//! Identification (SPEC §3): calibrate the DEM's lattice parameters against experimental
+//! Identification (paper §3.2): calibrate the DEM's lattice parameters against experimental
 //! numbers, then identify the continuum damage law from the calibrated DEM's virtual tests, both
 //! by kriging-based efficient global optimization over MPI batches.
 //!

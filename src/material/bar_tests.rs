@@ -124,7 +124,7 @@ fn dissipated_energy_per_area_is_mesh_objective() {
     let u_end = 12.0 * GF / (E * EPS0);
     for n in [10, 20, 40] {
         let h = L / n as f64;
-        // Exact variant: G_f within 2 % (SPEC / task), and within 1e-3 of the exact value G_f.
+        // Exact variant: G_f within 2 % (the crack band), and within 1e-3 of the exact value G_f.
         let (g, _) = run_bar(Regularization::HillerborgNoElastic, n, u_end);
         eprintln!("hillerborg_no_elastic, N = {n}: {g} J/m² (G_f = {GF})");
         assert!((g - GF).abs() <= 0.02 * GF, "no_elastic, N = {n}: {g} J/m² vs G_f = {GF}");

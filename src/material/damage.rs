@@ -1,4 +1,4 @@
-//! The scalar damage evolution laws d_t(κ), d_c(κ) (paper eqs. 13–14, SPEC §2), their slopes, and
+//! The scalar damage evolution laws d_t(κ), d_c(κ) (paper eqs. 13–14, paper §3.1), their slopes, and
 //! the primitives used to integrate the dissipation exactly.
 //!
 //! ```text

@@ -1,5 +1,5 @@
 //! The continuum masonry damage law: isotropic damage with separate tension and compression
-//! variables and the unilateral effect (SPEC §2; paper eqs. 6–14 in consistent form).
+//! variables and the unilateral effect (paper §3.1; paper eqs. 6–14 in consistent form).
 //!
 //! **Cycles.** The law's files are one concept, the damage law at a point, split by what a
 //! reader looks for: [`PointLaw`] (`law.rs`) is built from the parameters of `params.rs` and

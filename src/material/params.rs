@@ -34,11 +34,11 @@
 //! only while G_f > f_t² h / (2E).
 //!
 //! # Compressive softening: as given, or regularized by a compressive fracture energy G_c
-//! Without `gf_c` (the paper's eq. 14, SPEC §2) `B_c` is given directly in 1/strain and the law is
+//! Without `gf_c` (the paper's eq. 14, paper §3.1) `B_c` is given directly in 1/strain and the law is
 //! the same in every element: compressive softening then depends on the mesh wherever crushing
 //! localizes, because the energy it dissipates is a density times the volume of the band.
 //!
-//! With `gf_c = G_c` (J/m², a documented extension of SPEC §2 in Hillerborg's spirit) only the
+//! With `gf_c = G_c` (J/m², a documented extension of paper §3.1 in Hillerborg's spirit) only the
 //! softening *after the peak* is regularized. Under uniaxial compression the equivalent strain is
 //! κ = r |ε| with r = √2 ν (the two lateral extensions −ν ε; plane stress counts ε_zz,
 //! [`EZZ_ENTERS_EQUIVALENT_STRAIN`](super::plane_stress::EZZ_ENTERS_EQUIVALENT_STRAIN)),
@@ -98,7 +98,7 @@ impl Regularization {
     }
 }
 
-/// Parameters of the tension/compression damage law (SPEC §2, paper eqs. 6–14). SI units.
+/// Parameters of the tension/compression damage law (paper §3.1, paper eqs. 6–14). SI units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DamageParams {
@@ -277,7 +277,7 @@ impl DamageParams {
 mod tests {
     use super::*;
 
-    /// Order-of-magnitude values for rubble masonry (SPEC §1 Table 1: E = 2.885 GPa, ν = 0.19).
+    /// Order-of-magnitude values for rubble masonry (paper §2.1 Table 1: E = 2.885 GPa, ν = 0.19).
     fn good() -> DamageParams {
         DamageParams {
             e: 2.885e9,
@@ -346,10 +346,10 @@ mod tests {
         let p = good();
         let ft = p.e * p.eps0_t;
         let h = 0.1;
-        // B_t = f_t h / G_f (SPEC §2), to round-off.
+        // B_t = f_t h / G_f (paper §3.1), to round-off.
         let b = p.b_t(h).unwrap();
         assert!((b - ft * h / p.gf_t).abs() <= 1e-12 * b);
-        // B_t = f_t h / (G_f − f_t² h / 2E) (SPEC §2).
+        // B_t = f_t h / (G_f − f_t² h / 2E) (paper §3.1).
         let q = DamageParams { regularization: Regularization::HillerborgNoElastic, ..p };
         let b = q.b_t(h).unwrap();
         assert!((b - ft * h / (p.gf_t - ft * ft * h / (2.0 * p.e))).abs() <= 1e-12 * b);

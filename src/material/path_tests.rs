@@ -3,7 +3,7 @@ use super::*;
 use crate::material::test_support::{law, params};
 use crate::material::{PlaneStress, ThreeD, Uniaxial};
 
-/// Closed-form uniaxial stress–strain curve (SPEC §2; lateral-extension ε_eq^c = √2 ν|ε|).
+/// Closed-form uniaxial stress–strain curve (paper §3.1; lateral-extension ε_eq^c = √2 ν|ε|).
 fn closed_form(law: &PointLaw, eps: f64, kappa_t: f64, kappa_c: f64) -> f64 {
     let p = params();
     if eps >= 0.0 {

@@ -20,7 +20,7 @@
 //! The gradient adds ⟨ε_zz⟩₊/ε_eq · ∂ε_zz/∂(ε_xx, ε_yy, γ_xy) = ⟨ε_zz⟩₊/ε_eq · (−ν/(1−ν)) (1, 1, 0).
 //!
 //! # The switch: a smoothed Heaviside on the compressive side of tr σ̃ = 0
-//! SPEC §2's split σ = [(1 − d_t) H(tr σ̃) + (1 − d_c) H(−tr σ̃)] σ̃ makes the *stress* jump, not
+//! paper §3.1's split σ = [(1 − d_t) H(tr σ̃) + (1 − d_c) H(−tr σ̃)] σ̃ makes the *stress* jump, not
 //! only the stiffness, where tr σ̃ changes sign with d_t ≠ d_c: σ̃ is deviatoric there and
 //! nonzero, and is multiplied by (1 − d_t) on one side and (1 − d_c) on the other (a factor 50
 //! with d_t = 0.98, d_c = 0). In a shell wall under compression and shear the points near the
@@ -165,7 +165,7 @@ pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) ->
         return spectral::plane_stress(law, strain, &kin, [w * eq, (1.0 - w) * eq], 1.0, committed);
     }
     if w == 1.0 || w == 0.0 {
-        // Outside the band: the sharp split (SPEC §2), exactly.
+        // Outside the band: the sharp split (paper §3.1), exactly.
         let evo = evolve(law, side, eq, y, committed);
         return assemble(&c0, &sigma_tilde, side, evo, &grad);
     }

@@ -2,7 +2,7 @@
 //! and the evolution of the history over one strain update.
 //!
 //! # Optional viscous regularization (Duvaut–Lions on the history)
-//! Rate independent (the default, SPEC §2): κ = max(κ_old, ε_eq). With a relaxation time τ the
+//! Rate independent (the default, paper §3.1): κ = max(κ_old, ε_eq). With a relaxation time τ the
 //! history relaxes towards the rate-independent value, κ̇ = ⟨ε_eq − κ⟩₊ / τ, integrated by
 //! backward Euler over an increment Δt (r = Δt/τ, [`PointLaw::with_relaxation`]):
 //!

@@ -26,7 +26,7 @@ impl Rng {
     }
 }
 
-/// Masonry-like parameters (order of SPEC §1 Table 1): E = 3 GPa, ν = 0.2, f_t = 0.3 MPa.
+/// Masonry-like parameters (order of paper §2.1 Table 1): E = 3 GPa, ν = 0.2, f_t = 0.3 MPa.
 pub fn params() -> DamageParams {
     DamageParams {
         e: 3.0e9,

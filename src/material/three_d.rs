@@ -81,7 +81,7 @@ mod tests {
     #[test]
     fn uniaxial_stress_closed_forms() {
         // (ε, −νε, −νε, 0, 0, 0) is uniaxial stress σ_xx = E ε in elasticity. Tension: ε_eq = ε;
-        // compression: ε_eq = √2 ν |ε| (SPEC §2 with Mazars-type lateral extension). Tol. 1e-12 rel.
+        // compression: ε_eq = √2 ν |ε| (paper §3.1 with Mazars-type lateral extension). Tol. 1e-12 rel.
         let law = law();
         let p = params();
         let nu = p.nu;

@@ -120,7 +120,7 @@ mod tests {
 
     #[test]
     fn uniaxial_tension_matches_the_closed_form() {
-        // Closed form (SPEC §2 with κ = ε): σ = E ε for ε ≤ ε₀^t, σ = E ε₀ exp(−B_t (ε − ε₀)) after.
+        // Closed form (paper §3.1 with κ = ε): σ = E ε for ε ≤ ε₀^t, σ = E ε₀ exp(−B_t (ε − ε₀)) after.
         // Tolerance 1e-12 relative (round-off of exp and of (ε₀/ε)·ε).
         let law = law();
         let (e, eps0, b) = (law.e(), law.eps0_t(), law.b_t());
@@ -237,7 +237,7 @@ mod tests {
         let law = law();
         let e = law.e();
         // Tension damage first (ε = 5 ε₀^t), then compression below the compressive threshold:
-        // the undamaged modulus E is recovered, d_c = 0 (SPEC §2 unilateral split). Exact.
+        // the undamaged modulus E is recovered, d_c = 0 (paper §3.1 unilateral split). Exact.
         let r = update(&law, 5.0 * law.eps0_t(), &DamageState::default());
         assert!(r.state.d_t > 0.5);
         let c = update(&law, -2.0 * law.eps0_t(), &r.state);
@@ -261,7 +261,7 @@ mod tests {
 
     #[test]
     fn consistent_tangent_matches_finite_differences() {
-        // Central differences, step 1e-7 |ε|; tolerance 1e-6 relative (SPEC: consistent tangent).
+        // Central differences, step 1e-7 |ε|; tolerance 1e-6 relative (a consistent tangent).
         let law = law();
         let loading =
             check_tangent::<1, Uniaxial>(&law, 11, 200, 1e-6, |e| equivalent_strain_ratio(&law, e[0]) * e[0].abs());

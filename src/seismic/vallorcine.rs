@@ -11,7 +11,7 @@
 //! * a zero-phase Butterworth high-pass at 0.3 Hz and a displacement-fit baseline correction of
 //!   order 1 (PGD a few mm, as for an Mw 4.5 at 25–30 km; the acausal filter leaves a
 //!   ~0.01 m/s² precursor in the quiet first 2 s), then PGA = 0.45 m/s² (within 0.3–0.6 m/s²,
-//!   well below the 5%-damped EC8 spectrum with a_g = 1.6 m/s² of French zone 4, as SPEC §5
+//!   well below the 5%-damped EC8 spectrum with a_g = 1.6 m/s² of French zone 4, as paper §4.2
 //!   says the real motion was);
 //! * dt = 0.01 s, seed 20050908.
 //!

@@ -33,6 +33,9 @@ pub struct GroupDamage {
     pub share_dc: f64,
     /// Largest d_t.
     pub max_dt: f64,
+    /// The convergence band of `share_dt` (`[dynamics] convergence`), where one applies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub share_dt_band: Option<f64>,
 }
 
 /// Area of a flat triangle or quad with corners `p`.
@@ -111,9 +114,52 @@ pub fn by_group(
                 share_dt: total[4 * g + 2] / area,
                 share_dc: total[4 * g + 3] / area,
                 max_dt: peak[g],
+                share_dt_band: None,
             }
         })
         .collect()
+}
+
+/// The report of `[dynamics] convergence` for this job, and each group's band of `share_dt`
+/// where it applies (`config::convergence`).
+pub fn with_band(job: &Job, groups: &mut [GroupDamage]) -> Option<crate::config::BandReport> {
+    let d = job.spec.dynamics.as_ref()?;
+    let band = d.convergence_band.as_ref()?;
+    let name = |p: &std::path::Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let law_files = job
+        .spec
+        .materials
+        .values()
+        .filter_map(|m| match m {
+            crate::config::MaterialConfig::Damage(c) => c.law_file.as_deref().map(name),
+            _ => None,
+        })
+        .collect();
+    let run = crate::config::BandSettings {
+        dt: d.dt,
+        mesh: name(&job.mesh_file),
+        law_files,
+        max_damage_increment: d.max_damage_increment,
+        integration: d.integration.name().to_string(),
+    };
+    let pga = d.ground_motion.iter().filter_map(|g| g.record.as_ref()).map(crate::seismic::pga).fold(0.0, f64::max);
+    let report = band.report(&run, pga);
+    for g in groups.iter_mut() {
+        g.share_dt_band = band.group_band(&report, &g.group);
+    }
+    Some(report)
+}
+
+/// The log line of a band report.
+pub fn band_line(r: &crate::config::BandReport) -> String {
+    match &r.loading {
+        Some(l) => format!(
+            "convergence band: {} (loading {l}, measured at PGA {:.3} m/s^2 >= this run's {:.3}): shares of d_t > 0.5 \
+             in summary.json (damage_by_group, share_dt_band)",
+            r.file, r.pga[0], r.pga[1]
+        ),
+        None => format!("convergence band of {}: does not apply ({})", r.file, r.not_applicable.join("; ")),
+    }
 }
 
 #[cfg(test)]

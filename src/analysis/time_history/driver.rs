@@ -121,8 +121,10 @@ pub struct TimeHistorySummary {
     /// Results file of this run.
     pub results: String,
     /// Per group of shell parts: area shares with peak damage above 0.05 and 0.5 at the end
-    /// (`damage_shares.rs`).
+    /// (`damage_shares.rs`), with the convergence band where one applies.
     pub damage_by_group: Vec<GroupDamage>,
+    /// The convergence band of `[dynamics] convergence`, and whether it applies.
+    pub convergence: Option<crate::config::BandReport>,
 }
 
 impl TimeHistorySummary {
@@ -526,6 +528,10 @@ fn finish(
     summary.max_damage =
         [global_max_with_tag(&ctx.comm, env.cell_max(0), 0).0, global_max_with_tag(&ctx.comm, env.cell_max(1), 0).0];
     summary.damage_by_group = damage_shares::by_group(ctx, &sys.disc, env, it.mesh, it.model, it.job);
+    summary.convergence = damage_shares::with_band(it.job, &mut summary.damage_by_group);
+    if let Some(r) = &summary.convergence {
+        log.info(damage_shares::band_line(r));
+    }
     out.close(ctx, sys, dir, state.t)?;
     log.info(format!(
         "time history done: t = {:.4} s, {} iteration(s), {} factorization(s) ({} step(s) on a kept tangent), {:.4} s per step; {}; peak |u| = ({:.4e}, {:.4e}, {:.4e}) m, peak drift ratio {:.3e}, max damage d_t {:.4}, d_c {:.4}; energy: input {:.4e} J, kinetic {:.4e}, strain {:.4e}, damping {:.4e}, damage {:.4e}, unilateral {:.4e}, balance error {:.2e} (max {:.2e})",

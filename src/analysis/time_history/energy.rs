@@ -27,7 +27,7 @@
 //! ```
 //!
 //! * `E_s`: for a secant material (σ = (1 − d) C₀ ε per side, elastic frames) ½ uᵀ f_int(u) is the
-//!   sum of the points' ψ = [(1−d_t) H(tr σ̃) + (1−d_c) H(−tr σ̃)] ½ ε:C₀:ε (SPEC §2).
+//!   sum of the points' ψ = [(1−d_t) H(tr σ̃) + (1−d_c) H(−tr σ̃)] ½ ε:C₀:ε (paper §3.1).
 //! * `D`: each element reports the energy its points have dissipated up to the committed state
 //!   (`Element::dissipated_energy`: the material's increments c [F(κ) − F(κ_old)] ≥ 0, exact for a
 //!   radial strain path), so `D` is never negative and never decreases, whatever the path.

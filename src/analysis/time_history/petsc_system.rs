@@ -58,6 +58,8 @@ pub struct PetscSystem<'a> {
     pub factorizations: usize,
     /// Linear solves so far.
     pub solves: usize,
+    /// `[dynamics] damage_relaxation_time` (viscous damage in the time history).
+    relaxation_time: Option<f64>,
     /// Wall time of the system's work: the Jacobian assemblies (`"assemble"`), the first solve
     /// after each (`"factorize"`: the numeric factorization and one solve), the other solves
     /// (`"solve"`), and the internal-force evaluations (`"internal_force"`: the elements' state
@@ -191,6 +193,7 @@ impl<'a> PetscSystem<'a> {
             key: None,
             factorizations: 0,
             solves: 0,
+            relaxation_time: job.spec.dynamics.as_ref().and_then(|d| d.damage_relaxation_time),
             fresh_operator: false,
             phases: Phases::default(),
         })
@@ -520,6 +523,14 @@ impl DynamicSystem for PetscSystem<'_> {
     fn update_histories(&mut self) {
         for e in self.disc.elements.iter_mut() {
             e.settle_implex();
+        }
+    }
+
+    fn set_step_size(&mut self, h: f64) {
+        if self.relaxation_time.is_some() {
+            for e in self.disc.elements.iter_mut() {
+                e.set_damage_relaxation(h, self.relaxation_time);
+            }
         }
     }
 

@@ -422,6 +422,7 @@ impl Stepper {
         h: f64,
     ) -> Attempt {
         let st = self.settings;
+        sys.set_step_size(h);
         let implex = st.integration == IntegrationKind::Implex;
         if implex {
             sys.set_implex_step(h);

@@ -86,6 +86,9 @@ pub trait DynamicSystem {
     /// before the damage increment is measured. Nothing for a system without damage (the
     /// default).
     fn update_histories(&mut self) {}
+    /// Sets the size `h` of the (sub)step about to be solved, for laws whose update depends on
+    /// it (viscous damage, `[dynamics] damage_relaxation_time`); nothing by default.
+    fn set_step_size(&mut self, _h: f64) {}
     /// Accepts the trial state of every element.
     fn commit(&mut self);
     /// Discards the trial state of every element.

@@ -1,5 +1,5 @@
 //! The cohesive beam: a 2D Euler–Bernoulli frame element joining two points (the seeds) attached
-//! rigidly to particles i and j (SPEC §1, "Beam law").
+//! rigidly to particles i and j (paper §2.1, "Beam law").
 //!
 //! # Geometry
 //! End points `p_i = c_i + r_i`, `p_j = c_j + r_j` (`c` the particle reference points), length
@@ -20,7 +20,7 @@
 //! ```
 //!
 //! Written with `δn = (u_j − u_i)·n = a_j − a_i`, `δt = (u_i − u_j)·t = v_i − v_j` this is exactly
-//! the SPEC's law, signs included:
+//! the paper's law (§2.1, corrected), signs included:
 //!
 //! ```text
 //!   F_N = Ē A/ℓ δn                                   f_l = (−F_N, F_T, M_i, F_N, −F_T, M_j)
@@ -72,7 +72,7 @@ pub struct BeamGeom {
     pub inertia: f64,
 }
 
-/// The end actions of a beam (SPEC §1 notation) and the deformations they come from.
+/// The end actions of a beam (paper §2.1 notation) and the deformations they come from.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BeamActions {
     /// `δn = (u_j − u_i)·n` at the end points (m), elongation.
@@ -187,7 +187,7 @@ pub fn transformation(geom: &BeamGeom) -> SMatrix<f64, 6, 6> {
     m
 }
 
-/// The end actions `F_N, F_T, M_i, M_j` (SPEC §1) for particle DOFs `q_i`, `q_j`.
+/// The end actions `F_N, F_T, M_i, M_j` (paper §2.1) for particle DOFs `q_i`, `q_j`.
 pub fn beam_actions(geom: &BeamGeom, params: &MechParams, q_i: [f64; 3], q_j: [f64; 3]) -> BeamActions {
     let (ea, ei, l) = (params.e_bar * geom.area, params.e_bar * geom.inertia, geom.ell);
     let delta_n = geom.delta_n(q_i, q_j);
@@ -285,7 +285,7 @@ mod tests {
 
     #[test]
     fn rigid_translation_and_rotation_give_zero_forces() {
-        // SPEC §1 unit test. Scale: forces of a unit-size deformation of the same amplitude,
+        // paper §2.1 unit test. Scale: forces of a unit-size deformation of the same amplitude,
         // ‖K‖ ‖q‖; zero means below 1e-12 of it.
         let p = params();
         let (g, ci, cj) = oblique();
@@ -354,7 +354,7 @@ mod tests {
 
     #[test]
     fn hand_computed_actions_and_offset_moments() {
-        // Beam along x, ℓ = 1, ĒA = 1, ĒI = 1 (Ē = 1, A = 1, I = 1) — SPEC formulas by hand.
+        // Beam along x, ℓ = 1, ĒA = 1, ĒI = 1 (Ē = 1, A = 1, I = 1) — the formulas by hand.
         let p = MechParams { e_bar: 1.0, ..MechParams::default() };
         let mut g = BeamGeom { ell: 1.0, n: [1.0, 0.0], r_i: [0.0; 2], r_j: [0.0; 2], area: 1.0, inertia: 1.0 };
         // Cantilever tip: particle j lifted by v = 0.01: δt = −0.01, F_T = −0.12, M_i = M_j = −0.06;

@@ -1,4 +1,4 @@
-//! Normal contact between two particles not (or no longer) bonded by a beam (SPEC §1, eqs. 3–4
+//! Normal contact between two particles not (or no longer) bonded by a beam (paper §2.1, eqs. 3–4
 //! corrected).
 //!
 //! # Law

@@ -1,7 +1,7 @@
-//! Crushing: an optional compressive failure of the lattice (an extension of SPEC §1, off unless
+//! Crushing: an optional compressive failure of the lattice (an extension of paper §2.1, off unless
 //! `[mechanics] crushing_stress` is set).
 //!
-//! SPEC §1's model has no compressive failure: the failure index (eq. 2) only falls under
+//! paper §2.1's model has no compressive failure: the failure index (eq. 2) only falls under
 //! compression and the contact penalty (eq. 3) carries any pressure, so a wall of stacked rigid
 //! stones never reaches a compressive peak. As in lattice and DEM models of quasi-brittle
 //! materials with a compressive cut-off (e.g. Schlangen & van Mier's lattice with a compressive
@@ -19,7 +19,7 @@
 //! `ε` is linear in the particle DOFs, so along an increment `ε(λ) = ε₀ + λΔε` the crossing is
 //! `λ = (−σ_c/Ē − ε₀)/Δε` (closed form, as the solver's event scheme needs).
 //!
-//! **Contacts.** The contact of SPEC eq. 3 is read as a Winkler layer along the chord
+//! **Contacts.** The contact of paper eq. 3 is read as a Winkler layer along the chord
 //! ([`super::contact`], "Stored energy"): pressure `κ δ(s)`, `κ = Ē t_z/ℓ_c`, `δ(s)` the
 //! overlap's thickness ([`super::thickness`]). Crushing gives the layer a uniform plastic depth
 //! `δ_p` and a pressure cap with linear softening. With the chord (contact width) `L`, `k_n = κ L`
@@ -71,7 +71,7 @@
 //! `S₁/S` ([`super::thickness`]), the work of the contact is stored, and the rest, `F_n dδ_p`, is
 //! the dissipation above. Where the layer's ends sit on edges parallel to `n_c`, a contact
 //! whose width changes (sliding) gains or loses `½ κ (δ − δ_p)² dL` at the end, the term the
-//! elastic law of SPEC eq. 3 has too. The former law, `F_n = κ (S_r − A_p)` at the overlap
+//! elastic law of paper eq. 3 has too. The former law, `F_n = κ (S_r − A_p)` at the overlap
 //! centroid with the wedge energy scaled by `(F_n/F_el)²`, was no potential under relative
 //! rotation: crushing samples past their peak missed the energy balance by 0.3–1.2 %, 3.3 of
 //! 7.2 J of it on one sample from the moment of crushed contacts

@@ -1,4 +1,4 @@
-//! The beam failure criterion (SPEC §1, eq. 2) and the load fraction at which it is reached.
+//! The beam failure criterion (paper §2.1, eq. 2) and the load fraction at which it is reached.
 //!
 //! ```text
 //!   P = ε/ε_cr + |θ_i − θ_j|/θ_cr ,   ε = δn/ℓ  (signed: compression lowers P)

@@ -1,4 +1,4 @@
-//! Coulomb friction at a contact (SPEC §1, eq. 5): elastic predictor, return map.
+//! Coulomb friction at a contact (paper §2.1, eq. 5): elastic predictor, return map.
 //!
 //! In 2D the tangential force is a scalar `F_t` along `t_c = e_z × n_c`, with the sign convention
 //! of the internal forces ([`super::contact`]): `F_t` is the resistance to the slip `g_t` of j

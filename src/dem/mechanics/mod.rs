@@ -1,4 +1,4 @@
-//! Element-level mechanics of the 2D beam-particle DEM (SPEC §1): what one beam, one contact and
+//! Element-level mechanics of the 2D beam-particle DEM (paper §2.1): what one beam, one contact and
 //! one friction law compute for the quasi-static event-driven solver.
 //!
 //! Particles are rigid, with 3 DOF `q = (u_x, u_y, θ)` at their reference point (the centroid);
@@ -60,7 +60,7 @@ pub struct MechParams {
     pub mu: f64,
     /// Tangential contact stiffness as a multiple of the normal one, `k_t = kt_over_kn · k_n`.
     pub kt_over_kn: f64,
-    /// Optional crushing (an extension of SPEC §1, [`crushing`]); `None`: SPEC §1's model.
+    /// Optional crushing (an extension of paper §2.1, [`crushing`]); `None`: paper §2.1's model.
     pub crushing: Option<Crushing>,
 }
 

@@ -1,6 +1,6 @@
 //! Beam failure thresholds `(ε_cr, θ_cr)`: deterministic, or Weibull-distributed per beam.
 //!
-//! Masonry uses deterministic thresholds (its heterogeneity is geometric, SPEC §1); concrete-like
+//! Masonry uses deterministic thresholds (its heterogeneity is geometric, paper §2.1); concrete-like
 //! samples may draw each beam's thresholds from a two-parameter Weibull law
 //!
 //! ```text

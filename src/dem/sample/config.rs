@@ -4,7 +4,7 @@
 //! [sample]
 //! seed = 7                # RNG seed: the same seed gives the same sample, bit for bit
 //! thickness = 1.0         # out-of-plane thickness t_z (m), default 1
-//! alpha = 0.8             # beam inertia coefficient α (SPEC §1, Table 1), default 0.8
+//! alpha = 0.8             # beam inertia coefficient α (paper §2.1, Table 1), default 0.8
 //! facet_tolerance = 0.02  # tiny facet: shorter than this × mean particle diameter, default 0.02
 //! tiny_facets = "merge"   # or "reject"
 //! [sample.layout]
@@ -20,9 +20,9 @@
 use super::error::SampleError;
 use serde::{Deserialize, Serialize};
 
-/// Default out-of-plane thickness `t_z` (m): the 2D model is a 1 m slice (SPEC §1).
+/// Default out-of-plane thickness `t_z` (m): the 2D model is a 1 m slice (paper §2.1).
 pub const DEFAULT_THICKNESS: f64 = 1.0;
-/// Default beam inertia coefficient α: the paper's calibrated value (SPEC §1, Table 1).
+/// Default beam inertia coefficient α: the paper's calibrated value (paper §2.1, Table 1).
 pub const DEFAULT_ALPHA: f64 = 0.8;
 /// Default tiny-facet tolerance, as a fraction of the mean particle diameter.
 pub const DEFAULT_FACET_TOLERANCE: f64 = 0.02;
@@ -177,7 +177,7 @@ impl SampleLayout {
 }
 
 impl SampleConfig {
-    /// The paper's wall (SPEC §1, Table 1): 1.00 m wide × 1.20 m high, 10 staggered courses of 6
+    /// The paper's wall (paper §2.1, Table 1): 1.00 m wide × 1.20 m high, 10 staggered courses of 6
     /// stones (jitter 0.2, size variability 0.2), 1 m thick, α = 0.8, tiny facets merged.
     pub fn paper_wall(seed: u64) -> SampleConfig {
         SampleConfig {

@@ -1,4 +1,4 @@
-//! The lattice: one Euler–Bernoulli beam per pair of cells sharing a Voronoi edge (SPEC §1).
+//! The lattice: one Euler–Bernoulli beam per pair of cells sharing a Voronoi edge (paper §2.1).
 //!
 //! The beam joins the two seeds `s_i → s_j`: length `ℓ = |s_j − s_i|`, unit vector
 //! `n = (s_j − s_i)/ℓ`, `t = e_z × n = (−n_y, n_x)`. Because the shared edge lies on the
@@ -45,7 +45,7 @@ pub struct Beam {
 /// **The definition of α is uncertain in the literature.** Here α scales the inertia of the
 /// rectangular section `L_f × t_z` bent in the plane (`t_z L_f³/12`); some lattice papers instead
 /// write `I = α A ℓ²/12` or put α on the shear/rotation stiffness. α is calibrated against the
-/// measured Poisson ratio (SPEC §1; paper's Table 1: α = 0.80), so whatever its exact meaning, this
+/// measured Poisson ratio (paper §2.1; paper's Table 1: α = 0.80), so whatever its exact meaning, this
 /// is the only place that turns it into an inertia.
 pub fn beam_inertia(alpha: f64, thickness: f64, facet_length: f64) -> f64 {
     alpha * thickness * facet_length.powi(3) / 12.0

@@ -1,4 +1,4 @@
-//! Virtual masonry samples (SPEC §1, geometry and lattice): seeds (coursed or Poisson-disk),
+//! Virtual masonry samples (paper §2.1, geometry and lattice): seeds (coursed or Poisson-disk),
 //! Voronoi cells clipped to the wall, one rigid particle per cell, one beam per shared edge.
 //!
 //! ```text

@@ -1,7 +1,7 @@
 //! One rigid stone: its convex cell and the quantities mechanics needs.
 //!
 //! The rigid-body reference point is the cell's centroid `c`; the stone rotates about it. Its
-//! equivalent diameter is `D = 2 sqrt(A/π)` (the disk of the same area; SPEC §1), used by the
+//! equivalent diameter is `D = 2 sqrt(A/π)` (the disk of the same area; paper §2.1), used by the
 //! contact length `ℓ_c`. The polar moment `J = ∫ |x − c|² dA` (m⁴, per unit thickness) gives the
 //! rotational inertia `ρ t_z J` with the mass `ρ t_z A`.
 use crate::dem::polygon::{Polygon, P2};

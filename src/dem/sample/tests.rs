@@ -4,7 +4,7 @@ use super::*;
 use crate::dem::polygon::P2;
 use std::collections::HashSet;
 
-/// The paper's wall (SPEC §1, Table 1).
+/// The paper's wall (paper §2.1, Table 1).
 fn paper_wall(seed: u64) -> SampleConfig {
     SampleConfig::paper_wall(seed)
 }

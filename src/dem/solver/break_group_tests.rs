@@ -1,5 +1,5 @@
 //! Tests of several beam breaks per equilibrium ([`SolverOptions::breaks_per_equilibrium`]), the
-//! opt-in approximation, against SPEC §1's one-break path.
+//! opt-in approximation, against paper §2.1's one-break path.
 use super::speed_tests::{compress, random};
 use super::*;
 

@@ -1,6 +1,6 @@
 //! Beam breaks: where along a load step the first intact beam reaches its failure index, which
 //! beam is the most critical at a state, and the break itself with the quasi-static release of
-//! the beam's force (SPEC §1, "Solution algorithm", steps 2–4).
+//! the beam's force (paper §2.1, "Solution algorithm", steps 2–4).
 //!
 //! ```text
 //!   λ* = min over intact beams of  failure_lambda(z_old → z)       (P piecewise linear in λ)
@@ -16,7 +16,7 @@
 //! several first crossings along the step, broken together at the load of the last, raised the
 //! paper wall's tensile peak by 6.5 % on average at `n = 4`). What is lost is the order inside a
 //! cascade: a beam that the release of a more critical one would have unloaded breaks anyway.
-//! `n = 1` is SPEC §1's algorithm, bit for bit.
+//! `n = 1` is paper §2.1's algorithm, bit for bit.
 
 use std::time::Instant;
 

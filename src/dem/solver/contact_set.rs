@@ -1,4 +1,4 @@
-//! Contacts and friction between stones not bonded by an intact beam (SPEC §1, eqs. 3–5).
+//! Contacts and friction between stones not bonded by an intact beam (paper §2.1, eqs. 3–5).
 //!
 //! **Candidates.** Pairs whose beam is broken, plus pairs of stones whose current bounding
 //! boxes overlap, found with a uniform grid of cell size = the largest box (each stone is

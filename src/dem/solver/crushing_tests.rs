@@ -37,7 +37,7 @@ fn bonded_pair_crushes_exactly_at_the_crushing_stress() {
     assert!((pre.stress + 5e6).abs() < 1e-9 * 5e6, "{}", pre.stress);
     assert_eq!(pre.broken, [0, 0, 0, 0]);
     assert_eq!(r.curve.last().unwrap().broken, [1, 0, 0, 1]);
-    // Without crushing (SPEC §1's model) the same test never breaks.
+    // Without crushing (paper §2.1's model) the same test never breaks.
     let plain = run_test(&s, &MechParams::default(), &t).unwrap();
     assert!(plain.broken.is_empty());
 }

@@ -1,4 +1,4 @@
-//! Degrees of freedom: free stones, and stones bonded to the two rigid platens (SPEC §1,
+//! Degrees of freedom: free stones, and stones bonded to the two rigid platens (paper §2.1,
 //! "Virtual tests").
 //!
 //! # Platens as master–slave constraints

@@ -1,4 +1,4 @@
-//! Equilibrium at a fixed load: Newton's method on the contact–friction problem (SPEC §1,
+//! Equilibrium at a fixed load: Newton's method on the contact–friction problem (paper §2.1,
 //! "Solution algorithm", step 2).
 //!
 //! ```text

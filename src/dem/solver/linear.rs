@@ -1,6 +1,6 @@
 //! The linear phase: Newton's first step taken as the equilibrium, without the residual that
 //! would confirm it, where no contact is active at the committed state, at the start of the
-//! iteration and at the end of the step (SPEC §1's lattice alone).
+//! iteration and at the end of the step (paper §2.1's lattice alone).
 //!
 //! ```text
 //!   r(z) = f_ext + f_extra − K_b z − ε (z − z_commit)        (unknown rows; K_b: intact beams)

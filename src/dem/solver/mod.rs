@@ -1,4 +1,4 @@
-//! The quasi-static, incremental, event-driven DEM solver (SPEC §1, "Solution algorithm") and
+//! The quasi-static, incremental, event-driven DEM solver (paper §2.1, "Solution algorithm") and
 //! the virtual tests built on it.
 //!
 //! | file | concept |

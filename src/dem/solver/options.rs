@@ -75,7 +75,7 @@ pub struct SolverOptions {
     /// is left to GMRES ([`super::operator`]). `f64::INFINITY`: a term is kept until its contact
     /// leaves.
     pub refresh_drift: f64,
-    /// Beams broken together before one re-equilibration (default 1: SPEC §1's algorithm, one
+    /// Beams broken together before one re-equilibration (default 1: paper §2.1's algorithm, one
     /// break per equilibrium). `n > 1` is an approximation, opt-in ([`super::breaks`], "Several
     /// breaks per equilibrium"): a cascade breaks up to `n` beams with `P ≥ 1` at once.
     pub breaks_per_equilibrium: usize,

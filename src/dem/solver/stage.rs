@@ -1,4 +1,4 @@
-//! The stage loop: the quasi-static, incremental, event-driven solution algorithm (SPEC §1,
+//! The stage loop: the quasi-static, incremental, event-driven solution algorithm (paper §2.1,
 //! steps 1–4).
 //!
 //! ```text

@@ -1,4 +1,4 @@
-//! The virtual tests (SPEC §1, "Virtual tests"): uniaxial compression and tension, shear under
+//! The virtual tests (paper §2.1, "Virtual tests"): uniaxial compression and tension, shear under
 //! constant vertical compression, their cyclic versions, and the derived numbers.
 //!
 //! ```toml

@@ -1,5 +1,5 @@
 //! Flat shell elements, 6 DOF per node, layered through the thickness with the plane-stress damage
-//! law (SPEC §4).
+//! law (paper §4.2).
 //!
 //! | file          | concept                                                                    |
 //! |---------------|----------------------------------------------------------------------------|

@@ -12,7 +12,7 @@
 //! ```
 //!
 //! # Transverse shear
-//! Elastic in both cases (SPEC §4): Q = k G t γ with k = 5/6 ([`SHEAR_CORRECTION`]) and the
+//! Elastic in both cases (paper §4.2): Q = k G t γ with k = 5/6 ([`SHEAR_CORRECTION`]) and the
 //! undamaged G = E / (2(1 + ν)).
 
 use serde::{Deserialize, Serialize};
@@ -43,7 +43,7 @@ pub enum ShellMaterial {
         /// Poisson ratio ν in (−1, 0.5).
         nu: f64,
     },
-    /// The tension/compression damage law in plane stress at every layer point (SPEC §2), with B_t
+    /// The tension/compression damage law in plane stress at every layer point (paper §3.1), with B_t
     /// regularized by the element size h = sqrt(area).
     Damage(DamageParams),
 }

@@ -1,4 +1,4 @@
-//! The identification job (SPEC §3): (a) DEM calibration against the experiment, (b) damage-law
+//! The identification job (paper §3.2): (a) DEM calibration against the experiment, (b) damage-law
 //! identification from the (calibrated) DEM's virtual tests, (c) both as one chain ending in a
 //! material file. Phases, each collective and followed by an agreement on errors:
 //!

@@ -87,31 +87,74 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     petsc.set_default_options("", &job.base.petsc_options)?;
 
     let gctx = Context::new(groups.group.duplicate(), true);
-    let leader = log.speaking(gctx.rank == 0);
     let tag = format!("[group {}/{}]", groups.index + 1, groups.count);
 
-    // (1) The gravity state of every material not done yet.
+    let seconds_gravity = gravity_states(ctx, &groups, &gctx, job, &mesh, &tag);
+    let (members_run, seconds_members) = run_members(ctx, &groups, &gctx, job, &members, &mesh, &tag)?;
+    drop(petsc);
+
+    // The table, the summary and the curves.
+    let timing = table::Timing {
+        groups: groups.count,
+        group_size: size,
+        seconds_gravity,
+        seconds_members,
+        members_run,
+        members_per_hour: if seconds_members > 0.0 { 3600.0 * members_run as f64 / seconds_members } else { 0.0 },
+    };
+    let done = if ctx.rank == 0 { table::write_results(job, &members, timing, log) } else { Ok(()) };
+    agree(&ctx.comm, done, Error::exit_code)?;
+    Ok(())
+}
+
+/// Collective. Phase (1): the gravity state of every material not done yet, one task per
+/// variant; its seconds.
+fn gravity_states(
+    ctx: &Context,
+    groups: &Groups,
+    gctx: &Context,
+    job: &SweepJob,
+    mesh: &crate::mesh::Mesh,
+    tag: &str,
+) -> f64 {
+    let log = &ctx.log;
+    let out = &job.output_dir;
+    let leader = log.speaking(gctx.rank == 0);
     let todo: Vec<usize> =
         (0..job.variants.len()).filter(|&v| !member::variant_done(&member::variant_dir(out, job, v))).collect();
     if !todo.is_empty() {
         log.info(format!("gravity states of {} material(s)", todo.len()));
     }
     let clock = std::time::Instant::now();
-    let mut d = Dispatcher::new(&groups, &todo);
+    let mut d = Dispatcher::new(groups, &todo);
     while let Some(v) = d.next_task() {
         let dir = member::variant_dir(out, job, v);
         let name = &job.variants[v].name;
         leader.info(format!("{tag} gravity of material {name} ..."));
-        match member::prepare_variant(&gctx, &member::variant_job(out, job, v), &dir, &mesh) {
+        match member::prepare_variant(gctx, &member::variant_job(out, job, v), &dir, mesh) {
             Ok(s) => leader.info(format!("{tag} gravity of material {name}: done in {s:.1} s")),
             Err(e) => leader.info(format!("{tag} gravity of material {name} FAILED: {e}")),
         }
     }
     d.finish();
     ctx.comm.barrier();
-    let seconds_gravity = clock.elapsed().as_secs_f64();
+    clock.elapsed().as_secs_f64()
+}
 
-    // (2) The members not done yet, the highest intensity first (the costliest).
+/// Collective. Phase (2): the members not done yet, the highest intensity first (the costliest),
+/// each outcome written beside its results; how many ran, and their seconds.
+fn run_members(
+    ctx: &Context,
+    groups: &Groups,
+    gctx: &Context,
+    job: &SweepJob,
+    members: &[Member],
+    mesh: &crate::mesh::Mesh,
+    tag: &str,
+) -> Result<(usize, f64), Error> {
+    let log = &ctx.log;
+    let out = &job.output_dir;
+    let leader = log.speaking(gctx.rank == 0);
     let mut order: Vec<&Member> =
         members.iter().filter(|m| Outcome::read(&member::member_dir(out, m)).is_none()).collect();
     order.sort_by(|a, b| b.level.total_cmp(&a.level).then(a.index.cmp(&b.index)));
@@ -126,7 +169,7 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
         }
     ));
     let clock = std::time::Instant::now();
-    let mut d = Dispatcher::new(&groups, &order);
+    let mut d = Dispatcher::new(groups, &order);
     while let Some(k) = d.next_task() {
         let m = &members[k];
         let pos = format!("{}/{}", order.iter().position(|&x| x == k).map_or(0, |p| p + 1), order.len());
@@ -135,7 +178,7 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
         let outcome = if member::variant_done(&gravity) {
             leader
                 .info(format!("{tag} member {pos} {} ({} x {:.4}) ...", m.name, job.records[m.record].name, m.factor));
-            member::run_member(&gctx, job, m, out, &mesh, &mut Serve(&mut d, &m.name))
+            member::run_member(gctx, job, m, out, mesh, &mut Serve(&mut d, &m.name))
         } else {
             Outcome::gravity_failed(job, m, &member::variant_failure(&gravity))
         };
@@ -156,21 +199,7 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     }
     d.finish();
     ctx.comm.barrier();
-    let seconds_members = clock.elapsed().as_secs_f64();
-    drop(petsc);
-
-    // The table, the summary and the curves.
-    let timing = table::Timing {
-        groups: groups.count,
-        group_size: size,
-        seconds_gravity,
-        seconds_members,
-        members_run: order.len(),
-        members_per_hour: if seconds_members > 0.0 { 3600.0 * order.len() as f64 / seconds_members } else { 0.0 },
-    };
-    let done = if ctx.rank == 0 { table::write_results(job, &members, timing, log) } else { Ok(()) };
-    agree(&ctx.comm, done, Error::exit_code)?;
-    Ok(())
+    Ok((order.len(), clock.elapsed().as_secs_f64()))
 }
 
 /// The first sentence of a diagnosis, for a progress line.

@@ -155,7 +155,8 @@ fn num(x: Option<f64>) -> String {
 
 /// `sweep.csv`: member, variant, record, intensity measure, intensity, factor, status, time
 /// reached, peak drift ratio, peak |u| (x y z), per monitor its peaks, per substructure the
-/// shares with d_t > 0.5 and d_c > 0.5, the diagnosis of a stopped member (quoted).
+/// shares with d_t > 0.5 (with its convergence band where `[dynamics] convergence`
+/// gives one: empty otherwise) and d_c > 0.5, the diagnosis of a stopped member (quoted).
 fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String {
     let monitors: Vec<String> =
         job.base.spec.dynamics.as_ref().map(|d| d.monitor.iter().map(|m| m.name.clone()).collect()).unwrap_or_default();
@@ -168,7 +169,7 @@ fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String 
         }
     }
     for g in groups {
-        let _ = write!(s, ",{g}:share_dt,{g}:share_dc");
+        let _ = write!(s, ",{g}:share_dt,{g}:share_dt_band,{g}:share_dc");
     }
     s.push_str(",diagnosis\n");
     for o in outcomes {
@@ -197,7 +198,13 @@ fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String 
         }
         for g in groups {
             let d = o.damage.iter().find(|d| &d.group == g);
-            let _ = write!(s, ",{},{}", num(d.map(|d| d.share_dt)), num(d.map(|d| d.share_dc)));
+            let _ = write!(
+                s,
+                ",{},{},{}",
+                num(d.map(|d| d.share_dt)),
+                num(d.and_then(|d| d.share_dt_band)),
+                num(d.map(|d| d.share_dc))
+            );
         }
         let diag = o.diagnosis.as_deref().map(|d| format!("\"{}\"", d.replace('"', "'"))).unwrap_or_default();
         let _ = writeln!(s, ",{diag}");
