@@ -82,8 +82,8 @@ def calibration_section(ident_dir):
     t = cal["targets"]
     rows, data = [], {}
     for k, (key, name, scale, unit) in enumerate(QUANTITIES):
-        st = cal["stats"][k]
-        e = cal["relative_errors"][k]
+        st = cal["stats"][key]
+        e = cal["relative_errors"][key]
         data[key] = {"target": t[key], "mean": st["mean"], "std": st["std"], "n": st["n"], "relative_error": e}
         u = f" {unit}" if unit else ""
         rows.append([name, f"{fmt(t[key] / scale)}{u}", f"{fmt(st['mean'] / scale)} ± {fmt(st['std'] / scale, 2)}{u} ({st['n']})", pct(e)])
@@ -116,11 +116,11 @@ def law_section(ident_dir, material):
     if material:
         md.append(f"\nMaterial file: `{material}`" + (" (present)" if os.path.exists(material) else " (missing)"))
     peaks = []
-    sp = law.get("dem_sample_peaks") or [None, None]
-    for k, (side, err_key) in enumerate([("tension", "tension_peak_error"), ("compression", "compression_peak_error")]):
-        samples = sp[k]
+    sp = law.get("dem_sample_peaks") or {}
+    for side, err_key in [("tension", "tension_peak_error"), ("compression", "compression_peak_error")]:
+        samples = sp.get(side)
         sm = f"{fmt(samples['mean'] / 1e6)} ± {fmt(samples['std'] / 1e6, 2)} ({samples['n']})" if samples else "-"
-        peaks.append([side, fmt(law["dem_peaks"][k] / 1e6), sm, fmt(law["law_peaks"][k] / 1e6), pct(law[err_key])])
+        peaks.append([side, fmt(law["dem_peaks"][side] / 1e6), sm, fmt(law["law_peaks"][side] / 1e6), pct(law[err_key])])
     md.append("\n" + table(["peak [MPa]", "DEM mean curve", "DEM samples: mean ± std (n)", "law", "law vs DEM"], peaks))
     meas = []
     for m in law.get("measures", []):
@@ -129,7 +129,7 @@ def law_section(ident_dir, material):
     if meas:
         md.append("\n" + table(["error measure at the law", "tension", "compression"], meas))
     data = {"params": p, "dem_peaks": law["dem_peaks"], "law_peaks": law["law_peaks"],
-            "peak_errors": [law["tension_peak_error"], law["compression_peak_error"]],
+            "peak_errors": {"tension": law["tension_peak_error"], "compression": law["compression_peak_error"]},
             "dem_sample_peaks": law.get("dem_sample_peaks"), "measures": law.get("measures"),
             "softening_energy": law.get("softening_energy"), "material_file": material,
             "seconds": s.get("seconds")}
@@ -167,7 +167,7 @@ def frequency_section(church_dir):
         if m.get("factor", 1.0) != 1.0:
             ft = m.get("f_t")
             mods.append([m["group"], fmt(m["factor"]), fmt(m["e_before"] / 1e9), fmt(m["e_after"] / 1e9),
-                         f"{fmt(ft[0] / 1e6)} → {fmt(ft[1] / 1e6)}" if ft else "-"])
+                         f"{fmt(ft['before'] / 1e6)} → {fmt(ft['after'] / 1e6)}" if ft else "-"])
     if mods:
         md.append("\n" + table(["updated group", "factor on E", "E before [GPa]", "E after [GPa]", "f_t [MPa]"], mods))
     if isinstance(upd, dict):
@@ -279,7 +279,7 @@ def time_history_line(church_dir):
         return None, ""
     keep = {k: th.get(k) for k in ("time", "steps", "iterations", "max_damage", "peak_drift_ratio", "max_balance_error")}
     md = (f"Time history: {fmt(th.get('time'))} s reached ({th.get('steps')} steps, {th.get('iterations')} Newton iterations); "
-          f"largest d_t {fmt((th.get('max_damage') or [None])[0])}, d_c {fmt((th.get('max_damage') or [None, None])[1])}; "
+          f"largest d_t {fmt((th.get('max_damage') or {}).get('d_t'))}, d_c {fmt((th.get('max_damage') or {}).get('d_c'))}; "
           f"peak drift ratio {fmt(th.get('peak_drift_ratio'))}; energy balance error {fmt(th.get('max_balance_error'))}.")
     return keep, md
 

@@ -36,7 +36,9 @@ def read_table(folder):
     return {(r["state"], r["substructure"]): r for r in rows}
 
 
-ENERGY_TERMS = ("input", "kinetic", "strain", "damping", "damage", "unilateral")
+# (name in this table, key of summary.json's time_history.energy)
+ENERGY_TERMS = (("input", "input"), ("kinetic", "kinetic"), ("strain", "strain"), ("damping", "damping"),
+                ("damage", "dissipated_damage"), ("unilateral", "unilateral"))
 
 
 def read_energy(folder):
@@ -45,7 +47,7 @@ def read_energy(folder):
     try:
         with open(path) as fh:
             th = json.load(fh)["time_history"]
-        terms = dict(zip(ENERGY_TERMS, th["energy"]))
+        terms = {name: th["energy"][key] for name, key in ENERGY_TERMS}
         terms["max_balance_error"] = th["max_balance_error"]
         return terms
     except (OSError, ValueError, KeyError) as e:
@@ -94,7 +96,7 @@ def main():
         w = csv.writer(fh)
         w.writerow(["term"] + labels)
         print(f"{'energy [J]':18} " + "  ".join(f"{lab:>22}" for lab in labels))
-        for k in ENERGY_TERMS + ("max_balance_error",):
+        for k in [name for name, _ in ENERGY_TERMS] + ["max_balance_error"]:
             w.writerow([k] + [f"{e[k]:.6g}" for e in energies])
             print(f"{k:18} " + "  ".join(f"{e[k]:22.4g}" for e in energies))
     print(path)

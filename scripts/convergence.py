@@ -174,14 +174,18 @@ def load(out, case):
     if th is None:
         return None
     groups = {g["group"]: g for g in th.get("damage_by_group", [])}
-    e = th["energy"]
+    e, sec = th["energy"], s.get("seconds")
+    if isinstance(e, list):  # a summary written before "format": 2
+        e = dict(zip(("input", "kinetic", "strain", "damping", "dissipated_damage", "unilateral"), e))
+        sec = {"total": sec[-1]} if sec else None
     return {
         "case": case.name, "loading": case.loading, "ranks": s.get("ranks", case.ranks),
         "dt": th["dt"], "time": th["time"], "steps": th["steps"], "iterations": th["iterations"],
         "substepped_steps": th.get("substepped_steps", 0), "factorizations": th.get("factorizations", 0),
-        "seconds": s["seconds"][-1] if s.get("seconds") else float("nan"),
+        "seconds": sec["total"] if sec else float("nan"),
         "peak_drift_ratio": th["peak_drift_ratio"],
-        "input": e[0], "kinetic": e[1], "strain": e[2], "damping": e[3], "damage": e[4], "unilateral": e[5],
+        "input": e["input"], "kinetic": e["kinetic"], "strain": e["strain"], "damping": e["damping"],
+        "damage": e["dissipated_damage"], "unilateral": e["unilateral"],
         "max_balance_error": th["max_balance_error"],
         "shares": {g: 100.0 * v["share_dt"] for g, v in groups.items()},
     }

@@ -3,6 +3,7 @@
 //! ```text
 //! mpirun -n 2 masonry-hpc jobs/tower.toml [PETSc options...]
 //! masonry-hpc check jobs/tower.toml
+//! masonry-hpc check --strict jobs/tower.toml     # implausible values (units) are errors
 //! ```
 //!
 //! MPI lives exactly as long as the `Universe` in `main`; PETSc is started inside the run and
@@ -37,6 +38,9 @@ struct Cli {
     /// Continue a time history from the last checkpoint in its results folder.
     #[arg(long)]
     restart: bool,
+    /// Treat the warnings of implausible input (units) as errors: exit code 2.
+    #[arg(long, global = true)]
+    strict: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -61,8 +65,8 @@ fn main() -> ExitCode {
     }
     let ctx = Context::new(universe.world(), cli.quiet);
     let result = match (&cli.command, &cli.job) {
-        (Some(Command::Check { job }), _) => check(&ctx, job),
-        (None, Some(job)) => run::run_job_with(&ctx, job, &cli.petsc, cli.restart),
+        (Some(Command::Check { job }), _) => check(&ctx, job, cli.strict),
+        (None, Some(job)) => run::run_job_with(&ctx, job, &cli.petsc, cli.restart, cli.strict),
         (None, None) => {
             if ctx.rank == 0 {
                 print_error("error: no job file given\n\nUsage: masonry-hpc <JOB> [PETSC_OPTIONS]...\n       masonry-hpc check <JOB>\n\nFor more information, try '--help'.");
@@ -97,8 +101,8 @@ fn main() -> ExitCode {
     }
 }
 
-fn check(ctx: &Context, job: &std::path::Path) -> Result<(), Error> {
-    let what = run::check_job(ctx, job)?;
+fn check(ctx: &Context, job: &std::path::Path, strict: bool) -> Result<(), Error> {
+    let what = run::check_job(ctx, job, strict)?;
     ctx.log.info(format!("check: OK — {what}"));
     Ok(())
 }

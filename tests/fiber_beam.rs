@@ -67,8 +67,7 @@ fn cantilever_tip_deflections_match_euler_bernoulli() {
 }
 
 fn frequencies(dir: &std::path::Path) -> Vec<f64> {
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value = common::summary(&dir.join("out"));
     s["modes"].as_array().unwrap().iter().map(|m| m["frequency"].as_f64().unwrap()).collect()
 }
 

@@ -102,7 +102,7 @@ fn peak(v: &[f64]) -> f64 {
 fn converges(split: &str, newton: &str, per_step: f64, implicit: bool) {
     let (u_ref, s_ref) = wall_run(&format!("implex-wall-reference-{split}"), 0, 0.00125, ("implicit", "tangent", ""));
     let scale = peak(&u_ref);
-    let d_ref = s_ref["energy"][4].as_f64().unwrap();
+    let d_ref = s_ref["energy"]["dissipated_damage"].as_f64().unwrap();
     let mut errors = Vec::new();
     let error = |u: &[f64], k: usize| {
         let (a, b) = (every(u, 8 / k), every(&u_ref, 8));
@@ -117,22 +117,22 @@ fn converges(split: &str, newton: &str, per_step: f64, implicit: bool) {
             eprintln!(
                 "dt {dt}: implicit |Δu_top|/peak {:.3e}, dissipated {:.4e} J, {:.2} iterations per step",
                 error(&v, k),
-                t["energy"][4].as_f64().unwrap(),
+                t["energy"]["dissipated_damage"].as_f64().unwrap(),
                 t["iterations"].as_f64().unwrap() / t["steps"].as_f64().unwrap()
             );
         }
         let e = error(&u, k);
         let its = s["iterations"].as_f64().unwrap() / s["steps"].as_f64().unwrap();
         let failed = s["failed_iterations"].as_u64().unwrap();
-        let dissipated = s["energy"][4].as_f64().unwrap();
-        let d_max = s["max_damage"][0].as_f64().unwrap();
+        let dissipated = s["energy"]["dissipated_damage"].as_f64().unwrap();
+        let d_max = s["max_damage"]["d_t"].as_f64().unwrap();
         eprintln!(
             "{split} dt {dt}: |Δu_top|/peak {e:.3e}, dissipated {dissipated:.4e} J (reference {d_ref:.4e}), max d_t \
              {d_max:.4} (reference {:.4}), {its:.2} iterations per step, {failed} in failed attempts, {} \
              factorizations, unilateral {:.3e} J, balance {:.1e}",
-            s_ref["max_damage"][0].as_f64().unwrap(),
+            s_ref["max_damage"]["d_t"].as_f64().unwrap(),
             s["factorizations"],
-            s["energy"][5].as_f64().unwrap(),
+            s["energy"]["unilateral"].as_f64().unwrap(),
             s["max_balance_error"].as_f64().unwrap()
         );
         assert_eq!(s["implex_split"], split);

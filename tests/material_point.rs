@@ -51,8 +51,7 @@ fn uniaxial_tension_follows_the_closed_form() {
             let want = if eps <= EPS0_T { E * eps } else { ft * (-bt * (eps - EPS0_T)).exp() };
             assert!((sig - want).abs() <= 1e-9 * ft, "np={np}: ε = {eps}: σ = {sig}, closed form {want}");
         }
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
+        let s: serde_json::Value = common::summary(&dir.join("out"));
         assert!((s["peak_stress"].as_f64().unwrap() - ft).abs() < 1e-9 * ft, "{s}");
         for png in ["stress_strain.png", "damage.png"] {
             let b = std::fs::read(dir.join("out").join(png)).unwrap();

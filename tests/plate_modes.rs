@@ -77,7 +77,7 @@ fn plate_with_mass(dir: &std::path::Path, modes: usize, supports: &str, mass: &s
 }
 
 fn summary(dir: &std::path::Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap()
+    common::summary(&dir.join("out"))
 }
 
 fn frequencies(s: &serde_json::Value) -> Vec<f64> {
@@ -123,15 +123,15 @@ fn simply_supported_plate_on_one_and_two_ranks() {
     }
     let plate_mass = RHO * T * A * A;
     let modes = runs[0]["modes"].as_array().unwrap();
-    let m1 = modes[0]["effective_mass"][2].as_f64().unwrap() / plate_mass;
+    let m1 = modes[0]["effective_mass"]["z"].as_f64().unwrap() / plate_mass;
     assert!((m1 - 64.0 / PI.powi(4)).abs() < 0.03 * 64.0 / PI.powi(4), "mode 1 effective mass ratio {m1}");
     let mut prev = 0.0;
     let mut sum = 0.0;
     for m in modes {
-        let c = m["cumulative_ratio"][2].as_f64().unwrap();
+        let c = m["cumulative_ratio"]["z"].as_f64().unwrap();
         assert!(c <= 1.0 + 1e-9 && c + 1e-12 >= prev, "cumulative {c} after {prev}");
         prev = c;
-        sum += m["effective_mass"][2].as_f64().unwrap();
+        sum += m["effective_mass"]["z"].as_f64().unwrap();
     }
     let want6 = 64.0 / PI.powi(4) * (1.0 + 2.0 / 9.0);
     println!("SSSS effective mass in z: mode 1 {m1:.4} (64/π⁴ = 0.6570), six modes {:.4} (0.8030)", sum / plate_mass);
@@ -160,7 +160,7 @@ fn simply_supported_plate_with_lumped_mass_on_one_and_two_ranks() {
     for (a, b) in f.iter().zip(&frequencies(&runs[1])) {
         assert!((a - b).abs() <= 1e-8 * a, "1 vs 2 ranks: {a} vs {b}");
     }
-    let m1 = runs[0]["modes"][0]["effective_mass"][2].as_f64().unwrap() / (RHO * T * A * A);
+    let m1 = runs[0]["modes"][0]["effective_mass"]["z"].as_f64().unwrap() / (RHO * T * A * A);
     let want = 64.0 / PI.powi(4);
     assert!((m1 - want).abs() < 0.03 * want, "mode 1 effective mass ratio {m1}");
 }

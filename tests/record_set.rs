@@ -30,7 +30,7 @@ fn job(dir: &Path, edits: &[(&str, &str)]) -> PathBuf {
 }
 
 fn summary(dir: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap()
+    common::summary(&dir.join("out"))
 }
 
 /// The data lines of a two-column file, and its accelerations parsed by plain splitting.

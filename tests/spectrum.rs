@@ -33,8 +33,7 @@ fn spectrum_of_the_synthetic_record() {
         let f = job(&dir, "file = \"RECORD\"");
         let out = run(np, &[f.to_str().unwrap()]);
         assert!(out.status.success(), "np={np}: {}", stderr(&out));
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap()).unwrap();
+        let s: serde_json::Value = common::summary(&dir.join("out"));
         assert!((s["pga"].as_f64().unwrap() - pga).abs() <= 1e-12 * pga, "{s} vs {pga}");
         let csv = std::fs::read_to_string(dir.join("out/spectrum.csv")).unwrap();
         let row: Vec<f64> = csv.lines().nth(2).unwrap().split(',').map(|v| v.parse().unwrap()).collect();

@@ -74,7 +74,7 @@ mem = sorted(int(x) for x in mem.split())
 out = {
     "case": case, "size": th["equations"], "elements": th["elements"], "ranks": np_,
     "steps": th["steps"] - th["first_step"], "seconds": round(wall, 2), "seconds_per_step": round(th["seconds_per_step"], 4),
-    "seconds_stages": [round(x, 2) for x in s["stages"]["seconds"]], "seconds_gravity": round(th["seconds"][1], 2),
+    "seconds_stages": {k: round(x, 2) for k, x in s["stages"]["seconds"].items()}, "seconds_gravity": round(th["seconds"]["gravity"], 2),
     "iterations": th["iterations"], "factorizations": th["factorizations"], "substepped_steps": th["substepped_steps"],
     "max_damage": th["max_damage"], "peak_drift_ratio": th["peak_drift_ratio"],
     "system_seconds": {k: round(v, 2) for k, v in th.get("system_seconds", {}).items()},

@@ -38,8 +38,8 @@ line = {"case": "identify-chain-paper-wall", "ranks": 2, "seconds": round(wall, 
         "paper_seconds": paper, "ratio_paper_over_ours": round(paper / wall, 2)}
 if s.get("calibration_within_5_percent") is not None:
     line["calibration_within_5_percent"] = s["calibration_within_5_percent"]
-    line["calibration_relative_errors"] = [round(e, 4) for e in cal["relative_errors"]]
-    line["calibration_mean_std_n"] = [[st["mean"], st["std"], st["n"]] for st in cal["stats"]]
+    line["calibration_relative_errors"] = {k: round(e, 4) for k, e in cal["relative_errors"].items()}
+    line["calibration_mean_std_n"] = {k: [st["mean"], st["std"], st["n"]] for k, st in cal["stats"].items()}
 if law:
     line["law_peak_errors"] = [round(law["tension_peak_error"], 4), round(law["compression_peak_error"], 4)]
 print(json.dumps(line))
@@ -98,7 +98,7 @@ if not os.path.exists(sys.argv[1]):
 s = json.load(open(sys.argv[1])); c = s["calibration"]; p = c["parameters"]
 print(json.dumps({"case": "identify-calibration-synthetic", "size": c["evaluations"], "ranks": 2, "seconds": round(wall, 3),
                   "within_5_percent": s["calibration_within_5_percent"],
-                  "relative_errors": [round(e, 4) for e in c["relative_errors"]],
+                  "relative_errors": {k: round(e, 4) for k, e in c["relative_errors"].items()},
                   "identified": {k: p[k] for k in ["alpha", "e_bar", "eps_cr", "theta_cr"]},
                   "true": {"alpha": 0.8, "e_bar": 2.5e9, "eps_cr": 1e-4, "theta_cr": 7e-4}}))
 PY

@@ -34,6 +34,15 @@ use std::path::Path;
 /// The file holding the stages before the time history (read back by `--restart`).
 pub const STAGES_FILE: &str = "stages.json";
 
+crate::io::summary::named!(
+    /// The seconds of stages 1–3.
+    stage_seconds: ["modal", "updating", "modal_updated"]
+);
+crate::io::summary::named!(
+    /// The seconds of an assessment run.
+    run_seconds: ["stages", "time_history", "total"]
+);
+
 /// The modulus of one group's parts, before and after updating.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct ModulusChange {
@@ -47,7 +56,8 @@ pub struct ModulusChange {
     pub e_before: f64,
     /// After [Pa].
     pub e_after: f64,
-    /// Tensile strength `f_t = E ε₀ᵗ` before and after [Pa] (damage materials).
+    /// Tensile strength `f_t = E ε₀ᵗ` `before` and `after` [Pa] (damage materials).
+    #[serde(with = "crate::io::summary::before_after::option")]
     pub f_t: Option<[f64; 2]>,
 }
 
@@ -62,7 +72,8 @@ pub struct PreStages {
     pub moduli: Vec<ModulusChange>,
     /// Stage 3: modes of the updated model.
     pub modal_updated: serde_json::Value,
-    /// Seconds of stages 1, 2, 3.
+    /// Seconds of stages 1, 2, 3: `modal`, `updating`, `modal_updated`.
+    #[serde(with = "stage_seconds")]
     pub seconds: [f64; 3],
 }
 
@@ -79,7 +90,8 @@ pub struct AssessmentSummary {
     pub stages: PreStages,
     /// Stage 4.
     pub time_history: TimeHistorySummary,
-    /// Seconds of this run: stages 1–3 (0 on a restart), time history, total.
+    /// Seconds of this run: `stages` 1–3 (0 on a restart), `time_history`, `total`.
+    #[serde(with = "run_seconds")]
     pub seconds: [f64; 3],
 }
 

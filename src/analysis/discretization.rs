@@ -25,6 +25,8 @@ pub struct Discretization {
     pub local_cells: Vec<usize>,
     /// Their element objects, aligned with `local_cells`.
     pub elements: Vec<Box<dyn Element>>,
+    /// The whole model's mass and weight (logged at setup).
+    pub mass: super::model_mass::ModelMass,
 }
 
 /// Default orientation of a beam (a vector in its local x–z plane): global Z, or global X when
@@ -50,7 +52,10 @@ impl Discretization {
         let scale = vec![1.0; job.spec.parts.len()];
         let built = build_elements(job, mesh, model, &local_cells, &scale);
         let elements = agree(&ctx.comm, built, Error::exit_code)?;
-        Ok(Discretization { dofs, cell_rank, local_cells, elements })
+        let mut disc = Discretization { dofs, cell_rank, local_cells, elements, mass: Default::default() };
+        disc.mass = super::model_mass::ModelMass::of(ctx, &disc, model);
+        ctx.log.info(disc.mass.line());
+        Ok(disc)
     }
 
     /// Collective. The owned elements built again, fresh (no damage, no state), with the Young

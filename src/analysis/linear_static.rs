@@ -38,10 +38,12 @@ pub struct LinearStaticSummary {
     pub seconds: Timings,
     /// `‖f_int(u) − f_ext‖` on free equations over `‖f_ext‖`.
     pub equilibrium_residual: f64,
-    /// Sum of applied loads (Fx Fy Fz; moments about the origin Mx My Mz).
+    /// Sum of applied loads (`fx` `fy` `fz` [N]; moments about the origin `mx` `my` `mz` [N m]).
+    #[serde(with = "crate::io::summary::wrench")]
     pub applied_sum: [f64; 6],
     /// Sum of support reactions (forces of the supports on the structure), same convention;
     /// equilibrium: `applied_sum + reaction_sum = 0`.
+    #[serde(with = "crate::io::summary::wrench")]
     pub reaction_sum: [f64; 6],
     /// Largest translation magnitude.
     pub max_displacement: f64,

@@ -13,6 +13,7 @@ pub mod linear_static;
 pub mod modal;
 pub mod modal_updating;
 mod mode_pairing;
+mod model_mass;
 pub mod newton;
 mod nonlinear_system;
 pub mod nonlocal;
@@ -22,4 +23,5 @@ pub mod static_nonlinear;
 pub mod time_history;
 
 pub use discretization::{default_orientation, Discretization};
+pub use model_mass::ModelMass;
 pub use rigid_modes::rigid_body_modes;

@@ -20,6 +20,11 @@ use crate::model::StructuralModel;
 use crate::parallel::{agree, all_ranks, Context, Phases};
 use crate::petsc::{Matrix, Vector};
 
+crate::io::summary::named!(
+    /// The phases of a modal run.
+    seconds_names: ["setup", "assembly", "eigensolve", "output"]
+);
+
 /// One mode.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Mode {
@@ -31,11 +36,14 @@ pub struct Mode {
     pub period: f64,
     /// Circular frequency ω [rad/s].
     pub omega: f64,
-    /// Participation factors Γ in x, y, z.
+    /// Participation factors Γ in `x`, `y`, `z`.
+    #[serde(with = "crate::io::summary::xyz")]
     pub participation: [f64; 3],
-    /// Effective modal masses in x, y, z [kg].
+    /// Effective modal masses in `x`, `y`, `z` [kg].
+    #[serde(with = "crate::io::summary::xyz")]
     pub effective_mass: [f64; 3],
-    /// Cumulative effective mass over the total, in x, y, z.
+    /// Cumulative effective mass over the total, in `x`, `y`, `z`.
+    #[serde(with = "crate::io::summary::xyz")]
     pub cumulative_ratio: [f64; 3],
 }
 
@@ -52,11 +60,13 @@ pub struct ModalSummary {
     pub equations: usize,
     /// Mass matrix kind.
     pub mass: String,
-    /// Mass that moves with the free DOFs, per direction [kg].
+    /// Mass that moves with the free DOFs, per direction `x` `y` `z` [kg].
+    #[serde(with = "crate::io::summary::xyz")]
     pub total_mass: [f64; 3],
     /// The modes.
     pub modes: Vec<Mode>,
-    /// Seconds: setup, assembly, eigensolve, output.
+    /// Seconds: `setup`, `assembly`, `eigensolve`, `output`.
+    #[serde(with = "seconds_names")]
     pub seconds: [f64; 4],
 }
 

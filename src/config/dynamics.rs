@@ -46,6 +46,9 @@
 //! name = "top"
 //! node = 123                      # a Gmsh node tag, or:
 //! # group = "top"  near = [0, 0, 90]   # the group's node nearest to a point
+//! [[dynamics.drift]]              # a storey drift (drift.rs)
+//! name = "ground-floor"
+//! levels = [0.0, 3.5]             # [m], or groups = ["base", "floor-1"]
 //! ```
 use super::source::{Seg, Source};
 use super::{ConfigError, RecordConfig, RecordFormat};
@@ -286,6 +289,9 @@ pub struct DynamicsConfig {
     /// Monitored nodes.
     #[serde(default)]
     pub monitor: Vec<MonitorConfig>,
+    /// Storey drifts between two levels (`drift.rs`).
+    #[serde(default)]
+    pub drift: Vec<super::drift::DriftConfig>,
     /// A convergence study's band file (`scripts/convergence.py`'s `band.json`), relative to the
     /// job file: the damage shares are reported with its band where its settings are this job's
     /// (`config::convergence`).
@@ -352,6 +358,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     check_damping(src, &d.damping)?;
     read_ground_motions(src, folder, d)?;
     check_monitors(src, &d.monitor)?;
+    super::drift::check_drifts(src, &d.drift)?;
     if let Some(tau) = d.damage_relaxation_time {
         if !(tau.is_finite() && tau > 0.0) {
             return Err(src.error_at(

@@ -11,6 +11,7 @@ mod analysis;
 mod assessment;
 mod convergence;
 mod dem;
+mod drift;
 mod dynamics;
 mod error;
 mod identify;
@@ -18,6 +19,7 @@ mod identify_job;
 mod job;
 mod kind;
 mod material_point;
+pub mod plausible;
 mod record;
 mod record_set;
 mod source;
@@ -31,6 +33,7 @@ pub use analysis::*;
 pub use assessment::*;
 pub use convergence::{BandReport, BandSettings, ConvergenceBand};
 pub use dem::*;
+pub use drift::{DriftConfig, DriftLevels, DEFAULT_LEVEL_TOLERANCE};
 pub use dynamics::*;
 pub use error::{ConfigError, Location};
 pub use identify::*;
@@ -326,7 +329,13 @@ impl MaterialPointJob {
 /// Reads the damage law's parameters from a material file (its `[law]` table, as the
 /// identification writes it; other tables, e.g. provenance, are ignored).
 fn read_law_file(file: &Path) -> Result<crate::material::DamageParams, String> {
-    let src = Source::read(file).map_err(|e| e.to_string())?;
+    if !file.is_file() {
+        return Err(format!("material file {} does not exist", file.display()));
+    }
+    let src = Source::read(file).map_err(|e| match e {
+        ConfigError::Read { path, source } => format!("cannot read material file {}: {source}", path.display()),
+        other => other.to_string(),
+    })?;
     #[derive(serde::Deserialize)]
     struct LawFile {
         law: crate::material::DamageParams,

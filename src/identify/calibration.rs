@@ -135,22 +135,41 @@ pub struct CalibrationResult {
     pub objective: f64,
     /// Stage 1 of the staged strategy: (α, Ē) from the elastic state.
     pub elastic: Option<ElasticFit>,
-    /// Sample statistics at the optimum, [`QUANTITIES`] order.
+    /// Sample statistics at the optimum, [`QUANTITIES`] order (named so in the summary).
+    #[serde(with = "quantity_names")]
     pub stats: [Stat; 4],
-    /// Relative error of each sample mean against its target.
+    /// Relative error of each sample mean against its target (named by quantity).
+    #[serde(with = "quantity_names")]
     pub relative_errors: [f64; 4],
     /// The targets.
     pub targets: Targets,
     /// Evaluations of the objective (design + infill).
     pub evaluations: usize,
     /// Every point: iteration, physical coordinates (all unknowns), objective (the searched
-    /// one: J joint, J₂ in stage 2).
+    /// one: J joint, J₂ in stage 2); in the summary each as `iteration`, `point` (named by
+    /// [`CALIBRATION_UNKNOWNS`]) and `objective`.
+    #[serde(serialize_with = "calibration_history")]
     pub history: Vec<(usize, Vec<f64>, Result<f64, String>)>,
     /// The runs at the optimum (curves for the picture).
     #[serde(skip)]
     pub best_runs: Vec<DemRun>,
     /// The failures at the optimum.
     pub best_failures: Vec<String>,
+}
+
+crate::io::summary::named!(
+    /// The measured quantities, [`QUANTITIES`].
+    quantity_names: ["young_modulus", "poisson", "first_crack_stress", "peak_stress"]
+);
+
+/// The calibration's unknowns in the order of a point's coordinates (σ_c only with crushing).
+pub const CALIBRATION_UNKNOWNS: [&str; 5] = ["alpha", "e_bar", "eps_cr", "theta_cr", "crushing_stress"];
+
+fn calibration_history<S: serde::Serializer>(
+    h: &[(usize, Vec<f64>, Result<f64, String>)],
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    super::named_history(&CALIBRATION_UNKNOWNS, h, s)
 }
 
 /// The parameters at the physical point `x = (α, Ē, ε_cr, θ_cr[, σ_c])`.

@@ -145,21 +145,30 @@ pub struct LawResult {
     pub tension_peak_error: f64,
     /// Relative error of the law's compressive peak against the DEM's.
     pub compression_peak_error: f64,
-    /// DEM peaks (tension, compression) [Pa].
+    /// DEM peaks (`tension`, `compression`) [Pa].
+    #[serde(with = "crate::io::summary::tension_compression")]
     pub dem_peaks: [f64; 2],
-    /// Law peaks (tension, compression) [Pa], on the law's refined path.
+    /// Law peaks (`tension`, `compression`) [Pa], on the law's refined path.
+    #[serde(with = "crate::io::summary::tension_compression")]
     pub law_peaks: [f64; 2],
-    /// The DEM samples' peaks (tension, compression), mean ± std, when known.
+    /// The DEM samples' peaks (`tension`, `compression`), mean ± std, when known.
+    #[serde(with = "crate::io::summary::tension_compression::option")]
     pub dem_sample_peaks: Option<[super::stat::Stat; 2]>,
     /// Every measure (eq. 15, relative RMS, peak_energy) at the identified law.
     pub measures: Vec<MeasureReport>,
-    /// Every point: iteration, physical coordinates, objective.
+    /// Every point: iteration, physical coordinates, objective; in the summary each as
+    /// `iteration`, `point` (named by [`UNKNOWNS`]) and `objective`.
+    #[serde(serialize_with = "law_history")]
     pub history: Vec<(usize, Vec<f64>, Result<f64, String>)>,
     /// Best objective after each evaluation.
     pub best_so_far: Vec<f64>,
     /// The law's curves at the optimum on the DEM grids (tension, compression).
     #[serde(skip)]
     pub law_curves: (Curve, Curve),
+}
+
+fn law_history<S: serde::Serializer>(h: &[(usize, Vec<f64>, Result<f64, String>)], s: S) -> Result<S::Ok, S::Error> {
+    super::named_history(&UNKNOWNS, h, s)
 }
 
 impl LawFit {

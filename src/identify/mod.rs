@@ -50,3 +50,35 @@ pub use error_measure::{curve_error, CurveError, ErrorMeasure};
 pub use law_fit::{identify, LawFit, LawResult};
 pub use space::Space;
 pub use stat::Stat;
+
+/// A search's history for the summary: each point as `iteration`, `point` (its coordinates
+/// named by `names`, in order) and `objective` (`{"Ok": value}` or `{"Err": why}`).
+fn named_history<S: serde::Serializer>(
+    names: &[&str],
+    h: &[(usize, Vec<f64>, Result<f64, String>)],
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::ser::{SerializeSeq, SerializeStruct};
+    struct Point<'a>(&'a [&'a str], &'a [f64]);
+    impl serde::Serialize for Point<'_> {
+        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            crate::io::summary::write_named(self.0, self.1, s)
+        }
+    }
+    struct Entry<'a>(&'a [&'a str], &'a (usize, Vec<f64>, Result<f64, String>));
+    impl serde::Serialize for Entry<'_> {
+        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            let (iteration, x, objective) = self.1;
+            let mut e = s.serialize_struct("Entry", 3)?;
+            e.serialize_field("iteration", iteration)?;
+            e.serialize_field("point", &Point(self.0, x))?;
+            e.serialize_field("objective", objective)?;
+            e.end()
+        }
+    }
+    let mut seq = s.serialize_seq(Some(h.len()))?;
+    for entry in h {
+        seq.serialize_element(&Entry(names, entry))?;
+    }
+    seq.end()
+}

@@ -10,6 +10,7 @@
 //! | `xdmf.rs`          | the XDMF index text and its atomic replacement              |
 //! | `error.rs`         | [`IoError`]                                                 |
 //! | `paths.rs`         | [`normalize`]: paths as the user reads them in messages      |
+//! | `summary.rs`       | `summary.json`: its format version, arrays as named fields   |
 //!
 //! Use: `ResultsWriter::create` once (writes the mesh), then per output step `begin_step(t)`,
 //! any number of `write_node_field` / `write_cell_field`, `end_step()`. After every `end_step`
@@ -21,6 +22,7 @@ mod hyperslab;
 mod output_mesh;
 mod paths;
 mod results;
+pub mod summary;
 mod xdmf;
 
 pub use error::IoError;

@@ -3,6 +3,7 @@
 //! the element objects themselves (with their integration-point state) are created only by the
 //! rank that owns each cell (see [`crate::analysis`]).
 mod build;
+pub mod plausible;
 mod rigid_pieces;
 mod stability;
 mod ties;

@@ -203,9 +203,12 @@ impl LineChart {
         for (s, color) in self.series.iter().zip(self.colours()) {
             let pts: Vec<(f64, f64)> =
                 s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+            // A dense trace (an accelerogram: more points than half the pixels across) is drawn 1
+            // pixel wide: plotters draws a wider stroke of a near-vertical segment with gaps.
+            let width = if 2 * pts.len() > self.size.0 as usize { 1 } else { 2 };
             let anno = match s.style {
-                SeriesStyle::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))),
-                SeriesStyle::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(2))),
+                SeriesStyle::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(width))),
+                SeriesStyle::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(width))),
                 SeriesStyle::Markers => chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 5, color.filled()))),
             }
             .map_err(|e| render(&e))?;
@@ -289,6 +292,35 @@ mod tests {
         let bytes = std::fs::read(&f).unwrap();
         assert_eq!(&bytes[1..4], b"PNG", "a PNG signature");
         assert!(bytes.len() > 5_000, "a chart, not an empty image: {} bytes", bytes.len());
+    }
+
+    /// A dense zigzag (2000 points across 600 pixels, every segment near-vertical) is drawn
+    /// without gaps: in the middle third of the trace, each pixel column is coloured over at
+    /// least 95 % of the rows between the trace's extremes (less 10 % at each end).
+    #[test]
+    fn a_dense_trace_is_drawn_without_gaps() {
+        let dir = std::env::temp_dir().join(format!("mhpc-plot-dense-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("zigzag.png");
+        let pts: Vec<(f64, f64)> = (0..2000).map(|i| (0.01 * i as f64, if i % 2 == 0 { 1.0 } else { -1.0 })).collect();
+        LineChart::new("zigzag", "t", "a").size(600, 400).series("a", pts, SeriesStyle::Line).save_png(&f).unwrap();
+        let img = image::open(&f).unwrap().to_rgb8();
+        let c = PALETTE[0];
+        let ours = |x: u32, y: u32| {
+            let p = img.get_pixel(x, y).0;
+            (p[0] as i32 - c.0 as i32).abs() + (p[1] as i32 - c.1 as i32).abs() + (p[2] as i32 - c.2 as i32).abs() < 90
+        };
+        let (w, h) = img.dimensions();
+        let hits: Vec<(u32, u32)> =
+            (0..w).flat_map(|x| (0..h).map(move |y| (x, y))).filter(|&(x, y)| ours(x, y)).collect();
+        let (x0, x1) = (hits.iter().map(|p| p.0).min().unwrap(), hits.iter().map(|p| p.0).max().unwrap());
+        let (y0, y1) = (hits.iter().map(|p| p.1).min().unwrap(), hits.iter().map(|p| p.1).max().unwrap());
+        let (r0, r1) = (y0 + (y1 - y0) / 10, y1 - (y1 - y0) / 10);
+        for x in x0 + (x1 - x0) / 3..x1 - (x1 - x0) / 3 {
+            let covered = (r0..=r1).filter(|&y| ours(x, y)).count() as f64 / (r1 - r0 + 1) as f64;
+            assert!(covered >= 0.95, "column {x}: {:.1} % of the trace's height drawn", 100.0 * covered);
+        }
+        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]

@@ -42,11 +42,11 @@ pub struct Input {
 }
 
 /// Collective. Loads and checks any job file (and, for a structural job, its mesh and its
-/// model) without running anything.
-pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
+/// model) without running anything; `strict`: implausible input is an error ([`load_input`]).
+pub fn check_job(ctx: &Context, path: &Path, strict: bool) -> Result<String, Error> {
     match agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)? {
         AnyJob::Structural(job) => {
-            let input = load_input(ctx, path, job)?;
+            let input = load_input(ctx, path, job, strict)?;
             let n_fixed: u32 = input.model.fixed.iter().map(|m| m.count_ones()).sum();
             Ok(format!(
                 "{} structural elements in {} part(s), {} fixed DOFs, {} loaded node(s); results would go to {}",
@@ -103,8 +103,9 @@ pub fn check_job(ctx: &Context, path: &Path) -> Result<String, Error> {
     }
 }
 
-/// Collective. Checks a structural job's mesh and model.
-pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> {
+/// Collective. Checks a structural job's mesh and model, and warns of implausible input
+/// (`config::plausible`, `model::plausible`); with `strict` the warnings are an error (exit 2).
+pub fn load_input(ctx: &Context, path: &Path, job: Job, strict: bool) -> Result<Input, Error> {
     ctx.log.info(format!(
         "job {}{}",
         path.display(),
@@ -125,6 +126,7 @@ pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> 
             path.display()
         ));
     }
+    warn_implausible(ctx, path, &job, &mesh, &model, strict)?;
     let mech = model.find_mechanisms(&mesh);
     if let Some(m) = mech.first() {
         let more = if mech.len() > 1 { format!(" ({} such pieces in all)", mech.len()) } else { String::new() };
@@ -133,13 +135,47 @@ pub fn load_input(ctx: &Context, path: &Path, job: Job) -> Result<Input, Error> 
     Ok(Input { job, mesh, model })
 }
 
-/// Collective. Runs the job at `path`; `petsc_args` are the command-line PETSc options.
-pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), Error> {
-    run_job_with(ctx, path, petsc_args, false)
+/// Every rank. The warnings of implausible input in the log (rank 0); with `strict`, an error
+/// that lists them (every rank has the same).
+fn warn_implausible(
+    ctx: &Context,
+    path: &Path,
+    job: &Job,
+    mesh: &Mesh,
+    model: &StructuralModel,
+    strict: bool,
+) -> Result<(), Error> {
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let mut warnings = crate::config::plausible::warnings(&job.source, &job.spec, folder);
+    warnings.extend(crate::model::plausible::thickness_warnings(job, mesh, model));
+    for w in &warnings {
+        ctx.log.warn(w);
+    }
+    if strict && !warnings.is_empty() {
+        let message = format!(
+            "{} implausible value(s) with --strict (each warned above):\n  {}",
+            warnings.len(),
+            warnings.join("\n  ")
+        );
+        return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
+    }
+    Ok(())
 }
 
-/// Collective. As [`run_job`]; `restart` continues a time history from its last checkpoint.
-pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: bool) -> Result<(), Error> {
+/// Collective. Runs the job at `path`; `petsc_args` are the command-line PETSc options.
+pub fn run_job(ctx: &Context, path: &Path, petsc_args: &[String]) -> Result<(), Error> {
+    run_job_with(ctx, path, petsc_args, false, false)
+}
+
+/// Collective. As [`run_job`]; `restart` continues a time history from its last checkpoint;
+/// `strict` makes implausible input an error ([`load_input`]).
+pub fn run_job_with(
+    ctx: &Context,
+    path: &Path,
+    petsc_args: &[String],
+    restart: bool,
+    strict: bool,
+) -> Result<(), Error> {
     let job = agree(&ctx.comm, load_job(path).map_err(Error::from), Error::exit_code)?;
     let restartable =
         |a: &AnalysisConfig| matches!(a, AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_));
@@ -155,7 +191,7 @@ pub fn run_job_with(ctx: &Context, path: &Path, petsc_args: &[String], restart: 
         return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
     }
     match job {
-        AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args, restart),
+        AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args, restart, strict),
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
         AnyJob::Dem(job) => run_dem(ctx, path, &job),
         AnyJob::Identify(job) => {
@@ -207,7 +243,7 @@ pub(crate) fn prepare(ctx: &Context, dir: &Path, policy: crate::config::Existing
 fn write_summary(ctx: &Context, dir: &Path, summary: &impl serde::Serialize) -> Result<(), Error> {
     if ctx.rank == 0 {
         let file = dir.join("summary.json");
-        let text = serde_json::to_string_pretty(summary)
+        let text = crate::io::summary::summary_json(summary)
             .map_err(|e| Error::Analysis(format!("{}: the summary cannot be written as JSON: {e}", file.display())))?;
         std::fs::write(&file, text + "\n").map_err(|source| Error::OutputDir { path: file.clone(), source })?;
         ctx.log.info(format!("summary: {}", file.display()));
@@ -239,8 +275,15 @@ fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob) -> Result<()
     write_summary(ctx, &job.output_dir, &summary)
 }
 
-fn run_structural(ctx: &Context, path: &Path, job: Job, petsc_args: &[String], restart: bool) -> Result<(), Error> {
-    let input = load_input(ctx, path, job)?;
+fn run_structural(
+    ctx: &Context,
+    path: &Path,
+    job: Job,
+    petsc_args: &[String],
+    restart: bool,
+    strict: bool,
+) -> Result<(), Error> {
+    let input = load_input(ctx, path, job, strict)?;
     let job = &input.job;
     if !restart {
         prepare(ctx, &job.output_dir, job.spec.output.existing)?;

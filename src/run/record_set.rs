@@ -29,6 +29,11 @@ use std::path::Path;
 /// Periods of the tables and the chart besides the check's: 150 log-spaced over 0.02–4 s.
 const CHART_PERIODS: (f64, f64, usize) = (0.02, 4.0, 150);
 
+crate::io::summary::named!(
+    /// The corner periods of an EN 1998-1 spectrum.
+    corner_names: ["t_b", "t_c", "t_d"]
+);
+
 /// The target spectrum, as summarized.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct TargetSummary {
@@ -40,8 +45,9 @@ pub struct TargetSummary {
     pub ag: f64,
     /// Soil factor S.
     pub s: f64,
-    /// Corner periods T_B, T_C, T_D [s].
-    pub corners: (f64, f64, f64),
+    /// Corner periods `t_b`, `t_c`, `t_d` [s].
+    #[serde(with = "corner_names")]
+    pub corners: [f64; 3],
 }
 
 /// One record of the set, as summarized.
@@ -55,8 +61,9 @@ pub struct RecordSummary {
     pub origin: &'static str,
     /// Seed of an artificial record.
     pub seed: Option<u64>,
-    /// Largest |Sa/Se − 1| over the matching periods before and after matching (artificial).
-    pub matching_max_misfit: Option<(f64, f64)>,
+    /// Largest |Sa/Se − 1| over the matching periods `before` and `after` matching (artificial).
+    #[serde(with = "crate::io::summary::before_after::option")]
+    pub matching_max_misfit: Option<[f64; 2]>,
     /// Scale factor of a recorded record.
     pub scale_factor: Option<f64>,
     /// Where it came from.
@@ -146,7 +153,7 @@ fn compute(ctx: &Context, job: &RecordSetJob) -> Result<(), Error> {
             ground: job.spec.record_set.ground,
             ag: job.target.ag,
             s: job.target.s,
-            corners: (job.target.tb, job.target.tc, job.target.td),
+            corners: [job.target.tb, job.target.tc, job.target.td],
         },
         t1: job.spec.record_set.t1,
         records,
@@ -185,7 +192,7 @@ fn record_summary(file: String, m: &Member) -> RecordSummary {
     let (origin, seed, misfit, factor) = match &m.origin {
         Origin::Artificial { seed, report } => {
             let after = report.max_misfit.get(report.best).copied().unwrap_or(f64::NAN);
-            ("artificial", Some(*seed), Some((report.max_misfit[0], after)), None)
+            ("artificial", Some(*seed), Some([report.max_misfit[0], after]), None)
         }
         Origin::Recorded { factor } => ("recorded", None, None, Some(*factor)),
     };

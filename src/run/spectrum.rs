@@ -31,8 +31,14 @@ pub struct SpectrumSummary {
     pub d5_95: f64,
     /// Damping ratio.
     pub damping: f64,
-    /// Largest Sa [m/s²] and its period [s].
+    /// Largest Sa [m/s²] (`sa`) and its `period` [s].
+    #[serde(serialize_with = "peak_names")]
     pub peak_sa: (f64, f64),
+}
+
+/// `(Sa, T)` as `{"sa": …, "period": …}`.
+fn peak_names<S: serde::Serializer>(p: &(f64, f64), s: S) -> Result<S::Ok, S::Error> {
+    crate::io::summary::write_named(&["sa", "period"], &[p.0, p.1], s)
 }
 
 /// Collective. Runs the job; rank 0 writes.

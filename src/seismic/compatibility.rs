@@ -94,7 +94,8 @@ pub struct Compatibility {
     pub rules: Vec<RuleOutcome>,
     /// Number of records.
     pub records: usize,
-    /// The period range of rule (c) [s].
+    /// The period range of rule (c) [s], `low` and `high`.
+    #[serde(serialize_with = "crate::io::summary::low_high")]
     pub range: (f64, f64),
     /// Lowest `S̄a/Se` over the range.
     pub min_ratio: f64,

@@ -325,11 +325,46 @@ pub fn cell_field(dir: &Path, name: &str) -> std::collections::BTreeMap<u64, Vec
     ids.iter().enumerate().map(|(i, &id)| (id, v[i * nc..(i + 1) * nc].to_vec())).collect()
 }
 
-/// `<dir>/summary.json`.
+/// `<dir>/summary.json`, checked to be in format 2 ([`assert_named_fields`]).
 pub fn summary(dir: &Path) -> serde_json::Value {
     let p = dir.join("summary.json");
-    serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
-        .expect("summary.json")
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())))
+            .expect("summary.json");
+    assert_named_fields(&v, &p.display().to_string());
+    v
+}
+
+/// The lists of numbers a summary may hold: series, whose index is their meaning (a value per
+/// accepted step or evaluation; the sample numbers of a variant). The key path's end.
+pub const SERIES: [&str; 4] = ["history", "best_so_far", "samples.tension", "samples.compression"];
+
+/// A summary in format 2 (docs/outputs.md, "summary.json"): `"format": 2` at the top, and no
+/// list of numbers (at any depth) but the [`SERIES`]: a group of values with distinct meanings
+/// is an object with named fields. `what` names the file in the failure.
+pub fn assert_named_fields(v: &serde_json::Value, what: &str) {
+    assert_eq!(v["format"], 2, "{what}: no \"format\": 2");
+    fn walk(v: &serde_json::Value, path: &str, what: &str) {
+        match v {
+            serde_json::Value::Array(items) => {
+                let numeric = !items.is_empty() && items.iter().all(|x| x.is_number() || x.is_null());
+                assert!(
+                    !numeric || SERIES.iter().any(|s| path.ends_with(s)),
+                    "{what}: {path} is a bare list of numbers: {v}"
+                );
+                for (i, x) in items.iter().enumerate() {
+                    walk(x, &format!("{path}[{i}]"), what);
+                }
+            }
+            serde_json::Value::Object(m) => {
+                for (k, x) in m {
+                    walk(x, &if path.is_empty() { k.clone() } else { format!("{path}.{k}") }, what);
+                }
+            }
+            _ => {}
+        }
+    }
+    walk(v, "", what);
 }
 
 /// The mesh `m.msh` of a wall of 2 × 3 quads in the x–z plane (2 m wide, 3 m high), with the

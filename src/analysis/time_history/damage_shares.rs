@@ -25,11 +25,12 @@ pub struct GroupDamage {
     pub group: String,
     /// Its shell area [m²].
     pub area: f64,
-    /// Share of the area with peak d_t > 0.05.
+    /// Share of the area with peak d_t > [`ONSET`] = 0.05: cracking has begun.
     pub share_dt_onset: f64,
-    /// Share of the area with peak d_t > 0.5.
+    /// Share of the area with peak d_t > [`CRACKED`] = 0.5: more than half the tensile stiffness
+    /// lost (the sweep's limits and the convergence band use this share).
     pub share_dt: f64,
-    /// Share of the area with peak d_c > 0.5.
+    /// Share of the area with peak d_c > [`CRACKED`] = 0.5.
     pub share_dc: f64,
     /// Largest d_t.
     pub max_dt: f64,

@@ -15,7 +15,7 @@
 //! [`integrate`] is the stepping loop on its own, callable by a driver that chains analyses
 //! (modal → updating → gravity → earthquake) on the same [`PetscSystem`].
 use super::checkpoint::{self, CheckpointClock};
-use super::damage_shares::{self, GroupDamage};
+use super::damage_shares;
 use super::damping::Rayleigh;
 use super::diagnosis::{self, agreed};
 use super::gravity::{solve_gravity, GravitySettings};
@@ -27,6 +27,7 @@ use super::progress::Progress;
 use super::scheme::Scheme;
 use super::step_output::StepOutputs;
 use super::stepper::{State, StepReport, StepSettings, Stepper};
+pub use super::summary::{DriftPeak, TimeHistorySummary};
 use crate::analysis::output::global_max_with_tag;
 use crate::analysis::Discretization;
 use crate::config::{scheme_parameters, DynamicsConfig, Job};
@@ -35,109 +36,6 @@ use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
 use std::path::Path;
-
-/// What a time-history run reports (`summary.json`).
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct TimeHistorySummary {
-    /// Ranks.
-    pub ranks: usize,
-    /// Equations (6 per node).
-    pub equations: usize,
-    /// Elements.
-    pub elements: usize,
-    /// Whether every element is linear.
-    pub linear: bool,
-    /// Scheme: β, γ, α.
-    pub scheme: [f64; 3],
-    /// Rayleigh α [1/s], β [s].
-    pub rayleigh: [f64; 2],
-    /// Newton variant.
-    pub newton: String,
-    /// How the steps integrate the damage law: `implicit` or `implex` (`stepper.rs`).
-    pub integration: String,
-    /// With IMPL-EX, where the split of a step's stress is taken: `current` or `frozen`.
-    pub implex_split: Option<String>,
-    /// Linear solver.
-    pub solver: String,
-    /// Time step [s].
-    pub dt: f64,
-    /// Steps of the whole history.
-    pub steps: usize,
-    /// Step the run started from (0, or the checkpoint's on a restart).
-    pub first_step: usize,
-    /// Time reached [s].
-    pub time: f64,
-    /// Newton iterations (solves) in this run.
-    pub iterations: usize,
-    /// Steps that needed substeps.
-    pub substepped_steps: usize,
-    /// Newton iterations of the attempts that failed and were halved (not in `iterations`).
-    pub failed_iterations: usize,
-    /// The damage control's limit on a substep's damage increment (`[dynamics]
-    /// max_damage_increment`; 1: off).
-    pub max_damage_increment: f64,
-    /// Steps with at least one substep cut by the damage control.
-    pub damage_cut_steps: usize,
-    /// Substeps cut by the damage control (taken again as two halves).
-    pub damage_cuts: usize,
-    /// Newton iterations of the cut substeps (not in `iterations`).
-    pub damage_cut_iterations: usize,
-    /// Substeps accepted at the smallest size with a damage increment over the limit.
-    pub over_limit_substeps: usize,
-    /// The smallest substep accepted [s].
-    pub smallest_substep: f64,
-    /// The largest damage increment of an accepted substep (0 with the control off).
-    pub max_step_damage_increment: f64,
-    /// Jacobian factorizations (operator changes).
-    pub factorizations: usize,
-    /// Krylov–Newton: steps that started on the tangent kept from an earlier step, and steps
-    /// that started on a fresh one (`refresh.rs`).
-    pub tangents_kept: usize,
-    /// See `tangents_kept`.
-    pub tangents_fresh: usize,
-    /// Output steps written.
-    pub output_steps: usize,
-    /// Checkpoints written.
-    pub checkpoints: usize,
-    /// Final energies [J]: input, kinetic, strain, damping, dissipated by damage (the law's),
-    /// exchanged at unilateral switches (`energy.rs`).
-    pub energy: [f64; 6],
-    /// Largest relative energy-balance error over the steps.
-    pub max_balance_error: f64,
-    /// Peak relative displacement over nodes and time, x y z [m].
-    pub peak_displacement: [f64; 3],
-    /// Peak drift ratio.
-    pub peak_drift_ratio: f64,
-    /// Largest tensile and compressive damage.
-    pub max_damage: [f64; 2],
-    /// Seconds: setup, gravity, stepping, output, checkpoints.
-    pub seconds: [f64; 5],
-    /// Stepping seconds per step.
-    pub seconds_per_step: f64,
-    /// Where the stepping's time goes in the system, per rank 0 [s]: Jacobian assembly
-    /// (`assemble`), numeric factorization with its first solve (`factorize`), the other solves
-    /// (`solve`), the elements' state updates and force assembly (`internal_force`).
-    pub system_seconds: std::collections::BTreeMap<String, f64>,
-    /// Results file of this run.
-    pub results: String,
-    /// Per group of shell parts: area shares with peak damage above 0.05 and 0.5 at the end
-    /// (`damage_shares.rs`), with the convergence band where one applies.
-    pub damage_by_group: Vec<GroupDamage>,
-    /// The convergence band of `[dynamics] convergence`, and whether it applies.
-    pub convergence: Option<crate::config::BandReport>,
-}
-
-impl TimeHistorySummary {
-    /// A step's damage cuts and substep sizes (`stepper.rs`, "Damage control").
-    fn add_damage_control(&mut self, report: &StepReport) {
-        self.damage_cut_steps += (report.damage_cuts > 0) as usize;
-        self.damage_cuts += report.damage_cuts;
-        self.damage_cut_iterations += report.damage_cut_iterations;
-        self.over_limit_substeps += report.over_limit;
-        self.smallest_substep = self.smallest_substep.min(report.smallest_substep);
-        self.max_step_damage_increment = self.max_step_damage_increment.max(report.damage_increment);
-    }
-}
 
 /// The ground motion of the job's components.
 pub fn ground_motion(cfg: &DynamicsConfig) -> GroundMotion {
@@ -500,6 +398,26 @@ fn substep_line(s: &TimeHistorySummary) -> String {
     format!("{} step(s) substepped, smallest substep {:.4e} s; {control}", s.substepped_steps, s.smallest_substep)
 }
 
+/// The peak base shear and storey drifts in the run's last lines.
+fn engineering_line(s: &TimeHistorySummary) -> String {
+    let [vx, vy] = s.peak_base_shear;
+    let [tx, ty] = s.peak_base_shear_time;
+    let w = s.weight.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let of_weight = |v: f64| if w > 0.0 { format!(" ({:.3} W)", v / w) } else { String::new() };
+    let mut line = format!(
+        "peak base shear: x {vx:.4e} N{} at t = {tx:.4} s, y {vy:.4e} N{} at t = {ty:.4} s",
+        of_weight(vx),
+        of_weight(vy)
+    );
+    for d in &s.drifts {
+        line += &format!(
+            "; drift '{}' ({:.3} → {:.3} m): peak x {:.3e} at t = {:.4} s, y {:.3e} at t = {:.4} s",
+            d.name, d.levels[0], d.levels[1], d.peak[0], d.peak_time[0], d.peak[1], d.peak_time[1]
+        );
+    }
+    line
+}
+
 /// Collective. The summary's totals (time, energies, peaks over ranks), the envelopes written,
 /// the outputs closed, and the run's last log lines.
 fn finish(
@@ -527,6 +445,23 @@ fn finish(
     summary.peak_drift_ratio = peak[3];
     summary.max_damage =
         [global_max_with_tag(&ctx.comm, env.cell_max(0), 0).0, global_max_with_tag(&ctx.comm, env.cell_max(1), 0).0];
+    summary.model_mass = sys.disc.mass.mass;
+    summary.weight = sys.disc.mass.weight;
+    let peaks = out.peaks(ctx);
+    summary.peak_base_shear = [peaks[0].0, peaks[1].0];
+    summary.peak_base_shear_time = [peaks[0].1, peaks[1].1];
+    summary.drifts = out
+        .drifts
+        .iter()
+        .zip(peaks[2..].chunks(2))
+        .map(|(d, p)| DriftPeak {
+            name: d.name.clone(),
+            levels: d.levels(),
+            nodes: d.counts(),
+            peak: [p[0].0, p[1].0],
+            peak_time: [p[0].1, p[1].1],
+        })
+        .collect();
     summary.damage_by_group = damage_shares::by_group(ctx, &sys.disc, env, it.mesh, it.model, it.job);
     summary.convergence = damage_shares::with_band(it.job, &mut summary.damage_by_group);
     if let Some(r) = &summary.convergence {
@@ -556,6 +491,7 @@ fn finish(
         e.relative_error(),
         summary.max_balance_error
     ));
+    log.info(engineering_line(&summary));
     log.info(format!(
         "results: {} (every {} step(s)), {}, {}, {}",
         summary.results,

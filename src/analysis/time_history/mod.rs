@@ -28,18 +28,23 @@
 //! | `checkpoint.rs`    | atomic checkpoints and `--restart`                               |
 //! | `diagnosis.rs`     | where a failed step is out of balance, which elements changed     |
 //! | `monitor.rs`       | monitored nodes to CSV and PNG                                   |
+//! | `base_shear.rs`    | the base reactions (base shear) per step                         |
+//! | `drift.rs`         | storey drifts between two levels per step                        |
 //! | `step_output.rs`   | results every k steps, CSV rows every step, envelopes at the end  |
 //! | `envelope.rs`      | peak displacement, drift and damage                              |
 //! | `damage_shares.rs` | per substructure, the area shares with damage above 0.05 and 0.5 |
 //! | `progress.rs`      | progress lines with ETA on rank 0                                |
+//! | `summary.rs`       | what a run reports in `summary.json`                             |
 //! | `integration.rs`   | what the stepping loop reads: settings, job, mesh, model, ground  |
 //! | `driver.rs`        | the `time_history` job, its starts (gravity, restart, a saved gravity state) and the reusable stepping loop |
+mod base_shear;
 mod checkpoint;
 #[cfg(test)]
 mod damage_control_tests;
 mod damage_shares;
 mod damping;
 mod diagnosis;
+mod drift;
 mod driver;
 mod energy;
 mod envelope;
@@ -60,6 +65,7 @@ mod state;
 mod step_output;
 mod stepper;
 mod substeps;
+mod summary;
 mod system;
 #[cfg(test)]
 mod tests;

@@ -4,7 +4,8 @@
 //!
 //! A monitor names a node by its Gmsh tag, or by a physical group and a point: the group's node
 //! nearest to it. The rank that owns the node supplies its values; a sum over ranks brings them to
-//! every rank (the others add zeros).
+//! every rank (the others add zeros), with the base reactions and the drifts of the same row
+//! (`step_output.rs`).
 use crate::config::MonitorConfig;
 use crate::error::Error;
 use crate::mesh::Mesh;
@@ -66,9 +67,10 @@ pub fn resolve(cfg: &[MonitorConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<
     Ok(out)
 }
 
-/// Collective. The monitors' values this step, on every rank: from the owner's relative
-/// displacement `u` and absolute acceleration `a_abs` (owned DOFs, 6 per node).
-pub fn values(ctx: &Context, monitors: &[Monitor], u: &[f64], a_abs: &[f64]) -> Vec<f64> {
+/// This rank's share of the monitors' values this step: the owner's relative displacement `u`
+/// and absolute acceleration `a_abs` (owned DOFs, 6 per node), zeros for the nodes it does not
+/// own; summed over ranks, the values.
+pub fn local_values(monitors: &[Monitor], u: &[f64], a_abs: &[f64]) -> Vec<f64> {
     let mut local = vec![0.0; VALUES * monitors.len()];
     for (k, m) in monitors.iter().enumerate() {
         if let Some(i) = m.owned_index {
@@ -76,11 +78,39 @@ pub fn values(ctx: &Context, monitors: &[Monitor], u: &[f64], a_abs: &[f64]) -> 
             local[VALUES * k + 3..VALUES * k + 6].copy_from_slice(&a_abs[6 * i..6 * i + 3]);
         }
     }
+    local
+}
+
+/// Collective. `local` summed over the ranks, on every rank.
+pub fn sum_over_ranks(ctx: &Context, local: &[f64]) -> Vec<f64> {
     let mut global = vec![0.0; local.len()];
     if !local.is_empty() {
-        ctx.comm.all_reduce_into(&local[..], &mut global[..], mpi::collective::SystemOperation::sum());
+        ctx.comm.all_reduce_into(local, &mut global[..], mpi::collective::SystemOperation::sum());
     }
     global
+}
+
+/// The largest |value| of each named column of a CSV file written by [`CsvLog`] and the `time`
+/// of its row (the first such row), in the order of `names`; NaN for a missing column.
+pub fn column_peaks(csv: &Path, names: &[String]) -> Result<Vec<(f64, f64)>, String> {
+    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let cols: Vec<Option<usize>> = names.iter().map(|n| header.iter().position(|h| h == n)).collect();
+    let mut peaks: Vec<(f64, f64)> =
+        cols.iter().map(|c| if c.is_some() { (0.0, 0.0) } else { (f64::NAN, f64::NAN) }).collect();
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|x| x.trim().parse().unwrap_or(f64::NAN)).collect();
+        let t = v.get(1).copied().unwrap_or(f64::NAN);
+        for (p, c) in peaks.iter_mut().zip(&cols) {
+            if let Some(x) = c.and_then(|c| v.get(c)) {
+                if x.abs() > p.0 {
+                    *p = (x.abs(), t);
+                }
+            }
+        }
+    }
+    Ok(peaks)
 }
 
 /// The CSV header.
@@ -188,6 +218,19 @@ fn three_digits(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::three_digits;
+
+    /// Peaks by hand from a three-row file: the largest magnitude and its time; NaN for a column
+    /// the header lacks.
+    #[test]
+    fn column_peaks_are_the_largest_magnitudes_with_their_time() {
+        let f = std::env::temp_dir().join(format!("mhpc-column-peaks-{}.csv", std::process::id()));
+        std::fs::write(&f, "step,time,reaction_x,drift:a:x\n0,0,1.5,0\n1,0.01,-4.0,2e-3\n2,0.02,3.0,-3e-3\n").unwrap();
+        let names: Vec<String> = ["reaction_x", "drift:a:x", "missing"].iter().map(|s| s.to_string()).collect();
+        let p = super::column_peaks(&f, &names).unwrap();
+        assert_eq!((p[0], p[1]), ((4.0, 0.01), (3e-3, 0.02)));
+        assert!(p[2].0.is_nan());
+        std::fs::remove_file(f).unwrap();
+    }
 
     #[test]
     fn peaks_keep_three_significant_digits() {

@@ -1,6 +1,9 @@
 //! What a time history writes as it goes: `results.xdmf` every `output_every` steps (relative
-//! and absolute motion, cell outputs), a row of `energy.csv` and `monitors.csv` every step, the
-//! envelopes updated from both, and at the end `envelopes.xdmf` and the monitors' pictures.
+//! and absolute motion, cell outputs), a row of `energy.csv` and `monitors.csv` every step (the
+//! monitors, the base reactions, the storey drifts), the envelopes updated from both, and at the
+//! end `envelopes.xdmf` and the monitors' pictures.
+use super::base_shear;
+use super::drift::{self, Drift};
 use super::envelope::Envelopes;
 use super::integration::{Integration, SavedEnvelopes, RESULTS_STEM};
 use super::monitor::{self, CsvLog, Monitor};
@@ -20,8 +23,11 @@ pub(super) struct StepOutputs {
     pub env: Envelopes,
     /// The monitored nodes.
     pub monitors: Vec<Monitor>,
+    /// The storey drifts.
+    pub drifts: Vec<Drift>,
     energy_csv: CsvLog,
-    monitor_csv: CsvLog,
+    /// `monitors.csv`.
+    pub monitor_csv: CsvLog,
     piece: MeshPiece,
     /// The results file of this run.
     pub writer: ResultsWriter,
@@ -49,9 +55,18 @@ impl StepOutputs {
         for m in &monitors {
             ctx.log.info(format!("monitor '{}': node {} at {:?}", m.name, m.tag, it.mesh.coords[m.node]));
         }
+        let drifts = drift::resolve(&it.cfg.drift, it.mesh, &sys.disc.dofs)?;
+        for d in &drifts {
+            let ([lo, hi], [nl, nu]) = (d.levels(), d.counts());
+            ctx.log.info(format!("drift '{}': {nl} node(s) at mean z {lo:.4} m, {nu} at {hi:.4} m", d.name));
+        }
         let restart_step = it.restart.then_some(state.step);
         let energy_csv = CsvLog::open(ctx, &dir.join("energy.csv"), EnergyBalance::CSV_HEADER, restart_step)?;
-        let monitor_csv = CsvLog::open(ctx, &dir.join("monitors.csv"), &monitor::header(&monitors), restart_step)?;
+        let header = monitor::header(&monitors) + base_shear::HEADER + &drift::header(&drifts);
+        let monitor_csv = CsvLog::open(ctx, &dir.join("monitors.csv"), &header, restart_step)?;
+        if ctx.rank == 0 {
+            write_groups(&dir.join(GROUPS_FILE), it.mesh, &ctx.log);
+        }
         let piece = MeshPiece::new(ctx, it.job, it.mesh, it.model, &sys.disc);
         // A restart continues the run's index (one series in ParaView); its own steps go to a file
         // of their own. Without the index (removed by hand) the restart gets an index of its own.
@@ -65,15 +80,21 @@ impl StepOutputs {
             ResultsWriter::create(&ctx.comm, dir, &it.stem, &piece.view())
         };
         let writer = agree(&ctx.comm, created.map_err(Error::from), Error::exit_code)?;
-        Ok(StepOutputs { env, monitors, energy_csv, monitor_csv, piece, writer })
+        Ok(StepOutputs { env, monitors, drifts, energy_csv, monitor_csv, piece, writer })
     }
 
     /// Collective. Every step: the node envelopes, and the rows of `monitors.csv` (relative
-    /// displacement, absolute acceleration) and `energy.csv`.
+    /// displacement, absolute acceleration, base reactions, drifts) and `energy.csv`.
     pub fn record(&mut self, ctx: &Context, it: &Integration, state: &State) {
         self.env.update_nodes(&state.u);
         let a_abs = absolute(&state.a, it.ground.acceleration(state.t));
-        let vals = monitor::values(ctx, &self.monitors, &state.u, &a_abs);
+        let mut local = monitor::local_values(&self.monitors, &state.u, &a_abs);
+        let n_monitor = local.len();
+        local.extend(base_shear::local_reaction(&state.f_int, &state.cv));
+        local.extend(drift::local_sums(&self.drifts, &state.u));
+        let mut vals = monitor::sum_over_ranks(ctx, &local);
+        let sums = vals.split_off(n_monitor + 3);
+        vals.extend(drift::ratios(&self.drifts, &sums));
         let mut row = format!("{},{:.10e}", state.step, state.t);
         for v in vals {
             row += &format!(",{v:.17e}");
@@ -119,6 +140,26 @@ impl StepOutputs {
         Ok(())
     }
 
+    /// Collective. The peak base shear along x and y, then each drift's along x and y, each with
+    /// its time, from the whole `monitors.csv` (a restarted run's rows before the restart
+    /// included): rank 0 reads it, every rank gets the numbers (NaN where it cannot be read).
+    pub fn peaks(&self, ctx: &Context) -> Vec<(f64, f64)> {
+        use mpi::traits::{Communicator, Root};
+        let mut names: Vec<String> = base_shear::SHEAR_COLUMNS.iter().map(|s| s.to_string()).collect();
+        for d in &self.drifts {
+            names.extend([format!("drift:{}:x", d.name), format!("drift:{}:y", d.name)]);
+        }
+        let mut buf = vec![f64::NAN; 2 * names.len()];
+        if ctx.rank == 0 {
+            match monitor::column_peaks(&self.monitor_csv.path, &names) {
+                Ok(p) => buf = p.iter().flat_map(|&(v, t)| [v, t]).collect(),
+                Err(e) => ctx.log.warn(format!("peak base shear and drifts not found: {e}")),
+            }
+        }
+        ctx.comm.process_at_rank(0).broadcast_into(&mut buf[..]);
+        buf.chunks(2).map(|c| (c[0], c[1])).collect()
+    }
+
     /// Collective. `envelopes.xdmf` at time `t`, the results file closed, and on rank 0 the
     /// monitors' pictures (a failure to draw them is a warning).
     pub fn close(self, ctx: &Context, sys: &PetscSystem, dir: &std::path::Path, t: f64) -> Result<(), Error> {
@@ -130,8 +171,8 @@ impl StepOutputs {
             let node3: Vec<f64> = (0..n).flat_map(|i| env.node[4 * i..4 * i + 3].to_vec()).collect();
             w.write_node_field("peak_displacement", 3, &node3)?;
             w.write_node_field("peak_drift_ratio", 1, &env.node_column(3))?;
-            w.write_cell_field("max_d_t", 1, &env.cell_column(0))?;
-            w.write_cell_field("max_d_c", 1, &env.cell_column(1))?;
+            w.write_cell_field("d_t_max", 1, &env.cell_column(0))?;
+            w.write_cell_field("d_c_max", 1, &env.cell_column(1))?;
             w.end_step()?;
             w.close()?;
             Ok(())
@@ -149,6 +190,21 @@ impl StepOutputs {
             }
         }
         Ok(())
+    }
+}
+
+/// The file that names the mesh's physical groups for the results (their cell field `group`
+/// holds the physical tag): `dimension,tag,name`, one row per group.
+pub const GROUPS_FILE: &str = "groups.csv";
+
+/// Rank 0: [`GROUPS_FILE`] (a failure to write it is a warning: post-processing then shows tags).
+fn write_groups(path: &std::path::Path, mesh: &Mesh, log: &crate::parallel::Log) {
+    let mut text = String::from("dimension,tag,name\n");
+    for g in &mesh.groups {
+        text += &format!("{},{},{}\n", g.dim, g.tag, g.name.replace([',', '\n'], " "));
+    }
+    if let Err(e) = std::fs::write(path, text) {
+        log.warn(format!("cannot write {}: {e}", path.display()));
     }
 }
 

@@ -42,7 +42,9 @@ pub struct IdentifySummary {
     pub ranks: usize,
     /// Stage (a), if it ran.
     pub calibration: Option<CalibrationResult>,
-    /// Whether each sample mean is within 5% of its target (E, ν, first crack, peak).
+    /// Whether each sample mean is within 5% of its target (named by quantity: E, ν, first
+    /// crack, peak).
+    #[serde(with = "crate::identify::calibration::quantity_names::option")]
     pub calibration_within_5_percent: Option<[bool; 4]>,
     /// Stage (b), if it ran.
     pub law: Option<LawResult>,

@@ -47,11 +47,14 @@ pub struct VariantSummary {
     pub params: DamageParams,
     /// The fitted measure's errors on the variant's mean curves.
     pub fit: LawEvaluation,
-    /// The law's peaks against its mean curves' (tension, compression), relative.
+    /// The law's peaks against its mean curves' (`tension`, `compression`), relative.
+    #[serde(with = "crate::io::summary::tension_compression")]
     pub peak_errors: [f64; 2],
-    /// The law's peaks (tension, compression) [Pa].
+    /// The law's peaks (`tension`, `compression`) [Pa].
+    #[serde(with = "crate::io::summary::tension_compression")]
     pub law_peaks: [f64; 2],
-    /// The variant's mean curves' peaks [Pa].
+    /// The variant's mean curves' peaks (`tension`, `compression`) [Pa].
+    #[serde(with = "crate::io::summary::tension_compression")]
     pub dem_peaks: [f64; 2],
 }
 

@@ -119,7 +119,7 @@ pub fn run_member(
         let from = if resume { Start::Restart } else { Start::SavedGravity(gravity) };
         let summary = time_history::run_from(ctx, &mjob, mesh, &model, disc, from, observer)?;
         if ctx.rank == 0 {
-            let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+            let text = crate::io::summary::summary_json(&summary).unwrap_or_default();
             let _ = std::fs::write(dir.join("summary.json"), text + "\n");
         }
         Ok(summary)

@@ -38,7 +38,8 @@ impl Status {
 pub struct MonitorPeak {
     /// The monitor's name.
     pub name: String,
-    /// Peak |u_x|, |u_y|, |u_z| [m].
+    /// Peak |u_x|, |u_y|, |u_z| [m] (`x`, `y`, `z`).
+    #[serde(with = "crate::io::summary::xyz")]
     pub peak: [f64; 3],
 }
 
@@ -63,7 +64,8 @@ pub struct Outcome {
     pub time_reached: f64,
     /// Peak drift ratio (completed members).
     pub peak_drift_ratio: Option<f64>,
-    /// Peak relative displacement over the nodes, x y z [m] (completed members).
+    /// Peak relative displacement over the nodes, `x` `y` `z` [m] (completed members).
+    #[serde(with = "crate::io::summary::xyz::option")]
     pub peak_displacement: Option<[f64; 3]>,
     /// Peaks at the monitors (up to the time reached).
     pub monitors: Vec<MonitorPeak>,

@@ -98,7 +98,25 @@ pub struct SweepSummary {
     /// The limits.
     pub limits: Vec<LimitSummary>,
     /// Per substructure and intensity: the mean share with d_t > 0.5 over the completed members.
-    pub mean_share_dt: Vec<(String, Vec<(f64, f64)>)>,
+    pub mean_share_dt: Vec<ShareCurve>,
+}
+
+/// One substructure's mean share with d_t > 0.5 against intensity.
+#[derive(Clone, Debug, Serialize)]
+pub struct ShareCurve {
+    /// The substructure.
+    pub group: String,
+    /// Per intensity with completed members, lowest first.
+    pub points: Vec<SharePoint>,
+}
+
+/// The mean share at one intensity.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct SharePoint {
+    /// The intensity [m/s²].
+    pub intensity: f64,
+    /// The mean share of the area with d_t > 0.5 over the completed members.
+    pub share: f64,
 }
 
 /// Rank 0. Reads every member's outcome and writes the table, the summary and the curves.
@@ -119,7 +137,7 @@ pub fn write_results(job: &SweepJob, members: &[Member], timing: Timing, log: &L
 
     let summary = summarize(job, members, &outcomes, &groups, timing);
     let file = out.join("summary.json");
-    let text = serde_json::to_string_pretty(&summary).map_err(|e| Error::Analysis(e.to_string()))?;
+    let text = crate::io::summary::summary_json(&summary).map_err(|e| Error::Analysis(e.to_string()))?;
     std::fs::write(&file, text + "\n").map_err(|e| io(&file, e))?;
     let txt = out.join("summary.txt");
     let text = summary_text(job, &summary);
@@ -169,7 +187,7 @@ fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String 
         }
     }
     for g in groups {
-        let _ = write!(s, ",{g}:share_dt,{g}:share_dt_band,{g}:share_dc");
+        let _ = write!(s, ",{g}:share_dt_above_0.5,{g}:share_dt_above_0.5_band,{g}:share_dc_above_0.5");
     }
     s.push_str(",diagnosis\n");
     for o in outcomes {
@@ -316,10 +334,10 @@ fn summarize(
                         .filter(|(m, o)| m.intensity == i && o.status == Status::Completed)
                         .map(|(_, o)| o.share_dt(g))
                         .collect();
-                    (!s.is_empty()).then(|| (x, s.iter().sum::<f64>() / s.len() as f64))
+                    (!s.is_empty()).then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
                 })
                 .collect();
-            (g.clone(), curve)
+            ShareCurve { group: g.clone(), points: curve }
         })
         .collect();
     SweepSummary {
@@ -357,9 +375,10 @@ fn summary_text(job: &SweepJob, s: &SweepSummary) -> String {
         let _ = writeln!(t, "site code level: {im} = {c} m/s²");
     }
     let _ = writeln!(t, "mean share of area with d_t > 0.5 per substructure, by {im} [m/s²]:");
-    for (g, curve) in &s.mean_share_dt {
-        let row: Vec<String> = curve.iter().map(|(x, y)| format!("{x:.3}: {:.1} %", 100.0 * y)).collect();
-        let _ = writeln!(t, "  {g:16} {}", row.join(", "));
+    for c in &s.mean_share_dt {
+        let row: Vec<String> =
+            c.points.iter().map(|p| format!("{:.3}: {:.1} %", p.intensity, 100.0 * p.share)).collect();
+        let _ = writeln!(t, "  {:16} {}", c.group, row.join(", "));
     }
     for l in &s.limits {
         let _ = writeln!(t, "{} passes {:.0} % of its area with d_t > 0.5:", l.group, 100.0 * l.share);
