@@ -1,5 +1,6 @@
 #!/usr/bin/env pvpython
-"""Render the church (a results XDMF, or the Gmsh mesh itself) to one PNG with four camera views.
+"""Render a model (a results XDMF, or the Gmsh mesh itself) to one PNG with up to four views: the
+renderer of scripts/pv_post.py (any building) and of the church's pictures.
 
     # the mesh coloured by substructure, straight from the Gmsh file
     scripts/with_display.sh pvpython scripts/pv_church.py meshes/church.msh --out church-mesh.png
@@ -11,13 +12,16 @@
     scripts/with_display.sh pvpython scripts/pv_church.py results/church-modal/modes.xdmf --field group \
         --names meshes/church.msh --out groups.png
 
-One PNG, four panels: from the south-west (entrance facade and south wall), from the north-east
-(tower, choir and sacristy), the south elevation and the plan from above (vaults). Node vector
-fields are shown by magnitude, cell fields as they are; `group` is drawn with one colour per
-substructure and a legend of the physical names (read from the .msh: `--names`, or the input
-itself when it is a .msh). A mode shape (`--mode K`, field `mode_translation` by default) is
-warped so that its largest translation is `--warp-fraction` of the church's size; a static or
-dynamic result is warped by `--warp` (scale factor, 0 = undeformed) along `--warp-field`.
+One PNG, one to four panels named by direction (x east, y north): by default from the
+south-west, from the north-east, the south elevation and the plan from above. The title and the
+colour bar have a row above the panels; each panel is framed so that the whole model is inside
+it; an elevation shows the half of the model nearer its camera (openings show the background),
+the "section" the half beyond y = --cut-y (default: the model's centre). Node vector fields are
+shown by magnitude, cell fields as they are; `group` is drawn with one colour per group and a
+legend of the physical names (read from the .msh: `--names`, or the input itself when it is a
+.msh). A mode shape (`--mode K`, field `mode_translation` by default) is warped so that its
+largest translation is `--warp-fraction` of the model's size; a static or dynamic result is
+warped by `--warp` (scale factor, 0 = undeformed) along `--warp-field`.
 
 Gmsh files are read by this script (ASCII MSH 4.1; ParaView has no reader for them): 2-node
 lines, 3-node triangles and 4-node quads, with the physical tag of each element as the cell
@@ -33,17 +37,25 @@ import sys
 from paraview import simple as pv
 
 VIEWS = {
-    # name: (direction from the focal point to the camera, view up, title)
-    "southwest": ((-1.0, -1.25, 0.75), (0, 0, 1), "from the south-west (entrance)"),
-    "northeast": ((1.0, 1.3, 0.75), (0, 0, 1), "from the north-east (tower, choir)"),
+    # name: (direction from the focal point to the camera, view up, title); x is east, y north
+    "southwest": ((-1.0, -1.25, 0.75), (0, 0, 1), "from the south-west"),
+    "northeast": ((1.0, 1.3, 0.75), (0, 0, 1), "from the north-east"),
+    "southeast": ((1.0, -1.25, 0.75), (0, 0, 1), "from the south-east"),
+    "northwest": ((-1.0, 1.3, 0.75), (0, 0, 1), "from the north-west"),
     "south": ((0.0, -1.0, 0.05), (0, 0, 1), "south elevation"),
-    "top": ((0.0, 0.0, 1.0), (0, 1, 0), "plan, from above"),
-    "west": ((-1.0, 0.0, 0.05), (0, 0, 1), "entrance facade"),
     "north": ((0.0, 1.0, 0.05), (0, 0, 1), "north elevation"),
-    "below": ((0.0, 0.0, -1.0), (0, -1, 0), "from below (soffits; north at the bottom)"),
-    # the north half beyond the plane y = --cut-y, from the south and a little from below
-    "section": ((0.1, -1.0, -0.45), (0, 0, 1), "section on the nave axis, looking north"),
+    "west": ((-1.0, 0.0, 0.05), (0, 0, 1), "west elevation"),
+    "east": ((1.0, 0.0, 0.05), (0, 0, 1), "east elevation"),
+    "top": ((0.0, 0.0, 1.0), (0, 1, 0), "plan, from above"),
+    "below": ((0.0, 0.0, -1.0), (0, -1, 0), "from below (north at the bottom)"),
+    # the half beyond the plane y = cut_y (default: the model's centre), from the south and a
+    # little from below
+    "section": ((0.1, -1.0, -0.45), (0, 0, 1), "section at y = {cut:.3g} m, looking north"),
 }
+
+# An elevation shows the half of the model nearer its camera (cut at the model's centre), so that
+# openings show the background and not the far wall through them.
+ELEVATIONS = ("south", "north", "west", "east")
 
 PALETTE = [  # colour-blind friendly categorical colours (Okabe-Ito + Tol), one per substructure
     (0.90, 0.62, 0.00), (0.34, 0.71, 0.91), (0.00, 0.62, 0.45), (0.94, 0.89, 0.26), (0.00, 0.45, 0.70),
@@ -244,39 +256,66 @@ def auto_warp_scale(src, warp_field, fraction):
     return fraction * bounds_of(src)[1] / amax if amax > 0 else 0.0
 
 
-def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northeast", "south", "top"),
-           title="", warp_field=None, scale=0.0, value_range=None, edges=False, size=(1600, 1200),
-           colormap="light-rainbow", bar_title=None, cut_y=0.0, quiet=False):
-    """Renders `field` of `src` at time `t` in up to four views to the PNG `out`.
+def clip_half(src, origin, normal):
+    """The cells of `src` on the side of the plane (`origin`, `normal`) the normal points to,
+    whole (crinkle clip: no cut cells interpolating a cell field)."""
+    c = pv.Clip(Input=src)
+    c.ClipType = "Plane"
+    c.ClipType.Origin = list(origin)
+    c.ClipType.Normal = list(normal)
+    c.Invert = 0
+    c.Crinkleclip = 1
+    return c
 
-    Views are keys of VIEWS; "section" clips the model along the plane y = `cut_y` and looks at
-    the far half from the south, slightly from below (the inside of the north wall and the vault
-    soffits); "below" looks up at the soffits of the whole plan. `value_range` fixes the colour
-    map's range (default: the data's). `field` "group" is drawn with one colour per substructure
-    and a legend of `names`. Node vectors are coloured by magnitude. Cells without the field (NaN)
-    are grey. Views and filters are deleted afterwards, so one process can render many pictures."""
-    names = names or {}
-    width, height = size
-    _, model_size, centre = bounds_of(src)
-    made = []  # proxies to delete at the end
-    shown = src
-    if scale:
-        shown = pv.WarpByVector(Input=src)
-        shown.Vectors = ["POINTS", warp_field]
-        shown.ScaleFactor = scale
-        made.append(shown)
-    clipped = None
-    if "section" in views:
-        clipped = pv.Clip(Input=shown)
-        clipped.ClipType = "Plane"
-        clipped.ClipType.Origin = [centre[0], cut_y, centre[2]]
-        clipped.ClipType.Normal = [0.0, 1.0, 0.0]
-        clipped.Invert = 0      # keep y > cut_y: the north half, seen from the south
-        clipped.Crinkleclip = 1  # whole cells: no cut cells interpolating a cell field
-        made.append(clipped)
 
+def panel_cells(layout, n):
+    """Splits the layout's lower cell (2) into n panels (1: whole; 2: side by side; 3: two on
+    the left, one on the right; 4: 2 x 2) and returns their cell indices and their fraction of the
+    panel area's width and height (ParaView's binary tree: the children of cell i are 2i+1, 2i+2)."""
+    if n == 1:
+        return [2], [(1.0, 1.0)]
+    layout.SplitHorizontal(2, 0.5)
+    if n == 2:
+        return [5, 6], [(0.5, 1.0)] * 2
+    layout.SplitVertical(5, 0.5)
+    if n == 3:
+        return [11, 12, 6], [(0.5, 0.5), (0.5, 0.5), (0.5, 1.0)]
+    layout.SplitVertical(6, 0.5)
+    return [11, 13, 12, 14], [(0.5, 0.5)] * 4
+
+
+def corners(b):
+    return [(b[i], b[2 + j], b[4 + k]) for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+
+
+def ndc_extent(cam, b, aspect):
+    """The largest |x|, |y| of the bounds `b`'s corners in the camera's normalized device
+    coordinates (−1..1 across the panel) at the panel's `aspect` (width / height)."""
+    m = cam.GetCompositeProjectionTransformMatrix(aspect, -1, 1)
+    ext = 0.0
+    for c in corners(b):
+        q = m.MultiplyPoint((c[0], c[1], c[2], 1.0))
+        if q[3] > 0:
+            ext = max(ext, abs(q[0] / q[3]), abs(q[1] / q[3]))
+    return ext
+
+
+def fit_camera(view, cam, b, aspect, margin=0.88):
+    """Zooms so that the bounds `b` fill `margin` of the panel in its tighter direction: the whole
+    model inside the frame whatever the panel's shape. Returns the final extent (<= 1: inside)."""
+    view.ResetCamera(False)
+    for _ in range(4):
+        ext = ndc_extent(cam, b, aspect)
+        if ext <= 0:
+            break
+        cam.Zoom(margin / ext)
+    return ndc_extent(cam, b, aspect)
+
+
+def colour_map(src, field, assoc, names, value_range, colormap):
+    """The colour map of `field`: categories with `names` for "group", else a range."""
     lut = pv.GetColorTransferFunction(field)
-    groups_present = []
+    groups_present, lo, hi = [], 0.0, 1.0
     if field == "group":
         rng = src.CellData["group"].GetRange(0)
         groups_present = [g for g in sorted(names) if rng[0] <= g <= rng[1]] or list(range(int(rng[0]), int(rng[1]) + 1))
@@ -300,40 +339,71 @@ def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northe
         lut.NanColor = [0.55, 0.55, 0.55]  # cells without the field (beams for shell damage): grey
         lut.AutomaticRescaleRangeMode = "Never"
         lut.RescaleTransferFunction(lo, hi)
+    return lut, groups_present, (lo, hi)
+
+
+def white(view):
+    view.Background = [1, 1, 1]
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+
+
+def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northeast", "south", "top"),
+           title="", warp_field=None, scale=0.0, value_range=None, edges=False, size=(1600, 1200),
+           colormap="light-rainbow", bar_title=None, cut_y=None, quiet=False):
+    """Renders `field` of `src` at time `t` in one to four views to the PNG `out`, and returns
+    what it drew: {"file", "title", "groups", "views": [{"name", "title", "extent"}]}, "extent"
+    the largest |coordinate| of the shown model's bounding box in the panel's normalized device
+    coordinates (below 1: the whole model is inside the frame).
+
+    Views are keys of VIEWS. "section" keeps the half beyond the plane y = `cut_y` (default: the
+    model's centre) and looks at it from the south, slightly from below; an elevation keeps the
+    half nearer its camera. Every view is framed to its panel's shape, and the title and the
+    colour bar have a row of their own above the panels, clear of the model. `value_range` fixes
+    the colour map's range (default: the data's). `field` "group" is drawn with one colour per
+    group and a legend of `names`. Node vectors are coloured by magnitude; cells without the
+    field (NaN) are grey. Views and filters are deleted afterwards, so one process can render
+    many pictures."""
+    names = names or {}
+    width, height = size
+    _, model_size, centre = bounds_of(src)
+    cut = centre[1] if cut_y is None else cut_y
+    made = []  # proxies to delete at the end
+    shown = src
+    if scale:
+        shown = pv.WarpByVector(Input=src)
+        shown.Vectors = ["POINTS", warp_field]
+        shown.ScaleFactor = scale
+        made.append(shown)
+    lut, groups_present, (lo, hi) = colour_map(src, field, assoc, names, value_range, colormap)
 
     layout = pv.CreateLayout(os.path.basename(out))
-    # A title row on top (its own render view, text only), the panels below in up to 2 x 2 cells;
-    # cell indices follow ParaView's binary tree (children of cell i: 2i + 1, 2i + 2).
-    title_px = 44
-    layout.SplitVertical(0, title_px / height)
-    n = len(views)
-    cells = [2]
-    if n >= 2:
-        layout.SplitHorizontal(2, 0.5)
-        cells = [5, 6]
-    if n >= 3:
-        layout.SplitVertical(5, 0.5)
-        cells = [11, 12, 6]
-    if n == 4:
-        layout.SplitVertical(6, 0.5)
-        cells = [11, 13, 12, 14]
-    view_proxies = []
+    head_px = 118  # the title and, below it, the colour bar
+    layout.SplitVertical(0, head_px / height)
+    cells, fractions = panel_cells(layout, len(views))
+    view_proxies, drawn = [], []
     for k, name in enumerate(views):
         view = pv.CreateView("RenderView")
         view_proxies.append(view)
         pv.AssignViewToLayout(view=view, layout=layout, hint=cells[k])
         view.ViewTime = t
-        view.Background = [1, 1, 1]
-        try:
-            view.UseColorPaletteForBackground = 0
-        except AttributeError:
-            pass
+        white(view)
         view.OrientationAxesVisibility = 1
-        this = clipped if name == "section" else shown
+        d, up, label_text = VIEWS[name]
+        this = shown
+        if name == "section":
+            this = clip_half(shown, (centre[0], cut, centre[2]), (0.0, 1.0, 0.0))
+        elif name in ELEVATIONS:
+            this = clip_half(shown, centre, (d[0], d[1], 0.0))
+        if this is not shown:
+            made.append(this)
         disp = pv.Show(this, view)
         pv.ColorBy(disp, (assoc, field, "Magnitude") if assoc == "POINTS" else (assoc, field))
         if field != "group":
             lut.RescaleTransferFunction(lo, hi)  # ColorBy may have rescaled it to the data
+        disp.SetScalarBarVisibility(view, False)
         disp.LineWidth = 3.0
         if edges:
             disp.SetRepresentationType("Surface With Edges")
@@ -341,34 +411,23 @@ def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northe
             disp.LineWidth = 1.5  # the element edges too: thinner, or they hide the colours
         disp.Ambient = 0.25
         disp.Diffuse = 0.8
-        if k == 0:
-            disp.SetScalarBarVisibility(view, True)
-            bar = pv.GetScalarBar(lut, view)
-            bar.Title = bar_title or (field if field != "group" else "substructure")
-            bar.ComponentTitle = ""
-            bar.TitleColor = bar.LabelColor = [0, 0, 0]
-            bar.TitleFontSize = 14
-            bar.LabelFontSize = 13
-            bar.WindowLocation = "Upper Left Corner"
-            if field != "group":
-                bar.RangeLabelFormat = "%-#.3g"
-        label = pv.Text(Text=VIEWS[name][2])
+        label = pv.Text(Text=label_text.format(cut=cut))
         made.append(label)
         ld = pv.Show(label, view)
         ld.Color = [0.1, 0.1, 0.1]
-        ld.FontSize = 16
+        ld.FontSize = 15
         ld.WindowLocation = "Upper Center"
         cam = view.GetActiveCamera()
-        d, up, _ = VIEWS[name]
-        focus = list(centre)
-        if name == "section":
-            b = this.GetDataInformation().GetBounds()
-            focus = [(b[2 * i] + b[2 * i + 1]) / 2 for i in range(3)]
+        this.UpdatePipeline(t)
+        b = this.GetDataInformation().GetBounds()
+        focus = [(b[2 * i] + b[2 * i + 1]) / 2 for i in range(3)]
         cam.SetFocalPoint(*focus)
         cam.SetPosition(*[focus[i] + d[i] * model_size for i in range(3)])
         cam.SetViewUp(*up)
-        view.ResetCamera(False)
-        cam.Zoom(1.15)
+        fw, fh = fractions[k]
+        aspect = (fw * width) / (fh * (height - head_px))
+        extent = fit_camera(view, cam, b, aspect)
+        drawn.append({"name": name, "title": label_text.format(cut=cut), "extent": round(extent, 4)})
     if not quiet:
         print(f"{out}: {title}; {src.GetDataInformation().GetNumberOfPoints()} points, "
               f"{src.GetDataInformation().GetNumberOfCells()} cells; views {', '.join(views)}"
@@ -376,18 +435,33 @@ def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northe
     head = pv.CreateView("RenderView")
     view_proxies.append(head)
     pv.AssignViewToLayout(view=head, layout=layout, hint=1)
-    head.Background = [1, 1, 1]
-    try:
-        head.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
+    white(head)
     head.OrientationAxesVisibility = 0
     banner = pv.Text(Text=title)
     made.append(banner)
     bd = pv.Show(banner, head)
     bd.Color = [0, 0, 0]
-    bd.FontSize = 20
+    bd.FontSize = 18
     bd.WindowLocation = "Upper Center"
+    bar = pv.GetScalarBar(lut, head)
+    bar.Visibility = 1
+    bar.Title = bar_title or (field if field != "group" else "group")
+    bar.ComponentTitle = ""
+    bar.TitleColor = bar.LabelColor = [0, 0, 0]
+    bar.TitleFontSize = 14
+    bar.LabelFontSize = 13
+    bar.Orientation = "Horizontal"
+    bar.WindowLocation = "Any Location"
+    bar.ScalarBarThickness = 14
+    if field == "group":
+        # The groups' names are written below their colours: room for them in the row.
+        bar.Position = [0.15, 0.32]
+        bar.ScalarBarLength = 0.7
+        bar.DrawTickMarks = 0
+    else:
+        bar.Position = [0.3, 0.04]
+        bar.ScalarBarLength = 0.4
+        bar.RangeLabelFormat = "%-#.3g"
     layout.SetSize(width, height)
     pv.SaveScreenshot(out, layout, ImageResolution=[width, height], TransparentBackground=0)
     for v in view_proxies:
@@ -395,7 +469,8 @@ def render(src, out, *, field, assoc, t, names=None, views=("southwest", "northe
     pv.RemoveLayout(layout)
     for p in reversed(made):
         pv.Delete(p)
-    return groups_present
+    return {"file": os.path.basename(out), "title": title, "views": drawn,
+            "groups": [names.get(g, str(g)) for g in groups_present]}
 
 
 def main():
@@ -413,14 +488,14 @@ def main():
     ap.add_argument("--names", help="Gmsh file whose physical names label the field 'group'")
     ap.add_argument("--views", default="southwest,northeast,south,top",
                     help=f"up to four of {','.join(VIEWS)} (default: southwest,northeast,south,top)")
-    ap.add_argument("--cut-y", type=float, default=0.0, help="the 'section' view's cutting plane y = CUT_Y (default 0: the nave axis)")
+    ap.add_argument("--cut-y", type=float, default=None, help="the 'section' view's cutting plane y = CUT_Y (default: the model's centre)")
     ap.add_argument("--range", help="colour range 'min,max' (default: the data's)")
     ap.add_argument("--colormap", default="light-rainbow",
                     help="ParaView colour preset, or light-rainbow (default: light grey-blue to dark red)")
     ap.add_argument("--title", help="text below the first panel")
     ap.add_argument("--edges", choices=["auto", "on", "off"], default="auto",
                     help="draw the element edges (auto: on for a .msh, off for results)")
-    ap.add_argument("--out", default="church.png")
+    ap.add_argument("--out", default="model.png")
     ap.add_argument("--size", default="1600x1200", help="image size in pixels")
     a = ap.parse_args()
 
@@ -452,7 +527,7 @@ def main():
             freq = f", {a.frequency:.3g} Hz" if a.frequency is not None else ""
             title = f"mode {a.mode}{freq} (warp x{scale:.3g}), coloured by the magnitude of {field}"
         elif field == "group":
-            title = "the church by substructure"
+            title = "the model by group"
         else:
             title = f"{field}" + (f" at t = {t:g}" if not is_msh else "")
     render(src, a.out, field=field, assoc=assoc, t=t, names=names, views=views, title=title,

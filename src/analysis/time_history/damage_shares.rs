@@ -1,6 +1,6 @@
 //! Damage per substructure: for every part's group of shells, the share of its area whose peak
 //! tensile (compressive) damage over the layers passed a threshold, from the cell envelopes.
-//! The same measure as `scripts/pv_post_church.py`'s `damage-by-substructure.csv` (area shares
+//! The same measure as `scripts/pv_post.py`'s `damage-by-group.csv` (area shares
 //! with d_t > 0.05 and > 0.5), so that a sweep's table and the pictures of one run agree.
 //!
 //! A cell's area is that of its flat polygon (a quad as two triangles over its diagonal 1–3).
