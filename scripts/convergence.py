@@ -175,8 +175,14 @@ def load(out, case):
         return None
     groups = {g["group"]: g for g in th.get("damage_by_group", [])}
     e = th["energy"]
+    integration = th.get("integration", "implicit")
+    if th.get("implex_split"):
+        integration += f" ({th['implex_split']} split)"
+    if th.get("max_damage_increment", 1.0) < 1.0:
+        integration += f", max Δd {th['max_damage_increment']:g}"
     return {
         "case": case.name, "loading": case.loading, "ranks": s.get("ranks", case.ranks),
+        "integration": integration,
         "dt": th["dt"], "time": th["time"], "steps": th["steps"], "iterations": th["iterations"],
         "substepped_steps": th.get("substepped_steps", 0), "factorizations": th.get("factorizations", 0),
         "seconds": s["seconds"][-1] if s.get("seconds") else float("nan"),
@@ -213,7 +219,7 @@ def write_tables(out, rows, checks, machine, loadings):
         for g in r["shares"]:
             if g not in groups:
                 groups.append(g)
-    cols = ["case", "loading", "ranks", "dt", "time", "steps", "iterations", "substepped_steps",
+    cols = ["case", "loading", "ranks", "integration", "dt", "time", "steps", "iterations", "substepped_steps",
             "factorizations", "seconds", "peak_drift_ratio", "input", "kinetic", "strain", "damping",
             "damage", "unilateral", "max_balance_error"]
     with open(os.path.join(out, "convergence.csv"), "w") as fh:
@@ -235,11 +241,12 @@ def write_tables(out, rows, checks, machine, loadings):
             continue
         md.append(f"## {loading}\n")
         shown = [g for g in groups if any(r["shares"].get(g, 0) > 0 for r in rs)]
-        md.append("| case | ranks | dt [s] | t [s] | iterations | substepped | seconds | peak drift | input [J] "
-                  "| damage [J] | unilateral [J] | balance (max) | " + " | ".join(shown) + " |")
-        md.append("|" + "---|" * (12 + len(shown)))
+        md.append("| case | ranks | integration | dt [s] | t [s] | iterations | substepped | seconds | peak drift "
+                  "| input [J] | damage [J] | unilateral [J] | balance (max) | " + " | ".join(shown) + " |")
+        md.append("|" + "---|" * (13 + len(shown)))
         for r in rs:
-            md.append(f"| {r['case']} | {r['ranks']} | {r['dt']:g} | {r['time']:g} | {r['iterations']} | "
+            md.append(f"| {r['case']} | {r['ranks']} | {r['integration']} | {r['dt']:g} | {r['time']:g} | "
+                      f"{r['iterations']} | "
                       f"{r['substepped_steps']} | {r['seconds']:.0f} | {r['peak_drift_ratio']:.3e} | "
                       f"{r['input']:.4g} | {r['damage']:.4g} | {r['unilateral']:.3g} | "
                       f"{r['max_balance_error']:.1e} | " +
