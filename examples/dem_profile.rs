@@ -40,7 +40,12 @@
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
-//! Progress goes to stderr every 25 recorded states. With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
+//! The profile's `phases` splits the Newton and GMRES iterations, the Jacobians and the
+//! evaluations by what each equilibrium was solved for (trial, λ*, release, cascade, cut-back;
+//! `dem::solver::phases`) and keeps GMRES iterations against the sliding contacts.
+//!
+//! Progress goes to stderr every 25 recorded states (with the Newton and GMRES iterations by
+//! phase so far: differences between two lines give a stretch of the run). With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
 use std::io::Write;
 use std::time::Instant;
 
@@ -223,10 +228,12 @@ impl Observer for Progress {
 
     fn profiled(&mut self, _: usize, p: &SolverProfile) {
         if !self.line.is_empty() {
+            let ph = &p.phases;
             eprintln!(
                 "{} refreshed {} newton {} gmres {} gmres_solves {} direct {} evaluations {} continuation {} \
                  s_solve {:.2} s_gmres {:.2} s_tangent {:.2} s_evaluate {:.2} s_factor {:.2} s_columns {:.2} \
-                 s_failure {:.2} s_commit {:.2} factorizations {} entries {} {}",
+                 s_failure {:.2} s_commit {:.2} factorizations {} entries {} {} sliding_at_gmres {} \
+                 newton_by_phase {} {} {} {} {} gmres_by_phase {} {} {} {} {} trials_discarded {}",
                 self.line,
                 p.refreshed_terms,
                 p.newton_iterations,
@@ -245,7 +252,19 @@ impl Observer for Progress {
                 p.commit_seconds,
                 p.refactorizations.total(),
                 p.factor_entries[0],
-                p.factor_entries[1]
+                p.factor_entries[1],
+                p.sliding_at_gmres,
+                ph.trial.newton_iterations,
+                ph.lambda.newton_iterations,
+                ph.release.newton_iterations,
+                ph.cascade.newton_iterations,
+                ph.cut_back.newton_iterations,
+                ph.trial.gmres_iterations,
+                ph.lambda.gmres_iterations,
+                ph.release.gmres_iterations,
+                ph.cascade.gmres_iterations,
+                ph.cut_back.gmres_iterations,
+                ph.trial_discarded
             );
         }
     }

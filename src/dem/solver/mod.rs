@@ -23,7 +23,7 @@
 //! | `step_predictor.rs` | the load step after a break starts from the response of the step that was cut (never with crushing) |
 //! | `contact_events.rs` | optional (`SolverOptions::contact_events`): a load step ends where a contact starts to slide, closes or opens |
 //! | `virtual_test.rs` | tension, compression, shear and cyclic tests; ends as target, loss of load, collapse or failed |
-//! | `snapshots.rs`, `trace.rs`, `profile.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times |
+//! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
 #[cfg(test)]
 mod break_group_tests;
 mod breaks;
@@ -46,6 +46,7 @@ mod linear;
 mod operator;
 pub mod options;
 pub mod ordering;
+pub mod phases;
 pub mod profile;
 pub mod records;
 pub mod scales;

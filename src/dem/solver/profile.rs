@@ -6,6 +6,8 @@
 //! for a compression test of a random sample.
 use std::time::Duration;
 
+use super::phases::{PhaseCounts, Phases};
+
 /// Counters and phase times of one solver.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct SolverProfile {
@@ -88,6 +90,32 @@ pub struct SolverProfile {
     pub failure_seconds: f64,
     /// Seconds committing and recording states (platen forces, stored energy, the record).
     pub commit_seconds: f64,
+    /// The sliding contacts at the Newton steps that needed GMRES, summed.
+    pub sliding_at_gmres: usize,
+    /// The active contacts at those steps, summed.
+    pub contacts_at_gmres: usize,
+    /// The work of the equilibria by phase ([`super::phases`]).
+    pub phases: Phases,
+}
+
+impl SolverProfile {
+    /// The running totals that [`super::phases`] books per equilibrium (`equilibria` and
+    /// `seconds` left at zero).
+    pub fn running(&self) -> PhaseCounts {
+        PhaseCounts {
+            equilibria: 0,
+            newton_iterations: self.newton_iterations,
+            gmres_solves: self.gmres_solves,
+            gmres_iterations: self.gmres_iterations,
+            sliding: self.sliding_at_gmres,
+            contacts: self.contacts_at_gmres,
+            jacobians: self.jacobians_computed,
+            evaluations: self.evaluations,
+            jacobian_seconds: self.tangent_seconds,
+            evaluate_seconds: self.evaluate_seconds,
+            seconds: 0.0,
+        }
+    }
 }
 
 /// How often the stage loop took each of its branches ([`super::stage`]).
