@@ -8,8 +8,9 @@
 //!
 //! `DEM_SEED=k` places the stones with seed k instead of 7.
 //! `DEM_MAX_EVENTS=N` stops after N beam breaks (the profile of the start of a long run).
-//! `DEM_JACOBIAN_REUSE=0` recomputes every contact Jacobian at every Newton iteration (the
-//! default reuses them while a contact has moved by little, `dem::solver::tangent`).
+//! `DEM_JACOBIAN_REUSE=0.01` reuses a contact's Jacobian while it has moved by less than 1 % of
+//! its penetration (default 0: every Jacobian exact at every Newton iteration,
+//! `dem::solver::tangent`).
 //!
 //! `DEM_SLIP_TERMS=0` leaves sliding contacts' `k_t c cᵀ` out of the preconditioner (the former
 //! behaviour: every stick/slip change is a change of the factorized operator);

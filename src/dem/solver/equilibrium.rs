@@ -341,7 +341,7 @@ impl<'a> Solver<'a> {
         let jc = &self.jacobians;
         let p = &mut self.profile;
         (p.jacobians_computed, p.jacobians_reused) = (jc.computed, jc.reused);
-        (p.jacobians_on_cone, p.jacobians_near_cone) = (jc.on_cone, jc.near_cone);
+        p.jacobians_on_cone = jc.on_cone;
         // Inexact Newton: the linear solve to η ‖r‖ (`SolverOptions::forcing`; a fixed 1e-6 lost
         // two of the paper wall's 16 shear samples, a fixed 1e-8 was the former default).
         // D = K_T − M: GMRES's products cost O(contacts) (`gmres_split`).

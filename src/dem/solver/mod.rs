@@ -15,7 +15,7 @@
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
 //! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`) and solves of sparse right-hand sides (forward substitution over their reach), a small binding |
 //! | `ordering.rs` | METIS nested dissection from 20k unknowns, AMD below |
-//! | `tangent.rs` | per-contact central-difference Jacobians, reused while a contact moved less than 1 % of its penetration in the same stick/slip regime; GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
+//! | `tangent.rs` | per-contact exact Jacobians (dual numbers through the contact law, `mechanics::contact_jacobian`; `jacobian_tests.rs` checks them against central differences); GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
 //! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator (every contact keeps `k_t c cᵀ` in it, stick or slip, so stick/slip changes never touch the factorization); Eisenstat–Walker forcing |
 //! | `contact_set.rs`, `contact_candidates.rs` | contact pairs and their histories (committed chord, plastic depth of crushing); candidates kept between residual evaluations with a margin, exactly the contacts of a search from scratch |
 //! | `energy.rs` | the energy account: commits, the trial step's balance (with crushing, a step whose energy does not balance within 1e-3 of the work is halved) |
@@ -42,6 +42,8 @@ mod equilibrium;
 pub mod error;
 pub mod factor;
 pub mod gmres;
+#[cfg(test)]
+mod jacobian_tests;
 mod linear;
 mod operator;
 pub mod options;

@@ -39,15 +39,13 @@ pub struct SolverProfile {
     pub pair_evaluations: usize,
     /// Candidate lists built ([`super::contact_candidates`]).
     pub candidate_rebuilds: usize,
-    /// Contact Jacobians computed by central differences ([`super::tangent`]).
+    /// Contact Jacobians computed ([`super::tangent`]).
     pub jacobians_computed: usize,
     /// Contact Jacobians reused ([`super::tangent`]).
     pub jacobians_reused: usize,
     /// Contact Jacobians taken on the slip branch for contacts on the Coulomb cone
     /// ([`super::tangent`], "On the cone").
     pub jacobians_on_cone: usize,
-    /// Contact Jacobians taken in their own regime near the cone (`super::tangent`, "Near the cone").
-    pub jacobians_near_cone: usize,
     /// Load steps after a break started from the cut step's response
     /// ([`super::step_predictor`]) and converged from there.
     pub predicted_steps: usize,
@@ -81,7 +79,7 @@ pub struct SolverProfile {
     pub solve_seconds: f64,
     /// Seconds in GMRES outside the preconditioner (tangent products, orthogonalization).
     pub gmres_seconds: f64,
-    /// Seconds building the contact tangent (central differences).
+    /// Seconds building the contact tangent (the contacts' Jacobians).
     pub tangent_seconds: f64,
     /// Seconds in residual evaluations (contacts, forces).
     pub evaluate_seconds: f64,

@@ -128,8 +128,8 @@ impl<'a> Solver<'a> {
         (self.operator.factor.n_factorizations + shifted.0, self.operator.factor.n_symbolic + shifted.1)
     }
 
-    /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0 recomputes every
-    /// Jacobian at every Newton iteration). Errors: `η` negative or not finite.
+    /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0, the default,
+    /// recomputes every Jacobian at every Newton iteration). Errors: `η` negative or not finite.
     pub fn set_jacobian_reuse(&mut self, eta: f64) -> Result<(), DemError> {
         if !(eta.is_finite() && eta >= 0.0) {
             return Err(DemError::InvalidParameter {
