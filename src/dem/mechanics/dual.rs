@@ -112,6 +112,8 @@ impl Neg for Dual6 {
     }
 }
 
+// The product and quotient rules mix the operations on purpose.
+#[allow(clippy::suspicious_arithmetic_impl)]
 impl Mul for Dual6 {
     type Output = Dual6;
     fn mul(self, b: Dual6) -> Dual6 {
@@ -133,6 +135,7 @@ impl Mul<Dual6> for f64 {
     }
 }
 
+#[allow(clippy::suspicious_arithmetic_impl)]
 impl Div for Dual6 {
     type Output = Dual6;
     fn div(self, b: Dual6) -> Dual6 {
