@@ -112,8 +112,6 @@ impl Neg for Dual6 {
     }
 }
 
-// The product and quotient rules mix the operations on purpose.
-#[allow(clippy::suspicious_arithmetic_impl)]
 impl Mul for Dual6 {
     type Output = Dual6;
     /// The product rule, (a b)' = a' b + a b': a sum inside a product by design.
@@ -137,7 +135,6 @@ impl Mul<Dual6> for f64 {
     }
 }
 
-#[allow(clippy::suspicious_arithmetic_impl)]
 impl Div for Dual6 {
     type Output = Dual6;
     /// The quotient rule, (a / b)' = (a' − (a/b) b') / b: a difference and a product by design.
