@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Church benchmark (jobs/church.toml, the main job). One JSON line per case:
-#   church-coarse-full     the whole job on the coarse mesh (19,386 DOF): modal, updating, gravity,
+#   church-coarse-full     the whole job on the coarse mesh (19,308 equations): modal, updating, gravity,
 #                          22 s of record; on 1 and 2 ranks: wall-clock seconds, seconds per time
 #                          step, the speedup of 2 ranks over 1, peak memory per rank (VmHWM)
 #   church-fine-segment    the fine mesh (meshes/church-fine.msh, 220,128 DOF) without updating,

@@ -10,7 +10,8 @@
 //! Each rank writes `rank-RRRR.bin.tmp`, syncs it and renames it; after a barrier rank 0
 //! replaces `latest.json` the same way, then removes older step folders. A run killed at any
 //! moment leaves `latest.json` pointing at a complete checkpoint (the previous one until the new
-//! one is whole). The rank file (little-endian): magic `MHPCCKP1`; u64 ranks, rank, owned DOFs,
+//! one is whole). The rank file (little-endian): magic `MHPCCKP2` (`MHPCCKP1`, six energies, is
+//! still read); u64 ranks, rank, owned DOFs,
 //! step, elements, node-envelope and cell-envelope lengths; f64 time and the eight energies
 //! ([`super::EnergyBalance::to_array`]); the
 //! vectors u, v, a, f_int, C v; per element its state length (u64) then all states (f64); the
