@@ -8,8 +8,9 @@
 //!
 //! `DEM_SEED=k` places the stones with seed k instead of 7.
 //! `DEM_MAX_EVENTS=N` stops after N beam breaks (the profile of the start of a long run).
-//! `DEM_JACOBIAN_REUSE=0` recomputes every contact Jacobian at every Newton iteration (the
-//! default reuses them while a contact has moved by little, `dem::solver::tangent`).
+//! `DEM_JACOBIAN_REUSE=0.01` reuses a contact's Jacobian while it has moved by less than 1 % of
+//! its penetration (default 0: every Jacobian exact at every Newton iteration,
+//! `dem::solver::tangent`).
 //!
 //! `DEM_SLIP_TERMS=0` leaves sliding contacts' `k_t c cᵀ` out of the preconditioner (the former
 //! behaviour: every stick/slip change is a change of the factorized operator);
@@ -40,7 +41,12 @@
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
-//! Progress goes to stderr every 25 recorded states. With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
+//! The profile's `phases` splits the Newton and GMRES iterations, the Jacobians and the
+//! evaluations by what each equilibrium was solved for (trial, λ*, release, cascade, cut-back;
+//! `dem::solver::phases`) and keeps GMRES iterations against the sliding contacts.
+//!
+//! Progress goes to stderr every 25 recorded states (with the Newton and GMRES iterations by
+//! phase so far: differences between two lines give a stretch of the run). With a fourth argument the curve (state, strain, stress in Pa, broken beams) is written there.
 use std::io::Write;
 use std::time::Instant;
 
@@ -223,10 +229,12 @@ impl Observer for Progress {
 
     fn profiled(&mut self, _: usize, p: &SolverProfile) {
         if !self.line.is_empty() {
+            let ph = &p.phases;
             eprintln!(
                 "{} refreshed {} newton {} gmres {} gmres_solves {} direct {} evaluations {} continuation {} \
                  s_solve {:.2} s_gmres {:.2} s_tangent {:.2} s_evaluate {:.2} s_factor {:.2} s_columns {:.2} \
-                 s_failure {:.2} s_commit {:.2} factorizations {} entries {} {}",
+                 s_failure {:.2} s_commit {:.2} factorizations {} entries {} {} sliding_at_gmres {} \
+                 newton_by_phase {} {} {} {} {} gmres_by_phase {} {} {} {} {} trials_discarded {}",
                 self.line,
                 p.refreshed_terms,
                 p.newton_iterations,
@@ -245,7 +253,19 @@ impl Observer for Progress {
                 p.commit_seconds,
                 p.refactorizations.total(),
                 p.factor_entries[0],
-                p.factor_entries[1]
+                p.factor_entries[1],
+                p.sliding_at_gmres,
+                ph.trial.newton_iterations,
+                ph.lambda.newton_iterations,
+                ph.release.newton_iterations,
+                ph.cascade.newton_iterations,
+                ph.cut_back.newton_iterations,
+                ph.trial.gmres_iterations,
+                ph.lambda.gmres_iterations,
+                ph.release.gmres_iterations,
+                ph.cascade.gmres_iterations,
+                ph.cut_back.gmres_iterations,
+                ph.trial_discarded
             );
         }
     }

@@ -10,7 +10,8 @@ Two loadings of the same model, each run as derived job files (results/convergen
            jobs/record-set-ec8.toml) scaled to 1.5 times the sweep's code level
            (jobs/church-sweep.toml: a_g S = 1.6 m/s^2, so PGA 2.4 m/s^2), for the sweep's duration
            (4 s), as a sweep member runs it.
-For each: the job's dt, dt/2 and dt/4 on 2 ranks, and dt on 1 rank. For the code loading also the
+For each: the job's dt, dt/2 and dt/4 on 2 ranks, and dt on 1 rank (the member also dt/2 on 1
+rank). For the code loading also the
 coarse and the fine mesh (meshes/church-fine.msh) through gravity and the first 4 s.
 
 Reads each run's summary.json and writes into --out:
@@ -120,6 +121,8 @@ def cases():
         for d in (1, 2, 4):
             out.append(Case(f"{loading}-dt{'' if d == 1 else '-' + str(d)}", loading, dt_div=d))
         out.append(Case(f"{loading}-1rank", loading, ranks=1))
+    # Round-off at half the step, where the member's step error is within its band.
+    out.append(Case("member-dt-2-1rank", "member", dt_div=2, ranks=1))
     out.append(Case("code-coarse-4s", "code", duration=4.0))
     out.append(Case("code-fine-4s", "code", mesh="meshes/church-fine.msh", duration=4.0))
     return out
@@ -175,8 +178,14 @@ def load(out, case):
         return None
     groups = {g["group"]: g for g in th.get("damage_by_group", [])}
     e = th["energy"]
+    integration = th.get("integration", "implicit")
+    if th.get("implex_split"):
+        integration += f" ({th['implex_split']} split)"
+    if th.get("max_damage_increment", 1.0) < 1.0:
+        integration += f", max Δd {th['max_damage_increment']:g}"
     return {
         "case": case.name, "loading": case.loading, "ranks": s.get("ranks", case.ranks),
+        "integration": integration,
         "dt": th["dt"], "time": th["time"], "steps": th["steps"], "iterations": th["iterations"],
         "substepped_steps": th.get("substepped_steps", 0), "factorizations": th.get("factorizations", 0),
         "seconds": s["seconds"][-1] if s.get("seconds") else float("nan"),
@@ -213,7 +222,7 @@ def write_tables(out, rows, checks, machine, loadings):
         for g in r["shares"]:
             if g not in groups:
                 groups.append(g)
-    cols = ["case", "loading", "ranks", "dt", "time", "steps", "iterations", "substepped_steps",
+    cols = ["case", "loading", "ranks", "integration", "dt", "time", "steps", "iterations", "substepped_steps",
             "factorizations", "seconds", "peak_drift_ratio", "input", "kinetic", "strain", "damping",
             "damage", "unilateral", "max_balance_error"]
     with open(os.path.join(out, "convergence.csv"), "w") as fh:
@@ -235,11 +244,12 @@ def write_tables(out, rows, checks, machine, loadings):
             continue
         md.append(f"## {loading}\n")
         shown = [g for g in groups if any(r["shares"].get(g, 0) > 0 for r in rs)]
-        md.append("| case | ranks | dt [s] | t [s] | iterations | substepped | seconds | peak drift | input [J] "
-                  "| damage [J] | unilateral [J] | balance (max) | " + " | ".join(shown) + " |")
-        md.append("|" + "---|" * (12 + len(shown)))
+        md.append("| case | ranks | integration | dt [s] | t [s] | iterations | substepped | seconds | peak drift "
+                  "| input [J] | damage [J] | unilateral [J] | balance (max) | " + " | ".join(shown) + " |")
+        md.append("|" + "---|" * (13 + len(shown)))
         for r in rs:
-            md.append(f"| {r['case']} | {r['ranks']} | {r['dt']:g} | {r['time']:g} | {r['iterations']} | "
+            md.append(f"| {r['case']} | {r['ranks']} | {r['integration']} | {r['dt']:g} | {r['time']:g} | "
+                      f"{r['iterations']} | "
                       f"{r['substepped_steps']} | {r['seconds']:.0f} | {r['peak_drift_ratio']:.3e} | "
                       f"{r['input']:.4g} | {r['damage']:.4g} | {r['unilateral']:.3g} | "
                       f"{r['max_balance_error']:.1e} | " +
@@ -403,6 +413,8 @@ def main():
         pairs = [(f"{loading}-dt-2", f"{loading}-dt-4", "dt/2 against dt/4", STEP_BAND),
                  (f"{loading}-1rank", f"{loading}-dt", "1 against 2 ranks", RANK_BAND),
                  (f"{loading}-dt", f"{loading}-dt-4", "dt against dt/4 (the job's step)", None)]
+        if loading == "member":
+            pairs.append(("member-dt-2-1rank", "member-dt-2", "1 against 2 ranks at dt/2", None))
         if loading == "code":
             pairs.append(("code-coarse-4s", "code-fine-4s", "coarse against fine mesh, first 4 s", None))
         for x, y, what, band in pairs:

@@ -234,7 +234,10 @@ mod tests {
         assert!(r.not_applicable[2].contains("integration implex, measured with implicit"));
         assert!(r.not_applicable[4].contains("stronger than the strongest measured (2.4000"));
         let variant = ["law-variant-2.toml"];
-        assert_eq!(b.report(&run(0.02, "church.msh", &variant, 1.0, "implicit"), 2.0).loading.as_deref(), Some("member"));
+        assert_eq!(
+            b.report(&run(0.02, "church.msh", &variant, 1.0, "implicit"), 2.0).loading.as_deref(),
+            Some("member")
+        );
         let r = b.report(&run(0.02, "church.msh", &["other.toml"], 1.0, "implicit"), 0.45);
         assert_eq!(r.loading, None);
         assert!(r.not_applicable[0].contains("law files"), "{:?}", r.not_applicable);

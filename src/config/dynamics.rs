@@ -89,22 +89,25 @@ pub enum NewtonKind {
 /// * `implex` (Oliver, Huespe and Cante, CMAME 197 (2008) 1865–1889; OpenSees' ASDConcrete3D
 ///   `-implex`): each integration point's damage history is extrapolated from its last two
 ///   committed steps, κ̃_{n+1} = κ_n + (Δt_{n+1}/Δt_n)(κ_n − κ_{n−1}), and the step is solved
-///   with the damage d(κ̃) held fixed and the unilateral split frozen at the point's committed
-///   strain: the stress is the secant S(ε_n; d̃) times the strain, linear, with a symmetric
-///   positive definite tangent, so the step's equilibrium is one linear system. The converged
+///   with the damage d(κ̃) held fixed: its equilibrium has no softening branch. The unilateral
+///   split is taken where `implex_split` says: at the step's strain (`current`, the default;
+///   piecewise linear, a few Newton iterations where cracks open or close) or frozen at the
+///   committed strain (`frozen`; the stress is the secant S(ε_n; d̃) times the strain, one
+///   linear system, but a crack seen closing one step late creates energy). The converged
 ///   strain then updates the histories implicitly, κ_{n+1} = max(κ_n, ε_eq), for the committed
 ///   state, the output and the next extrapolation. The error is of first order in the step
-///   size (`material::implex`): a crack is seen opening, closing or growing one step late.
+///   size (`material::implex`). Measured on the church against the implicit reference,
+///   with the choice made from it: docs/convergence-implex.md.
 ///
-/// With `implex`, `newton` chooses how that linear system is solved: `modified` and `tangent`
-/// form and factor its matrix at the step's start (one iteration then ends the step; they
-/// differ only on the first step after gravity or a restart from an implicit state, whose split
-/// is not frozen), `krylov` keeps a factored matrix across steps while the refresh policy finds
-/// it cheaper and accelerates the corrections on it (a few solves, no factorization, where
-/// little damage changed). `initial` is refused: the undamaged stiffness never sees the
-/// extrapolated damage, so the step converges at a linear rate that degrades as the structure
-/// cracks. `max_damage_increment` and `max_substeps` keep their meaning: a substep is measured
-/// by the damage increment of its implicit update and halved when Newton fails.
+/// With `implex`, `newton` chooses how the step's system is solved: `modified` and `tangent`
+/// form and factor its matrix at the step's start (with the split frozen, one iteration then
+/// ends the step), `krylov` keeps a factored matrix across steps while the refresh policy finds
+/// it cheaper and accelerates the corrections on it. `initial` is refused: the undamaged
+/// stiffness never sees the extrapolated damage, so the step converges at a linear rate that
+/// degrades as the structure cracks. `max_substeps` keeps its meaning; `max_damage_increment`
+/// measures the damage increment of a substep's implicit update, but a point crossing its
+/// threshold jumps in damage whatever the step, so under strong shaking the control cuts steps
+/// into many substeps (docs/convergence-implex.md). `damage_relaxation_time` is refused.
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum IntegrationKind {

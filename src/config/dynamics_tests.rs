@@ -56,8 +56,14 @@ fn the_implex_split_is_read_and_refused_without_implex() {
     assert_eq!(split("integration = \"implex\"").unwrap(), None);
     assert_eq!(split("integration = \"implex\"\nimplex_split = \"frozen\"").unwrap(), Some(SplitAt::Frozen));
     assert_eq!(split("integration = \"implex\"\nimplex_split = \"current\"").unwrap(), Some(SplitAt::Current));
-    let e = split("implex_split = \"frozen\"").err().expect("refused");
+    let e = split("implex_split = \"frozen\"").expect_err("refused");
     assert!(e.contains("dynamics.implex_split") && e.contains("implex"), "{e}");
-    let e = split("integration = \"implex\"\nimplex_split = \"late\"").err().expect("refused");
+    let e = split("integration = \"implex\"\nimplex_split = \"late\"").expect_err("refused");
     assert!(e.contains("dynamics.implex_split") && e.contains("frozen"), "{e}");
+}
+
+#[test]
+fn implex_with_viscous_damage_is_refused_at_the_relaxation_key() {
+    let e = load("integration = \"implex\"\ndamage_relaxation_time = 0.01").err().expect("refused");
+    assert!(e.contains("dynamics.damage_relaxation_time") && e.contains("implicit"), "{e}");
 }

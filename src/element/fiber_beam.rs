@@ -235,7 +235,7 @@ impl FiberBeam3d {
                     FiberLaw::Elastic(modulus) => (modulus * eps, *modulus),
                     FiberLaw::Damage(law) => {
                         let strain = nalgebra::Vector1::new(eps);
-                        let r = states.respond(law, g * nf + i, &strain, |l, e, s| Uniaxial::evaluate(l, e, s));
+                        let r = states.respond(law, g * nf + i, &strain, Uniaxial::evaluate);
                         diss += fib.area * r.dissipation;
                         (r.stress[0], if secant { r.secant[0] } else { r.tangent[0] })
                     }

@@ -69,7 +69,7 @@ impl Bar {
     fn respond(&mut self, u: f64) -> Response<1> {
         let strain = Vector1::new(u / LENGTH);
         let law = self.law;
-        let r = self.states.for_update().respond(&law, 0, &strain, |l, e, s| Uniaxial::evaluate(l, e, s));
+        let r = self.states.for_update().respond(&law, 0, &strain, Uniaxial::evaluate);
         self.states.set_trial_dissipation(AREA * LENGTH * r.dissipation);
         r
     }

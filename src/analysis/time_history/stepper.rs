@@ -21,11 +21,13 @@
 //! With `[dynamics] integration = "implex"` every attempt of a (sub)step of size h first gives
 //! the elements h ([`DynamicSystem::set_implex_step`]): their damage histories are extrapolated
 //! by the ratio of h to the last committed (sub)step's size and held for the attempt
-//! (`material::implex`), with the unilateral split frozen at the committed strains. The
-//! residual at the predictor is then evaluated by the elements (their stress at u_n differs from
-//! the committed `f_int,n` by the new extrapolation), and the iterations solve a linear
-//! equilibrium: one iteration on the step's own matrix (`modified`, `tangent`), a few
-//! accelerated ones on a kept one (`krylov`). Everything else is the implicit stepper's: the
+//! (`material::implex`), the unilateral split taken at the step's strain or frozen at the
+//! committed one (`[dynamics] implex_split`). The residual at the predictor is then evaluated by
+//! the elements (their stress at u_n differs from the committed `f_int,n` by the new
+//! extrapolation), and the iterations solve an equilibrium without softening: piecewise linear
+//! where cracks open or close (the split at the step's strain), linear with the split frozen,
+//! one iteration on the step's own matrix (`modified`, `tangent`) or a few accelerated ones on a
+//! kept one (`krylov`). Everything else is the implicit stepper's: the
 //! convergence test, the substeps on a failure or a damage increment (that of the histories'
 //! implicit update) over the limit, the commit, the energies.
 //!

@@ -118,13 +118,13 @@ pub struct Contact {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Side {
+pub(super) enum Side {
     I,
     J,
     Both,
 }
 
-fn counter_clockwise(p: &Polygon) -> Polygon {
+pub(super) fn counter_clockwise(p: &Polygon) -> Polygon {
     let v = &p.vertices;
     let n = v.len();
     let twice_area: f64 = (0..n).map(|k| cross(v[k], v[(k + 1) % n])).sum();
@@ -273,15 +273,15 @@ fn overlap_polygon(pi: &Polygon, pj: &Polygon, tol: f64) -> Polygon {
 /// Sums over the overlap's edges: each edge's side (on `i`'s boundary, `j`'s, or both), the
 /// chord vector `s = Σ ±ν_k` (outer edge normals of length |edge|, `+` on `i`'s side, `−` on
 /// `j`'s), the perimeter, and the area's gradient `∂S/∂q` over `(q_i, q_j)`.
-struct EdgeSums {
-    sides: Vec<Side>,
-    s: [f64; 2],
-    perimeter: f64,
+pub(super) struct EdgeSums {
+    pub(super) sides: Vec<Side>,
+    pub(super) s: [f64; 2],
+    pub(super) perimeter: f64,
     ds: [f64; 6],
 }
 
 impl EdgeSums {
-    fn of(v: &[P2], (pi, pj): (&Polygon, &Polygon), (ref_i, ref_j): (P2, P2), tol: f64) -> EdgeSums {
+    pub(super) fn of(v: &[P2], (pi, pj): (&Polygon, &Polygon), (ref_i, ref_j): (P2, P2), tol: f64) -> EdgeSums {
         let m = v.len();
         let mut sides = Vec::with_capacity(m);
         let (mut s, mut perimeter, mut ds) = ([0.0; 2], 0.0, [0.0; 6]);

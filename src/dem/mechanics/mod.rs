@@ -17,13 +17,17 @@
 //! | [`thresholds`] | failure thresholds, deterministic or Weibull per beam |
 //! | [`failure`]    | the failure index P, the failure mode, the λ at which P reaches 1 |
 //! | [`contact`]    | overlap, chord, normal, normal force and its linearizations |
+//! | [`contact_jacobian`] | the exact Jacobian of a contact's forces (friction, crushing) by dual numbers through the law |
+//! | [`dual`]       | forward-mode dual numbers over a pair's six DOFs |
 //! | [`friction`]   | Coulomb return map, dissipation, tangent |
 //! | [`thickness`]  | the overlap's thickness function and its integrals above a level (the Winkler layer) |
 //! | [`crushing`]   | optional compressive failure: beam crushing, bounded and softening contact pressure |
 
 pub mod beam;
 pub mod contact;
+pub mod contact_jacobian;
 pub mod crushing;
+pub mod dual;
 pub mod error;
 pub mod failure;
 pub mod friction;

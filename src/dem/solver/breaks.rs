@@ -22,6 +22,7 @@ use std::time::Instant;
 
 use super::error::DemError;
 use super::options::FloatingPolicy;
+use super::phases::Phase;
 use super::profile;
 use super::records::{BrokenBeam, FailureModeTag, LoadPoint, StateKind};
 use super::solver::Solver;
@@ -119,6 +120,7 @@ impl<'a> Solver<'a> {
             });
         }
         let l = self.state.load.clone();
+        self.phase = Phase::Release;
         self.release(&[b], &l, 1.0)
     }
 
@@ -126,9 +128,11 @@ impl<'a> Solver<'a> {
     /// each group released and relaxed at the fixed `load` ([`Self::release`]): one beam at a
     /// time, or up to [`super::SolverOptions::breaks_per_equilibrium`] together.
     pub(super) fn break_cascade(&mut self, first: Vec<usize>, load: &LoadPoint, t: f64) -> Result<(), DemError> {
+        self.phase = if first.is_empty() { Phase::Cascade } else { Phase::Release };
         let mut next = if first.is_empty() { self.most_critical() } else { first };
         while !next.is_empty() {
             self.release(&next, load, t)?;
+            self.phase = Phase::Cascade;
             next = self.most_critical();
         }
         Ok(())

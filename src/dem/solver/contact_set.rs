@@ -32,6 +32,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::dofs::DofMap;
 use super::error::DemError;
+use crate::dem::mechanics::contact_jacobian::{self, PairShape, PairTrial};
 use crate::dem::mechanics::{self, Contact, FrictionUpdate, MechParams, SlipState};
 use crate::dem::polygon::Polygon;
 use crate::dem::sample::Sample;
@@ -260,22 +261,11 @@ impl ActiveContact {
     }
 }
 
-/// The difference step of [`pair_jacobian`], relative to the pair's mean diameter `D̄`.
-pub const DIFFERENCE_STEP: f64 = 1e-8;
-
-/// The 6×6 Jacobian `∂(F_n b + F_t c)/∂(q_i, q_j)` of contact `a` at DOFs `q` by central
-/// differences, with the same committed state `c`, `old` (so the friction return map, the turning
-/// normal and the moving point of application are all included):
-///
-/// ```text
-///   J e_k = [f(q + h_k e_k) − f(q − h_k e_k)] / (2 h_k),   h = 10⁻⁸ D̄ (translations),
-///                                                            h = 2·10⁻⁸ D̄/D_p (rotations)
-///   (10⁻⁸: DIFFERENCE_STEP)
-/// ```
-///
-/// (`D̄` the mean diameter of the pair, `D_p` the stone's diameter: its outline moves by about
-/// 10⁻⁸ D̄ either way). A perturbed state without overlap has zero force: across the activation
-/// kink the column is the mean of the one-sided derivatives.
+/// The 6×6 Jacobian `J_c = ∂(F_n b + F_t c)/∂(q_i, q_j)` of contact `a` at DOFs `q`, with the
+/// same committed state `c`, `old`: exact, by forward-mode dual numbers through the contact law
+/// ([`mechanics::contact_jacobian`]): the area gradient, the friction return map, the turning
+/// normal and the moving point of application, crushing; at a kink the one-sided derivative of
+/// the branch the state lies on, and on the Coulomb cone the slip branch's.
 pub fn pair_jacobian(
     sample: &Sample,
     params: &MechParams,
@@ -283,23 +273,15 @@ pub fn pair_jacobian(
     q: [[f64; 3]; 2],
     c: [[f64; 3]; 2],
     old: ContactHistory,
-) -> Result<SMatrix<f64, 6, 6>, DemError> {
-    let (d_i, d_j) = (sample.particles[a.i].diameter, sample.particles[a.j].diameter);
-    let d = 0.5 * (d_i + d_j);
-    let mut jac = SMatrix::<f64, 6, 6>::zeros();
-    for k in 0..6 {
-        let h = if k % 3 == 2 { 2.0 * DIFFERENCE_STEP * d / [d_i, d_j][k / 3] } else { DIFFERENCE_STEP * d };
-        let mut f = [SVector::<f64, 6>::zeros(); 2];
-        for (s, sign) in [1.0, -1.0].into_iter().enumerate() {
-            let mut qq = q;
-            qq[k / 3][k % 3] += sign * h;
-            if let Some(p) = evaluate_pair(sample, params, a.i, a.j, qq, c, old)? {
-                f[s] = p.pair_forces();
-            }
-        }
-        jac.set_column(k, &((f[0] - f[1]) / (2.0 * h)));
-    }
-    Ok(jac)
+) -> SMatrix<f64, 6, 6> {
+    let (pi, pj) = (&sample.particles[a.i], &sample.particles[a.j]);
+    let shape = PairShape {
+        polygons: [&pi.polygon, &pj.polygon],
+        centroids: [pi.centroid, pj.centroid],
+        diameters: [pi.diameter, pj.diameter],
+    };
+    let trial = PairTrial { committed: c, f_t: old.f_t, plastic: old.plastic, crush: a.crush };
+    contact_jacobian::pair_jacobian(&shape, params, q, &trial).map_or_else(SMatrix::zeros, |(_, j)| j)
 }
 
 /// Adds the internal contact and friction forces to `out` (length `n_z`).

@@ -216,10 +216,8 @@ impl<'a> Solver<'a> {
         Ok(Evaluation { contacts, r, relative: inf / scale, merit, beam_forces })
     }
 
-    /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
-    /// broken beam's force being released), starting from the current `z`; leaves the
-    /// contacts of the equilibrium state in the state's `contacts`.
-    pub(super) fn equilibrate_with(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
+    /// Newton's method for [`Self::equilibrate_with`] (module docs).
+    pub(super) fn newton(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
         let f_ext = self.apply_load(load, extra);
         let (stage, events) = (self.state.stage, self.state.broken.len());
         let z0 = self.state.z.clone();
@@ -343,7 +341,7 @@ impl<'a> Solver<'a> {
         let jc = &self.jacobians;
         let p = &mut self.profile;
         (p.jacobians_computed, p.jacobians_reused) = (jc.computed, jc.reused);
-        (p.jacobians_on_cone, p.jacobians_near_cone) = (jc.on_cone, jc.near_cone);
+        p.jacobians_on_cone = jc.on_cone;
         // Inexact Newton: the linear solve to η ‖r‖ (`SolverOptions::forcing`; a fixed 1e-6 lost
         // two of the paper wall's 16 shear samples, a fixed 1e-8 was the former default).
         // D = K_T − M: GMRES's products cost O(contacts) (`gmres_split`).
@@ -373,6 +371,10 @@ impl<'a> Solver<'a> {
         self.counters.solves += info.iterations;
         p.gmres_solves += 1;
         p.gmres_iterations += info.iterations;
+        let sliding = ev.contacts.iter().filter(|a| !a.sticks()).count();
+        p.sliding_at_gmres += sliding;
+        p.contacts_at_gmres += ev.contacts.len();
+        p.phases.gmres_step(sliding, info.iterations);
         profile::add(&mut p.solve_seconds, in_precond);
         profile::add(&mut p.gmres_seconds, clock.elapsed().saturating_sub(in_precond));
         let mut linear_converged = info.converged;

@@ -15,7 +15,7 @@
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
 //! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`) and solves of sparse right-hand sides (forward substitution over their reach), a small binding |
 //! | `ordering.rs` | METIS nested dissection from 20k unknowns, AMD below |
-//! | `tangent.rs` | per-contact central-difference Jacobians, reused while a contact moved less than 1 % of its penetration in the same stick/slip regime; GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
+//! | `tangent.rs` | per-contact exact Jacobians (dual numbers through the contact law, `mechanics::contact_jacobian`; `jacobian_tests.rs` checks them against central differences); GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
 //! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator (every contact keeps `k_t c cᵀ` in it, stick or slip, so stick/slip changes never touch the factorization); Eisenstat–Walker forcing |
 //! | `contact_set.rs`, `contact_candidates.rs` | contact pairs and their histories (committed chord, plastic depth of crushing); candidates kept between residual evaluations with a margin, exactly the contacts of a search from scratch |
 //! | `energy.rs` | the energy account: commits, the trial step's balance (with crushing, a step whose energy does not balance within 1e-3 of the work is halved) |
@@ -23,7 +23,7 @@
 //! | `step_predictor.rs` | the load step after a break starts from the response of the step that was cut (never with crushing) |
 //! | `contact_events.rs` | optional (`SolverOptions::contact_events`): a load step ends where a contact starts to slide, closes or opens |
 //! | `virtual_test.rs` | tension, compression, shear and cyclic tests; ends as target, loss of load, collapse or failed |
-//! | `snapshots.rs`, `trace.rs`, `profile.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times |
+//! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
 #[cfg(test)]
 mod break_group_tests;
 mod breaks;
@@ -42,10 +42,13 @@ mod equilibrium;
 pub mod error;
 pub mod factor;
 pub mod gmres;
+#[cfg(test)]
+mod jacobian_tests;
 mod linear;
 mod operator;
 pub mod options;
 pub mod ordering;
+pub mod phases;
 pub mod profile;
 pub mod records;
 pub mod scales;

@@ -6,6 +6,8 @@
 //! for a compression test of a random sample.
 use std::time::Duration;
 
+use super::phases::{PhaseCounts, Phases};
+
 /// Counters and phase times of one solver.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct SolverProfile {
@@ -37,15 +39,13 @@ pub struct SolverProfile {
     pub pair_evaluations: usize,
     /// Candidate lists built ([`super::contact_candidates`]).
     pub candidate_rebuilds: usize,
-    /// Contact Jacobians computed by central differences ([`super::tangent`]).
+    /// Contact Jacobians computed ([`super::tangent`]).
     pub jacobians_computed: usize,
     /// Contact Jacobians reused ([`super::tangent`]).
     pub jacobians_reused: usize,
     /// Contact Jacobians taken on the slip branch for contacts on the Coulomb cone
     /// ([`super::tangent`], "On the cone").
     pub jacobians_on_cone: usize,
-    /// Contact Jacobians taken in their own regime near the cone (`super::tangent`, "Near the cone").
-    pub jacobians_near_cone: usize,
     /// Load steps after a break started from the cut step's response
     /// ([`super::step_predictor`]) and converged from there.
     pub predicted_steps: usize,
@@ -79,7 +79,7 @@ pub struct SolverProfile {
     pub solve_seconds: f64,
     /// Seconds in GMRES outside the preconditioner (tangent products, orthogonalization).
     pub gmres_seconds: f64,
-    /// Seconds building the contact tangent (central differences).
+    /// Seconds building the contact tangent (the contacts' Jacobians).
     pub tangent_seconds: f64,
     /// Seconds in residual evaluations (contacts, forces).
     pub evaluate_seconds: f64,
@@ -88,6 +88,32 @@ pub struct SolverProfile {
     pub failure_seconds: f64,
     /// Seconds committing and recording states (platen forces, stored energy, the record).
     pub commit_seconds: f64,
+    /// The sliding contacts at the Newton steps that needed GMRES, summed.
+    pub sliding_at_gmres: usize,
+    /// The active contacts at those steps, summed.
+    pub contacts_at_gmres: usize,
+    /// The work of the equilibria by phase ([`super::phases`]).
+    pub phases: Phases,
+}
+
+impl SolverProfile {
+    /// The running totals that [`super::phases`] books per equilibrium (`equilibria` and
+    /// `seconds` left at zero).
+    pub fn running(&self) -> PhaseCounts {
+        PhaseCounts {
+            equilibria: 0,
+            newton_iterations: self.newton_iterations,
+            gmres_solves: self.gmres_solves,
+            gmres_iterations: self.gmres_iterations,
+            sliding: self.sliding_at_gmres,
+            contacts: self.contacts_at_gmres,
+            jacobians: self.jacobians_computed,
+            evaluations: self.evaluations,
+            jacobian_seconds: self.tangent_seconds,
+            evaluate_seconds: self.evaluate_seconds,
+            seconds: 0.0,
+        }
+    }
 }
 
 /// How often the stage loop took each of its branches ([`super::stage`]).

@@ -17,6 +17,7 @@ use super::contact_set::ActiveContact;
 use super::error::DemError;
 use super::operator::{Operator, Upkeep};
 use super::options::SolverOptions;
+use super::phases::Phase;
 use super::profile::{Counters, SolverProfile};
 use super::records::{BrokenBeam, LoadPoint, Observer, StateRecord};
 use super::scales::Scales;
@@ -47,6 +48,8 @@ pub struct Solver<'a> {
     pub observer: Option<Box<dyn Observer + 'a>>,
     /// The Newton history of the last equilibrium attempts (with [`SolverOptions::trace`]).
     pub trace: Option<Trace>,
+    /// What the next equilibria are solved for ([`super::phases`]).
+    pub(super) phase: Phase,
 }
 
 impl<'a> Solver<'a> {
@@ -88,6 +91,7 @@ impl<'a> Solver<'a> {
             profile: SolverProfile::default(),
             observer: None,
             trace: opts.trace.then(Default::default),
+            phase: Phase::Other,
             model,
         })
     }
@@ -124,8 +128,8 @@ impl<'a> Solver<'a> {
         (self.operator.factor.n_factorizations + shifted.0, self.operator.factor.n_symbolic + shifted.1)
     }
 
-    /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0 recomputes every
-    /// Jacobian at every Newton iteration). Errors: `η` negative or not finite.
+    /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0, the default,
+    /// recomputes every Jacobian at every Newton iteration). Errors: `η` negative or not finite.
     pub fn set_jacobian_reuse(&mut self, eta: f64) -> Result<(), DemError> {
         if !(eta.is_finite() && eta >= 0.0) {
             return Err(DemError::InvalidParameter {
@@ -142,6 +146,22 @@ impl<'a> Solver<'a> {
     /// leaves the contacts of the equilibrium state in [`Self::contacts`].
     pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
         self.equilibrate_with(load, None, t)
+    }
+
+    /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
+    /// broken beam's force being released), starting from the current `z` (Newton's method,
+    /// [`super::equilibrium`]); leaves the contacts of the equilibrium state in the state's
+    /// `contacts`. Its work is booked to the current phase, or to the cut-backs when it does
+    /// not converge ([`super::phases`]).
+    pub(super) fn equilibrate_with(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
+        let (before, clock) = (self.profile.running(), std::time::Instant::now());
+        let out = self.newton(load, extra, t);
+        let mut w = self.profile.running().since(&before);
+        w.equilibria = 1;
+        w.seconds = clock.elapsed().as_secs_f64();
+        let failed = matches!(out, Err(DemError::NoConvergence { .. }));
+        self.profile.phases.book(self.phase, failed, &w);
+        out
     }
 
     /// The operator with what its upkeep reads, and the scales (disjoint borrows of the

@@ -87,6 +87,7 @@
 //!
 //! **Energy.** Each recorded state carries the energy account of [`super::energy`].
 use super::error::DemError;
+use super::phases::Phase;
 use super::records::{LoadPoint, StageEnd, StateKind, StateRecord};
 use super::solver::Solver;
 use super::step_predictor::StepPredictor;
@@ -200,6 +201,7 @@ impl<'a> Solver<'a> {
     /// Records the unloaded initial state (call once before the first stage).
     pub fn start(&mut self) -> Result<(), DemError> {
         let l = self.state.load.clone();
+        self.phase = Phase::Other;
         self.equilibrate(&l, 0.0)?;
         self.commit(0.0, StateKind::Loading);
         Ok(())
@@ -226,6 +228,7 @@ impl<'a> Solver<'a> {
             let load = walk.load_at(t_try);
             let trial = self.trial_step(&walk, &load, t_try)?;
             if trial == Trial::Unbalanced {
+                self.profile.phases.trial_discarded += 1;
                 self.state.restore();
                 self.counters.cutbacks += 1;
                 self.counters.imbalance_cutbacks += 1;
@@ -234,8 +237,12 @@ impl<'a> Solver<'a> {
             }
             let failure = if trial == Trial::Converged { self.first_failure(&z_old) } else { None };
             let breaks = failure.filter(|&(lam, _)| lam < 1.0);
+            if breaks.is_some() {
+                self.profile.phases.trial_discarded += 1;
+            }
             if trial == Trial::Converged && breaks.is_none() {
                 if let Some(t_c) = self.contact_event_within(&walk, &z_old, t_try) {
+                    self.profile.phases.trial_discarded += 1;
                     self.state.restore();
                     self.counters.contact_events += 1;
                     walk.h = t_c - walk.t;
@@ -285,6 +292,7 @@ impl<'a> Solver<'a> {
     /// committed state and its load restored.
     fn trial_step(&mut self, walk: &StageWalk, load: &LoadPoint, t_try: f64) -> Result<Trial, DemError> {
         let predictor = walk.predictor.as_ref().filter(|_| self.predicts_steps());
+        self.phase = Phase::Trial;
         match self.equilibrate_predicted(predictor, load, walk.t, t_try) {
             Ok(()) => {}
             Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(Trial::Failed),
@@ -348,6 +356,7 @@ impl<'a> Solver<'a> {
         if !self.state.contacts.is_empty() {
             // Newton starts from the interpolated state: exact while the contact forces are
             // linear along the step, so usually one iteration away.
+            self.phase = Phase::Lambda;
             match self.equilibrate(&load_l, t_l) {
                 Ok(()) => {}
                 Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(false),
