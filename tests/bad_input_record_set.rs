@@ -97,7 +97,7 @@ fn the_envelope_must_fit_the_duration() {
 fn bad_counts_seeds_and_filters() {
     expect_error(
         "rs-count",
-        "count = 3",
+        "count = 7",
         "count = 0",
         &["record_set.artificial.count", "expected 1 to 1000 records, got 0"],
     );

@@ -5,8 +5,9 @@
 #   sweep-church-groups-of-1, sweep-church-group-of-2   members, seconds of the members' phase,
 #       members per hour, seconds of the gravity state (modal updating included: done once)
 #   sweep-church-throughput   members per hour of groups of 1 over one group of 2
-# The sweep: the coarse church, the identified law, the 3 EC8 records at PGA 0.8 and 2.4 m/s^2
-# (6 members), each DURATION s long (default 2.5). Every line carries the machine (CPU, BLAS) and
+# The sweep: the coarse church, the identified law, the EC8 record set (7 records) on a grid of
+# PGA 0.8 and 2.4 m/s^2 (14 members; the job's hunt replaced by the grid), each DURATION s long
+# (default 2.5). Every line carries the machine (CPU, BLAS) and
 # the load average at its start and end. Run through scripts/bench.sh (which builds first).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -29,8 +30,9 @@ for g in 1 2; do
   sed -e "s#^job = \"church.toml\"#job = \"$root/jobs/church.toml\"#" \
       -e "s#^group_size = .*#group_size = $g#" \
       -e "s#^record_set = .*#record_set = \"$work/set\"#" \
-      -e "s#^intensities = .*#intensities = [0.8, 2.4]#" \
+      -e "s#^scale_by = \(.*\)#scale_by = \1\nintensities = [0.8, 2.4]#" \
       -e "s#^duration = .*#duration = $duration#" \
+      -e '/^\[sweep.hunt\]/,/^$/d' \
       -e '/^materials = /d' \
       -e "s#^dir = .*#dir = \"$work/out-$g\"#" jobs/church-sweep.toml > "$work/sweep-$g.toml"
   load0=$(loadavg)

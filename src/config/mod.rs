@@ -25,6 +25,7 @@ mod record_set;
 mod source;
 mod spectrum;
 mod sweep;
+mod sweep_hunt;
 mod sweep_member;
 mod tagged;
 mod validate;
@@ -45,6 +46,7 @@ pub use record_set::*;
 pub use source::{format_path, Seg, Source};
 pub use spectrum::*;
 pub use sweep::*;
+pub use sweep_hunt::{HuntConfig, HuntRules, Intensities, Plan, LEVEL_RESOLUTION};
 pub use sweep_member::Member;
 
 use crate::io::normalize;

@@ -15,12 +15,16 @@
 //! require_compatible = true        # the record set must have passed its EN 1998-1 check (default)
 //! scale_by = "pga"                 # pga | sa_t1 (5 % damped pseudo-acceleration at `period`)
 //! period = 0.333                   # T₁ [s], for sa_t1
-//! intensities = [0.8, 1.6, 2.4]    # m/s²
 //! code_level = 1.6                 # the site's code intensity, marked on the curves [m/s²]
 //! duration = 8.0                   # optional: the time histories stop here [s] (default: the base job's)
 //! materials = ["../materials/a.toml", "../materials/b.toml"]   # optional law-file variants
-//! [[sweep.limit]]                  # optional: the intensity at which a substructure's share of
-//! group = "nave_vault"             # area with d_t > 0.5 passes `share`, per record
+//! [sweep.hunt]                     # adaptive intensities per record and material (sweep_hunt.rs;
+//! first = 0.4                      # the default, each key defaulting to a share of code_level) ...
+//! step = 0.4                       # m/s²
+//! cap = 4.8
+//! # intensities = [0.8, 1.6, 2.4]  # ... or a fixed grid [m/s²]
+//! [[sweep.limit]]                  # the intensity at which a substructure's share of area with
+//! group = "nave_vault"             # d_t > 0.5 passes `share`, per record (a hunt needs one)
 //! share = 0.5
 //! ```
 //!
@@ -127,8 +131,10 @@ pub struct SweepConfig {
     pub scale_by: IntensityMeasure,
     /// T₁ [s] for `sa_t1`.
     pub period: Option<f64>,
-    /// The intensities [m/s²].
-    pub intensities: Vec<f64>,
+    /// A fixed grid of intensities [m/s²] (instead of the hunt).
+    pub intensities: Option<Vec<f64>>,
+    /// Adaptive intensities (the default, also without this table): hunt and fill.
+    pub hunt: Option<super::HuntConfig>,
     /// The site's code level [m/s²], marked on the curves.
     pub code_level: Option<f64>,
     /// The time histories' duration [s] (default: the base job's).
@@ -205,6 +211,8 @@ pub struct SweepJob {
     pub variants: Vec<Variant>,
     /// The results folder.
     pub output_dir: PathBuf,
+    /// The intensities: a grid or the hunt's rules.
+    pub plan: super::Plan,
 }
 
 fn at(keys: &[&str]) -> Vec<Seg> {
@@ -219,12 +227,12 @@ impl SweepJob {
         // Absolute: the members' job files live in another folder.
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let folder = absolute(&folder);
-        let period = check_keys(&source, &spec)?;
+        let (period, plan) = check_keys(&source, &spec)?;
         let (base_file, base_text, base) = load_base(&source, &spec, &folder)?;
         let records = read_records(&source, &spec.sweep, &folder, &base, period)?;
         let variants = read_variants(&source, &spec.sweep, &folder, &base)?;
         let output_dir = absolute(&super::output_dir(path, &spec.output));
-        Ok(SweepJob { source, spec, base_file, base, base_text, records, variants, output_dir })
+        Ok(SweepJob { source, spec, base_file, base, base_text, records, variants, output_dir, plan })
     }
 
     /// The scale factor on the record (as written) for intensity `x`.
@@ -233,8 +241,8 @@ impl SweepJob {
     }
 }
 
-/// The `[analysis]` and `[sweep]` keys checked; the period of `sa_t1` scaling.
-fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<Option<f64>, ConfigError> {
+/// The `[analysis]` and `[sweep]` keys checked; the period of `sa_t1` scaling and the intensities.
+fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<(Option<f64>, super::Plan), ConfigError> {
     let c = &spec.sweep;
     let err = |keys: &[&str], msg: String| source.error_at(&at(keys), msg);
     if spec.analysis.group_size == 0 {
@@ -243,20 +251,7 @@ fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<Option<f64>, Confi
             "expected at least 1 rank per group".to_string(),
         ));
     }
-    if c.intensities.is_empty() {
-        return Err(err(&["intensities"], "give at least one intensity [m/s^2]".into()));
-    }
-    for (i, &x) in c.intensities.iter().enumerate() {
-        if !(x.is_finite() && x > 0.0) {
-            return Err(source.error_at(
-                &[Seg::key("sweep"), Seg::key("intensities"), Seg::Index(i)],
-                format!("expected an intensity > 0 [m/s^2], got {x}"),
-            ));
-        }
-    }
-    if c.intensities.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(err(&["intensities"], "expected intensities in increasing order, each once".into()));
-    }
+    let plan = super::sweep_hunt::check_plan(source, c)?;
     let period = match (c.scale_by, c.period) {
         (IntensityMeasure::SaT1, None) => {
             return Err(err(&["period"], "scale_by = \"sa_t1\" needs period = T1 [s]".into()))
@@ -287,7 +282,7 @@ fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<Option<f64>, Confi
             ));
         }
     }
-    Ok(period)
+    Ok((period, plan))
 }
 
 /// The base job: its file, its text and the job, checked to be a time history with records and

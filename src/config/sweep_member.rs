@@ -16,9 +16,9 @@ pub struct Member {
     pub variant: usize,
     /// Index into `SweepJob::records`.
     pub record: usize,
-    /// Index into `[sweep] intensities`.
-    pub intensity: usize,
-    /// Folder name: `<variant>-<record>-<intensity>`.
+    /// Index into `[sweep] intensities` (a grid's member; `None` for the hunt's).
+    pub intensity: Option<usize>,
+    /// Folder name: `<variant>-<record>-<measure><intensity>`.
     pub name: String,
     /// The intensity [m/s²].
     pub level: f64,
@@ -27,31 +27,36 @@ pub struct Member {
 }
 
 impl SweepJob {
-    /// Every member, in the order variant, record, intensity.
+    /// Every member of a grid, in the order variant, record, intensity (none for a hunt: its
+    /// members are decided as it runs).
     pub fn members(&self) -> Vec<Member> {
+        let grid = match self.intensities() {
+            super::Intensities::Grid(x) => x,
+            super::Intensities::Hunt(_) => &[],
+        };
         let mut out = Vec::new();
-        for (v, variant) in self.variants.iter().enumerate() {
-            for (r, record) in self.records.iter().enumerate() {
-                for (i, &x) in self.spec.sweep.intensities.iter().enumerate() {
-                    out.push(Member {
-                        index: out.len(),
-                        variant: v,
-                        record: r,
-                        intensity: i,
-                        name: format!(
-                            "{}-{}-{}{:.4}",
-                            variant.name,
-                            record.name,
-                            self.spec.sweep.scale_by.file_tag(),
-                            x
-                        ),
-                        level: x,
-                        factor: self.factor(record, x),
-                    });
+        for v in 0..self.variants.len() {
+            for r in 0..self.records.len() {
+                for (i, &x) in grid.iter().enumerate() {
+                    out.push(self.member(out.len(), v, r, x, Some(i)));
                 }
             }
         }
         out
+    }
+
+    /// Member number `index` of variant `v`, record `r` at intensity `x` (grid position `grid`).
+    pub fn member(&self, index: usize, v: usize, r: usize, x: f64, grid: Option<usize>) -> Member {
+        let (variant, record) = (&self.variants[v], &self.records[r]);
+        Member {
+            index,
+            variant: v,
+            record: r,
+            intensity: grid,
+            name: format!("{}-{}-{}{:.4}", variant.name, record.name, self.spec.sweep.scale_by.file_tag(), x),
+            level: x,
+            factor: self.factor(record, x),
+        }
     }
 
     /// The job file of member `m` with its results in `dir`: the base job's text with the record,

@@ -14,8 +14,10 @@
 //! a first task that has no hook, e.g. a gravity state); after that it answers whenever it polls
 //! ([`Dispatcher::serve`]): when its own group asks for a task, and after every step of its own
 //! group's time history (a hook of the time stepping), so that a waiting leader waits at most one
-//! of leader 0's steps (or one of its tasks without steps). Every leader broadcasts its answer in
-//! its group. With Threading::Funneled, so no thread of its own:
+//! of leader 0's steps (or one of its tasks without steps). Tasks come from a [`TaskSource`]: a
+//! fixed order, or tasks decided from the results of earlier ones; a READY also says that the
+//! leader's previous task is done, and a leader asking while the source waits for results in
+//! flight is answered when they come. Every leader broadcasts its answer in its group. With Threading::Funneled, so no thread of its own:
 //! leader 0 computes and schedules on its main thread.
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Color, SimpleCommunicator};
@@ -61,11 +63,63 @@ impl Groups {
     }
 }
 
-/// Hands out task indices to groups, in a given order, one at a time to whichever group asks.
+/// What leader 0's source of tasks says when a group asks for work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Answer {
+    /// Run this task.
+    Task(usize),
+    /// Nothing now: tasks in flight will decide what comes next.
+    Wait,
+    /// Nothing left.
+    Stop,
+}
+
+/// Leader 0's source of tasks: a fixed order ([`Dispatcher::new`]), or tasks decided from the
+/// results of earlier ones (the hunt of a sweep). `finished` is called when the group that held a
+/// task asks for its next one (its results are written by then).
+pub trait TaskSource {
+    /// The next task for a group asking now.
+    fn next(&mut self) -> Answer;
+    /// `task` is done.
+    fn finished(&mut self, task: usize);
+}
+
+/// Tasks in a fixed order, next last.
+struct Queue(Vec<usize>);
+
+impl TaskSource for Queue {
+    fn next(&mut self) -> Answer {
+        self.0.pop().map_or(Answer::Stop, Answer::Task)
+    }
+    fn finished(&mut self, _: usize) {}
+}
+
+enum Tasks<'s> {
+    Queue(Queue),
+    Borrowed(&'s mut dyn TaskSource),
+}
+
+impl Tasks<'_> {
+    fn get(&mut self) -> &mut dyn TaskSource {
+        match self {
+            Tasks::Queue(q) => q,
+            Tasks::Borrowed(s) => &mut **s,
+        }
+    }
+}
+
+/// Hands out task indices to groups, one at a time to whichever group asks; a group that asks
+/// while the source waits for results is answered when they come.
 pub struct Dispatcher<'g> {
     groups: &'g Groups,
-    /// Task indices still to hand out, next last (leader 0 only).
-    queue: Vec<usize>,
+    /// Where tasks come from (leader 0 only).
+    source: Tasks<'g>,
+    /// The task each remote leader holds, by its rank among the leaders (leader 0 only).
+    held: Vec<Option<usize>>,
+    /// This group's task (leader 0 only).
+    own: Option<usize>,
+    /// Remote leaders waiting for an answer (leader 0 only).
+    waiting: std::collections::VecDeque<i32>,
     /// Remote leaders told to stop (leader 0 only).
     stopped: usize,
     /// Whether every remote leader has had its first answer (leader 0 only).
@@ -75,15 +129,28 @@ pub struct Dispatcher<'g> {
 impl<'g> Dispatcher<'g> {
     /// Tasks handed out in `order`.
     pub fn new(groups: &'g Groups, order: &[usize]) -> Dispatcher<'g> {
-        Dispatcher { groups, queue: order.iter().rev().copied().collect(), stopped: 0, started: false }
+        Dispatcher::with(groups, Tasks::Queue(Queue(order.iter().rev().copied().collect())))
+    }
+
+    /// Tasks from `source` (consulted on leader 0 only).
+    pub fn with_source(groups: &'g Groups, source: &'g mut dyn TaskSource) -> Dispatcher<'g> {
+        Dispatcher::with(groups, Tasks::Borrowed(source))
+    }
+
+    fn with(groups: &'g Groups, source: Tasks<'g>) -> Dispatcher<'g> {
+        Dispatcher {
+            groups,
+            source,
+            held: vec![None; groups.count],
+            own: None,
+            waiting: Default::default(),
+            stopped: 0,
+            started: false,
+        }
     }
 
     fn is_root(&self) -> bool {
         self.groups.leaders.as_ref().is_some_and(|l| l.rank() == 0)
-    }
-
-    fn take(&mut self) -> u64 {
-        self.queue.pop().map_or(STOP, |k| k as u64)
     }
 
     /// Collective over the group. The next task of this group, or `None` when none is left.
@@ -91,11 +158,7 @@ impl<'g> Dispatcher<'g> {
         let mut k = STOP;
         if let Some(l) = &self.groups.leaders {
             if l.rank() == 0 {
-                if !self.started {
-                    self.first_round();
-                }
-                self.serve();
-                k = self.take();
+                k = self.next_own();
             } else {
                 let root = l.process_at_rank(0);
                 root.send_with_tag(&[0u8; 0][..], TAG_READY);
@@ -106,25 +169,67 @@ impl<'g> Dispatcher<'g> {
         (k != STOP).then_some(k as usize)
     }
 
-    /// Leader 0: waits for the first READY of every other leader and answers each (the first
+    /// Leader 0: its own group's next task, after the waiting remote groups had theirs; waits
+    /// (serving) while the source waits for results.
+    fn next_own(&mut self) -> u64 {
+        if let Some(t) = self.own.take() {
+            self.source.get().finished(t);
+        }
+        if !self.started {
+            self.first_round();
+        }
+        loop {
+            self.serve();
+            if self.waiting.is_empty() {
+                match self.source.get().next() {
+                    Answer::Task(k) => {
+                        self.own = Some(k);
+                        return k as u64;
+                    }
+                    Answer::Stop => return STOP,
+                    Answer::Wait => {}
+                }
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+    }
+
+    /// Leader 0: waits for the first READY of every other leader and answers them (the first
     /// tasks go to the other groups).
     fn first_round(&mut self) {
         let remote = self.groups.count - 1;
         for _ in 0..remote {
             let Some(l) = &self.groups.leaders else { return };
             let (_, status) = l.any_process().receive_vec_with_tag::<u8>(TAG_READY);
-            let k = self.take();
-            if k == STOP {
-                self.stopped += 1;
-            }
-            if let Some(l) = &self.groups.leaders {
-                l.process_at_rank(status.source_rank()).send_with_tag(&k, TAG_TASK);
-            }
+            self.waiting.push_back(status.source_rank());
         }
+        self.answer();
         self.started = true;
     }
 
-    /// Leader 0: answers every request waiting now, without blocking. Elsewhere nothing.
+    /// Leader 0: answers the waiting leaders while the source has tasks (or says stop).
+    fn answer(&mut self) {
+        while let Some(&r) = self.waiting.front() {
+            let k = match self.source.get().next() {
+                Answer::Wait => return,
+                Answer::Task(k) => {
+                    self.held[r as usize] = Some(k);
+                    k as u64
+                }
+                Answer::Stop => {
+                    self.stopped += 1;
+                    STOP
+                }
+            };
+            self.waiting.pop_front();
+            if let Some(l) = &self.groups.leaders {
+                l.process_at_rank(r).send_with_tag(&k, TAG_TASK);
+            }
+        }
+    }
+
+    /// Leader 0: takes every request waiting now, without blocking, and answers what it can.
+    /// Elsewhere nothing.
     pub fn serve(&mut self) {
         if !self.is_root() {
             return;
@@ -133,14 +238,13 @@ impl<'g> Dispatcher<'g> {
             self.groups.leaders.as_ref().and_then(|l| l.any_process().immediate_matched_probe_with_tag(TAG_READY))
         {
             let _: (Vec<u8>, _) = (msg, status).matched_receive_vec();
-            let k = self.take();
-            if k == STOP {
-                self.stopped += 1;
+            let r = status.source_rank();
+            if let Some(t) = self.held[r as usize].take() {
+                self.source.get().finished(t);
             }
-            if let Some(l) = &self.groups.leaders {
-                l.process_at_rank(status.source_rank()).send_with_tag(&k, TAG_TASK);
-            }
+            self.waiting.push_back(r);
         }
+        self.answer();
     }
 
     /// Leader 0: serves until every other leader has been told to stop (call after this group's

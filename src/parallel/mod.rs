@@ -18,6 +18,6 @@ pub use agree::{agree, Agreed};
 pub use batch::{run_batch, BatchError, TaskResult};
 pub use context::{all_ranks, global_sum, print_error, Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
-pub use groups::{Dispatcher, Groups};
+pub use groups::{Answer, Dispatcher, Groups, TaskSource};
 pub use partition::{partition_cells, PartitionError};
 pub use phases::{timed, Phases};

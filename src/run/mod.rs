@@ -85,11 +85,8 @@ pub fn check_job(ctx: &Context, path: &Path, strict: bool) -> Result<String, Err
             job.output_dir.display()
         )),
         AnyJob::Sweep(job) => Ok(format!(
-            "sweep: {} member(s) ({} material(s) x {} record(s) x {} intensit(ies)), groups of {} rank(s), base job {}; results would go to {}",
-            job.variants.len() * job.records.len() * job.spec.sweep.intensities.len(),
-            job.variants.len(),
-            job.records.len(),
-            job.spec.sweep.intensities.len(),
+            "sweep: {}, groups of {} rank(s), base job {}; results would go to {}",
+            job.plan_line(),
             job.spec.analysis.group_size,
             job.base_file.display(),
             job.output_dir.display()

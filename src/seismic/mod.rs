@@ -22,6 +22,7 @@
 //! | `set_scaling`     | one factor per recorded record: log least squares over a range     |
 //! | `compatibility`   | EN 1998-1 §3.2.3.1.2(4) check of a set's mean spectrum             |
 //! | `record_set`      | a set: artificial + scaled recorded records, spectra, check        |
+//! | `fragility`       | lognormal fragility functions fitted to IDA passages (Baker 2015)   |
 //! | `charts`          | PNG charts: record vs EC8 spectra, a set vs its target, history    |
 mod artificial;
 mod baseline;
@@ -34,6 +35,7 @@ mod filter;
 mod format_at2;
 mod format_columns;
 mod format_esm;
+mod fragility;
 mod intensity;
 mod matching;
 mod record;
@@ -62,6 +64,7 @@ pub use format_columns::{
     parse_one_column, parse_two_column, read_one_column, read_two_column, write_two_column, DEFAULT_DT_TOLERANCE,
 };
 pub use format_esm::{parse_esm, read_esm};
+pub use fragility::{fit_fragility, normal_cdf, Estimator, FragilityFit, Passage};
 pub use intensity::{husid, integrate, intensity, pga, Intensity};
 pub use matching::{match_spectrum, MatchReport, MatchSettings};
 pub use record::Record;

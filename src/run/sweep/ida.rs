@@ -1,6 +1,6 @@
 //! IDA curves: per substructure, its share of area with d_t > 0.5 against the intensity, one
-//! curve per record (and material), their mean, the site's code level (dashed vertical) and the
-//! limits set on it (dashed horizontal): `ida-<group>.png`.
+//! curve per record (and material), their mean on a grid, the site's code level (dashed vertical)
+//! and the limits set on it (dashed horizontal): `ida-<group>.png`.
 use super::outcome::{Outcome, Status};
 use crate::config::{Member, SweepJob};
 use crate::plot::{LineChart, SeriesStyle};
@@ -15,7 +15,11 @@ pub fn draw(
     out: &Path,
 ) -> Result<usize, String> {
     let im = job.spec.sweep.scale_by.label();
-    let top = job.spec.sweep.intensities.last().copied().unwrap_or(1.0);
+    let top = members.iter().map(|m| m.level).fold(0.0f64, f64::max).max(1e-3);
+    let grid = match job.intensities() {
+        crate::config::Intensities::Grid(x) => x,
+        crate::config::Intensities::Hunt(_) => &[],
+    };
     let mut n = 0;
     for g in groups {
         let mut chart = LineChart::new(
@@ -47,17 +51,17 @@ pub fn draw(
         if all.is_empty() {
             continue;
         }
-        let mean: Vec<(f64, f64)> = job
-            .spec
-            .sweep
-            .intensities
+        // The mean over the records at each intensity of a grid (a hunt's levels differ by record).
+        let mean: Vec<(f64, f64)> = grid
             .iter()
             .filter_map(|&x| {
                 let ys: Vec<f64> = all.iter().filter(|p| p.0 == x).map(|p| p.1).collect();
                 (!ys.is_empty()).then(|| (x, ys.iter().sum::<f64>() / ys.len() as f64))
             })
             .collect();
-        chart = chart.reference("mean", mean, SeriesStyle::Markers);
+        if !mean.is_empty() {
+            chart = chart.reference("mean", mean, SeriesStyle::Markers);
+        }
         // The code level spans the data and the limits, so that the axis keeps their scale.
         let limits = job.spec.sweep.limit.iter().filter(|l| &l.group == g).map(|l| 100.0 * l.share);
         let y_top = all.iter().map(|p| p.1).chain(limits).fold(1.0f64, f64::max) * 1.1;

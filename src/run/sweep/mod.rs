@@ -1,7 +1,9 @@
 //! The `sweep` job: incremental dynamic analysis of one structure, as one MPI batch. Every member
 //! (material variant × record × intensity) is a full nonlinear time history of the base job;
 //! the world is split into groups of `group_size` ranks, each running members one at a time
-//! under dynamic scheduling (`parallel::groups`), the costliest (highest intensity) first.
+//! under dynamic scheduling (`parallel::groups`). The intensities are hunted and filled per
+//! record and material (`hunt.rs`, `feed.rs`: the members decided as results come in, several
+//! records' hunts side by side), or a fixed grid (the costliest, highest intensity, first).
 //!
 //! ```text
 //!  <results>/
@@ -12,14 +14,19 @@
 //!                                        once (by one group) and shared by its members
 //!    members/<member>/results.xdmf, monitors.csv, summary.json, outcome.json
 //!    sweep.csv                           one row per member (table.rs)
-//!    summary.json, summary.txt           the limits' intensities and their spread (table.rs)
+//!    summary.json, summary.txt           the limits' intensities, their spread and fragility
+//!                                        functions (table.rs, fragility.rs)
 //!    ida-<group>.png                     damage share against intensity per substructure (ida.rs)
+//!    fragility-<group>-<share>.png       P(limit passed) against intensity (fragility.rs)
 //! ```
 //!
 //! Phases: (1) the gravity states, one task per variant; (2) the members. A member that stops
 //! (no convergence after its substeps) is an outcome with its diagnosis, not a failure of the
-//! sweep. `--restart` skips the variants and members that are done (their marker files) and
-//! continues a member from its own last checkpoint.
+//! sweep. `--restart` skips the variants and members that are done (their marker files), replays
+//! the hunts' decisions from the outcomes, and continues a member from its own last checkpoint.
+mod feed;
+mod fragility;
+mod hunt;
 mod ida;
 mod member;
 mod outcome;
@@ -28,7 +35,7 @@ mod table;
 pub use outcome::{Outcome, Status, OUTCOME_FILE};
 
 use crate::analysis::time_history::StepObserver;
-use crate::config::{AnalysisConfig, Member, SweepJob};
+use crate::config::{AnalysisConfig, HuntRules, Intensities, Member, SweepJob};
 use crate::error::Error;
 use crate::mesh::read_msh;
 use crate::parallel::{agree, Context, Dispatcher, Groups, Log};
@@ -64,13 +71,9 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     }
     let members = job.members();
     log.info(format!(
-        "sweep {}: {} member(s) ({} material(s) x {} record(s) x {} intensit(ies) of {}), {} group(s) of {} rank(s){}",
+        "sweep {}: {}, {} group(s) of {} rank(s){}",
         path.display(),
-        members.len(),
-        job.variants.len(),
-        job.records.len(),
-        job.spec.sweep.intensities.len(),
-        job.spec.sweep.scale_by.label(),
+        job.plan_line(),
         groups.count,
         size,
         if restart { ", restart" } else { "" }
@@ -90,7 +93,11 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     let tag = format!("[group {}/{}]", groups.index + 1, groups.count);
 
     let seconds_gravity = gravity_states(ctx, &groups, &gctx, job, &mesh, &tag);
-    let (members_run, seconds_members) = run_members(ctx, &groups, &gctx, job, &members, &mesh, &tag)?;
+    let s = Shared { ctx, groups: &groups, gctx: &gctx, job, mesh: &mesh, tag: &tag };
+    let (members, members_run, seconds_members) = match job.intensities() {
+        Intensities::Grid(_) => grid_members(&s, members)?,
+        Intensities::Hunt(rules) => hunt_members(&s, rules, restart)?,
+    };
     drop(petsc);
 
     // The table, the summary and the curves.
@@ -141,25 +148,25 @@ fn gravity_states(
     clock.elapsed().as_secs_f64()
 }
 
-/// Collective. Phase (2): the members not done yet, the highest intensity first (the costliest),
-/// each outcome written beside its results; how many ran, and their seconds.
-fn run_members(
-    ctx: &Context,
-    groups: &Groups,
-    gctx: &Context,
-    job: &SweepJob,
-    members: &[Member],
-    mesh: &crate::mesh::Mesh,
-    tag: &str,
-) -> Result<(usize, f64), Error> {
-    let log = &ctx.log;
-    let out = &job.output_dir;
-    let leader = log.speaking(gctx.rank == 0);
+/// What the members' phase runs with.
+struct Shared<'a> {
+    ctx: &'a Context,
+    groups: &'a Groups,
+    gctx: &'a Context,
+    job: &'a SweepJob,
+    mesh: &'a crate::mesh::Mesh,
+    tag: &'a str,
+}
+
+/// Collective. Phase (2) on a grid: the members not done yet, the highest intensity first (the
+/// costliest); the members, how many ran, and their seconds.
+fn grid_members(s: &Shared, members: Vec<Member>) -> Result<(Vec<Member>, usize, f64), Error> {
+    let out = &s.job.output_dir;
     let mut order: Vec<&Member> =
         members.iter().filter(|m| Outcome::read(&member::member_dir(out, m)).is_none()).collect();
     order.sort_by(|a, b| b.level.total_cmp(&a.level).then(a.index.cmp(&b.index)));
     let order: Vec<usize> = order.iter().map(|m| m.index).collect();
-    log.info(format!(
+    s.ctx.log.info(format!(
         "{} member(s) to run{}",
         order.len(),
         if order.len() < members.len() {
@@ -169,37 +176,76 @@ fn run_members(
         }
     ));
     let clock = std::time::Instant::now();
-    let mut d = Dispatcher::new(groups, &order);
+    let mut d = Dispatcher::new(s.groups, &order);
     while let Some(k) = d.next_task() {
-        let m = &members[k];
         let pos = format!("{}/{}", order.iter().position(|&x| x == k).map_or(0, |p| p + 1), order.len());
-        let dir = member::member_dir(out, m);
-        let gravity = member::variant_dir(out, job, m.variant);
-        let outcome = if member::variant_done(&gravity) {
-            leader
-                .info(format!("{tag} member {pos} {} ({} x {:.4}) ...", m.name, job.records[m.record].name, m.factor));
-            member::run_member(gctx, job, m, out, mesh, &mut Serve(&mut d, &m.name))
-        } else {
-            Outcome::gravity_failed(job, m, &member::variant_failure(&gravity))
-        };
-        leader.info(format!(
-            "{tag} member {pos} {}: {} at t = {:.3} s in {:.1} s{}",
-            m.name,
-            outcome.status.name(),
-            outcome.time_reached,
-            outcome.seconds,
-            outcome.diagnosis.as_deref().map(|d| format!(": {}", first_sentence(d))).unwrap_or_default()
-        ));
-        let written = if gctx.rank == 0 {
-            outcome.write(&dir).map_err(|source| Error::OutputDir { path: dir.join(OUTCOME_FILE), source })
+        run_one(s, &members[k], &pos, &mut d)?;
+    }
+    d.finish();
+    s.ctx.comm.barrier();
+    Ok((members, order.len(), clock.elapsed().as_secs_f64()))
+}
+
+/// Collective. Phase (2) by hunt and fill: the chains of every record and material decided on
+/// world rank 0 as the members' outcomes come in (`feed.rs`), each member's job file written by
+/// its group's leader; the members (on rank 0), how many ran, and their seconds.
+fn hunt_members(s: &Shared, rules: &HuntRules, restart: bool) -> Result<(Vec<Member>, usize, f64), Error> {
+    let (job, log) = (s.job, &s.ctx.log);
+    let mut feed = feed::HuntFeed::new(job, rules, log.clone());
+    if restart && s.ctx.rank == 0 {
+        let done = feed.restore(&job.output_dir);
+        log.info(format!("restart: {done} member(s) of the hunts done before, their decisions replayed"));
+    }
+    let clock = std::time::Instant::now();
+    let mut d = Dispatcher::with_source(s.groups, &mut feed);
+    while let Some(k) = d.next_task() {
+        let m = feed::member_of_task(job, k);
+        let (dir, file) = (member::member_dir(&job.output_dir, &m), member::member_job(&job.output_dir, &m));
+        let written = if s.gctx.rank == 0 {
+            std::fs::create_dir_all(&dir)
+                .and_then(|()| std::fs::write(&file, job.member_job_text(&m, &dir).map_err(std::io::Error::other)?))
+                .map_err(|source| Error::OutputDir { path: file.clone(), source })
         } else {
             Ok(())
         };
-        agree(&gctx.comm, written, Error::exit_code)?;
+        agree(&s.gctx.comm, written, Error::exit_code)?;
+        run_one(s, &m, &format!("{} {:.4}", job.spec.sweep.scale_by.label(), m.level), &mut d)?;
     }
     d.finish();
-    ctx.comm.barrier();
-    Ok((order.len(), clock.elapsed().as_secs_f64()))
+    drop(d);
+    s.ctx.comm.barrier();
+    Ok((feed.members(), feed.handed_out, clock.elapsed().as_secs_f64()))
+}
+
+/// Collective over the group. Runs member `m` (`pos` says where it stands, for the log) and
+/// writes its outcome; `d` serves the other groups after each step.
+fn run_one(s: &Shared, m: &Member, pos: &str, d: &mut Dispatcher) -> Result<(), Error> {
+    let (job, out) = (s.job, &s.job.output_dir);
+    let leader = s.ctx.log.speaking(s.gctx.rank == 0);
+    let dir = member::member_dir(out, m);
+    let gravity = member::variant_dir(out, job, m.variant);
+    let tag = s.tag;
+    let outcome = if member::variant_done(&gravity) {
+        leader.info(format!("{tag} member {pos} {} ({} x {:.4}) ...", m.name, job.records[m.record].name, m.factor));
+        member::run_member(s.gctx, job, m, out, s.mesh, &mut Serve(d, &m.name))
+    } else {
+        Outcome::gravity_failed(job, m, &member::variant_failure(&gravity))
+    };
+    leader.info(format!(
+        "{tag} member {pos} {}: {} at t = {:.3} s in {:.1} s{}",
+        m.name,
+        outcome.status.name(),
+        outcome.time_reached,
+        outcome.seconds,
+        outcome.diagnosis.as_deref().map(|d| format!(": {}", first_sentence(d))).unwrap_or_default()
+    ));
+    let written = if s.gctx.rank == 0 {
+        outcome.write(&dir).map_err(|source| Error::OutputDir { path: dir.join(OUTCOME_FILE), source })
+    } else {
+        Ok(())
+    };
+    agree(&s.gctx.comm, written, Error::exit_code)?;
+    Ok(())
 }
 
 /// The first sentence of a diagnosis, for a progress line.
@@ -228,11 +274,11 @@ fn write_tasks(job: &SweepJob, members: &[Member], restart: bool, log: &Log) -> 
         let dir = member::variant_dir(out, job, v);
         std::fs::create_dir_all(&dir).map_err(io(&dir))?;
         // The gravity state's job: the variant's first member's, its results in this folder.
-        let first = members
-            .iter()
-            .find(|m| m.variant == v)
-            .ok_or_else(|| Error::Analysis("a material variant without members".into()))?;
-        write(&member::variant_job(out, job, v), job.member_job_text(first, &dir).map_err(Error::Analysis)?)?;
+        let first = match job.intensities() {
+            Intensities::Grid(x) => job.member(0, v, 0, x[0], Some(0)),
+            Intensities::Hunt(h) => job.member(0, v, 0, hunt::on_lattice(h.first), None),
+        };
+        write(&member::variant_job(out, job, v), job.member_job_text(&first, &dir).map_err(Error::Analysis)?)?;
     }
     for m in members {
         let dir = member::member_dir(out, m);
@@ -243,10 +289,13 @@ fn write_tasks(job: &SweepJob, members: &[Member], restart: bool, log: &Log) -> 
         AnalysisConfig::SeismicAssessment(_) => "seismic assessment (modal updating once per material)",
         _ => "time history",
     };
+    let count = match job.intensities() {
+        Intensities::Grid(_) => format!("{} of them", members.len()),
+        Intensities::Hunt(_) => "written as the hunts decide them".into(),
+    };
     log.info(format!(
-        "job files: {}/jobs/<member>.toml ({} of them, each runs alone), base job {} ({kind})",
+        "job files: {}/jobs/<member>.toml ({count}, each runs alone), base job {} ({kind})",
         out.display(),
-        members.len(),
         job.base_file.display()
     ));
     Ok(())

@@ -1,35 +1,29 @@
 //! The sweep's results for an engineer: `sweep.csv` (one row per member), the intensity at which
-//! each `[[sweep.limit]]` is passed per record and material with its spread, in `summary.json`
-//! and `summary.txt`, and the curves (`ida.rs`).
+//! each `[[sweep.limit]]` is passed per record and material with its spread and its fragility
+//! function (`fragility.rs`), in `summary.json` and `summary.txt`, and the curves (`ida.rs`).
 //!
 //! The intensity of a limit, for one record and one material, is where the substructure's share
 //! of area with d_t > 0.5 first reaches the limit's share along the increasing intensities,
-//! linear between the two members around it. Not reached at the highest intensity: reported as
-//! above it (`null`, "> x"); reached at the lowest: at or below it ("<= x"). Their spread is the
-//! lognormal dispersion β = std(ln I) (sample standard deviation), the usual measure of record to
-//! record variability in IDA (Vamvatsikos and Cornell 2002); the members that stopped are left
-//! out of the crossings, and the limit is reported as passed at a stopped member's intensity (a
-//! member that cannot go on has failed).
+//! linear between the two members around it (`hunt::crossing`). Not reached at the highest
+//! intensity: reported as above it (`null`, "> x", censored there for the fits); reached at the
+//! lowest: at or below it ("<= x"). A member that stopped converging (or, in a hunt, is on the
+//! flat end of the IDA curve) passes every limit at its intensity: a member that cannot go on
+//! has failed. Per material, the records' lognormal fit gives a median and the dispersion β over
+//! the records (Vamvatsikos and Cornell 2002; Baker 2015 for the fit); the materials' medians
+//! give the dispersion from the materials, kept apart from the records'.
+use super::feed::{end_name, response};
+use super::fragility::{self, Fragility};
+use super::hunt::{crossing, Chain, Crossing, HuntEnd, Reading};
 use super::ida;
 use super::member::member_dir;
 use super::outcome::{Outcome, Status};
-use crate::config::{Member, SweepJob};
+use crate::config::{Intensities, Member, SweepJob};
 use crate::error::Error;
 use crate::parallel::Log;
+use crate::seismic::{fit_fragility, FragilityFit};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// The crossing of one limit under one record and material.
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct Crossing {
-    /// The record.
-    pub record: String,
-    /// The intensity [m/s²], or `None` when not reached.
-    pub intensity: Option<f64>,
-    /// "reached", "at_or_below_lowest", "above_highest", "stopped" (passed at a stopped member).
-    pub how: &'static str,
-}
 
 /// One limit under one material: its crossings and their median and spread.
 #[derive(Clone, Debug, Serialize)]
@@ -38,9 +32,11 @@ pub struct VariantLimit {
     pub variant: String,
     /// Per record.
     pub crossings: Vec<Crossing>,
-    /// Median over the records that reached it [m/s²] (geometric mean).
+    /// The records' lognormal fit (moments, or maximum likelihood with censored records).
+    pub fit: Option<FragilityFit>,
+    /// Its median [m/s²].
     pub median: Option<f64>,
-    /// Lognormal dispersion over those records.
+    /// Its dispersion over the records.
     pub beta_records: Option<f64>,
     /// Records that did not reach it.
     pub not_reached: usize,
@@ -59,6 +55,23 @@ pub struct LimitSummary {
     pub beta_records: Option<f64>,
     /// The dispersion from the materials: β of the materials' medians.
     pub beta_materials: Option<f64>,
+    /// The fragility over records and materials.
+    pub fragility: Fragility,
+}
+
+/// How one record's hunt under one material ended.
+#[derive(Clone, Debug, Serialize)]
+pub struct HuntSummary {
+    /// The material.
+    pub variant: String,
+    /// The record.
+    pub record: String,
+    /// Members run.
+    pub members: usize,
+    /// Why the hunt stopped stepping up.
+    pub end: Option<HuntEnd>,
+    /// At which intensity [m/s²].
+    pub at: Option<f64>,
 }
 
 /// Where a sweep's wall time went, in this run (a restarted sweep: its own part).
@@ -91,14 +104,19 @@ pub struct SweepSummary {
     pub stopped: usize,
     /// See `completed`.
     pub gravity_failed: usize,
+    /// "hunt" (adaptive intensities) or "grid".
+    pub intensities: &'static str,
     /// The intensity measure.
     pub intensity_measure: &'static str,
     /// The site's code level [m/s²].
     pub code_level: Option<f64>,
     /// The limits.
     pub limits: Vec<LimitSummary>,
-    /// Per substructure and intensity: the mean share with d_t > 0.5 over the completed members.
+    /// Per substructure and intensity of a grid: the mean share with d_t > 0.5 over the
+    /// completed members.
     pub mean_share_dt: Vec<ShareCurve>,
+    /// Per record and material, how its hunt ended.
+    pub hunts: Vec<HuntSummary>,
 }
 
 /// One substructure's mean share with d_t > 0.5 against intensity.
@@ -146,11 +164,18 @@ pub fn write_results(job: &SweepJob, members: &[Member], timing: Timing, log: &L
         log.info(line);
     }
     let pictures = ida::draw(job, members, &outcomes, &groups, out).map_err(Error::Analysis)?;
+    let mut curves = 0;
+    for l in &summary.limits {
+        let crossings: Vec<&Crossing> = l.variants.iter().flat_map(|v| &v.crossings).collect();
+        curves +=
+            fragility::draw(job, &l.group, l.share, &crossings, &l.fragility, out).map_err(Error::Analysis)? as usize;
+    }
     log.info(format!(
-        "results: {}, {}, {} picture(s) ida-*.png in {}",
+        "results: {}, {}, {} picture(s) ida-*.png and {} fragility-*.png in {}",
         csv.display(),
         txt.display(),
         pictures,
+        curves,
         out.display()
     ));
     Ok(())
@@ -230,37 +255,80 @@ fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String 
     s
 }
 
-/// Where the shares along increasing intensities `(x, share or None if stopped)` first reach `limit`.
-pub fn crossing(record: &str, points: &[(f64, Option<f64>)], limit: f64) -> Crossing {
-    let mut prev: Option<(f64, f64)> = None;
-    for &(x, y) in points {
-        match y {
-            None => return Crossing { record: record.into(), intensity: Some(x), how: "stopped" },
-            Some(y) if y >= limit => {
-                return match prev {
-                    None => Crossing { record: record.into(), intensity: Some(x), how: "at_or_below_lowest" },
-                    Some((x0, y0)) => {
-                        let t = if y > y0 { (limit - y0) / (y - y0) } else { 1.0 };
-                        Crossing { record: record.into(), intensity: Some(x0 + t * (x - x0)), how: "reached" }
-                    }
-                }
-            }
-            Some(y) => prev = Some((x, y)),
+/// The readings of limit `k` along the levels of material `v` and record `r` (a hunt's through
+/// its chain, which knows the flat end).
+fn readings(
+    job: &SweepJob,
+    members: &[Member],
+    outcomes: &[Outcome],
+    v: usize,
+    r: usize,
+    k: usize,
+) -> Vec<(f64, Reading)> {
+    let mut pts: Vec<(&Member, &Outcome)> =
+        members.iter().zip(outcomes).filter(|(m, _)| m.variant == v && m.record == r).collect();
+    pts.sort_by(|a, b| a.0.level.total_cmp(&b.0.level));
+    match job.intensities() {
+        Intensities::Hunt(rules) => chain(job, rules, &pts).readings(k),
+        Intensities::Grid(_) => {
+            let group = &job.spec.sweep.limit[k].group;
+            pts.iter()
+                .filter_map(|(m, o)| match o.status {
+                    Status::Completed => Some((m.level, Reading::Share(o.share_dt(group)))),
+                    Status::Stopped => Some((m.level, Reading::Stopped)),
+                    Status::GravityFailed => None,
+                })
+                .collect()
         }
     }
-    Crossing { record: record.into(), intensity: None, how: "above_highest" }
 }
 
-/// Geometric mean and lognormal dispersion (sample std of ln x; none below 2 values).
-pub fn lognormal(xs: &[f64]) -> (Option<f64>, Option<f64>) {
-    if xs.is_empty() {
-        return (None, None);
+fn chain<'a>(job: &SweepJob, rules: &'a crate::config::HuntRules, pts: &[(&Member, &Outcome)]) -> Chain<'a> {
+    let mut c = Chain::new(rules, job.spec.sweep.limit.iter().map(|l| l.share).collect());
+    for (m, o) in pts {
+        c.add(m.level, response(job, o));
     }
-    let ln: Vec<f64> = xs.iter().map(|x| x.ln()).collect();
-    let mean = ln.iter().sum::<f64>() / ln.len() as f64;
-    let beta =
-        (ln.len() > 1).then(|| (ln.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / (ln.len() - 1) as f64).sqrt());
-    (Some(mean.exp()), beta)
+    c
+}
+
+/// One limit (`k`) under every material: the crossings, the fits, the spreads, the fragility.
+fn limit_summary(job: &SweepJob, members: &[Member], outcomes: &[Outcome], k: usize) -> LimitSummary {
+    let l = &job.spec.sweep.limit[k];
+    let above = match job.intensities() {
+        Intensities::Hunt(_) => "above_cap",
+        Intensities::Grid(_) => "above_highest",
+    };
+    let variants: Vec<VariantLimit> = job
+        .variants
+        .iter()
+        .enumerate()
+        .map(|(v, variant)| {
+            let crossings: Vec<Crossing> = (0..job.records.len())
+                .map(|r| crossing(&job.records[r].name, &readings(job, members, outcomes, v, r, k), l.share, above))
+                .collect();
+            let passages: Vec<_> = crossings.iter().filter_map(fragility::passage).collect();
+            let fit = fit_fragility(&passages);
+            VariantLimit {
+                variant: variant.name.clone(),
+                not_reached: crossings.iter().filter(|c| c.intensity.is_none()).count(),
+                crossings,
+                median: fit.map(|f| f.median),
+                beta_records: fit.and_then(|f| f.beta),
+                fit,
+            }
+        })
+        .collect();
+    let betas: Vec<f64> = variants.iter().filter_map(|v| v.beta_records).collect();
+    let medians: Vec<_> = variants.iter().filter_map(|v| v.median.map(crate::seismic::Passage::At)).collect();
+    let fragility = fragility::fragility(variants.iter().flat_map(|v| &v.crossings), job.spec.sweep.code_level);
+    LimitSummary {
+        group: l.group.clone(),
+        share: l.share,
+        beta_records: (!betas.is_empty()).then(|| betas.iter().sum::<f64>() / betas.len() as f64),
+        beta_materials: fit_fragility(&medians).and_then(|f| f.beta),
+        variants,
+        fragility,
+    }
 }
 
 fn summarize(
@@ -271,85 +339,56 @@ fn summarize(
     timing: Timing,
 ) -> SweepSummary {
     let count = |s: Status| outcomes.iter().filter(|o| o.status == s).count();
-    let points = |v: usize, r: usize, group: &str| -> Vec<(f64, Option<f64>)> {
-        members
-            .iter()
-            .zip(outcomes)
-            .filter(|(m, o)| m.variant == v && m.record == r && o.status != Status::GravityFailed)
-            .map(|(m, o)| (m.level, (o.status == Status::Completed).then(|| o.share_dt(group))))
-            .collect()
-    };
-    let limits = job
-        .spec
-        .sweep
-        .limit
-        .iter()
-        .map(|l| {
-            let variants: Vec<VariantLimit> = job
-                .variants
-                .iter()
-                .enumerate()
-                .map(|(v, variant)| {
-                    let crossings: Vec<Crossing> = job
-                        .records
-                        .iter()
-                        .enumerate()
-                        .map(|(r, rec)| crossing(&rec.name, &points(v, r, &l.group), l.share))
-                        .collect();
-                    let reached: Vec<f64> = crossings.iter().filter_map(|c| c.intensity).collect();
-                    let (median, beta_records) = lognormal(&reached);
-                    VariantLimit {
-                        variant: variant.name.clone(),
-                        not_reached: crossings.len() - reached.len(),
-                        crossings,
-                        median,
-                        beta_records,
-                    }
-                })
-                .collect();
-            let betas: Vec<f64> = variants.iter().filter_map(|v| v.beta_records).collect();
-            let medians: Vec<f64> = variants.iter().filter_map(|v| v.median).collect();
-            LimitSummary {
-                group: l.group.clone(),
-                share: l.share,
-                beta_records: (!betas.is_empty()).then(|| betas.iter().sum::<f64>() / betas.len() as f64),
-                beta_materials: lognormal(&medians).1,
-                variants,
+    let limits = (0..job.spec.sweep.limit.len()).map(|k| limit_summary(job, members, outcomes, k)).collect();
+    let (mut mean_share_dt, mut hunts) = (Vec::new(), Vec::new());
+    match job.intensities() {
+        Intensities::Grid(xs) => {
+            for g in groups {
+                let curve = xs
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, &x)| {
+                        let s: Vec<f64> = members
+                            .iter()
+                            .zip(outcomes)
+                            .filter(|(m, o)| m.intensity == Some(i) && o.status == Status::Completed)
+                            .map(|(_, o)| o.share_dt(g))
+                            .collect();
+                        (!s.is_empty()).then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
+                    })
+                    .collect();
+                mean_share_dt.push(ShareCurve { group: g.clone(), points: curve });
             }
-        })
-        .collect();
-    let mean_share_dt = groups
-        .iter()
-        .map(|g| {
-            let curve = job
-                .spec
-                .sweep
-                .intensities
-                .iter()
-                .enumerate()
-                .filter_map(|(i, &x)| {
-                    let s: Vec<f64> = members
-                        .iter()
-                        .zip(outcomes)
-                        .filter(|(m, o)| m.intensity == i && o.status == Status::Completed)
-                        .map(|(_, o)| o.share_dt(g))
-                        .collect();
-                    (!s.is_empty()).then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
-                })
-                .collect();
-            ShareCurve { group: g.clone(), points: curve }
-        })
-        .collect();
+        }
+        Intensities::Hunt(rules) => {
+            for (v, variant) in job.variants.iter().enumerate() {
+                for (r, record) in job.records.iter().enumerate() {
+                    let pts: Vec<(&Member, &Outcome)> =
+                        members.iter().zip(outcomes).filter(|(m, _)| m.variant == v && m.record == r).collect();
+                    let end = chain(job, rules, &pts).hunt_end();
+                    hunts.push(HuntSummary {
+                        variant: variant.name.clone(),
+                        record: record.name.clone(),
+                        members: pts.len(),
+                        end: end.map(|e| e.0),
+                        at: end.map(|e| e.1),
+                    });
+                }
+            }
+        }
+    }
     SweepSummary {
         timing,
         members: outcomes.len(),
         completed: count(Status::Completed),
         stopped: count(Status::Stopped),
         gravity_failed: count(Status::GravityFailed),
+        intensities: if matches!(job.intensities(), Intensities::Hunt(_)) { "hunt" } else { "grid" },
         intensity_measure: job.spec.sweep.scale_by.label(),
         code_level: job.spec.sweep.code_level,
         limits,
         mean_share_dt,
+        hunts,
     }
 }
 
@@ -374,73 +413,63 @@ fn summary_text(job: &SweepJob, s: &SweepSummary) -> String {
     if let Some(c) = s.code_level {
         let _ = writeln!(t, "site code level: {im} = {c} m/s²");
     }
-    let _ = writeln!(t, "mean share of area with d_t > 0.5 per substructure, by {im} [m/s²]:");
+    if !s.mean_share_dt.is_empty() {
+        let _ = writeln!(t, "mean share of area with d_t > 0.5 per substructure, by {im} [m/s²]:");
+    }
     for c in &s.mean_share_dt {
         let row: Vec<String> =
             c.points.iter().map(|p| format!("{:.3}: {:.1} %", p.intensity, 100.0 * p.share)).collect();
         let _ = writeln!(t, "  {:16} {}", c.group, row.join(", "));
     }
+    if !s.hunts.is_empty() {
+        let _ = writeln!(t, "hunts (adaptive intensities), per record / material:");
+    }
+    for h in &s.hunts {
+        let end = match (h.end, h.at) {
+            (Some(e), Some(x)) => format!("stepped up to {im} {x:.4} m/s²: {}", end_name(e)),
+            _ => "not run".into(),
+        };
+        let _ = writeln!(t, "  {} / {}: {} member(s), {end}", h.record, h.variant, h.members);
+    }
     for l in &s.limits {
-        let _ = writeln!(t, "{} passes {:.0} % of its area with d_t > 0.5:", l.group, 100.0 * l.share);
-        for v in &l.variants {
-            let per: Vec<String> = v
-                .crossings
-                .iter()
-                .map(|c| match (c.how, c.intensity) {
-                    ("above_highest", _) => {
-                        format!("{} > {:.3}", c.record, job.spec.sweep.intensities.last().copied().unwrap_or(0.0))
-                    }
-                    ("at_or_below_lowest", Some(x)) => format!("{} <= {x:.3}", c.record),
-                    ("stopped", Some(x)) => format!("{} {x:.3} (stopped)", c.record),
-                    (_, Some(x)) => format!("{} {x:.3}", c.record),
-                    _ => c.record.clone(),
-                })
-                .collect();
-            let _ = writeln!(
-                t,
-                "  material {}: median {im} {} m/s², beta over records {} ({} of {} record(s) not reached); {}",
-                v.variant,
-                v.median.map_or("-".into(), |m| format!("{m:.3}")),
-                v.beta_records.map_or("-".into(), |b| format!("{b:.3}")),
-                v.not_reached,
-                v.crossings.len(),
-                per.join(", ")
-            );
-        }
-        let _ = writeln!(
-            t,
-            "  spread: from the records beta = {}, from the materials beta = {}",
-            l.beta_records.map_or("-".into(), |b| format!("{b:.3}")),
-            l.beta_materials.map_or("-".into(), |b| format!("{b:.3}"))
-        );
+        limit_text(&mut t, s, l);
     }
     t
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Crossings by hand: between 1 (0.2) and 2 (0.6) the share reaches 0.5 at 1.75; above the
-    /// highest; at the lowest; at a stopped member.
-    #[test]
-    fn crossings_of_a_limit() {
-        let c = crossing("r", &[(1.0, Some(0.2)), (2.0, Some(0.6)), (3.0, Some(0.9))], 0.5);
-        assert_eq!(c.how, "reached");
-        assert!((c.intensity.unwrap() - 1.75).abs() < 1e-12);
-        assert_eq!(crossing("r", &[(1.0, Some(0.1)), (2.0, Some(0.2))], 0.5).intensity, None);
-        assert_eq!(crossing("r", &[(1.0, Some(0.7))], 0.5).how, "at_or_below_lowest");
-        let s = crossing("r", &[(1.0, Some(0.1)), (2.0, None)], 0.5);
-        assert_eq!((s.how, s.intensity), ("stopped", Some(2.0)));
+fn limit_text(t: &mut String, s: &SweepSummary, l: &LimitSummary) {
+    let im = s.intensity_measure;
+    let _ = writeln!(t, "{} passes {:.0} % of its area with d_t > 0.5:", l.group, 100.0 * l.share);
+    for v in &l.variants {
+        let per: Vec<String> = v
+            .crossings
+            .iter()
+            .map(|c| match (c.how, c.intensity, c.censored_at) {
+                ("above_cap", _, Some(x)) => format!("{} not passed up to the cap {x:.3}", c.record),
+                (_, None, Some(x)) => format!("{} > {x:.3}", c.record),
+                ("at_or_below_lowest", Some(x), _) => format!("{} <= {x:.3}", c.record),
+                ("stopped", Some(x), _) => format!("{} {x:.3} (stopped)", c.record),
+                ("flat", Some(x), _) => format!("{} {x:.3} (flat)", c.record),
+                (_, Some(x), _) => format!("{} {x:.3}", c.record),
+                _ => format!("{} (no member)", c.record),
+            })
+            .collect();
+        let _ = writeln!(
+            t,
+            "  material {}: median {im} {} m/s², beta over records {} ({} of {} record(s) not reached); {}",
+            v.variant,
+            v.median.map_or("-".into(), |m| format!("{m:.3}")),
+            v.beta_records.map_or("-".into(), |b| format!("{b:.3}")),
+            v.not_reached,
+            v.crossings.len(),
+            per.join(", ")
+        );
     }
-
-    /// Geometric mean and sample dispersion by hand: e and e³ → e², β = √2.
-    #[test]
-    fn lognormal_median_and_dispersion() {
-        let e = std::f64::consts::E;
-        let (m, b) = lognormal(&[e, e.powi(3)]);
-        assert!((m.unwrap() - e * e).abs() < 1e-12);
-        assert!((b.unwrap() - 2f64.sqrt()).abs() < 1e-12);
-        assert_eq!(lognormal(&[2.0]).1, None);
-    }
+    let _ = writeln!(
+        t,
+        "  spread: from the records beta = {}, from the materials beta = {}",
+        l.beta_records.map_or("-".into(), |b| format!("{b:.3}")),
+        l.beta_materials.map_or("-".into(), |b| format!("{b:.3}"))
+    );
+    t.push_str(&fragility::text(&l.fragility, im, s.code_level));
 }
