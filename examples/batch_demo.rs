@@ -4,8 +4,18 @@
 //!
 //! Runs N tasks of uneven cost (task k sleeps (k mod 7) ms and returns k²); rank 0 prints one
 //! JSON line: the results in task order, and how many tasks each rank computed.
-use masonry_hpc::parallel::run_batch;
+use masonry_hpc::parallel::{run_batch, Unfinished};
 use mpi::traits::Communicator;
+
+/// A task's failure: its message.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Failed(String);
+
+impl From<Unfinished> for Failed {
+    fn from(u: Unfinished) -> Failed {
+        Failed(u.to_string())
+    }
+}
 
 #[derive(serde::Serialize, serde::Deserialize)]
 struct Out {
@@ -28,7 +38,7 @@ fn main() {
         |k| {
             std::thread::sleep(std::time::Duration::from_millis((k % 7) as u64));
             if k == 13 {
-                return Err("task 13 fails on purpose".to_string());
+                return Err(Failed("task 13 fails on purpose".to_string()));
             }
             Ok(Out { task: k, square: (k * k) as u64, rank })
         },
@@ -45,7 +55,7 @@ fn main() {
                         per_rank[o.rank as usize] += 1;
                         tasks.push(serde_json::json!([o.task, o.square]));
                     }
-                    Err(e) => errors.push(serde_json::json!([k, e])),
+                    Err(Failed(e)) => errors.push(serde_json::json!([k, e])),
                 }
             }
             println!(

@@ -24,7 +24,8 @@ use super::modal_updating::{self, UpdatingSummary};
 use super::time_history::{self, TimeHistorySummary};
 use super::Discretization;
 use crate::config::{AssessmentConfig, Job, MaterialConfig};
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
+use crate::io::IoError;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
@@ -156,10 +157,7 @@ fn part_factors(job: &Job, moduli: &[ModulusChange]) -> Result<Vec<f64>, Error> 
     if moduli.len() != parts.len()
         || moduli.iter().zip(parts).any(|(m, p)| m.group != p.group || m.material != p.material)
     {
-        return Err(Error::Analysis(format!(
-            "{STAGES_FILE} lists the moduli of other parts than the job's {} (was the job changed since the first run?)",
-            parts.len()
-        )));
+        return Err(AnalysisError::StagesOfOtherParts { name: STAGES_FILE, parts: parts.len() }.into());
     }
     Ok(moduli.iter().map(|m| m.factor).collect())
 }
@@ -239,23 +237,28 @@ pub fn pre_stages(
 }
 
 fn to_value<T: Serialize>(v: &T) -> Result<serde_json::Value, Error> {
-    serde_json::to_value(v).map_err(|e| Error::Analysis(format!("a stage's summary cannot be written as JSON: {e}")))
+    serde_json::to_value(v)
+        .map_err(|source| Error::from(IoError::Json { file: STAGES_FILE.into(), what: "a stage's summary", source }))
 }
 
 fn write_stages(file: &Path, stages: &PreStages) -> Result<(), Error> {
-    let text = serde_json::to_string_pretty(stages).map_err(|e| Error::Analysis(format!("{}: {e}", file.display())))?;
+    let text = serde_json::to_string_pretty(stages).map_err(|source| IoError::Json {
+        file: file.to_path_buf(),
+        what: "the stages",
+        source,
+    })?;
     std::fs::write(file, text + "\n").map_err(|source| Error::OutputDir { path: file.to_path_buf(), source })
 }
 
 fn read_stages(file: &Path) -> Result<PreStages, Error> {
-    let text = std::fs::read_to_string(file).map_err(|e| {
-        Error::Analysis(format!(
-            "--restart needs {} from the first run of this job (the updated moduli): {e}",
-            file.display()
-        ))
-    })?;
-    serde_json::from_str(&text)
-        .map_err(|e| Error::Analysis(format!("{}: not a stages file of a seismic assessment: {e}", file.display())))
+    let text = std::fs::read_to_string(file)
+        .map_err(|source| AnalysisError::StagesMissing { file: file.to_path_buf(), source })?;
+    serde_json::from_str(&text).map_err(|e| {
+        Error::from(AnalysisError::StagesInvalid {
+            file: file.to_path_buf(),
+            reason: format!("not a stages file of a seismic assessment: {e}"),
+        })
+    })
 }
 
 /// The modulus of every part's group: the updating's factor (1 for groups it does not update).

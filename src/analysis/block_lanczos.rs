@@ -56,7 +56,7 @@ use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 use nalgebra::DMatrix;
 
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::parallel::Context;
 use crate::petsc::{DenseBlock, Ksp, Matrix, SolverError, Vector};
 
@@ -410,10 +410,9 @@ fn lanczos(
             }
         }
         if stats.solves == MAX_SOLVES {
-            return Err(Error::Analysis(format!(
-                "modal: block Lanczos did not converge in {MAX_SOLVES} block solves ({} columns) for {nev} modes",
-                stats.columns
-            )));
+            return Err(
+                AnalysisError::LanczosNoConvergence { solves: MAX_SOLVES, columns: stats.columns, modes: nev }.into()
+            );
         }
         let cols = front.cols;
         if blocks.as_ref().is_none_or(|(r, _)| r.cols() != cols) {
@@ -472,10 +471,7 @@ fn finish(
     let n = basis.n;
     let k = nev.min(basis.m);
     if k < nev || theta.iter().take(k).any(|&t| !(t > 0.0)) {
-        return Err(Error::Analysis(format!(
-            "modal: only {k} of the {nev} modes exist: the problem has {} DOF with mass",
-            basis.m
-        )));
+        return Err(AnalysisError::TooFewModes { exist: k, asked: nev, with_mass: basis.m }.into());
     }
     let mut phi = times(&basis.sv, &DMatrix::from_fn(basis.m, k, |r, c| s[(r, c)] / theta[c]), n);
     let mut mphi = Vec::new();

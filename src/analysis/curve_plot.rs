@@ -4,13 +4,13 @@
 use std::path::Path;
 
 use crate::config::CurveOverlayConfig;
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::plot::{LineChart, SeriesStyle};
 
 /// Reads the overlay curve: columns `x` and `y` of a CSV file with a header line, scaled.
 /// Lines whose two fields do not parse as numbers are skipped; no point at all is an error.
 pub fn read_overlay(o: &CurveOverlayConfig) -> Result<Vec<(f64, f64)>, Error> {
-    let err = |m: String| Error::Analysis(format!("overlay curve {}: {m}", o.file.display()));
+    let err = |reason: String| Error::from(AnalysisError::OverlayCurve { file: o.file.clone(), reason });
     let text = std::fs::read_to_string(&o.file).map_err(|e| err(e.to_string()))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').map(str::trim).collect();
@@ -52,7 +52,7 @@ pub fn plot_curve(
     if let Some((label, o)) = overlay {
         chart = chart.series(label, o.to_vec(), SeriesStyle::Dashed);
     }
-    chart.save_png(path).map_err(|e| Error::Analysis(e.to_string()))
+    Ok(chart.save_png(path)?)
 }
 
 #[cfg(test)]

@@ -115,18 +115,19 @@ impl Discretization {
 }
 
 /// The material of shell layers and beam fibers (elastic, or the damage law) and its density.
-fn point_material(mat: &MaterialConfig) -> Result<(ShellMaterial, f64), String> {
+/// `None` when a damage material's law was not loaded.
+fn point_material(mat: &MaterialConfig) -> Option<(ShellMaterial, f64)> {
     match mat {
         MaterialConfig::Elastic(m) => {
             let nu = m.nu.unwrap_or_else(|| m.e / (2.0 * m.shear_modulus()) - 1.0);
-            Ok((ShellMaterial::Elastic { e: m.e, nu }, m.density))
+            Some((ShellMaterial::Elastic { e: m.e, nu }, m.density))
         }
-        MaterialConfig::Damage(d) => match &d.law {
-            Some(law) => Ok((ShellMaterial::Damage(*law), d.density)),
-            None => Err("the damage material's law was not loaded".into()),
-        },
+        MaterialConfig::Damage(d) => d.law.map(|law| (ShellMaterial::Damage(law), d.density)),
     }
 }
+
+/// The error of a damage material whose law was not loaded.
+const NO_LAW: &str = "the damage material's law was not loaded";
 
 /// The element objects of `local_cells`, the moduli of part `p` scaled by `scale[p]`.
 fn build_elements(
@@ -197,7 +198,7 @@ fn build_element(
             )));
         }
         (SectionConfig::Fiber(fs), mat) => {
-            let (material, density) = point_material(mat).map_err(input_error)?;
+            let (material, density) = point_material(mat).ok_or_else(|| input_error(NO_LAW.into()))?;
             let section = FiberSection {
                 width: fs.width,
                 height: fs.height,
@@ -212,7 +213,7 @@ fn build_element(
             Box::new(FiberBeam3d::new(x(0), x(1), orientation(), section).map_err(|e| input_error(e.to_string()))?)
         }
         (SectionConfig::Shell(sh), mat) => {
-            let (material, density) = point_material(mat).map_err(input_error)?;
+            let (material, density) = point_material(mat).ok_or_else(|| input_error(NO_LAW.into()))?;
             let section = ShellSection {
                 thickness: sh.thickness,
                 layers: sh.layers,

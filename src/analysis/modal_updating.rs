@@ -22,7 +22,7 @@ use super::modal::lowest_modes;
 use super::mode_pairing::{computed_target_shapes, load_target_shapes, pair_targets, TargetShape};
 use super::Discretization;
 use crate::config::{Job, MaterialConfig, ModalUpdatingConfig};
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
@@ -248,11 +248,7 @@ impl Problem<'_> {
         let paired = pair_targets(ctx, cfg, self.shapes.as_deref(), &pairs)?;
         for (i, t) in cfg.targets.iter().enumerate() {
             let Some((_, phi)) = pairs.get(paired[i].0) else {
-                return Err(Error::Analysis(format!(
-                    "modal updating: only {} mode(s) converged, but mode {} is a target",
-                    pairs.len(),
-                    t.mode
-                )));
+                return Err(AnalysisError::TargetNotConverged { converged: pairs.len(), mode: t.mode }.into());
             };
             let f = freqs[paired[i].0];
             residual[i] = (f - t.frequency) / t.frequency;

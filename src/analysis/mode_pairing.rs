@@ -4,7 +4,7 @@
 //! from a file (a `modes.xdmf`'s HDF5, or measured shapes) or from the model's computed modes.
 use super::Discretization;
 use crate::config::ModalUpdatingConfig;
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
 use crate::parallel::Context;
 use crate::petsc::Vector;
@@ -23,7 +23,7 @@ pub(super) fn load_target_shapes(
     mesh: &Mesh,
     disc: &Discretization,
 ) -> Result<Vec<TargetShape>, Error> {
-    let err = |what: String| Error::Analysis(format!("target shapes {}: {what}", file.display()));
+    let err = |reason: String| Error::from(AnalysisError::TargetShapes { file: file.to_path_buf(), reason });
     let f = hdf5::File::open(file).map_err(|e| err(e.to_string()))?;
     let ids: Vec<u64> =
         f.dataset("mesh/node_ids").and_then(|d| d.read_raw()).map_err(|e| err(format!("mesh/node_ids: {e}")))?;
@@ -88,11 +88,7 @@ pub(super) fn computed_target_shapes(cfg: &ModalUpdatingConfig, modes: &[Vec<f64
         .iter()
         .map(|t| {
             let values = modes.get(t.mode - 1).cloned().ok_or_else(|| {
-                Error::Analysis(format!(
-                    "modal updating: target mode {} has no computed shape to pair with ({} mode(s))",
-                    t.mode,
-                    modes.len()
-                ))
+                Error::from(AnalysisError::TargetWithoutShape { mode: t.mode, computed: modes.len() })
             })?;
             Ok(TargetShape { given: vec![true; values.len()], values })
         })

@@ -91,7 +91,18 @@ impl NewtonOutcome {
 
 /// A Newton direction (δu, δμ), or why none could be computed (the increment fails, the run
 /// goes on).
-type Direction = Result<(Vec<f64>, f64), String>;
+type Direction = Result<(Vec<f64>, f64), NoDirection>;
+
+/// Why no Newton direction could be computed.
+#[derive(Debug, thiserror::Error)]
+enum NoDirection {
+    /// The linear solve failed (the solver's reason).
+    #[error("linear solve failed: {0}")]
+    LinearSolve(String),
+    /// With pattern control, the pattern's solution is zero at the control DOF.
+    #[error("the load pattern does not move the control DOF (K⁻¹ f_p is zero there)")]
+    ControlNotMoved,
+}
 
 /// The scales the convergence test keeps from the increment's first iteration: the force
 /// scale F₀ and the energy |δu₀ · r₀|.
@@ -182,7 +193,7 @@ impl NewtonSolve<'_> {
             }
             let (du, dmu) = match self.direction(&r)? {
                 Ok(step) => step,
-                Err(reason) => return Ok(outcome.failed(reason)),
+                Err(reason) => return Ok(outcome.failed(reason.to_string())),
             };
             let energy = global_sum(self.ctx, dot(&du, &r)).abs();
             if first.energy_converged(it, energy, self.set.energy_tolerance) && gap_ok {
@@ -227,8 +238,8 @@ impl NewtonSolve<'_> {
             Ok(s) => s,
             // The only agreed error of `solve` is the linear solve's (a singular or
             // indefinite matrix in a softening state): the increment fails, the run goes on.
-            Err(Error::Solver(e)) => return Ok(Err(format!("linear solve failed: {e}"))),
-            Err(Error::Agreed(e)) => return Ok(Err(format!("linear solve failed: {}", e.message))),
+            Err(Error::Solver(e)) => return Ok(Err(NoDirection::LinearSolve(e.to_string()))),
+            Err(Error::Agreed(e)) => return Ok(Err(NoDirection::LinearSolve(e.message))),
             Err(e) => return Err(e),
         };
         Ok(match self.inc.control_target {
@@ -242,7 +253,7 @@ impl NewtonSolve<'_> {
     fn control_correction(&self, target: f64, du_r: &[f64], du_p: &[f64]) -> Direction {
         let (dr_c, dp_c) = (self.sys.control_value(self.ctx, du_r), self.sys.control_value(self.ctx, du_p));
         if dp_c == 0.0 || !dp_c.is_finite() {
-            return Err("the load pattern does not move the control DOF (K⁻¹ f_p is zero there)".into());
+            return Err(NoDirection::ControlNotMoved);
         }
         let dmu = (target - self.sys.control_value(self.ctx, &self.sys.u) - dr_c) / dp_c;
         let mut du = du_r.to_vec();

@@ -17,6 +17,7 @@
 //! with the shaking. Otherwise it says why no band applies. A material variant of a measured law
 //! (`<stem>-variant-<k>.toml`, the same fit on half of the virtual samples) counts as that law,
 //! so that a sweep's members carry the band measured on the main law.
+use super::FileError;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -114,14 +115,17 @@ pub struct BandReport {
 
 impl ConvergenceBand {
     /// Reads and checks `file`; the error says what is wrong.
-    pub fn read(file: &Path) -> Result<ConvergenceBand, String> {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| format!("cannot read convergence band file {}: {e}", file.display()))?;
-        let mut b: ConvergenceBand = serde_json::from_str(&text).map_err(|e| {
-            format!("{}: {e} (expected the band.json that scripts/convergence.py writes)", file.display())
+    pub fn read(file: &Path) -> Result<ConvergenceBand, FileError> {
+        let text = std::fs::read_to_string(file).map_err(|e| FileError::Read {
+            what: "convergence band file",
+            file: file.to_path_buf(),
+            reason: e.to_string(),
         })?;
+        let invalid = |reason: String| FileError::Invalid { file: file.to_path_buf(), reason };
+        let mut b: ConvergenceBand = serde_json::from_str(&text)
+            .map_err(|e| invalid(format!("{e} (expected the band.json that scripts/convergence.py writes)")))?;
         for (name, l) in &b.loadings {
-            let bad = |what: &str| format!("{}: loading {name}: {what}", file.display());
+            let bad = |what: &str| invalid(format!("loading {name}: {what}"));
             if !(l.pga.is_finite() && l.pga > 0.0) {
                 return Err(bad("expected pga > 0 [m/s²]"));
             }
@@ -249,12 +253,12 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let f = dir.join("band.json");
         std::fs::write(&f, "{\"settings\": {}}").unwrap();
-        let e = ConvergenceBand::read(&f).unwrap_err();
+        let e = ConvergenceBand::read(&f).unwrap_err().to_string();
         assert!(e.contains("band.json") && e.contains("scripts/convergence.py"), "{e}");
         std::fs::write(&f, band_text_with_pga(-1.0)).unwrap();
-        let e = ConvergenceBand::read(&f).unwrap_err();
+        let e = ConvergenceBand::read(&f).unwrap_err().to_string();
         assert!(e.contains("loading code: expected pga > 0"), "{e}");
-        let e = ConvergenceBand::read(&dir.join("missing.json")).unwrap_err();
+        let e = ConvergenceBand::read(&dir.join("missing.json")).unwrap_err().to_string();
         assert!(e.contains("cannot read convergence band file"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }

@@ -363,12 +363,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     check_monitors(src, &d.monitor)?;
     super::drift::check_drifts(src, &d.drift)?;
     if let Some(tau) = d.damage_relaxation_time {
-        if !(tau.is_finite() && tau > 0.0) {
-            return Err(src.error_at(
-                &Seg::path(&["dynamics", "damage_relaxation_time"]),
-                format!("expected a relaxation time > 0 [s], got {tau}"),
-            ));
-        }
+        src.positive_finite(&Seg::path(&["dynamics", "damage_relaxation_time"]), tau, "a relaxation time", "s")?;
         if d.integration == IntegrationKind::Implex {
             return Err(src.error_at(
                 &Seg::path(&["dynamics", "damage_relaxation_time"]),
@@ -379,7 +374,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     if let Some(p) = &d.convergence {
         let file = super::resolve(folder, p);
         let band = super::convergence::ConvergenceBand::read(&file)
-            .map_err(|m| src.error_at(&Seg::path(&["dynamics", "convergence"]), m))?;
+            .map_err(|e| src.error_at(&Seg::path(&["dynamics", "convergence"]), e.to_string()))?;
         d.convergence = Some(file);
         d.convergence_band = Some(band);
     }
@@ -394,12 +389,8 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
 /// [−1/3, 0], and Newmark's β, γ within its unconditional stability.
 fn check_time_and_scheme(src: &Source, d: &DynamicsConfig) -> Result<(), ConfigError> {
     let at = |k: &str| Seg::path(&["dynamics", k]);
-    if !(d.dt.is_finite() && d.dt > 0.0) {
-        return Err(src.error_at(&at("dt"), format!("expected a time step > 0 [s], got {}", d.dt)));
-    }
-    if !(d.duration.is_finite() && d.duration > 0.0) {
-        return Err(src.error_at(&at("duration"), format!("expected a duration > 0 [s], got {}", d.duration)));
-    }
+    src.positive_finite(&at("dt"), d.dt, "a time step", "s")?;
+    src.positive_finite(&at("duration"), d.duration, "a duration", "s")?;
     if d.duration / d.dt > 1e8 {
         return Err(src.error_at(&at("dt"), format!("{} steps of {} s: expected at most 1e8", d.duration / d.dt, d.dt)));
     }

@@ -208,9 +208,7 @@ fn check_law(src: &Source, spec: &IdentifyJobFile, l: &LawIdentConfig) -> Result
         ));
     }
     let h = l.element_size.unwrap_or(spec.sample.layout.domain().1);
-    if !(h.is_finite() && h > 0.0) {
-        return Err(src.error_at(&Seg::path(&["law", "element_size"]), format!("expected h > 0 [m], got {h}")));
-    }
+    src.positive_finite(&Seg::path(&["law", "element_size"]), h, "h", "m")?;
     for (k, v) in [("young_modulus", l.young_modulus), ("poisson", l.poisson)] {
         if let Some(x) = v {
             let ok = if k == "poisson" { x.is_finite() && x > -1.0 && x < 0.5 } else { x.is_finite() && x > 0.0 };
@@ -334,7 +332,8 @@ fn check_variants(src: &Source, l: &LawIdentConfig, inputs: &LawInputs) -> Resul
 fn read_sample_curves(src: &Source, folder: &Path, name: &str, p: &Path) -> Result<Vec<Curve>, ConfigError> {
     let at = Seg::path(&["law", "dem_samples", name]);
     let file = super::resolve(folder, p);
-    let curves = crate::identify::curves::read_sample_curves_csv(&file).map_err(|m| src.error_at(&at, m))?;
+    let curves =
+        crate::identify::curves::read_sample_curves_csv(&file).map_err(|m| src.error_at(&at, m.to_string()))?;
     for (k, c) in curves.iter().enumerate() {
         c.check(&format!("DEM {name} curve of sample {k} in {}", file.display()))
             .map_err(|e| src.error_at(&at, e.to_string()))?;
@@ -347,7 +346,7 @@ fn read_mean_curve(src: &Source, folder: &Path, name: &str, p: &Path) -> Result<
     let at = Seg::path(&["law", "dem_curves", name]);
     let file = super::resolve(folder, p);
     let what = format!("DEM {name} curve {}", file.display());
-    let c = crate::identify::curves::read_curve_csv(&file).map_err(|m| src.error_at(&at, m))?;
+    let c = crate::identify::curves::read_curve_csv(&file).map_err(|m| src.error_at(&at, m.to_string()))?;
     c.check(&what).map_err(|e| src.error_at(&at, e.to_string()))?;
     Ok(c)
 }

@@ -36,7 +36,7 @@ pub use convergence::{BandReport, BandSettings, ConvergenceBand};
 pub use dem::*;
 pub use drift::{DriftConfig, DriftLevels, DEFAULT_LEVEL_TOLERANCE};
 pub use dynamics::*;
-pub use error::{ConfigError, Location};
+pub use error::{ConfigError, FileError, Location};
 pub use identify::*;
 pub use identify_job::IdentifyJob;
 pub use job::*;
@@ -103,7 +103,7 @@ impl Job {
                 if let Some(p) = &d.law_file {
                     let at = [Seg::key("materials"), Seg::Key(name.clone()), Seg::key("law_file")];
                     let file = resolve(&folder, p);
-                    d.law = Some(read_law_file(&file).map_err(|msg| source.error_at(&at, msg))?);
+                    d.law = Some(read_law_file(&file).map_err(|e| source.error_at(&at, e.to_string()))?);
                     d.law_file = Some(file);
                 }
             }
@@ -229,10 +229,7 @@ impl SpectrumJob {
         let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let record = record::read_record(&source, &folder, r, &at)?;
         if let Some(e) = &spec.ec8 {
-            if !(e.ag.is_finite() && e.ag > 0.0) {
-                return Err(source
-                    .error_at(&[Seg::key("ec8"), Seg::key("ag")], format!("expected a_g > 0 [m/s^2], got {}", e.ag)));
-            }
+            source.positive_finite(&[Seg::key("ec8"), Seg::key("ag")], e.ag, "a_g", "m/s^2")?;
         }
         let output_dir = output_dir(path, &spec.output);
         Ok(SpectrumJob { source, spec, record, output_dir })
@@ -330,20 +327,21 @@ impl MaterialPointJob {
 
 /// Reads the damage law's parameters from a material file (its `[law]` table, as the
 /// identification writes it; other tables, e.g. provenance, are ignored).
-fn read_law_file(file: &Path) -> Result<crate::material::DamageParams, String> {
+fn read_law_file(file: &Path) -> Result<crate::material::DamageParams, FileError> {
+    const WHAT: &str = "material file";
     if !file.is_file() {
-        return Err(format!("material file {} does not exist", file.display()));
+        return Err(FileError::Missing { what: WHAT, file: file.to_path_buf() });
     }
     let src = Source::read(file).map_err(|e| match e {
-        ConfigError::Read { path, source } => format!("cannot read material file {}: {source}", path.display()),
-        other => other.to_string(),
+        ConfigError::Read { path, source } => FileError::Read { what: WHAT, file: path, reason: source.to_string() },
+        other => FileError::Table { what: WHAT, source: Box::new(other) },
     })?;
     #[derive(serde::Deserialize)]
     struct LawFile {
         law: crate::material::DamageParams,
     }
-    let f: LawFile = src.deserialize().map_err(|e| format!("in the material file: {e}"))?;
-    f.law.validate().map_err(|e| format!("{}: {e}", file.display()))?;
+    let f: LawFile = src.deserialize().map_err(|e| FileError::Table { what: WHAT, source: Box::new(e) })?;
+    f.law.validate().map_err(|e| FileError::Invalid { file: file.to_path_buf(), reason: e.to_string() })?;
     Ok(f.law)
 }
 

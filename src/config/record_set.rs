@@ -192,9 +192,7 @@ impl RecordSetJob {
         let spec: RecordSetJobFile = source.deserialize()?;
         let c = &spec.record_set;
         let err = |keys: &[&str], msg: String| source.error_at(&at(keys), msg);
-        if !(c.ag.is_finite() && c.ag > 0.0) {
-            return Err(err(&["ag"], format!("expected a_g > 0 [m/s^2], got {}", c.ag)));
-        }
+        source.positive_finite(&at(&["ag"]), c.ag, "a_g", "m/s^2")?;
         let target = Ec8Spectrum::new(c.spectrum_type, c.ground, c.ag, 100.0 * SET_DAMPING)
             .map_err(|e| err(&["ag"], e.to_string()))?;
         let rules = match (c.t1, c.period_range) {
@@ -255,9 +253,7 @@ fn artificial_spec(source: &Source, a: &ArtificialConfig) -> Result<ArtificialSp
     let positive =
         [("duration", a.duration), ("dt", a.dt), ("rise", a.rise), ("stationary", a.stationary), ("decay", a.decay)];
     for (k, v) in positive {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(err(k, format!("expected a value > 0, got {v}")));
-        }
+        source.positive_finite(&at(&["artificial", k]), v, "a value", "")?;
     }
     if a.duration / a.dt > 1.0e6 {
         return Err(err("dt", format!("{} s over {} s is more than 10^6 samples", a.dt, a.duration)));

@@ -107,6 +107,17 @@ impl Source {
         best
     }
 
+    /// `v` when it is finite and > 0, else the error at `path`: "expected `what` > 0 [`unit`],
+    /// got `v`" (no brackets when `unit` is empty). Every such check of a job goes through here,
+    /// so they all say it the same way.
+    pub fn positive_finite(&self, path: &[Seg], v: f64, what: &str, unit: &str) -> Result<f64, ConfigError> {
+        if v.is_finite() && v > 0.0 {
+            return Ok(v);
+        }
+        let unit = if unit.is_empty() { String::new() } else { format!(" [{unit}]") };
+        Err(self.error_at(path, format!("expected {what} > 0{unit}, got {v}")))
+    }
+
     /// An `Invalid` error at `path` (located in the text when found there).
     pub fn error_at(&self, path: &[Seg], message: impl Into<String>) -> ConfigError {
         let (line, column) = match self.span_of(path) {

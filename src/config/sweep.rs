@@ -32,7 +32,7 @@
 //! its record, and multiplies each component's `scale` (relative: 0.3 for an EC8 combination) by
 //! `s = I / IM(record)`, the record's intensity measure taken as written in its file. A material
 //! variant replaces the `law_file` of every damage material of the base job.
-use super::{ConfigError, Job, OutputConfig, RecordConfig, RecordFormat, Seg, Source};
+use super::{ConfigError, FileError, Job, OutputConfig, RecordConfig, RecordFormat, Seg, Source};
 use crate::seismic::Record;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -262,14 +262,10 @@ fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<(Option<f64>, supe
         (_, p) => p,
     };
     if let Some(x) = c.code_level {
-        if !(x.is_finite() && x > 0.0) {
-            return Err(err(&["code_level"], format!("expected a code level > 0 [m/s^2], got {x}")));
-        }
+        source.positive_finite(&at(&["code_level"]), x, "a code level", "m/s^2")?;
     }
     if let Some(d) = c.duration {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(err(&["duration"], format!("expected a duration > 0 [s], got {d}")));
-        }
+        source.positive_finite(&at(&["duration"]), d, "a duration", "s")?;
     }
     if !(c.threshold > 0.0 && c.threshold < 1.0) {
         return Err(err(&["threshold"], format!("expected a damage threshold in (0, 1), got {}", c.threshold)));
@@ -331,7 +327,9 @@ fn read_records(
     let mut listed: Vec<(PathBuf, RecordConfig, Vec<Seg>)> = Vec::new();
     if let Some(dir) = &c.record_set {
         let dir = super::resolve(folder, dir);
-        for (file, rc) in read_record_set(&dir, c.require_compatible).map_err(|m| err(&["record_set"], m))? {
+        for (file, rc) in
+            read_record_set(&dir, c.require_compatible).map_err(|e| err(&["record_set"], e.to_string()))?
+        {
             listed.push((file, rc, at(&["record_set"])));
         }
     }
@@ -417,10 +415,10 @@ fn read_variants(source: &Source, c: &SweepConfig, folder: &Path, base: &Job) ->
         }
         for (i, p) in c.materials.iter().enumerate() {
             let file = super::resolve(folder, p);
-            super::read_law_file(&file).map_err(|m| {
+            super::read_law_file(&file).map_err(|e| {
                 source.error_at(
                     &[Seg::key("sweep"), Seg::key("materials"), Seg::Index(i)],
-                    format!("{}: {m}", file.display()),
+                    format!("{}: {e}", file.display()),
                 )
             })?;
             let stem = file.file_stem().map_or_else(|| format!("variant-{i}"), |s| s.to_string_lossy().into_owned());
@@ -449,27 +447,23 @@ pub fn sa_at(record: &Record, t: f64) -> f64 {
 /// The records of a record_set job's results folder (its `summary.json`): each file with the
 /// reading of a two-column file in m/s². With `require_compatible`, a set whose check failed is
 /// an error.
-fn read_record_set(dir: &Path, require_compatible: bool) -> Result<Vec<(PathBuf, RecordConfig)>, String> {
+fn read_record_set(dir: &Path, require_compatible: bool) -> Result<Vec<(PathBuf, RecordConfig)>, FileError> {
     let summary = dir.join("summary.json");
-    let text = std::fs::read_to_string(&summary)
-        .map_err(|e| format!("{}: {e} (run the record_set job first)", summary.display()))?;
+    let invalid = |reason: String| FileError::Invalid { file: summary.clone(), reason };
+    let text = std::fs::read_to_string(&summary).map_err(|e| invalid(format!("{e} (run the record_set job first)")))?;
     let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: not a record set's summary: {e}", summary.display()))?;
-    let records = v["records"].as_array().ok_or_else(|| format!("{}: no \"records\" list", summary.display()))?;
+        serde_json::from_str(&text).map_err(|e| invalid(format!("not a record set's summary: {e}")))?;
+    let records = v["records"].as_array().ok_or_else(|| invalid("no \"records\" list".into()))?;
     if records.is_empty() {
-        return Err(format!("{}: the record set is empty", summary.display()));
+        return Err(invalid("the record set is empty".into()));
     }
     if require_compatible && v["check"]["passed"].as_bool() != Some(true) {
-        return Err(format!(
-            "the record set {} failed its EN 1998-1 compatibility check (see {}); set require_compatible = false to use it anyway",
-            dir.display(),
-            dir.join("check.txt").display()
-        ));
+        return Err(FileError::IncompatibleRecordSet { dir: dir.to_path_buf() });
     }
     records
         .iter()
         .map(|r| {
-            let f = r["file"].as_str().ok_or_else(|| format!("{}: a record without \"file\"", summary.display()))?;
+            let f = r["file"].as_str().ok_or_else(|| invalid("a record without \"file\"".into()))?;
             let file = dir.join(f);
             let rc = RecordConfig {
                 file: Some(file.clone()),

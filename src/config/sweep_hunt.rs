@@ -144,12 +144,12 @@ fn check_grid(source: &Source, xs: &[f64]) -> Result<(), ConfigError> {
         return Err(source.error_at(&at(&["intensities"]), "give at least one intensity [m/s^2]"));
     }
     for (i, &x) in xs.iter().enumerate() {
-        if !(x.is_finite() && x > 0.0) {
-            return Err(source.error_at(
-                &[Seg::key("sweep"), Seg::key("intensities"), Seg::Index(i)],
-                format!("expected an intensity > 0 [m/s^2], got {x}"),
-            ));
-        }
+        source.positive_finite(
+            &[Seg::key("sweep"), Seg::key("intensities"), Seg::Index(i)],
+            x,
+            "an intensity",
+            "m/s^2",
+        )?;
     }
     if xs.windows(2).any(|w| w[1] <= w[0]) {
         return Err(source.error_at(&at(&["intensities"]), "expected intensities in increasing order, each once"));

@@ -3,7 +3,7 @@
 //! results folder replaced, every path made absolute. It runs alone as it stands
 //! (`mpirun -n <group_size> masonry-hpc <results>/jobs/<member>.toml`, the sweep's results of the
 //! member moved aside to `<member>.previous`), and the sweep runs it from the same file.
-use super::{AnalysisConfig, MaterialConfig, RecordFormat, SweepJob};
+use super::{AnalysisConfig, FileError, MaterialConfig, RecordFormat, SweepJob};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -61,8 +61,9 @@ impl SweepJob {
 
     /// The job file of member `m` with its results in `dir`: the base job's text with the record,
     /// scale, law files, duration and results folder replaced and every path absolute.
-    pub fn member_job_text(&self, m: &Member, dir: &Path) -> Result<String, String> {
-        let mut t: Table = toml::from_str(&self.base_text).map_err(|e| format!("{}: {e}", self.base_file.display()))?;
+    pub fn member_job_text(&self, m: &Member, dir: &Path) -> Result<String, FileError> {
+        let invalid = |reason: String| FileError::Invalid { file: self.base_file.clone(), reason };
+        let mut t: Table = toml::from_str(&self.base_text).map_err(|e| invalid(e.to_string()))?;
         let path = |p: &Path| Value::String(p.display().to_string());
 
         if let Some(mesh) = sub(&mut t, "mesh") {
@@ -91,7 +92,7 @@ impl SweepJob {
             }
         }
         let record = &self.records[m.record];
-        let dynamics = sub(&mut t, "dynamics").ok_or_else(|| format!("{}: no [dynamics]", self.base_file.display()))?;
+        let dynamics = sub(&mut t, "dynamics").ok_or_else(|| invalid("no [dynamics]".into()))?;
         if let Some(d) = self.spec.sweep.duration {
             dynamics.insert("duration".into(), Value::Float(d));
         }
@@ -101,11 +102,9 @@ impl SweepJob {
         let components = dynamics
             .get_mut("ground_motion")
             .and_then(Value::as_array_mut)
-            .ok_or_else(|| format!("{}: no [[dynamics.ground_motion]]", self.base_file.display()))?;
+            .ok_or_else(|| invalid("no [[dynamics.ground_motion]]".into()))?;
         for g in components.iter_mut() {
-            let g = g
-                .as_table_mut()
-                .ok_or_else(|| format!("{}: a ground motion is not a table", self.base_file.display()))?;
+            let g = g.as_table_mut().ok_or_else(|| invalid("a ground motion is not a table".into()))?;
             let scale = match g.get("scale") {
                 Some(Value::Float(x)) => *x,
                 Some(Value::Integer(x)) => *x as f64,
@@ -131,7 +130,7 @@ impl SweepJob {
         output.insert("existing".into(), Value::String("backup".into()));
         t.insert("output".into(), Value::Table(output));
 
-        let body = toml::to_string(&t).map_err(|e| format!("member {}: {e}", m.name))?;
+        let body = toml::to_string(&t).map_err(|e| invalid(format!("member {}: {e}", m.name)))?;
         Ok(format!(
             "# Member {} of the sweep {}: {} ({}) scaled by {:.6} to {} = {} m/s², material {}.\n\
              # Runs alone as it stands: mpirun -n {} masonry-hpc <this file>\n{body}",

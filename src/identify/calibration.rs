@@ -35,17 +35,19 @@
 //! `seed, seed + 1, …`, the same for every point: common random numbers, so differences between
 //! points are the parameters', not the samples'). EGO ([`super::collective::run_ego`]) on
 //! ln(J + δ), Latin-hypercube initial design.
+use super::collective::TaskResult;
 use super::collective::{best_record, broadcast_json, run_ego, run_rounds, PointRecord};
 use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
 use super::doe::latin_hypercube;
 use super::ego::EgoSettings;
 use super::elastic_fit::{ElasticFit, ElasticMeans, ElasticSearch, ElasticSettings, ELASTIC_STRAIN};
+use super::error::EvalError;
 use super::error::IdentifyError;
 use super::space::Space;
 use super::stat::Stat;
 use crate::dem::sample::SampleConfig;
 use crate::dem::solver::VirtualTest;
-use crate::parallel::{Context, TaskResult};
+use crate::parallel::Context;
 use serde::{Deserialize, Serialize};
 
 /// The four measured numbers.
@@ -149,7 +151,7 @@ pub struct CalibrationResult {
     /// one: J joint, J₂ in stage 2); in the summary each as `iteration`, `point` (named by
     /// [`CALIBRATION_UNKNOWNS`]) and `objective`.
     #[serde(serialize_with = "calibration_history")]
-    pub history: Vec<(usize, Vec<f64>, Result<f64, String>)>,
+    pub history: Vec<(usize, Vec<f64>, Result<f64, EvalError>)>,
     /// The runs at the optimum (curves for the picture).
     #[serde(skip)]
     pub best_runs: Vec<DemRun>,
@@ -166,7 +168,7 @@ crate::io::summary::named!(
 pub const CALIBRATION_UNKNOWNS: [&str; 5] = ["alpha", "e_bar", "eps_cr", "theta_cr", "crushing_stress"];
 
 fn calibration_history<S: serde::Serializer>(
-    h: &[(usize, Vec<f64>, Result<f64, String>)],
+    h: &[(usize, Vec<f64>, Result<f64, EvalError>)],
     s: S,
 ) -> Result<S::Ok, S::Error> {
     super::named_history(&CALIBRATION_UNKNOWNS, h, s)
@@ -179,13 +181,10 @@ pub fn parameters_at(fixed: &DemParameters, x: &[f64]) -> DemParameters {
 }
 
 /// J of a set of runs (see the module docs).
-pub fn objective(targets: &Targets, weights: &[f64; 4], runs: &[TaskResult<DemRun>]) -> Result<f64, String> {
+pub fn objective(targets: &Targets, weights: &[f64; 4], runs: &[TaskResult<DemRun>]) -> Result<f64, EvalError> {
     let ok: Vec<&DemRun> = runs.iter().filter_map(|r| r.as_ref().ok()).collect();
     if ok.is_empty() || (weights[3] > 0.0 && !ok.iter().any(|r| r.valid)) {
-        return Err(runs
-            .iter()
-            .find_map(|r| r.as_ref().err().cloned())
-            .unwrap_or_else(|| "every sample stopped before its peak (solver end 'failed')".into()));
+        return Err(runs.iter().find_map(|r| r.as_ref().err().cloned()).unwrap_or(EvalError::EveryRunStopped));
     }
     let stats = sample_stats(&ok);
     Ok(relative_errors(&stats, targets).iter().zip(weights).map(|(e, w)| w * e * e).sum())
@@ -232,10 +231,10 @@ pub fn elastic_test(test: &VirtualTest) -> VirtualTest {
 }
 
 /// The sample means of ν and E/Ē of one α's elastic runs.
-pub fn elastic_means(runs: &[TaskResult<DemRun>], e_bar: f64) -> Result<ElasticMeans, String> {
+pub fn elastic_means(runs: &[TaskResult<DemRun>], e_bar: f64) -> Result<ElasticMeans, EvalError> {
     let ok: Vec<&DemRun> = runs.iter().filter_map(|r| r.as_ref().ok()).collect();
     if ok.is_empty() {
-        return Err(runs.iter().find_map(|r| r.as_ref().err().cloned()).unwrap_or_else(|| "no sample".into()));
+        return Err(runs.iter().find_map(|r| r.as_ref().err().cloned()).unwrap_or(EvalError::NoSample));
     }
     let stats = sample_stats(&ok);
     let ratio: Vec<f64> = ok.iter().map(|r| r.young_modulus / e_bar).filter(|v| v.is_finite()).collect();
@@ -276,7 +275,7 @@ fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<Calibration
     };
     run_rounds(ctx, first, c.samples, work, |points, results| {
         let alphas: Vec<f64> = points.iter().map(|p| p[0]).collect();
-        let values: Vec<Result<ElasticMeans, String>> =
+        let values: Vec<Result<ElasticMeans, EvalError>> =
             results.iter().map(|r| elastic_means(r, reference.e_bar)).collect();
         for (a, v) in alphas.iter().zip(&values) {
             ctx.log.info(match v {
@@ -290,10 +289,10 @@ fn calibrate_staged(ctx: &Context, c: &Calibration) -> Result<Option<Calibration
         search.tell(&alphas, values);
         Ok(search.ask()?.map(|next| next.into_iter().map(|a| vec![a]).collect()))
     })?;
-    let fit: Result<ElasticFit, String> = search.result().map_err(|e| e.to_string());
-    let agreed: Result<(f64, f64), String> =
+    let fit = search.result().map_err(|e| EvalError::Search { reason: e.to_string() });
+    let agreed: Result<(f64, f64), EvalError> =
         broadcast_json(ctx, Some(&fit.as_ref().map(|f| (f.alpha, f.e_bar)).map_err(Clone::clone)))?;
-    let (alpha, e_bar) = agreed.map_err(IdentifyError::Settings)?;
+    let (alpha, e_bar) = agreed.map_err(|e| IdentifyError::Settings(e.to_string()))?;
     if let Ok(f) = &fit {
         ctx.log.info(format!(
             "calibration, stage 1: alpha = {alpha:.5}, e_bar = {e_bar:.5e} Pa: nu = {:.5} ± {:.5}, E = {:.5e} ± {:.3e} Pa (n = {}){}",
@@ -356,7 +355,7 @@ fn summarize(
             .iter()
             .enumerate()
             .filter_map(|(k, r)| match r {
-                Err(e) => Some(e.clone()),
+                Err(e) => Some(e.to_string()),
                 Ok(d) if !d.valid => Some(format!(
                     "sample {k}: the solver stopped at its peak (end {}): left out of the peak statistics",
                     d.end

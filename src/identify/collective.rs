@@ -10,8 +10,9 @@
 //! ```
 //! A failure on rank 0 (the surrogate) is broadcast as `Fail`, so no rank waits forever.
 use super::ego::{Ego, EgoSettings};
+use super::error::EvalError;
 use super::error::IdentifyError;
-use crate::parallel::{run_batch, Context, TaskResult};
+use crate::parallel::{run_batch, Context};
 use mpi::traits::{Communicator, Root};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -38,6 +39,9 @@ pub fn broadcast_json<T: Serialize + DeserializeOwned>(ctx: &Context, value: Opt
     serde_json::from_slice(&bytes).map_err(|e| IdentifyError::Batch(format!("broadcast: {e}")))
 }
 
+/// The outcome of one task of a search: its result, or why it has none.
+pub type TaskResult<R> = crate::parallel::TaskResult<R, EvalError>;
+
 /// One evaluated point with its tasks' raw results.
 #[derive(Clone, Debug, Serialize)]
 pub struct PointRecord<R> {
@@ -46,7 +50,7 @@ pub struct PointRecord<R> {
     /// Unit-cube coordinates.
     pub unit: Vec<f64>,
     /// Objective, or why it failed.
-    pub value: Result<f64, String>,
+    pub value: Result<f64, EvalError>,
     /// The tasks' results.
     pub tasks: Vec<TaskResult<R>>,
 }
@@ -62,7 +66,11 @@ pub fn best_record<R>(records: &[PointRecord<R>]) -> Result<&PointRecord<R>, Ide
         .ok_or_else(|| IdentifyError::TooFewPoints {
             needed: 1,
             got: 0,
-            first_failure: records.iter().find_map(|r| r.value.clone().err()).unwrap_or_default(),
+            first_failure: records
+                .iter()
+                .find_map(|r| r.value.as_ref().err())
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
         })
 }
 
@@ -120,7 +128,7 @@ pub fn run_ego<R, W, F>(
 where
     R: Serialize + DeserializeOwned + Send + Clone,
     W: Fn(&[f64], usize) -> TaskResult<R> + Sync,
-    F: Fn(&[f64], &[TaskResult<R>]) -> Result<f64, String>,
+    F: Fn(&[f64], &[TaskResult<R>]) -> Result<f64, EvalError>,
 {
     let mut ego = if ctx.rank == 0 { Some(Ego::new(dim, settings)?) } else { None };
     let mut records: Vec<PointRecord<R>> = Vec::new();
@@ -136,7 +144,7 @@ where
         cmd = Command::Stop;
         if let (Some(ego), Some(results)) = (ego.as_mut(), results) {
             let iteration = ego.iteration();
-            let values: Vec<Result<f64, String>> = points.iter().zip(&results).map(|(p, r)| reduce(p, r)).collect();
+            let values: Vec<Result<f64, EvalError>> = points.iter().zip(&results).map(|(p, r)| reduce(p, r)).collect();
             for ((p, r), v) in points.iter().zip(results).zip(&values) {
                 records.push(PointRecord { iteration, unit: p.clone(), value: v.clone(), tasks: r });
             }

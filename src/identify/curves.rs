@@ -181,23 +181,21 @@ pub fn sample_curves_csv(curves: &[Curve]) -> String {
 
 /// Reads [`sample_curves_csv`]'s format (rows of one sample together, strains not decreasing);
 /// errors name the file and line.
-pub fn read_sample_curves_csv(file: &std::path::Path) -> Result<Vec<Curve>, String> {
-    let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+pub fn read_sample_curves_csv(file: &std::path::Path) -> Result<Vec<Curve>, IdentifyError> {
+    let text = std::fs::read_to_string(file)
+        .map_err(|e| IdentifyError::Read { file: file.to_path_buf(), reason: e.to_string() })?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     let Some((_, header)) = lines.next() else {
-        return Err(format!("{}: empty file (expected the header sample,strain,stress,loss_of_load)", file.display()));
+        return Err(bad(file, None, "empty file (expected the header sample,strain,stress,loss_of_load)".into()));
     };
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     if cols != ["sample", "strain", "stress", "loss_of_load"] {
-        return Err(format!(
-            "{}:1: expected the header sample,strain,stress,loss_of_load, got {header}",
-            file.display()
-        ));
+        return Err(bad(file, Some(1), format!("expected the header sample,strain,stress,loss_of_load, got {header}")));
     }
     let mut curves: Vec<(String, Curve)> = Vec::new();
     for (n, line) in lines {
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let at = |what: String| format!("{}:{}: {what}", file.display(), n + 1);
+        let at = |what: String| bad(file, Some(n + 1), what);
         if f.len() != 4 {
             return Err(at(format!("expected 4 columns, got {}", f.len())));
         }
@@ -223,7 +221,7 @@ pub fn read_sample_curves_csv(file: &std::path::Path) -> Result<Vec<Curve>, Stri
         c.loss_of_load |= loss;
     }
     if curves.is_empty() {
-        return Err(format!("{}: no sample rows after the header", file.display()));
+        return Err(bad(file, None, "no sample rows after the header".into()));
     }
     Ok(curves.into_iter().map(|(_, c)| c).collect())
 }
@@ -252,27 +250,28 @@ pub fn mean_curve(curves: &[Curve], grid: &[f64], what: &str) -> Result<Curve, I
 /// columns ignored; the DEM job's `sample-KKK/curve.csv` qualifies). Signs: the curve is turned
 /// into the test direction by the sign of its largest-magnitude stress, so tension-positive
 /// compression curves and positive-magnitude ones both work. Errors name the file and line.
-pub fn read_curve_csv(file: &std::path::Path) -> Result<Curve, String> {
-    let text = std::fs::read_to_string(file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+pub fn read_curve_csv(file: &std::path::Path) -> Result<Curve, IdentifyError> {
+    let text = std::fs::read_to_string(file)
+        .map_err(|e| IdentifyError::Read { file: file.to_path_buf(), reason: e.to_string() })?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     let Some((_, header)) = lines.next() else {
-        return Err(format!("{}: empty file (expected a header with columns strain and stress)", file.display()));
+        return Err(bad(file, None, "empty file (expected a header with columns strain and stress)".into()));
     };
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
     let find = |name: &str| {
         cols.iter()
             .position(|c| *c == name)
-            .ok_or_else(|| format!("{}:1: no column '{name}' in the header ({header})", file.display()))
+            .ok_or_else(|| bad(file, Some(1), format!("no column '{name}' in the header ({header})")))
     };
     let (ix, iy) = (find("strain")?, find("stress")?);
     let (mut x, mut y) = (Vec::new(), Vec::new());
     for (n, line) in lines {
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let get = |i: usize, name: &str| -> Result<f64, String> {
+        let get = |i: usize, name: &str| -> Result<f64, IdentifyError> {
             f.get(i)
-                .ok_or_else(|| format!("{}:{}: missing column '{name}'", file.display(), n + 1))?
+                .ok_or_else(|| bad(file, Some(n + 1), format!("missing column '{name}'")))?
                 .parse::<f64>()
-                .map_err(|e| format!("{}:{}: column '{name}': {e}", file.display(), n + 1))
+                .map_err(|e| bad(file, Some(n + 1), format!("column '{name}': {e}")))
         };
         x.push(get(ix, "strain")?);
         y.push(get(iy, "stress")?);
@@ -282,6 +281,11 @@ pub fn read_curve_csv(file: &std::path::Path) -> Result<Curve, String> {
     let c =
         Curve { x: x.iter().map(|v| sign * v).collect(), y: y.iter().map(|v| sign * v).collect(), loss_of_load: false };
     Ok(c.monotonic())
+}
+
+/// A malformed curve file, at `line` when one is at fault.
+fn bad(file: &std::path::Path, line: Option<usize>, reason: String) -> IdentifyError {
+    IdentifyError::CurveFile { file: file.to_path_buf(), line, reason }
 }
 
 #[cfg(test)]
@@ -337,7 +341,7 @@ mod tests {
         std::fs::write(&f, sample_curves_csv(&[a.clone(), b.clone()])).unwrap();
         assert_eq!(read_sample_curves_csv(&f).unwrap(), vec![a, b]);
         std::fs::write(&f, "sample,strain,stress,loss_of_load\n0,1e-4,1,0\n0,0.5e-4,1,0\n").unwrap();
-        let e = read_sample_curves_csv(&f).unwrap_err();
+        let e = read_sample_curves_csv(&f).unwrap_err().to_string();
         assert!(e.contains("s.csv:3:") && e.contains("decreases"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }

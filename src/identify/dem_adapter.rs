@@ -3,6 +3,8 @@
 //! Everything else in `identify/` sees only [`DemRun`], so a change of the DEM's interface is
 //! absorbed here.
 use super::curves::Curve;
+use super::error::EvalError;
+use crate::dem::error::TestFailure;
 use crate::dem::mechanics::MechParams;
 use crate::dem::sample::{Sample, SampleConfig};
 use crate::dem::solver::{run_test, TestEnd, VirtualTest};
@@ -92,15 +94,20 @@ pub fn sample_height(base: &SampleConfig) -> f64 {
     base.layout.domain().1
 }
 
-/// Runs `test` on sample `k` of `base` with `p`. The error is a message naming the sample.
+/// Runs `test` on sample `k` of `base` with `p`. The error names the sample and says what
+/// stopped it.
 pub fn run_virtual_test(
     base: &SampleConfig,
     p: &DemParameters,
     test: &VirtualTest,
     k: usize,
-) -> Result<DemRun, String> {
+) -> Result<DemRun, EvalError> {
     let cfg = sample_config(base, p.alpha, k);
-    let sample = Sample::build(&cfg).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;
+    let sample = Sample::build(&cfg).map_err(|e| TestFailure::Sample {
+        sample: k,
+        seed: Some(cfg.seed),
+        message: e.to_string(),
+    })?;
     let params = MechParams {
         e_bar: p.e_bar,
         t_z: cfg.thickness,
@@ -110,8 +117,8 @@ pub fn run_virtual_test(
         kt_over_kn: p.kt_over_kn,
         crushing: p.crushing(),
     };
-    params.validate().map_err(|e| format!("sample {k}: {e}"))?;
-    let r = run_test(&sample, &params, test).map_err(|e| format!("sample {k} (seed {}): {e}", cfg.seed))?;
+    params.validate().map_err(|e| TestFailure::Params { sample: k, message: e.to_string() })?;
+    let r = run_test(&sample, &params, test).map_err(|e| TestFailure::solver(k, Some(cfg.seed), &e))?;
     let sign = if matches!(test, VirtualTest::Compression { .. }) { -1.0 } else { 1.0 };
     let stride = r.curve.len().div_ceil(MAX_CURVE_POINTS).max(1);
     let peak = r

@@ -20,7 +20,7 @@
 //!
 //! Failed evaluations (a DEM sample that did not converge, a law path that diverged) are kept in
 //! the history and left out of the surrogate.
-use super::error::IdentifyError;
+use super::error::{EvalError, IdentifyError};
 use egobox_ego::{CorrelationSpec, EgorServiceBuilder, InfillStrategy, QEiStrategy, RegressionSpec};
 use serde::Serialize;
 
@@ -50,7 +50,8 @@ pub struct Evaluation {
     /// The point in the unit cube.
     pub unit: Vec<f64>,
     /// The objective, or why it could not be evaluated.
-    pub value: Result<f64, String>,
+    #[serde(serialize_with = "crate::io::summary::with_message")]
+    pub value: Result<f64, EvalError>,
 }
 
 /// The EGO state: every evaluation so far.
@@ -75,10 +76,10 @@ impl Ego {
     }
 
     /// Records the values of `points` (unit cube), evaluated in the current iteration.
-    pub fn tell(&mut self, points: &[Vec<f64>], values: Vec<Result<f64, String>>) {
+    pub fn tell(&mut self, points: &[Vec<f64>], values: Vec<Result<f64, EvalError>>) {
         for (p, v) in points.iter().zip(values) {
             let v = match v {
-                Ok(f) if !f.is_finite() => Err(format!("non-finite objective {f}")),
+                Ok(f) if !f.is_finite() => Err(EvalError::NonFinite { value: f }),
                 other => other,
             };
             self.evaluations.push(Evaluation { iteration: self.iteration, unit: p.clone(), value: v });
@@ -100,7 +101,7 @@ impl Ego {
         let needed = 2.max(self.dim.min(3));
         if ok.len() < needed {
             let first_failure =
-                self.evaluations.iter().find_map(|e| e.value.clone().err()).unwrap_or_else(|| "none".into());
+                self.evaluations.iter().find_map(|e| e.value.as_ref().err()).map_or("none".into(), |e| e.to_string());
             return Err(IdentifyError::TooFewPoints { needed, got: ok.len(), first_failure });
         }
         let mut x = ndarray16::Array2::<f64>::zeros((ok.len(), self.dim));
@@ -247,7 +248,8 @@ mod tests {
     fn too_few_successes_is_an_error_naming_the_failure() {
         let mut ego =
             Ego::new(2, EgoSettings { iterations: 3, batch: 1, seed: 1, log_transform: false, target: None }).unwrap();
-        ego.tell(&[vec![0.1, 0.1], vec![0.5, 0.5]], vec![Ok(1.0), Err("sample 3 diverged".into())]);
+        let diverged = crate::dem::error::TestFailure::Params { sample: 3, message: "diverged".into() };
+        ego.tell(&[vec![0.1, 0.1], vec![0.5, 0.5]], vec![Ok(1.0), Err(EvalError::Test(diverged))]);
         let e = ego.ask().unwrap_err();
         assert!(e.to_string().contains("sample 3 diverged"), "{e}");
     }

@@ -28,7 +28,7 @@
 //! The search is ask-and-tell ([`ElasticSearch::first`], [`ElasticSearch::tell`],
 //! [`ElasticSearch::ask`]), so the evaluations run as MPI batches between questions
 //! ([`super::collective::run_rounds`]) and the logic is tested without the DEM.
-use super::error::IdentifyError;
+use super::error::{EvalError, IdentifyError};
 use super::stat::Stat;
 use serde::Serialize;
 
@@ -55,7 +55,8 @@ pub struct ElasticPoint {
     /// α.
     pub alpha: f64,
     /// The means, or why the point could not be evaluated.
-    pub value: Result<ElasticMeans, String>,
+    #[serde(serialize_with = "crate::io::summary::with_message")]
+    pub value: Result<ElasticMeans, EvalError>,
 }
 
 /// Settings of the search.
@@ -134,14 +135,11 @@ impl ElasticSearch {
     }
 
     /// Records the means at `alphas` (the last batch asked for).
-    pub fn tell(&mut self, alphas: &[f64], values: Vec<Result<ElasticMeans, String>>) {
+    pub fn tell(&mut self, alphas: &[f64], values: Vec<Result<ElasticMeans, EvalError>>) {
         for (&alpha, value) in alphas.iter().zip(values) {
             let value = match value {
                 Ok(m) if !(m.poisson.mean.is_finite() && m.e_ratio.mean.is_finite() && m.e_ratio.mean > 0.0) => {
-                    Err(format!(
-                        "alpha {alpha}: no finite nu and E over the samples (nu {}, E/Ebar {})",
-                        m.poisson.mean, m.e_ratio.mean
-                    ))
+                    Err(EvalError::NoFiniteElastic { alpha, poisson: m.poisson.mean, e_ratio: m.e_ratio.mean })
                 }
                 v => v,
             };
@@ -174,7 +172,8 @@ impl ElasticSearch {
         }
         let pts = self.ok_sorted();
         if pts.len() < 2 {
-            let first_failure = self.points.iter().find_map(|p| p.value.clone().err()).unwrap_or_else(|| "none".into());
+            let first_failure =
+                self.points.iter().find_map(|p| p.value.as_ref().err()).map_or("none".into(), |e| e.to_string());
             return Err(IdentifyError::TooFewPoints { needed: 2, got: pts.len(), first_failure });
         }
         if let Some(w) = pts.windows(2).find(|w| !(w[1].1.poisson.mean < w[0].1.poisson.mean)) {
@@ -211,7 +210,12 @@ impl ElasticSearch {
         let (alpha, m) = self.closest().ok_or_else(|| IdentifyError::TooFewPoints {
             needed: 1,
             got: 0,
-            first_failure: self.points.iter().find_map(|p| p.value.clone().err()).unwrap_or_default(),
+            first_failure: self
+                .points
+                .iter()
+                .find_map(|p| p.value.as_ref().err())
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
         })?;
         let t = self.s.poisson;
         let converged = (m.poisson.mean - t).abs() <= self.s.tolerance * t.abs();

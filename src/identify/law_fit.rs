@@ -41,15 +41,17 @@
 //! [`super::polish`]), then one per curve over that curve's own unknowns ([`blocks`]: F is the
 //! sum of a tension error in (ε₀ᵗ, G_s) and a compression error in the others); the polishes'
 //! evaluations appear in the history as the iteration after the last infill.
+use super::collective::TaskResult;
 use super::collective::{best_record, run_ego, PointRecord};
 use super::curves::{uniform_grid, Curve};
 use super::doe::two_level_factorial;
 use super::ego::EgoSettings;
+use super::error::EvalError;
 use super::error::IdentifyError;
 use super::error_measure::{curve_distance, CurveError, ErrorMeasure};
 use super::space::Space;
 use crate::material::{run_path, Control, DamageParams, LoadPath, NewtonSettings, PlaneStress, Regularization, Split};
-use crate::parallel::{Context, TaskResult};
+use crate::parallel::Context;
 use serde::Serialize;
 
 /// Starting points of the polish: the best EGO points, each at least [`POLISH_SEPARATION`] from
@@ -159,7 +161,7 @@ pub struct LawResult {
     /// Every point: iteration, physical coordinates, objective; in the summary each as
     /// `iteration`, `point` (named by [`UNKNOWNS`]) and `objective`.
     #[serde(serialize_with = "law_history")]
-    pub history: Vec<(usize, Vec<f64>, Result<f64, String>)>,
+    pub history: Vec<(usize, Vec<f64>, Result<f64, EvalError>)>,
     /// Best objective after each evaluation.
     pub best_so_far: Vec<f64>,
     /// The law's curves at the optimum on the DEM grids (tension, compression).
@@ -167,7 +169,7 @@ pub struct LawResult {
     pub law_curves: (Curve, Curve),
 }
 
-fn law_history<S: serde::Serializer>(h: &[(usize, Vec<f64>, Result<f64, String>)], s: S) -> Result<S::Ok, S::Error> {
+fn law_history<S: serde::Serializer>(h: &[(usize, Vec<f64>, Result<f64, EvalError>)], s: S) -> Result<S::Ok, S::Error> {
     super::named_history(&UNKNOWNS, h, s)
 }
 
@@ -232,10 +234,10 @@ impl LawFit {
     /// The law's stress (test direction) over the tension and compression grids' ranges, on
     /// paths `refine` times finer than the grids, through the law's peak strains (see
     /// [`LawFit::peak_strains`]), so the peaks are exact whatever the grid.
-    pub fn law_curves(&self, p: &DamageParams, refine: usize) -> Result<(Curve, Curve), String> {
-        let law = p.for_element(self.element_size).map_err(|e| e.to_string())?;
+    pub fn law_curves(&self, p: &DamageParams, refine: usize) -> Result<(Curve, Curve), EvalError> {
+        let law = p.for_element(self.element_size).map_err(|e| EvalError::Law { reason: e.to_string() })?;
         let [peak_t, peak_c] = Self::peak_strains(p);
-        let run = |c: &Curve, sign: f64, critical: f64| -> Result<Curve, String> {
+        let run = |c: &Curve, sign: f64, critical: f64| -> Result<Curve, EvalError> {
             let n = (c.x.len() - 1) * refine.max(1);
             let max = c.x[c.x.len() - 1];
             let mut strains: Vec<f64> = (1..=n).map(|k| max * k as f64 / n as f64).collect();
@@ -250,7 +252,7 @@ impl LawFit {
                 .map(|&e| [Control::Strain(sign * e), Control::Stress(0.0), Control::Stress(0.0)])
                 .collect();
             let rec = run_path(PlaneStress, &law, &LoadPath::<3>::new(steps), &NewtonSettings::default())
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| EvalError::Path { reason: e.to_string() })?;
             Ok(Curve {
                 x: rec.iter().map(|r| sign * r.strain[0]).collect(),
                 y: rec.iter().map(|r| sign * r.stress[0]).collect(),
@@ -273,10 +275,11 @@ impl LawFit {
     }
 
     /// The errors at the physical point `x`.
-    pub fn evaluate(&self, x: &[f64]) -> Result<LawEvaluation, String> {
+    pub fn evaluate(&self, x: &[f64]) -> Result<LawEvaluation, EvalError> {
         let (t, c) = self.law_curves(&self.curve_params_at(x), 1)?;
         let err = |reference: &Curve, model: &Curve, what: &str| {
-            curve_distance(reference, model, self.measure).ok_or_else(|| format!("{what}: no comparable point"))
+            curve_distance(reference, model, self.measure)
+                .ok_or_else(|| EvalError::NoComparablePoint { curve: what.to_string() })
         };
         let tension = err(&self.tension, &t, "tension")?;
         let compression = err(&self.compression, &c, "compression")?;
@@ -297,7 +300,7 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
     let reduce = |_: &[f64], r: &[TaskResult<LawEvaluation>]| match r.first() {
         Some(Ok(e)) => Ok(e.total),
         Some(Err(m)) => Err(m.clone()),
-        None => Err("no result".into()),
+        None => Err(EvalError::NoResult),
     };
     let Some(records) = run_ego(ctx, fit.space.dim(), design, fit.ego.clone(), 1, work, reduce, "law identification")?
     else {
@@ -315,8 +318,7 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
             a.value.clone().unwrap_or(f64::INFINITY).total_cmp(&b.value.clone().unwrap_or(f64::INFINITY))
         });
         let starts = polish_starts(ranked.iter().map(|r| r.unit.as_slice()), POLISH_STARTS, POLISH_SEPARATION);
-        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS)
-            .map_err(IdentifyError::Optimizer)?;
+        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS)?;
         ctx.log.info(format!(
             "law identification: Nelder-Mead polish from the {} best separated points, {} evaluations: objective {:.6e} -> {:.6e}",
             starts.len(),
@@ -343,8 +345,9 @@ pub fn identify(ctx: &Context, fit: &LawFit) -> Result<Option<LawResult>, Identi
         best_so_far.push(b);
     }
     let params = fit.params_at(&x);
-    let fit_eval = fit.evaluate(&x).map_err(IdentifyError::Optimizer)?;
-    let law_curves = fit.law_curves(&fit.curve_params_at(&x), REFINE).map_err(IdentifyError::Optimizer)?;
+    let fit_eval = fit.evaluate(&x).map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
+    let law_curves =
+        fit.law_curves(&fit.curve_params_at(&x), REFINE).map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
     let dem_peaks = [fit.tension.peak().0, fit.compression.peak().0];
     let law_peaks = [law_curves.0.peak().0, law_curves.1.peak().0];
     let measures = ErrorMeasure::ALL
@@ -394,13 +397,13 @@ fn polish_blocks(
     records: &[PointRecord<LawEvaluation>],
     u0: Vec<f64>,
     iteration: usize,
-    history: &mut Vec<(usize, Vec<f64>, Result<f64, String>)>,
+    history: &mut Vec<(usize, Vec<f64>, Result<f64, EvalError>)>,
 ) -> Result<Vec<f64>, IdentifyError> {
-    let start = fit.evaluate(&fit.space.from_unit(&u0)).map_err(IdentifyError::Optimizer)?;
+    let start = fit.evaluate(&fit.space.from_unit(&u0)).map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
     let mut u = u0.clone();
     for (side, block) in blocks(fit.space.dim()).into_iter().enumerate() {
         let part = |e: &LawEvaluation| if side == 0 { e.tension.value } else { e.compression.value };
-        let here = fit.evaluate(&fit.space.from_unit(&u)).map_err(IdentifyError::Optimizer)?;
+        let here = fit.evaluate(&fit.space.from_unit(&u)).map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
         let other = here.total - part(&here);
         let with = |v: &[f64]| {
             let mut w = u.clone();
@@ -421,8 +424,7 @@ fn polish_blocks(
         ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
         let points: Vec<Vec<f64>> = std::iter::once(own(&u)).chain(ranked.into_iter().map(|r| r.0)).collect();
         let starts = polish_starts(points.iter().map(Vec::as_slice), POLISH_STARTS, POLISH_SEPARATION);
-        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS)
-            .map_err(IdentifyError::Optimizer)?;
+        let p = super::polish::polish_multistart(&f, &starts, 0.05, fit.polish_iterations, POLISH_RESTARTS)?;
         ctx.log.info(format!(
             "law identification: {} polish over its own {} unknown(s) from {} start(s), {} evaluations: error {:.6e} -> {:.6e}",
             if side == 0 { "tension" } else { "compression" },
@@ -439,7 +441,7 @@ fn polish_blocks(
             u = with(&p.unit);
         }
     }
-    let end = fit.evaluate(&fit.space.from_unit(&u)).map_err(IdentifyError::Optimizer)?;
+    let end = fit.evaluate(&fit.space.from_unit(&u)).map_err(|e| IdentifyError::Optimizer(e.to_string()))?;
     Ok(if end.total < start.total { u } else { u0 })
 }
 

@@ -18,6 +18,7 @@
 //! The text depends only on the job and its results: no time stamp, host name or absolute path,
 //! so a rerun from the same seeds writes the same bytes. Reported figures (statistics, errors,
 //! peaks) carry [`FIGURE_DIGITS`] significant digits: they are read, not fed back.
+use super::error::IdentifyError;
 use crate::material::DamageParams;
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
@@ -215,7 +216,7 @@ pub fn relative_path(from: &Path, to: &Path) -> PathBuf {
 }
 
 /// The `[law]` table: every parameter with round-trip digits.
-fn law_table(law: &DamageParams) -> Result<String, String> {
+fn law_table(law: &DamageParams) -> String {
     let mut s = String::from("[law]\n");
     let _ = writeln!(s, "E = {}", exact(law.e));
     let _ = writeln!(s, "nu = {}", exact(law.nu));
@@ -235,17 +236,17 @@ fn law_table(law: &DamageParams) -> Result<String, String> {
     if !law.split.is_trace() {
         let _ = writeln!(s, "split = {}", quoted(law.split.name()));
     }
-    Ok(s)
+    s
 }
 
 /// The file's text; `file` is where it goes (the job's path is written relative to its folder).
-pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<String, String> {
+pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> String {
     let folder = file.parent().filter(|f| !f.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let job = relative_path(folder, &p.job);
     let job = job.to_string_lossy().replace('\\', "/");
     let mut s = header(&job, p.variant.as_ref(), p.notes.as_deref());
     s.push('\n');
-    s.push_str(&law_table(law)?);
+    s.push_str(&law_table(law));
     provenance_table(&mut s, &job, p);
     if let Some(v) = &p.variant {
         variant_table(&mut s, v);
@@ -262,7 +263,7 @@ pub fn material_toml(file: &Path, law: &DamageParams, p: &Provenance) -> Result<
     if let Some(peaks) = &p.peaks {
         peaks_table(&mut s, peaks);
     }
-    Ok(s)
+    s
 }
 
 /// `NAME VERSION` of this software.
@@ -421,9 +422,9 @@ fn peaks_table(s: &mut String, peaks: &[PeakFigure; 2]) {
 }
 
 /// Writes the file.
-pub fn write_material_file(file: &Path, law: &DamageParams, provenance: &Provenance) -> Result<(), String> {
-    let text = material_toml(file, law, provenance)?;
-    std::fs::write(file, text).map_err(|e| format!("cannot write {}: {e}", file.display()))
+pub fn write_material_file(file: &Path, law: &DamageParams, provenance: &Provenance) -> Result<(), IdentifyError> {
+    let text = material_toml(file, law, provenance);
+    std::fs::write(file, text).map_err(|e| IdentifyError::Write { file: file.to_path_buf(), reason: e.to_string() })
 }
 
 #[cfg(test)]
@@ -501,7 +502,7 @@ mod tests {
         ] {
             for gf_c in [None, Some(104.3)] {
                 let law = DamageParams { regularization: reg, gf_c, ..law };
-                let text = material_toml(Path::new("materials/m.toml"), &law, &p).unwrap();
+                let text = material_toml(Path::new("materials/m.toml"), &law, &p);
                 let back: F = toml::from_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
                 assert_eq!(back.law, law, "{text}");
                 assert_eq!(back.provenance["job"].as_str(), Some("../jobs/j.toml"));
@@ -510,7 +511,7 @@ mod tests {
             }
         }
         // The header comments the notes, blank lines included, and names the version.
-        let text = material_toml(Path::new("materials/m.toml"), &law, &p).unwrap();
+        let text = material_toml(Path::new("materials/m.toml"), &law, &p);
         assert!(text.contains("# line one\n#\n# line three\n"), "{text}");
         assert!(text.contains(env!("CARGO_PKG_VERSION")));
         // Figures carry FIGURE_DIGITS significant digits.
@@ -547,7 +548,7 @@ mod tests {
             of: [4, 4],
         };
         let p = Provenance { variant: Some(variant(None)), ..provenance() };
-        let text = material_toml(Path::new("materials/m-variant-2.toml"), &law, &p).unwrap();
+        let text = material_toml(Path::new("materials/m-variant-2.toml"), &law, &p);
         assert!(text.contains("# Material variant 2 of 2 (scheme \"halves\")"), "{text}");
         let back: toml::Table = toml::from_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
         let v = &back["provenance"]["variant"];
@@ -559,7 +560,7 @@ mod tests {
         // The notes follow the variant's lines; a bootstrap's seed is recorded.
         assert!(text.find("Material variant").unwrap() < text.find("# line one").unwrap());
         let p = Provenance { variant: Some(variant(Some(7))), ..provenance() };
-        let back: toml::Table = toml::from_str(&material_toml(Path::new("m.toml"), &law, &p).unwrap()).unwrap();
+        let back: toml::Table = toml::from_str(&material_toml(Path::new("m.toml"), &law, &p)).unwrap();
         assert_eq!(back["provenance"]["variant"]["seed"].as_integer(), Some(7));
     }
 

@@ -45,7 +45,7 @@ pub use calibration::{calibrate, Calibration, CalibrationResult, Strategy, Targe
 pub use curves::Curve;
 pub use dem_adapter::{DemParameters, DemRun};
 pub use ego::{Ego, EgoSettings, Evaluation};
-pub use error::IdentifyError;
+pub use error::{EvalError, IdentifyError};
 pub use error_measure::{curve_error, CurveError, ErrorMeasure};
 pub use law_fit::{identify, LawFit, LawResult};
 pub use space::Space;
@@ -55,7 +55,7 @@ pub use stat::Stat;
 /// named by `names`, in order) and `objective` (`{"Ok": value}` or `{"Err": why}`).
 fn named_history<S: serde::Serializer>(
     names: &[&str],
-    h: &[(usize, Vec<f64>, Result<f64, String>)],
+    h: &[(usize, Vec<f64>, Result<f64, EvalError>)],
     s: S,
 ) -> Result<S::Ok, S::Error> {
     use serde::ser::{SerializeSeq, SerializeStruct};
@@ -65,15 +65,21 @@ fn named_history<S: serde::Serializer>(
             crate::io::summary::write_named(self.0, self.1, s)
         }
     }
-    struct Entry<'a>(&'a [&'a str], &'a (usize, Vec<f64>, Result<f64, String>));
+    struct Entry<'a>(&'a [&'a str], &'a (usize, Vec<f64>, Result<f64, EvalError>));
     impl serde::Serialize for Entry<'_> {
         fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
             let (iteration, x, objective) = self.1;
             let mut e = s.serialize_struct("Entry", 3)?;
             e.serialize_field("iteration", iteration)?;
             e.serialize_field("point", &Point(self.0, x))?;
-            e.serialize_field("objective", objective)?;
+            e.serialize_field("objective", &Objective(objective))?;
             e.end()
+        }
+    }
+    struct Objective<'a>(&'a Result<f64, EvalError>);
+    impl serde::Serialize for Objective<'_> {
+        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            crate::io::summary::with_message(self.0, s)
         }
     }
     let mut seq = s.serialize_seq(Some(h.len()))?;

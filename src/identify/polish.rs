@@ -6,6 +6,7 @@
 //! EGO locates the basin of the global minimum with few evaluations; when an evaluation costs
 //! milliseconds (the damage law along a path), a few hundred more evaluations pin the minimum
 //! down to the objective's resolution.
+use super::error::{EvalError, IdentifyError};
 use argmin::core::{CostFunction, Error, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use std::cell::RefCell;
@@ -23,18 +24,18 @@ pub struct Polished {
     /// Its value.
     pub value: f64,
     /// Every evaluation: point (in the cube) and value.
-    pub evaluations: Vec<(Vec<f64>, Result<f64, String>)>,
+    pub evaluations: Vec<(Vec<f64>, Result<f64, EvalError>)>,
 }
 
 /// Every point evaluated, with its value or why it has none.
-type EvaluationLog = RefCell<Vec<(Vec<f64>, Result<f64, String>)>>;
+type EvaluationLog = RefCell<Vec<(Vec<f64>, Result<f64, EvalError>)>>;
 
-struct Cost<'a, F: Fn(&[f64]) -> Result<f64, String>> {
+struct Cost<'a, F: Fn(&[f64]) -> Result<f64, EvalError>> {
     f: &'a F,
     log: &'a EvaluationLog,
 }
 
-impl<F: Fn(&[f64]) -> Result<f64, String>> CostFunction for Cost<'_, F> {
+impl<F: Fn(&[f64]) -> Result<f64, EvalError>> CostFunction for Cost<'_, F> {
     type Param = Vec<f64>;
     type Output = f64;
     fn cost(&self, p: &Vec<f64>) -> Result<f64, Error> {
@@ -50,13 +51,18 @@ impl<F: Fn(&[f64]) -> Result<f64, String>> CostFunction for Cost<'_, F> {
     }
 }
 
+/// An error of the polish, as the optimizer's.
+fn optimizer(e: impl std::fmt::Display) -> IdentifyError {
+    IdentifyError::Optimizer(e.to_string())
+}
+
 /// Nelder–Mead from `start` (unit cube) on `f`, at most `max_iters` iterations.
-pub fn polish<F: Fn(&[f64]) -> Result<f64, String>>(
+pub fn polish<F: Fn(&[f64]) -> Result<f64, EvalError>>(
     f: &F,
     start: &[f64],
     step: f64,
     max_iters: u64,
-) -> Result<Polished, String> {
+) -> Result<Polished, IdentifyError> {
     let n = start.len();
     let mut simplex = vec![start.to_vec()];
     for i in 0..n {
@@ -66,27 +72,25 @@ pub fn polish<F: Fn(&[f64]) -> Result<f64, String>>(
         simplex.push(v);
     }
     let log = RefCell::new(Vec::new());
-    let solver = NelderMead::new(simplex).with_sd_tolerance(1e-10).map_err(|e| e.to_string())?;
-    let res = Executor::new(Cost { f, log: &log }, solver)
-        .configure(|s| s.max_iters(max_iters))
-        .run()
-        .map_err(|e| e.to_string())?;
+    let solver = NelderMead::new(simplex).with_sd_tolerance(1e-10).map_err(optimizer)?;
+    let res =
+        Executor::new(Cost { f, log: &log }, solver).configure(|s| s.max_iters(max_iters)).run().map_err(optimizer)?;
     let state = res.state();
     let best = state.get_best_param().cloned().unwrap_or_else(|| start.to_vec());
     let unit: Vec<f64> = best.iter().map(|v| v.clamp(0.0, 1.0)).collect();
-    let value = f(&unit)?;
+    let value = f(&unit).map_err(optimizer)?;
     Ok(Polished { unit, value, evaluations: log.into_inner() })
 }
 
 /// [`polish`] from each of `starts`, each restarted from its result `restarts` times (a fresh
 /// simplex around the last best point) while that improves; the best of all.
-pub fn polish_multistart<F: Fn(&[f64]) -> Result<f64, String>>(
+pub fn polish_multistart<F: Fn(&[f64]) -> Result<f64, EvalError>>(
     f: &F,
     starts: &[Vec<f64>],
     step: f64,
     max_iters: u64,
     restarts: usize,
-) -> Result<Polished, String> {
+) -> Result<Polished, IdentifyError> {
     let mut all = Vec::new();
     let mut best: Option<(Vec<f64>, f64)> = None;
     for s in starts {
@@ -107,7 +111,7 @@ pub fn polish_multistart<F: Fn(&[f64]) -> Result<f64, String>>(
             best = Some((at, value));
         }
     }
-    let (unit, value) = best.ok_or_else(|| "no starting point".to_string())?;
+    let (unit, value) = best.ok_or_else(|| IdentifyError::Optimizer("no starting point".into()))?;
     Ok(Polished { unit, value, evaluations: all })
 }
 

@@ -7,7 +7,7 @@
 use super::collective::evaluate_points;
 use super::curves::{mean_of, Curve, MeanKind};
 use super::dem_adapter::{run_virtual_test, DemParameters, DemRun};
-use super::error::IdentifyError;
+use super::error::{EvalError, IdentifyError};
 use super::stat::Stat;
 use crate::dem::sample::SampleConfig;
 use crate::dem::solver::VirtualTest;
@@ -55,7 +55,7 @@ pub fn run_virtual_tests(
 ) -> Result<Option<VirtualCurves>, IdentifyError> {
     ctx.log.info(format!("virtual tests: tension and compression of {samples} sample(s) each"));
     let tests = [vec![0.0], vec![1.0]];
-    let work = |which: &[f64], k: usize| -> Result<DemRun, String> {
+    let work = |which: &[f64], k: usize| -> Result<DemRun, EvalError> {
         let t = if which[0] == 0.0 { tension } else { compression };
         run_virtual_test(sample, p, t, k)
     };
@@ -65,7 +65,7 @@ pub fn run_virtual_tests(
     let mut failures = Vec::new();
     // The valid runs; when none is valid, every run that produced a curve (said so in the
     // failures), so that a test whose samples all stop at their peak still gives a curve.
-    let mut split = |rs: &[Result<DemRun, String>], name: &str| -> Vec<DemRun> {
+    let mut split = |rs: &[Result<DemRun, EvalError>], name: &str| -> Vec<DemRun> {
         let mut valid = Vec::new();
         let mut stopped = Vec::new();
         for (k, r) in rs.iter().enumerate() {

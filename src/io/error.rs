@@ -58,4 +58,30 @@ pub enum IoError {
         /// The operating-system error, as text (it crosses ranks).
         reason: String,
     },
+    /// A results file (CSV, text) cannot be read back.
+    #[error("{}: {source}", file.display())]
+    Read {
+        /// The file.
+        file: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// A results file (CSV, text) cannot be written.
+    #[error("cannot write {}: {source}", file.display())]
+    Write {
+        /// The file.
+        file: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// A value cannot be written as JSON.
+    #[error("{}: {what} cannot be written as JSON: {source}", file.display())]
+    Json {
+        /// The file it was for.
+        file: PathBuf,
+        /// What it is (`the summary`, `the calibration`).
+        what: &'static str,
+        /// serde's error.
+        source: serde_json::Error,
+    },
 }

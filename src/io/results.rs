@@ -193,7 +193,7 @@ impl ResultsWriter {
     ) -> Result<Self, IoError> {
         let read = std::fs::read_to_string(prior)
             .map_err(|e| e.to_string())
-            .and_then(|text| read_steps(&text))
+            .and_then(|text| read_steps(&text).map_err(|e| e.to_string()))
             .and_then(|r| {
                 let sizes = (mesh.n_nodes_global, mesh.n_cells_global);
                 if (r.n_nodes, r.n_cells) == sizes || r.steps.is_empty() {

@@ -78,6 +78,17 @@ macro_rules! named {
 
 pub(crate) use named;
 
+/// A result as `{"Ok": value}` or `{"Err": message}`: a typed error as the summaries write it.
+pub fn with_message<T: Serialize, E: std::fmt::Display, S: serde::Serializer>(
+    r: &Result<T, E>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match r {
+        Ok(v) => s.serialize_newtype_variant("Result", 0, "Ok", v),
+        Err(e) => s.serialize_newtype_variant("Result", 1, "Err", &e.to_string()),
+    }
+}
+
 /// Writes `v` as an object with `names` as keys (for [`named!`]).
 pub fn write_named<T: Serialize, S: serde::Serializer>(names: &[&str], v: &[T], s: S) -> Result<S::Ok, S::Error> {
     use serde::ser::SerializeMap;

@@ -236,16 +236,28 @@ pub(crate) struct IndexedSteps {
     pub steps: Vec<StepRef>,
 }
 
+/// A line of an XDMF index that does not have the layout [`XdmfIndex::render`] writes.
+#[derive(Debug, PartialEq, thiserror::Error)]
+#[error("line {line}: {expected}: {text}")]
+pub(crate) struct BadLine {
+    /// 1-based line number.
+    line: usize,
+    /// What was expected there.
+    expected: &'static str,
+    /// The line.
+    text: String,
+}
+
 /// The steps of an index written by [`XdmfIndex::render`] (module docs, "Restarts"). Errors: a
 /// line that does not have the layout `render` writes, a step without time or file.
-pub(crate) fn read_steps(text: &str) -> Result<IndexedSteps, String> {
+pub(crate) fn read_steps(text: &str) -> Result<IndexedSteps, BadLine> {
     let mut out = IndexedSteps { n_nodes: 0, n_cells: 0, topology_len: 0, steps: Vec::new() };
     let mut step: Option<StepRef> = None;
     // The element whose data item comes next: topology, geometry, or an attribute (name, center).
     let mut pending: Option<Option<(String, Center)>> = None;
     let mut in_topology = false;
     for (n, line) in text.lines().enumerate() {
-        let at = |what: &str| format!("line {}: {what}: {}", n + 1, line.trim());
+        let at = |expected: &'static str| BadLine { line: n + 1, expected, text: line.trim().to_string() };
         let l = line.trim();
         if l.starts_with("<Grid Name=\"step_") {
             step = Some(StepRef { time: f64::NAN, fields: Vec::new(), h5_name: None });
@@ -472,7 +484,7 @@ mod tests {
         assert_eq!(y.render(), x.render());
         // A broken line is named.
         let bad = x.render().replacen("<Time Value=\"0.0\"/>", "<Time Value=\"zero\"/>", 1);
-        let e = read_steps(&bad).unwrap_err();
+        let e = read_steps(&bad).unwrap_err().to_string();
         assert!(e.contains("a time") && e.starts_with("line "), "{e}");
     }
 

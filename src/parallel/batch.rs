@@ -13,7 +13,7 @@
 //! ```
 //!
 //! Results travel as JSON bytes, so any `Serialize` result works; they are returned on rank 0
-//! in task order. A task that fails returns its message as `Err` in its slot; the batch goes on.
+//! in task order. A task that fails returns its typed error as `Err` in its slot; the batch goes on.
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::Communicator;
@@ -27,8 +27,16 @@ const TAG_RESULT: i32 = 7102;
 const TAG_TASK: i32 = 7103;
 const STOP: u64 = u64::MAX;
 
-/// The outcome of one task: its result, or the message of its failure.
-pub type TaskResult<R> = Result<R, String>;
+/// The outcome of one task: its result, or its error `E` (which crosses ranks as JSON).
+pub type TaskResult<R, E> = Result<R, E>;
+
+/// A task that produced no result (its worker panicked): the error in its slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize, thiserror::Error)]
+#[error("task {task} produced no result")]
+pub struct Unfinished {
+    /// The task.
+    pub task: usize,
+}
 
 /// Errors of the batch machinery itself (not of the tasks).
 #[derive(Debug, thiserror::Error)]
@@ -46,15 +54,16 @@ pub enum BatchError {
 /// Collective. Runs tasks `0..n_tasks` with `work` over all ranks of `comm`, dynamically
 /// scheduled. Rank 0 gets `Some(results)` in task order (and `progress(done, total)` after each
 /// result arrives); other ranks get `None`.
-pub fn run_batch<R, F, P>(
+pub fn run_batch<R, E, F, P>(
     comm: &SimpleCommunicator,
     n_tasks: usize,
     work: F,
     mut progress: P,
-) -> Result<Option<Vec<TaskResult<R>>>, BatchError>
+) -> Result<Option<Vec<TaskResult<R, E>>>, BatchError>
 where
     R: Serialize + DeserializeOwned + Send,
-    F: Fn(usize) -> TaskResult<R> + Sync,
+    E: Serialize + DeserializeOwned + Send + From<Unfinished>,
+    F: Fn(usize) -> TaskResult<R, E> + Sync,
     P: FnMut(usize, usize),
 {
     if comm.rank() != 0 {
@@ -73,7 +82,7 @@ where
 
 /// A task's result as the bytes of a `TAG_RESULT` message: the task index (8 bytes, little
 /// endian), then the result as JSON.
-fn encode<R: Serialize>(task: usize, r: &TaskResult<R>) -> Result<Vec<u8>, BatchError> {
+fn encode<R: Serialize, E: Serialize>(task: usize, r: &TaskResult<R, E>) -> Result<Vec<u8>, BatchError> {
     let mut bytes = (task as u64).to_le_bytes().to_vec();
     let body = serde_json::to_vec(r).map_err(|e| BatchError::Transfer { task, message: e.to_string() })?;
     bytes.extend(body);
@@ -81,16 +90,16 @@ fn encode<R: Serialize>(task: usize, r: &TaskResult<R>) -> Result<Vec<u8>, Batch
 }
 
 /// The task index and the result of a `TAG_RESULT` message ([`encode`]'s bytes, at least 8).
-fn decode<R: DeserializeOwned>(msg: &[u8]) -> (usize, serde_json::Result<TaskResult<R>>) {
+fn decode<R: DeserializeOwned, E: DeserializeOwned>(msg: &[u8]) -> (usize, serde_json::Result<TaskResult<R, E>>) {
     let mut id = [0u8; 8];
     id.copy_from_slice(&msg[..8]);
-    (u64::from_le_bytes(id) as usize, serde_json::from_slice::<TaskResult<R>>(&msg[8..]))
+    (u64::from_le_bytes(id) as usize, serde_json::from_slice::<TaskResult<R, E>>(&msg[8..]))
 }
 
 /// Rank r > 0: "ready", then task → compute → result (also a request) until rank 0 says STOP.
-fn work_for_root<R: Serialize>(
+fn work_for_root<R: Serialize, E: Serialize>(
     comm: &SimpleCommunicator,
-    work: &impl Fn(usize) -> TaskResult<R>,
+    work: &impl Fn(usize) -> TaskResult<R, E>,
 ) -> Result<(), BatchError> {
     let root = comm.process_at_rank(0);
     root.send_with_tag(&[0u8; 0][..], TAG_READY);
@@ -107,16 +116,16 @@ fn work_for_root<R: Serialize>(
 
 /// Rank 0's bookkeeping, shared by the scheduler and the local worker: the counter that hands
 /// out task indices, the results by task, and how many have come in.
-struct Board<R> {
+struct Board<R, E> {
     n_tasks: usize,
     /// The next task index to hand out (≥ `n_tasks`: none left).
     next: AtomicUsize,
-    slots: Mutex<Vec<Option<TaskResult<R>>>>,
+    slots: Mutex<Vec<Option<TaskResult<R, E>>>>,
     /// Results come in (decoded or not).
     done: AtomicUsize,
 }
 
-impl<R> Board<R> {
+impl<R, E: From<Unfinished>> Board<R, E> {
     /// No task handed out yet.
     fn new(n_tasks: usize) -> Self {
         Board {
@@ -133,7 +142,7 @@ impl<R> Board<R> {
     }
 
     /// Keeps the result of task `k` (one out of range is dropped).
-    fn store(&self, k: usize, r: TaskResult<R>) {
+    fn store(&self, k: usize, r: TaskResult<R, E>) {
         if let Ok(mut v) = self.slots.lock() {
             if k < self.n_tasks {
                 v[k] = Some(r);
@@ -152,20 +161,17 @@ impl<R> Board<R> {
     }
 
     /// The results in task order; a task without one gets an `Err` saying so.
-    fn results(self) -> Vec<TaskResult<R>> {
+    fn results(self) -> Vec<TaskResult<R, E>> {
         // A worker that panicked poisons the lock: keep the results it did store (the missing ones
         // are reported per task below) rather than lose them all.
         let v = self.slots.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner());
-        v.into_iter()
-            .enumerate()
-            .map(|(k, r)| r.unwrap_or_else(|| Err(format!("task {k} produced no result"))))
-            .collect()
+        v.into_iter().enumerate().map(|(task, r)| r.unwrap_or_else(|| Err(E::from(Unfinished { task })))).collect()
     }
 }
 
 /// Rank 0's worker thread: takes task indices from the board and computes them until none is
 /// left. It makes no MPI call.
-fn work_locally<R>(board: &Board<R>, work: &impl Fn(usize) -> TaskResult<R>) {
+fn work_locally<R, E: From<Unfinished>>(board: &Board<R, E>, work: &impl Fn(usize) -> TaskResult<R, E>) {
     loop {
         let k = board.take();
         if k >= board.n_tasks {
@@ -180,9 +186,9 @@ fn work_locally<R>(board: &Board<R>, work: &impl Fn(usize) -> TaskResult<R>) {
 /// the next task or STOP) until each has been told to stop and the local worker has finished,
 /// reporting progress as results come in from either. A result that cannot be decoded is the
 /// batch's error, after the loop.
-fn serve<R: DeserializeOwned>(
+fn serve<R: DeserializeOwned, E: DeserializeOwned + From<Unfinished>>(
     comm: &SimpleCommunicator,
-    board: &Board<R>,
+    board: &Board<R, E>,
     progress: &mut impl FnMut(usize, usize),
 ) -> Result<(), BatchError> {
     let n_remote = (comm.size() - 1) as usize;
@@ -202,7 +208,7 @@ fn serve<R: DeserializeOwned>(
         let (msg, status) = probed.matched_receive_vec::<u8>();
         let from = comm.process_at_rank(status.source_rank());
         if status.tag() == TAG_RESULT && msg.len() >= 8 {
-            match decode::<R>(&msg) {
+            match decode::<R, E>(&msg) {
                 (k, Ok(r)) => board.store(k, r),
                 (k, Err(e)) => outcome = Err(BatchError::Transfer { task: k, message: e.to_string() }),
             }

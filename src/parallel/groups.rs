@@ -39,25 +39,43 @@ pub struct Groups {
     pub count: usize,
 }
 
+/// Why the world cannot be split into groups.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum GroupError {
+    /// The group size does not divide the rank count.
+    #[error(
+        "a group size of {size} rank(s) does not divide the {ranks} rank(s) of the run: use a divisor of {ranks}, or run on a multiple of {size} ranks"
+    )]
+    Size {
+        /// The group size.
+        size: usize,
+        /// The ranks of the run.
+        ranks: usize,
+    },
+    /// MPI could not create a communicator.
+    #[error("the {which} communicator could not be created")]
+    Communicator {
+        /// Which (`group`, `leaders'`).
+        which: &'static str,
+    },
+}
+
 impl Groups {
     /// Collective over `world`. Splits it into groups of `size` consecutive ranks; `size` must
     /// divide the rank count (the error says so, with both numbers).
-    pub fn split(world: &SimpleCommunicator, size: usize) -> Result<Groups, String> {
+    pub fn split(world: &SimpleCommunicator, size: usize) -> Result<Groups, GroupError> {
         let n = world.size() as usize;
         if size == 0 || n % size != 0 {
-            return Err(format!(
-                "a group size of {size} rank(s) does not divide the {n} rank(s) of the run: use a divisor of {n}, or run on a multiple of {size} ranks"
-            ));
+            return Err(GroupError::Size { size, ranks: n });
         }
         let rank = world.rank() as usize;
         let index = rank / size;
-        let group = world
-            .split_by_color(Color::with_value(index as i32))
-            .ok_or_else(|| "the group communicator could not be created".to_string())?;
+        let group =
+            world.split_by_color(Color::with_value(index as i32)).ok_or(GroupError::Communicator { which: "group" })?;
         let is_leader = group.rank() == 0;
         let leaders = world.split_by_color(if is_leader { Color::with_value(0) } else { Color::undefined() });
         if is_leader && leaders.is_none() {
-            return Err("the leaders' communicator could not be created".into());
+            return Err(GroupError::Communicator { which: "leaders'" });
         }
         Ok(Groups { group, leaders, index, count: n / size })
     }

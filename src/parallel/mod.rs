@@ -15,9 +15,9 @@ mod partition;
 mod phases;
 
 pub use agree::{agree, Agreed};
-pub use batch::{run_batch, BatchError, TaskResult};
+pub use batch::{run_batch, BatchError, TaskResult, Unfinished};
 pub use context::{all_ranks, global_sum, print_error, Context, Log};
 pub use dof_map::{DofMap, Preallocation, DOFS_PER_NODE};
-pub use groups::{Answer, Dispatcher, Groups, TaskSource};
+pub use groups::{Answer, Dispatcher, GroupError, Groups, TaskSource};
 pub use partition::{partition_cells, PartitionError};
 pub use phases::{timed, Phases};

@@ -36,27 +36,28 @@ pub fn partition_cells(comm: &impl Communicator, cells: &[&[usize]]) -> Result<V
     }
     let mut part: Vec<i32> = vec![0; n];
     let mut status: i32 = 0;
-    let mut message = String::new();
+    let mut failure = None;
     if comm.rank() == 0 {
         match metis_dual(cells, n_parts) {
             Ok(p) => part = p,
-            Err(m) => {
+            Err(e) => {
                 status = 1;
-                message = m;
+                failure = Some(e);
             }
         }
     }
     let root = comm.process_at_rank(0);
     root.broadcast_into(&mut status);
     if status != 0 {
-        // Every rank returns the same error; rank 0's message is the one that is printed.
-        return Err(PartitionError::Metis { n_cells: n, n_parts, message });
+        // Every rank returns an error; rank 0's, with METIS's message, is the one that is printed.
+        return Err(failure.unwrap_or(PartitionError::Metis { n_cells: n, n_parts, message: String::new() }));
     }
     root.broadcast_into(&mut part[..]);
     Ok(part.into_iter().map(|p| p as usize).collect())
 }
 
-fn metis_dual(cells: &[&[usize]], n_parts: usize) -> Result<Vec<i32>, String> {
+fn metis_dual(cells: &[&[usize]], n_parts: usize) -> Result<Vec<i32>, PartitionError> {
+    let failed = |message: String| PartitionError::Metis { n_cells: cells.len(), n_parts, message };
     // Compact node numbering: METIS infers the node count from the largest index.
     let mut compact = std::collections::HashMap::new();
     let mut eptr: Vec<metis::Idx> = Vec::with_capacity(cells.len() + 1);
@@ -71,8 +72,8 @@ fn metis_dual(cells: &[&[usize]], n_parts: usize) -> Result<Vec<i32>, String> {
     }
     let mut epart = vec![0 as metis::Idx; cells.len()];
     let mut npart = vec![0 as metis::Idx; compact.len()];
-    let mesh = metis::Mesh::new(n_parts as metis::Idx, &eptr, &eind).map_err(|e| format!("{e:?}"))?;
-    mesh.part_dual(&mut epart, &mut npart).map_err(|e| e.to_string())?;
+    let mesh = metis::Mesh::new(n_parts as metis::Idx, &eptr, &eind).map_err(|e| failed(format!("{e:?}")))?;
+    mesh.part_dual(&mut epart, &mut npart).map_err(|e| failed(e.to_string()))?;
     Ok(epart.into_iter().collect())
 }
 

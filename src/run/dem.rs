@@ -18,13 +18,15 @@
 //! Signs: the curve files keep the solver's convention (tension positive); the chart plots
 //! compression tests as shortening and compressive stress, both positive.
 use crate::config::DemJob;
+use crate::dem::error::TestFailure;
 use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{
     run_test_observed, FailureModeTag, Report, SolverOptions, StateRecord, TestEnd, TestResult, VirtualTest,
 };
-use crate::error::Error;
+use crate::error::{Error, JobError};
 use crate::identify::Stat;
+use crate::io::summary::with_message;
 use crate::parallel::{agree, run_batch, Context, Log, Phases};
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;
@@ -38,8 +40,10 @@ pub struct SampleReport {
     pub sample: usize,
     /// Its seed.
     pub seed: u64,
-    /// Derived numbers (Pa, -), or the error that stopped it before anything was recorded.
-    pub result: Result<crate::dem::solver::Derived, String>,
+    /// Derived numbers (Pa, -), or the error that stopped it before anything was recorded
+    /// (written as its message).
+    #[serde(serialize_with = "with_message")]
+    pub result: Result<crate::dem::solver::Derived, TestFailure>,
     /// How the test ended (target, loss of load, post-peak collapse, failure); `None` when it
     /// could not start.
     pub end: Option<TestEnd>,
@@ -110,23 +114,32 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
     // Runs on the rank that got sample k; that rank writes the sample's particle states. Rank 0
     // reports the progress of the samples it runs itself.
     let log = &ctx.log;
-    let work = |k: usize| -> Result<TestResult, String> {
-        let sample = Sample::build(&sample_config(job, k)).map_err(|e| format!("sample {k}: {e}"))?;
+    let work = |k: usize| -> Result<TestResult, TestFailure> {
+        let sample = Sample::build(&sample_config(job, k)).map_err(|e| TestFailure::Sample {
+            sample: k,
+            seed: None,
+            message: e.to_string(),
+        })?;
         let report = log.is_root().then(|| sample_progress(log.clone(), k, PROGRESS_EVERY));
         let mut result = run_test_observed(&sample, &job.params, &job.spec.test, opts, states, report)
-            .map_err(|e| format!("sample {k}: {e}"))?;
+            .map_err(|e| TestFailure::solver(k, None, &e))?;
         if !result.particle_states.is_empty() {
             let sdir = job.output_dir.join(format!("sample-{k:03}"));
-            std::fs::create_dir_all(&sdir).map_err(|e| format!("sample {k}: cannot create {}: {e}", sdir.display()))?;
+            let output = |what: String, e: &dyn std::fmt::Display| TestFailure::Output {
+                sample: k,
+                what,
+                message: e.to_string(),
+            };
+            std::fs::create_dir_all(&sdir).map_err(|e| output(format!("cannot create {}", sdir.display()), &e))?;
             write_particle_states(&sdir, "particles", &sample, &result)
-                .map_err(|e| format!("sample {k}: particle states: {e}"))?;
+                .map_err(|e| output("particle states".into(), &e))?;
             result.particle_states = Vec::new();
         }
         Ok(result)
     };
     let results = phases.time("batch", || {
         let batch = run_batch(&ctx.comm, n, work, |done, total| log.info(format!("  {done}/{total} samples done")));
-        agree(&ctx.comm, batch.map_err(|e| Error::Analysis(e.to_string())), Error::exit_code)
+        agree(&ctx.comm, batch.map_err(Error::from), Error::exit_code)
     })?;
     let seconds = phases.seconds("batch");
     let written = match results {
@@ -243,7 +256,7 @@ impl Tally {
 fn write_outputs(
     ctx: &Context,
     job: &DemJob,
-    results: &[Result<TestResult, String>],
+    results: &[Result<TestResult, TestFailure>],
     seconds: f64,
 ) -> Result<DemSummary, Error> {
     let axes = Axes::of(job);
@@ -254,9 +267,9 @@ fn write_outputs(
     for (k, r) in results.iter().enumerate() {
         let seed = sample_config(job, k).seed;
         let report = match r {
-            Err(msg) => {
-                ctx.log.warn(msg);
-                let result = Err(msg.clone());
+            Err(failure) => {
+                ctx.log.warn(failure.to_string());
+                let result = Err(failure.clone());
                 SampleReport {
                     sample: k,
                     seed,
@@ -291,13 +304,10 @@ fn write_outputs(
         reports.push(report);
     }
     if tally.young_modulus.is_empty() {
-        return Err(Error::Analysis(
-            "DEM: every sample failed (see the warnings above; the curves recorded so far are in the sample folders)"
-                .into(),
-        ));
+        return Err(JobError::EverySampleFailed.into());
     }
     chart = with_experiment(chart, job, &tally.peak_stress);
-    chart.save_png(&job.output_dir.join("stress_strain.png")).map_err(|e| Error::Analysis(e.to_string()))?;
+    chart.save_png(&job.output_dir.join("stress_strain.png"))?;
     let t = &tally;
     let s = DemSummary {
         test: job.spec.test.clone(),
@@ -329,8 +339,7 @@ fn write_sample(ctx: &Context, job: &DemJob, k: usize, t: &TestResult, axes: &Ax
         let f = sdir.join("curve.png");
         LineChart::new(&format!("{}: sample {k}", axes.title), axes.x, axes.y)
             .series("DEM (hysteresis loops)", pts.clone(), SeriesStyle::Line)
-            .save_png(&f)
-            .map_err(|e| Error::Analysis(format!("{}: {e}", f.display())))?;
+            .save_png(&f)?;
     }
     match &t.end {
         TestEnd::Failed { message } => ctx.log.warn(format!(
@@ -439,7 +448,7 @@ fn write_curve(file: &Path, t: &TestResult) -> Result<(), Error> {
 
 /// Crack pictures at the first crack, at the peak and at the end (undeformed stones).
 fn write_cracks(job: &DemJob, k: usize, dir: &Path, t: &TestResult) -> Result<(), Error> {
-    let sample = Sample::build(&sample_config(job, k)).map_err(|e| Error::Analysis(format!("sample {k}: {e}")))?;
+    let sample = Sample::build(&sample_config(job, k)).map_err(|source| JobError::Sample { sample: k, source })?;
     let peak_state =
         t.curve.iter().max_by(|a, b| a.stress.abs().total_cmp(&b.stress.abs())).map(|c| c.state).unwrap_or(0);
     let first_state = t.broken.first().map(|b| b.state).unwrap_or(0);
@@ -452,7 +461,7 @@ fn write_cracks(job: &DemJob, k: usize, dir: &Path, t: &TestResult) -> Result<()
         let broken: Vec<(usize, u8)> =
             t.broken.iter().filter(|b| upto.is_none_or(|s| b.state <= s)).map(|b| (b.beam, cat(b.mode))).collect();
         let style = SvgStyle { title: Some(format!("sample {k}: cracks at {name}")), ..SvgStyle::default() };
-        let svg = draw_svg(&sample, None, &broken, &style).map_err(|e| Error::Analysis(e.to_string()))?;
+        let svg = draw_svg(&sample, None, &broken, &style).map_err(|source| JobError::Sample { sample: k, source })?;
         let f = dir.join(format!("cracks-{name}.svg"));
         std::fs::write(&f, svg).map_err(io_err(&f))?;
     }

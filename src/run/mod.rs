@@ -25,6 +25,7 @@ pub use output_dir::{backup_path, prepare_output_dir};
 
 use crate::analysis::linear_static;
 use crate::config::{load_job, AnalysisConfig, AnyJob, Job, MaterialPointJob};
+use crate::io::IoError;
 use crate::mesh::{read_msh, Mesh};
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context};
@@ -240,8 +241,11 @@ pub(crate) fn prepare(ctx: &Context, dir: &Path, policy: crate::config::Existing
 fn write_summary(ctx: &Context, dir: &Path, summary: &impl serde::Serialize) -> Result<(), Error> {
     if ctx.rank == 0 {
         let file = dir.join("summary.json");
-        let text = crate::io::summary::summary_json(summary)
-            .map_err(|e| Error::Analysis(format!("{}: the summary cannot be written as JSON: {e}", file.display())))?;
+        let text = crate::io::summary::summary_json(summary).map_err(|source| IoError::Json {
+            file: file.clone(),
+            what: "the summary",
+            source,
+        })?;
         std::fs::write(&file, text + "\n").map_err(|source| Error::OutputDir { path: file.clone(), source })?;
         ctx.log.info(format!("summary: {}", file.display()));
     }

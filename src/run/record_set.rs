@@ -17,7 +17,7 @@
 //! A set that fails the check ends the job with an error (exit code 1) after writing all of
 //! this, unless `[record_set] require_compatible = false`.
 use crate::config::RecordSetJob;
-use crate::error::Error;
+use crate::error::{Error, JobError};
 use crate::parallel::{agree, Context};
 use crate::seismic::{
     build_set, intensity, log_periods, record_png, record_set_png, write_two_column, Compatibility, Ec8Type, Member,
@@ -102,7 +102,6 @@ pub fn run(ctx: &Context, job: &RecordSetJob) -> Result<(), Error> {
 }
 
 fn compute(ctx: &Context, job: &RecordSetJob) -> Result<(), Error> {
-    let analysis = |e: crate::seismic::SeismicError| Error::Analysis(e.to_string());
     let recipe = SetRecipe {
         target: job.target,
         rules: job.rules,
@@ -111,14 +110,14 @@ fn compute(ctx: &Context, job: &RecordSetJob) -> Result<(), Error> {
         range_points: job.spec.record_set.range_points,
         chart_periods: log_periods(CHART_PERIODS.0, CHART_PERIODS.1, CHART_PERIODS.2),
     };
-    let set = build_set(&recipe).map_err(analysis)?;
+    let set = build_set(&recipe)?;
     let dir = &job.output_dir;
     let mut records = Vec::new();
     for (i, m) in set.members.iter().enumerate() {
         let file = format!("record-{:02}.txt", i + 1);
-        write_two_column(&m.record, &dir.join(&file), &header(job, m)).map_err(analysis)?;
+        write_two_column(&m.record, &dir.join(&file), &header(job, m))?;
         let png = dir.join(format!("record-{:02}.png", i + 1));
-        record_png(&png, &m.record).map_err(|e| Error::Analysis(e.to_string()))?;
+        record_png(&png, &m.record)?;
         records.push(record_summary(file, m));
         let r = records.last().map_or(String::new(), |r: &RecordSummary| {
             format!("{}: {} ({}), PGA {:.4} m/s², D5-95 {:.2} s", r.file, r.name, r.origin, r.pga, r.d5_95)
@@ -133,8 +132,7 @@ fn compute(ctx: &Context, job: &RecordSetJob) -> Result<(), Error> {
         job.spec.record_set.ground,
         job.target.ag
     );
-    record_set_png(&dir.join("spectra.png"), &title, &set, &job.target, job.rules.fraction, CHART_PERIODS.1)
-        .map_err(|e| Error::Analysis(e.to_string()))?;
+    record_set_png(&dir.join("spectra.png"), &title, &set, &job.target, job.rules.fraction, CHART_PERIODS.1)?;
     let c = &set.check;
     write_text(&dir.join("check.txt"), &check_text(c))?;
     ctx.log.info(format!(
@@ -162,16 +160,15 @@ fn compute(ctx: &Context, job: &RecordSetJob) -> Result<(), Error> {
     super::write_summary(ctx, dir, &summary)?;
     ctx.log.info(format!("results: {}", dir.display()));
     if !c.passed {
-        let msg = format!(
-            "{}: the record set is not compatible with EN 1998-1 (see {}): {}",
-            job.source.file.display(),
-            dir.join("check.txt").display(),
-            c.failures().join("; ")
-        );
+        let e = JobError::RecordSetNotCompatible {
+            file: job.source.file.clone(),
+            check: dir.join("check.txt"),
+            failures: c.failures(),
+        };
         if job.spec.record_set.require_compatible {
-            return Err(Error::Analysis(msg));
+            return Err(e.into());
         }
-        ctx.log.warn(msg);
+        ctx.log.warn(e.to_string());
     }
     Ok(())
 }

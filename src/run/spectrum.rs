@@ -52,7 +52,7 @@ fn compute(ctx: &Context, job: &SpectrumJob) -> Result<SpectrumSummary, Error> {
     let a = &job.spec.analysis;
     let dir = &job.output_dir;
     let periods = log_periods(a.periods.min, a.periods.max, a.periods.count);
-    let sp = response_spectrum(r, &periods, a.damping).map_err(|e| Error::Analysis(e.to_string()))?;
+    let sp = response_spectrum(r, &periods, a.damping)?;
     let mut csv = String::from("period,sd,sv,sa\n");
     for i in 0..sp.periods.len() {
         let _ = writeln!(csv, "{:e},{:e},{:e},{:e}", sp.periods[i], sp.sd[i], sp.sv[i], sp.sa[i]);
@@ -63,8 +63,7 @@ fn compute(ctx: &Context, job: &SpectrumJob) -> Result<SpectrumSummary, Error> {
     if let Some(e) = &job.spec.ec8 {
         let fine: Vec<f64> = (0..=400).map(|i| i as f64 * a.periods.max / 400.0).collect();
         for &t in &e.types {
-            let s =
-                Ec8Spectrum::new(t, e.ground, e.ag, 100.0 * a.damping).map_err(|e| Error::Analysis(e.to_string()))?;
+            let s = Ec8Spectrum::new(t, e.ground, e.ag, 100.0 * a.damping)?;
             let kind = match t {
                 Ec8Type::Type1 => "type 1 (Ms > 5.5)",
                 Ec8Type::Type2 => "type 2 (Ms ≤ 5.5)",
@@ -73,9 +72,8 @@ fn compute(ctx: &Context, job: &SpectrumJob) -> Result<SpectrumSummary, Error> {
         }
     }
     let title = job.spec.title.clone().unwrap_or_else(|| format!("{}: elastic response spectrum", r.name));
-    let plot = |e: crate::plot::PlotError| Error::Analysis(e.to_string());
-    spectrum_png(&dir.join("spectrum.png"), &title, &[(r.name.as_str(), &sp)], &code).map_err(plot)?;
-    record_png(&dir.join("record.png"), r).map_err(plot)?;
+    spectrum_png(&dir.join("spectrum.png"), &title, &[(r.name.as_str(), &sp)], &code)?;
+    record_png(&dir.join("record.png"), r)?;
     let im = intensity(r);
     let peak = sp.sa.iter().zip(&sp.periods).fold((0.0, 0.0), |m, (s, t)| if *s > m.0 { (*s, *t) } else { m });
     ctx.log.info(format!(

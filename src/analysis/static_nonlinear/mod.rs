@@ -45,7 +45,7 @@ use super::line_search::LineSearchSettings;
 use super::newton::{global_sum, Increment, NewtonOutcome, NewtonSettings, NonlinearSystem};
 use super::Discretization;
 use crate::config::{IterationMatrix, Job, LineSearchKind, StaticNonlinearConfig};
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::Context;
@@ -237,12 +237,13 @@ impl Increments<'_> {
                 control.converged();
                 if t < 1.0 - 1e-12 && control.exhausted() {
                     self.draw_curve()?;
-                    return Err(Error::Analysis(format!(
-                        "static_nonlinear: stage '{}' stopped at {t:.6} of the stage: {}; results up to the last converged increment are in {}",
-                        stage.name,
-                        IncrementStop::Budget.describe(&control),
-                        self.results_path()
-                    )));
+                    return Err(AnalysisError::StageStopped {
+                        stage: stage.name.to_string(),
+                        at: t,
+                        reason: IncrementStop::Budget.describe(&control),
+                        results: self.results_path(),
+                    }
+                    .into());
                 }
             } else {
                 let (ctx, mesh, model) = (self.ctx, self.mesh, self.model);
@@ -252,17 +253,19 @@ impl Increments<'_> {
                 // spent (successes in between do not make it shrink forever: `increment.rs`).
                 if let Err(stop) = control.failed() {
                     self.draw_curve()?;
-                    return Err(Error::Analysis(format!(
-                        "static_nonlinear: stage '{}' stopped at {:.6} of the stage: the increment towards {:.6} failed ({}, relative residual {:.3e}) \
-                         and {}; {diagnosis}; results up to the last converged increment are in {}",
-                        stage.name,
-                        t,
-                        target,
+                    let reason = format!(
+                        "the increment towards {target:.6} failed ({}, relative residual {:.3e}) and {}; {diagnosis}",
                         out.reason,
                         out.residual,
                         stop.describe(&control),
-                        self.results_path()
-                    )));
+                    );
+                    return Err(AnalysisError::StageStopped {
+                        stage: stage.name.to_string(),
+                        at: t,
+                        reason,
+                        results: self.results_path(),
+                    }
+                    .into());
                 }
                 self.cuts += 1;
                 let dt = control.size();

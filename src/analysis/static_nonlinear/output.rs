@@ -8,6 +8,7 @@ use crate::analysis::Discretization;
 use crate::config::{Job, StaticNonlinearConfig};
 use crate::element::AppliedLoads;
 use crate::error::Error;
+use crate::io::IoError;
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
@@ -42,7 +43,7 @@ impl Outputs {
         if ctx.rank == 0 {
             let header = "stage,lambda,control_displacement,control_force,dissipated_energy,iterations,residual\n";
             std::fs::write(&curve_path, header)
-                .map_err(|e| Error::Analysis(format!("{}: {e}", curve_path.display())))?;
+                .map_err(|source| IoError::Write { file: curve_path.clone(), source })?;
         }
         let overlay = match cfg.control.as_ref().and_then(|c| c.overlay.as_ref()) {
             Some(o) => Some((
@@ -134,13 +135,13 @@ pub(super) fn write_step(
             let mut f = std::fs::OpenOptions::new()
                 .append(true)
                 .open(curve)
-                .map_err(|e| Error::Analysis(format!("{}: {e}", curve.display())))?;
+                .map_err(|source| IoError::Write { file: curve.to_path_buf(), source })?;
             writeln!(
                 f,
                 "{},{:.12e},{:.12e},{:.12e},{:.12e},{},{:.3e}",
                 stage.name, lambda, control_displacement, control_force, dissipated, iterations, residual
             )
-            .map_err(|e| Error::Analysis(format!("{}: {e}", curve.display())))?;
+            .map_err(|source| IoError::Write { file: curve.to_path_buf(), source })?;
         }
         Ok(())
     })();

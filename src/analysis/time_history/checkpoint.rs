@@ -27,7 +27,7 @@ use super::system::DynamicSystem;
 use super::EnergyBalance;
 use crate::config::DynamicsConfig;
 use crate::element::Element;
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::parallel::{agree, Context};
 use mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use std::path::{Path, PathBuf};
@@ -66,7 +66,7 @@ pub fn element_states(elements: &[Box<dyn Element>]) -> Result<Vec<Vec<f64>>, Er
             let mut s = vec![0.0; e.n_state()];
             e.save_state(&mut s)
                 .map(|_| s)
-                .map_err(|source| Error::Analysis(format!("checkpoint: {} state: {source}", e.kind_name())))
+                .map_err(|source| Error::from(AnalysisError::SaveState { kind: e.kind_name(), source }))
         })
         .collect()
 }
@@ -76,7 +76,7 @@ fn checkpoint_dir(results: &Path) -> PathBuf {
 }
 
 fn io_err(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Analysis(format!("checkpoint {}: {e}", path.display()))
+    AnalysisError::Checkpoint { file: path.to_path_buf(), reason: e.to_string() }.into()
 }
 
 fn fnv(bytes: &[u8]) -> u64 {
@@ -144,30 +144,60 @@ impl Reader<'_> {
     }
 }
 
+/// Why a rank's checkpoint file cannot be read.
+#[derive(Debug, PartialEq, thiserror::Error)]
+enum Unreadable {
+    /// The layout of an older version.
+    #[error(
+        "written by an older version (six energies, without the law's dissipation); start the time history again without --restart"
+    )]
+    OldVersion,
+    /// Not a checkpoint file.
+    #[error("not a checkpoint file (bad magic or too short)")]
+    NotACheckpoint,
+    /// The checksum does not match.
+    #[error("checksum mismatch (a damaged file)")]
+    Checksum,
+    /// The file ends early.
+    #[error("truncated file")]
+    Truncated,
+    /// Written by a run on another rank count.
+    #[error("written by a run on {written} rank(s); restart it on {written} rank(s) (mpirun -n {written})")]
+    Ranks {
+        /// The rank count it was written on.
+        written: usize,
+    },
+    /// Another rank's file.
+    #[error("holds rank {holds}, expected {expected}")]
+    Rank {
+        /// The rank it holds.
+        holds: usize,
+        /// The rank reading it.
+        expected: usize,
+    },
+}
+
 /// Decodes a rank file; checks magic, checksum and the rank layout.
-fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, String> {
+fn decode(b: &[u8], ranks: usize, rank: usize) -> Result<Checkpoint, Unreadable> {
     if b.len() >= 8 && &b[..8] == OLD_MAGIC {
-        return Err("written by an older version (six energies, without the law's dissipation); start the time history again without --restart".into());
+        return Err(Unreadable::OldVersion);
     }
     if b.len() < 8 + 8 * 8 + 8 || &b[..8] != MAGIC {
-        return Err("not a checkpoint file (bad magic or too short)".into());
+        return Err(Unreadable::NotACheckpoint);
     }
     let (body, tail) = b.split_at(b.len() - 8);
-    let want = u64::from_le_bytes(tail.try_into().map_err(|_| "truncated")?);
+    let want = u64::from_le_bytes(tail.try_into().map_err(|_| Unreadable::Truncated)?);
     if fnv(body) != want {
-        return Err("checksum mismatch (a damaged file)".into());
+        return Err(Unreadable::Checksum);
     }
     let mut r = Reader { b: body, at: 8 };
-    let bad = || "truncated file".to_string();
+    let bad = || Unreadable::Truncated;
     let h: Vec<usize> = (0..7).map(|_| r.u64().map(|v| v as usize)).collect::<Option<_>>().ok_or_else(bad)?;
     if h[0] != ranks {
-        return Err(format!(
-            "written by a run on {} rank(s); restart it on {} rank(s) (mpirun -n {})",
-            h[0], h[0], h[0]
-        ));
+        return Err(Unreadable::Ranks { written: h[0] });
     }
     if h[1] != rank {
-        return Err(format!("holds rank {}, expected {rank}", h[1]));
+        return Err(Unreadable::Rank { holds: h[1], expected: rank });
     }
     let (n, step, n_el, n_ne, n_ce) = (h[2], h[3], h[4], h[5], h[6]);
     let t = r.f64s(1).ok_or_else(bad)?[0];
@@ -250,20 +280,20 @@ pub(super) fn restore(
     let n = sys.len();
     let loaded = (|| -> Result<(), Error> {
         if c.vectors[0].len() != n || c.states.len() != sys.disc.elements.len() {
-            return Err(Error::Analysis(format!(
-                "the checkpoint holds {} DOFs and {} elements on rank {}, the model {} and {}: was the mesh or the job changed?",
-                c.vectors[0].len(),
-                c.states.len(),
-                ctx.rank,
-                n,
-                sys.disc.elements.len()
-            )));
+            return Err(AnalysisError::CheckpointMismatch {
+                dofs: c.vectors[0].len(),
+                elements: c.states.len(),
+                rank: ctx.rank,
+                model_dofs: n,
+                model_elements: sys.disc.elements.len(),
+            }
+            .into());
         }
         // An element reads the layouts it knows (implicit, or with IMPL-EX's history: either is
         // a valid start for either integration) and refuses any other length.
         for (e, s) in sys.disc.elements.iter_mut().zip(&c.states) {
             e.load_state(s).map_err(|source| {
-                Error::Analysis(format!("the checkpoint's {} state ({} values): {source}", e.kind_name(), s.len()))
+                Error::from(AnalysisError::LoadState { kind: e.kind_name(), values: s.len(), source })
             })?;
         }
         Ok(())
@@ -353,10 +383,10 @@ mod tests {
         let mut old = b[..b.len() - 16].to_vec();
         old.extend_from_slice(&fnv(&old).to_le_bytes());
         assert_eq!(decode(&old, 2, 1).unwrap(), Checkpoint { substep_level: 0, ..c.clone() });
-        assert!(decode(&b, 1, 0).unwrap_err().contains("2 rank(s)"));
+        assert!(decode(&b, 1, 0).unwrap_err().to_string().contains("2 rank(s)"));
         let mut bad = b.clone();
         bad[100] ^= 1;
-        assert!(decode(&bad, 2, 1).unwrap_err().contains("checksum"));
+        assert!(decode(&bad, 2, 1).unwrap_err().to_string().contains("checksum"));
         assert!(decode(&b[..50], 2, 1).is_err());
     }
 }

@@ -2,7 +2,7 @@
 //! largest (node and DOF), and which elements' state the failed iteration changed (trial against
 //! committed state, compared through [`Element::save_state`]).
 use crate::element::Element;
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, DofMap};
@@ -84,6 +84,6 @@ pub fn changed_elements(
 pub(super) fn agreed(ctx: &Context, e: Error) -> Error {
     match agree(&ctx.comm, Err::<(), Error>(e), Error::exit_code) {
         Err(a) => Error::from(a),
-        Ok(()) => Error::Analysis("internal error: an error was lost in agreement".into()),
+        Ok(()) => AnalysisError::LostInAgreement.into(),
     }
 }

@@ -8,6 +8,7 @@
 //! model's nodes within a tolerance of a height, or the nodes of a mesh group. Every rank knows
 //! the levels' nodes (the whole mesh); each sums the displacements of the ones it owns, and the
 //! sums are reduced with the monitors' values (`step_output.rs`).
+use super::monitor::placement;
 use crate::config::{DriftConfig, DriftLevels};
 use crate::error::Error;
 use crate::mesh::Mesh;
@@ -78,28 +79,31 @@ pub fn resolve(cfg: &[DriftConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<Dr
                         .filter(in_model)
                         .map(|n| mesh.coords[n][2])
                         .min_by(|a, b| (a - z).abs().total_cmp(&(b - z).abs()));
-                    return Err(Error::Analysis(format!(
-                        "{what}: levels: no node of the model within {tol} m of z = {z} m (the nearest is at z = {} m)",
-                        nearest.map_or("-".to_string(), |v| v.to_string())
-                    )));
+                    return Err(placement(
+                        &what,
+                        format!(
+                            "levels: no node of the model within {tol} m of z = {z} m (the nearest is at z = {} m)",
+                            nearest.map_or("-".to_string(), |v| v.to_string())
+                        ),
+                    ));
                 }
                 Ok(level(nodes))
             }),
             DriftLevels::Groups(groups) => groups.clone().map(|g| {
-                let group = mesh.group(&g).map_err(|e| Error::Analysis(format!("{what}: groups: {e}")))?;
+                let group = mesh.group(&g).map_err(|e| placement(&what, format!("groups: {e}")))?;
                 let nodes: Vec<usize> = mesh.nodes_in_group(group).into_iter().filter(in_model).collect();
                 if nodes.is_empty() {
-                    return Err(Error::Analysis(format!("{what}: groups: group '{g}' has no node of the model")));
+                    return Err(placement(&what, format!("groups: group '{g}' has no node of the model")));
                 }
                 Ok(level(nodes))
             }),
         };
         let (lower, upper) = (lower?, upper?);
         if upper.z - lower.z <= 0.0 {
-            return Err(Error::Analysis(format!(
-                "{what}: the upper level's mean z ({} m) is not above the lower level's ({} m)",
-                upper.z, lower.z
-            )));
+            return Err(placement(
+                &what,
+                format!("the upper level's mean z ({} m) is not above the lower level's ({} m)", upper.z, lower.z),
+            ));
         }
         out.push(Drift { name: d.name.clone(), lower, upper });
     }

@@ -31,7 +31,7 @@ pub use super::summary::{DriftPeak, TimeHistorySummary};
 use crate::analysis::output::global_max_with_tag;
 use crate::analysis::Discretization;
 use crate::config::{scheme_parameters, DynamicsConfig, Job};
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
@@ -108,7 +108,7 @@ pub fn run_from(
     start: Start,
     observer: &mut dyn StepObserver,
 ) -> Result<TimeHistorySummary, Error> {
-    let cfg = job.spec.dynamics.as_ref().ok_or_else(|| Error::Analysis("a time history needs [dynamics]".into()))?;
+    let cfg = job.spec.dynamics.as_ref().ok_or(AnalysisError::NoDynamics)?;
     let (beta, gamma, alpha) = scheme_parameters(cfg);
     let rayleigh = Rayleigh::from_config(&cfg.damping);
     let ground = ground_motion(cfg);
@@ -171,7 +171,7 @@ pub fn save_gravity(
     disc: Discretization,
     dir: &Path,
 ) -> Result<(), Error> {
-    let cfg = job.spec.dynamics.as_ref().ok_or_else(|| Error::Analysis("a time history needs [dynamics]".into()))?;
+    let cfg = job.spec.dynamics.as_ref().ok_or(AnalysisError::NoDynamics)?;
     let rayleigh = Rayleigh::from_config(&cfg.damping);
     let ground = ground_motion(cfg);
     let mut sys = PetscSystem::on(ctx, job, mesh, model, disc, cfg.mass, rayleigh)?;
@@ -361,7 +361,7 @@ fn step(
         diagnosis::changed_elements(ctx, &mut sys.disc.elements, &sys.disc.local_cells, it.mesh, it.model);
     let ck = checkpoint::save(ctx, sys, state, &out.env, dir)?;
     let listed: Vec<String> = worst.iter().map(|(t, d)| format!("{t} (Δstate {d:.3e})")).collect();
-    let msg = format!(
+    let diagnosis = format!(
         "time history: step {} (t = {:.6} → {target:.6} s) did not converge even with substeps of {:.3e} s ({}; relative residual {:.3e}). \
          Largest out-of-balance force {rmax:.4e} at node {tag}, DOF {dof}. {count} element(s) changed state in the failed iteration{}. \
          The state at t = {:.6} s is checkpointed in {} (restart with --restart after changing the settings); results up to the last output step are in {}",
@@ -376,7 +376,7 @@ fn step(
         out.writer.xdmf_path().display()
     );
     // Every rank has the same failure: agree on it so it is printed once.
-    Err(agreed(ctx, Error::Analysis(msg)))
+    Err(agreed(ctx, AnalysisError::StepFailed { step: state.step + 1, diagnosis }.into()))
 }
 
 /// The substeps and the damage control in the run's last lines: how many steps were substepped

@@ -7,7 +7,7 @@ use super::petsc_system::PetscSystem;
 use crate::analysis::output::{node_triplets, MeshPiece};
 use crate::config::Job;
 use crate::element::AppliedLoads;
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use crate::io::ResultsWriter;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
@@ -65,7 +65,7 @@ pub(super) fn gravity_failure(
         )),
         Err(e) => msg.push_str(&format!(". The last equilibrium (λ = {:.6}) could not be written: {e}", f.lambda)),
     }
-    agreed(ctx, Error::Analysis(msg))
+    agreed(ctx, AnalysisError::GravityFailed { lambda: f.lambda, diagnosis: msg }.into())
 }
 
 /// Collective. "cells with d_t_max > 0.5: group n of m, …" over all ranks, groups in job order.

@@ -7,7 +7,8 @@
 //! every rank (the others add zeros), with the base reactions and the drifts of the same row
 //! (`step_output.rs`).
 use crate::config::MonitorConfig;
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
+use crate::io::IoError;
 use crate::mesh::Mesh;
 use crate::parallel::{Context, DofMap};
 use mpi::traits::CommunicatorCollectives;
@@ -32,6 +33,11 @@ pub struct Monitor {
     pub owned_index: Option<usize>,
 }
 
+/// A monitor or a drift (`key`, with its name) that cannot be placed on the model.
+pub(super) fn placement(key: &str, reason: String) -> Error {
+    AnalysisError::Placement { key: key.to_string(), reason }.into()
+}
+
 /// Resolves the job's monitors against the mesh (errors name the monitor).
 pub fn resolve(cfg: &[MonitorConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<Monitor>, Error> {
     let mut out = Vec::new();
@@ -42,24 +48,21 @@ pub fn resolve(cfg: &[MonitorConfig], mesh: &Mesh, dofs: &DofMap) -> Result<Vec<
                 .node_tags
                 .iter()
                 .position(|&t| t == tag)
-                .ok_or_else(|| Error::Analysis(format!("{what}: the mesh has no node with tag {tag}")))?,
+                .ok_or_else(|| placement(&what, format!("the mesh has no node with tag {tag}")))?,
             (None, Some(g), Some(p)) => {
-                let group = mesh.group(g).map_err(|e| Error::Analysis(format!("{what}: {e}")))?;
+                let group = mesh.group(g).map_err(|e| placement(&what, e.to_string()))?;
                 let nodes = mesh.nodes_in_group(group);
                 let d2 = |n: usize| (0..3).map(|k| (mesh.coords[n][k] - p[k]).powi(2)).sum::<f64>();
                 nodes
                     .into_iter()
                     .filter(|&n| dofs.global[n] != usize::MAX)
                     .min_by(|&a, &b| d2(a).total_cmp(&d2(b)))
-                    .ok_or_else(|| Error::Analysis(format!("{what}: group '{g}' has no node of the model")))?
+                    .ok_or_else(|| placement(&what, format!("group '{g}' has no node of the model")))?
             }
-            _ => return Err(Error::Analysis(format!("{what}: give node, or group with near"))),
+            _ => return Err(placement(&what, "give node, or group with near".into())),
         };
         if dofs.global[node] == usize::MAX {
-            return Err(Error::Analysis(format!(
-                "{what}: node {} belongs to no element of the model",
-                mesh.node_tags[node]
-            )));
+            return Err(placement(&what, format!("node {} belongs to no element of the model", mesh.node_tags[node])));
         }
         let owned_index = dofs.owned.iter().position(|&n| n == node);
         out.push(Monitor { name: m.name.clone(), node, tag: mesh.node_tags[node], at: mesh.coords[node], owned_index });
@@ -92,8 +95,8 @@ pub fn sum_over_ranks(ctx: &Context, local: &[f64]) -> Vec<f64> {
 
 /// The largest |value| of each named column of a CSV file written by [`CsvLog`] and the `time`
 /// of its row (the first such row), in the order of `names`; NaN for a missing column.
-pub fn column_peaks(csv: &Path, names: &[String]) -> Result<Vec<(f64, f64)>, String> {
-    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+pub fn column_peaks(csv: &Path, names: &[String]) -> Result<Vec<(f64, f64)>, IoError> {
+    let text = std::fs::read_to_string(csv).map_err(|source| IoError::Read { file: csv.to_path_buf(), source })?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     let cols: Vec<Option<usize>> = names.iter().map(|n| header.iter().position(|h| h == n)).collect();
@@ -154,7 +157,7 @@ impl CsvLog {
                 Ok(f)
             })()
             .map(Some)
-            .map_err(|e| Error::Analysis(format!("cannot write {}: {e}", path.display())))
+            .map_err(|source| Error::from(IoError::Write { file: path.to_path_buf(), source }))
         } else {
             Ok(None)
         };
@@ -175,9 +178,9 @@ impl CsvLog {
 
 /// Rank 0 draws one PNG per monitor from the CSV file: the relative displacement against time,
 /// in millimetres, one line per component with its peak |u| in the legend.
-pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>, String> {
+pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>, Error> {
     use crate::plot::{LineChart, SeriesStyle};
-    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let text = std::fs::read_to_string(csv).map_err(|source| IoError::Read { file: csv.to_path_buf(), source })?;
     let rows: Vec<Vec<f64>> =
         text.lines().skip(1).map(|l| l.split(',').filter_map(|x| x.parse().ok()).collect()).collect();
     let mut files = Vec::new();
@@ -200,7 +203,7 @@ pub fn draw(csv: &Path, monitors: &[Monitor], dir: &Path) -> Result<Vec<PathBuf>
             }
         }
         let file = dir.join(format!("monitor-{}.png", m.name));
-        chart.save_png(&file).map_err(|e| e.to_string())?;
+        chart.save_png(&file)?;
         files.push(file);
     }
     Ok(files)

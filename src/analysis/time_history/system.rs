@@ -5,7 +5,7 @@
 //! Vectors are the rank's **owned** entries of the global vectors (the whole vector on one
 //! rank); [`DynamicSystem::dot`] reduces over ranks. Fixed DOFs stay in the vectors with the
 //! value 0 in every residual and every load, so they never move relative to the ground.
-use crate::error::Error;
+use crate::error::{AnalysisError, Error};
 use nalgebra::{DMatrix, DVector};
 
 /// A semi-discrete structure `M ü + C u̇ + f_int(u) = f(t)`.
@@ -207,10 +207,8 @@ impl DynamicSystem for DenseSystem {
         Ok(())
     }
     fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
-        let lu = self.lu.as_ref().ok_or_else(|| Error::Analysis("solve before prepare".into()))?;
-        let s = lu
-            .solve(&DVector::from_column_slice(r))
-            .ok_or_else(|| Error::Analysis("singular dense Jacobian".into()))?;
+        let lu = self.lu.as_ref().ok_or(AnalysisError::NotPrepared)?;
+        let s = lu.solve(&DVector::from_column_slice(r)).ok_or(AnalysisError::SingularJacobian)?;
         x.copy_from_slice(s.as_slice());
         Ok(())
     }

@@ -10,6 +10,7 @@ use crate::identify::curves::{Curve, MeanKind};
 use crate::identify::elastic_fit::ElasticFit;
 use crate::identify::material_file::{write_material_file, Provenance, VariantFigure};
 use crate::identify::{CurveError, LawFit, LawResult};
+use crate::io::IoError;
 use crate::material::DamageParams;
 use crate::parallel::Context;
 use crate::plot::{LineChart, SeriesStyle};
@@ -32,11 +33,14 @@ pub(super) fn write_calibration(ctx: &Context, job: &IdentifyJob, r: &Calibratio
     }
     write_text(&dir.join("calibration.csv"), &calibration_history_csv(r))?;
     let f = dir.join("calibration.json");
-    let text = serde_json::to_string_pretty(r)
-        .map_err(|e| Error::Analysis(format!("{}: the calibration cannot be written as JSON: {e}", f.display())))?;
+    let text = serde_json::to_string_pretty(r).map_err(|source| IoError::Json {
+        file: f.clone(),
+        what: "the calibration",
+        source,
+    })?;
     write_text(&f, &(text + "\n"))?;
     let f = dir.join("calibration.png");
-    calibration_chart(r).save_png(&f).map_err(|e| Error::Analysis(e.to_string()))
+    Ok(calibration_chart(r).save_png(&f)?)
 }
 
 /// The calibrated DEM in the log: its parameters and objective, then Table 1 (each quantity's
@@ -93,7 +97,7 @@ fn elastic_stage_csv(el: &ElasticFit) -> String {
                 "{},{:e},{:e},{:e},{:e},{:e},{},",
                 p.round, p.alpha, m.poisson.mean, m.poisson.std, m.e_ratio.mean, m.e_ratio.std, m.poisson.n
             ),
-            Err(e) => writeln!(csv, "{},{:e},,,,,,{}", p.round, p.alpha, e.replace([',', '\n'], ";")),
+            Err(e) => writeln!(csv, "{},{:e},,,,,,{}", p.round, p.alpha, e.to_string().replace([',', '\n'], ";")),
         };
     }
     csv
@@ -111,7 +115,7 @@ fn calibration_history_csv(r: &CalibrationResult) -> String {
     for (i, (it, x, v)) in r.history.iter().enumerate() {
         let (val, err) = match v {
             Ok(v) => (format!("{v:e}"), String::new()),
-            Err(e) => (String::new(), e.replace([',', '\n'], ";")),
+            Err(e) => (String::new(), e.to_string().replace([',', '\n'], ";")),
         };
         let extra = x.get(4).map_or(String::new(), |v| format!("{v:e},"));
         let _ = writeln!(csv, "{i},{it},{:e},{:e},{:e},{:e},{extra}{val},{err}", x[0], x[1], x[2], x[3]);
@@ -279,7 +283,7 @@ fn law_history_csv(fit: &LawFit, r: &LawResult) -> String {
     for (i, ((it, x, v), best)) in r.history.iter().zip(&r.best_so_far).enumerate() {
         let (val, err) = match v {
             Ok(v) => (format!("{v:e}"), String::new()),
-            Err(e) => (String::new(), e.replace([',', '\n'], ";")),
+            Err(e) => (String::new(), e.to_string().replace([',', '\n'], ";")),
         };
         let xs: Vec<String> = x.iter().map(|v| format!("{v:e}")).collect();
         let _ = writeln!(csv, "{i},{it},{},{val},{best:e},{err}", xs.join(","));
@@ -296,9 +300,7 @@ fn draw_law(
     samples: Option<&(Vec<Curve>, Vec<Curve>)>,
 ) -> Result<(), Error> {
     let dir = &job.output_dir;
-    let plot = |c: LineChart, name: &str| -> Result<(), Error> {
-        c.save_png(&dir.join(name)).map_err(|e| Error::Analysis(e.to_string()))
-    };
+    let plot = |c: LineChart, name: &str| -> Result<(), Error> { Ok(c.save_png(&dir.join(name))?) };
     let evals: Vec<(f64, f64)> =
         r.history.iter().enumerate().filter_map(|(i, (_, _, v))| v.as_ref().ok().map(|v| (i as f64, *v))).collect();
     let best: Vec<(f64, f64)> =
@@ -354,12 +356,12 @@ fn write_material_files(
     copy: Option<&Path>,
 ) -> Result<String, Error> {
     let f = job.output_dir.join(name);
-    write_material_file(&f, law, provenance).map_err(Error::Analysis)?;
+    write_material_file(&f, law, provenance)?;
     if let Some(copy) = copy {
         if let Some(parent) = copy.parent() {
             std::fs::create_dir_all(parent).map_err(io_err(parent))?;
         }
-        write_material_file(copy, law, provenance).map_err(Error::Analysis)?;
+        write_material_file(copy, law, provenance)?;
         ctx.log.info(format!("material file: {} (and {})", f.display(), copy.display()));
         return Ok(copy.display().to_string());
     }

@@ -21,7 +21,7 @@ mod variants;
 
 use crate::config::{CalibrationConfig, ElasticSource, ExperimentConfig, IdentifyJob, LawIdentConfig};
 use crate::dem::solver::VirtualTest;
-use crate::error::Error;
+use crate::error::{Error, JobError};
 use crate::identify::calibration::CalibrationResult;
 use crate::identify::collective::broadcast_json;
 use crate::identify::curves::{mean_of, sample_curves_csv, Curve};
@@ -74,7 +74,7 @@ pub struct PhaseSeconds {
 }
 
 fn analysis_err(e: IdentifyError) -> Error {
-    Error::Analysis(e.to_string())
+    Error::from(e)
 }
 
 /// Collective. Runs the job's stages and writes the outputs; the phases' wall times go to the
@@ -245,7 +245,7 @@ fn run_virtual_dem(
     summary: &mut IdentifySummary,
 ) -> Result<DemCurves, Error> {
     let (Some(tt), Some(ct)) = (&l.tension, &l.compression) else {
-        return Err(Error::Analysis("[law] needs tension and compression tests".into()));
+        return Err(JobError::LawWithoutTests.into());
     };
     let v = run_virtual_tests(ctx, &job.spec.sample, dem, tt, ct, l.samples, l.points, l.mean).map_err(analysis_err);
     let Some(v) = agree(&ctx.comm, v, Error::exit_code)? else {
@@ -360,10 +360,7 @@ fn fit_inputs(
         ));
     }
     if !(e.is_finite() && e > 0.0 && nu.is_finite() && nu > -1.0 && nu < 0.5) {
-        return Err(Error::Analysis(format!(
-            "{}: [law] needs young_modulus and poisson (or [experiment] ones) when the DEM curves come from files",
-            path.display()
-        )));
+        return Err(JobError::LawWithoutElastic { file: path.to_path_buf() }.into());
     }
     let (t, c) = if r.gridded {
         r.tension

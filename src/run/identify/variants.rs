@@ -13,7 +13,7 @@
 use super::files::write_variant;
 use super::{analysis_err, mean_of_samples, IdentifySummary};
 use crate::config::{IdentifyJob, LawIdentConfig, LawVariants};
-use crate::error::Error;
+use crate::error::{Error, JobError};
 use crate::identify::collective::broadcast_json;
 use crate::identify::curves::Curve;
 use crate::identify::law_fit::LawEvaluation;
@@ -116,9 +116,7 @@ pub(super) fn fit_variants(
 /// Rank 0. The variants' samples over the curves at hand.
 fn choose(v: &LawVariants, samples: Option<&(Vec<Curve>, Vec<Curve>)>) -> Result<Vec<VariantSamples>, Error> {
     let Some((t, c)) = samples else {
-        return Err(Error::Analysis(
-            "material variants need every sample's curve (the virtual tests, or [law] dem_samples)".into(),
-        ));
+        return Err(JobError::VariantsWithoutSamples.into());
     };
     variant_samples(v.scheme, v.count, v.seed, t.len(), c.len()).map_err(analysis_err)
 }

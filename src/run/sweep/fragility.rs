@@ -6,7 +6,7 @@
 //! curve, the code level.
 use super::hunt::Crossing;
 use crate::config::SweepJob;
-use crate::plot::{LineChart, SeriesStyle};
+use crate::plot::{LineChart, PlotError, SeriesStyle};
 use crate::seismic::{fit_fragility, FragilityFit, Passage};
 use serde::Serialize;
 use std::path::Path;
@@ -92,7 +92,7 @@ pub fn draw(
     crossings: &[&Crossing],
     f: &Fragility,
     out: &Path,
-) -> Result<bool, String> {
+) -> Result<bool, PlotError> {
     let im = job.spec.sweep.scale_by.label();
     let mut known: Vec<f64> = crossings.iter().filter_map(|c| c.intensity).collect();
     if known.is_empty() {
@@ -122,6 +122,6 @@ pub fn draw(
         chart = chart.reference(&format!("site code level {im} = {c}"), vec![(c, 0.0), (c, 1.0)], SeriesStyle::Dashed);
     }
     let file = out.join(format!("fragility-{group}-{:.0}.png", 100.0 * share));
-    chart.legend_upper_left().save_png(&file).map_err(|e| e.to_string())?;
+    chart.legend_upper_left().save_png(&file)?;
     Ok(true)
 }

@@ -3,7 +3,7 @@
 //! and the limits set on it (dashed horizontal): `ida-<group>.png`.
 use super::outcome::{Outcome, Status};
 use crate::config::{Member, SweepJob};
-use crate::plot::{LineChart, SeriesStyle};
+use crate::plot::{LineChart, PlotError, SeriesStyle};
 use std::path::Path;
 
 /// Draws one chart per substructure in `groups` into `out`; the number drawn.
@@ -13,7 +13,7 @@ pub fn draw(
     outcomes: &[Outcome],
     groups: &[String],
     out: &Path,
-) -> Result<usize, String> {
+) -> Result<usize, PlotError> {
     let im = job.spec.sweep.scale_by.label();
     let top = members.iter().map(|m| m.level).fold(0.0f64, f64::max).max(1e-3);
     let grid = match job.intensities() {
@@ -77,7 +77,7 @@ pub fn draw(
             );
         }
         let file = out.join(format!("ida-{g}.png"));
-        chart.legend_upper_left().save_png(&file).map_err(|e| e.to_string())?;
+        chart.legend_upper_left().save_png(&file)?;
         n += 1;
     }
     Ok(n)

@@ -123,7 +123,6 @@ pub fn run_member(
             let _ = std::fs::write(dir.join("summary.json"), text + "\n");
         }
         Ok(summary)
-    })()
-    .map_err(|e| e.to_string());
+    })();
     Outcome::new(job, m, &run, dir, start.elapsed().as_secs_f64())
 }

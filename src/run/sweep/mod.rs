@@ -36,7 +36,7 @@ pub use outcome::{Outcome, Status, OUTCOME_FILE};
 
 use crate::analysis::time_history::StepObserver;
 use crate::config::{AnalysisConfig, HuntRules, Intensities, Member, SweepJob};
-use crate::error::Error;
+use crate::error::{Error, JobError};
 use crate::mesh::read_msh;
 use crate::parallel::{agree, Context, Dispatcher, Groups, Log};
 use crate::petsc::Petsc;
@@ -59,9 +59,10 @@ pub fn run(ctx: &Context, path: &Path, job: &SweepJob, petsc_args: &[String], re
     let log = &ctx.log;
     let out = &job.output_dir;
     let size = job.spec.analysis.group_size;
-    let groups = Groups::split(&ctx.comm, size).map_err(|m| {
+    let groups = Groups::split(&ctx.comm, size).map_err(|e| {
         Error::Config(
-            job.source.error_at(&[crate::config::Seg::key("analysis"), crate::config::Seg::key("group_size")], m),
+            job.source
+                .error_at(&[crate::config::Seg::key("analysis"), crate::config::Seg::key("group_size")], e.to_string()),
         )
     });
     // Every rank computes the same answer: agree only to print it once.
@@ -262,10 +263,7 @@ fn write_tasks(job: &SweepJob, members: &[Member], restart: bool, log: &Log) -> 
         move |source| Error::OutputDir { path: p, source }
     };
     if restart && !out.is_dir() {
-        return Err(Error::Analysis(format!(
-            "--restart: {} does not exist (no sweep to continue); run without --restart",
-            out.display()
-        )));
+        return Err(JobError::NothingToRestart { dir: out.clone() }.into());
     }
     let jobs = out.join("jobs");
     std::fs::create_dir_all(&jobs).map_err(io(&jobs))?;
@@ -278,12 +276,12 @@ fn write_tasks(job: &SweepJob, members: &[Member], restart: bool, log: &Log) -> 
             Intensities::Grid(x) => job.member(0, v, 0, x[0], Some(0)),
             Intensities::Hunt(h) => job.member(0, v, 0, hunt::on_lattice(h.first), None),
         };
-        write(&member::variant_job(out, job, v), job.member_job_text(&first, &dir).map_err(Error::Analysis)?)?;
+        write(&member::variant_job(out, job, v), job.member_job_text(&first, &dir)?)?;
     }
     for m in members {
         let dir = member::member_dir(out, m);
         std::fs::create_dir_all(&dir).map_err(io(&dir))?;
-        write(&member::member_job(out, m), job.member_job_text(m, &dir).map_err(Error::Analysis)?)?;
+        write(&member::member_job(out, m), job.member_job_text(m, &dir)?)?;
     }
     let kind = match job.base.spec.analysis {
         AnalysisConfig::SeismicAssessment(_) => "seismic assessment (modal updating once per material)",

@@ -3,6 +3,7 @@
 //! sweep skips the members that have one.
 use crate::analysis::time_history::{GroupDamage, TimeHistorySummary};
 use crate::config::{Member, SweepJob};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -82,7 +83,7 @@ impl Outcome {
     pub fn new(
         job: &SweepJob,
         m: &Member,
-        run: &Result<TimeHistorySummary, String>,
+        run: &Result<TimeHistorySummary, Error>,
         dir: &Path,
         seconds: f64,
     ) -> Outcome {
@@ -97,9 +98,9 @@ impl Outcome {
                 o.damage = s.damage_by_group.clone();
                 o.iterations = s.iterations;
             }
-            Err(msg) => {
+            Err(e) => {
                 o.status = Status::Stopped;
-                o.diagnosis = Some(msg.clone());
+                o.diagnosis = Some(e.to_string());
                 o.time_reached = last_time(&dir.join("monitors.csv")).unwrap_or(0.0);
             }
         }

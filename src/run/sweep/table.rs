@@ -18,7 +18,8 @@ use super::ida;
 use super::member::member_dir;
 use super::outcome::{Outcome, Status};
 use crate::config::{Intensities, Member, SweepJob};
-use crate::error::Error;
+use crate::error::{Error, JobError};
+use crate::io::IoError;
 use crate::parallel::Log;
 use crate::seismic::{fit_fragility, FragilityFit};
 use serde::Serialize;
@@ -143,9 +144,8 @@ pub fn write_results(job: &SweepJob, members: &[Member], timing: Timing, log: &L
     let outcomes: Vec<Outcome> = members
         .iter()
         .map(|m| {
-            Outcome::read(&member_dir(out, m)).ok_or_else(|| {
-                Error::Analysis(format!("member {} has no outcome in {}", m.name, member_dir(out, m).display()))
-            })
+            Outcome::read(&member_dir(out, m))
+                .ok_or_else(|| Error::from(JobError::NoOutcome { member: m.name.clone(), dir: member_dir(out, m) }))
         })
         .collect::<Result<_, _>>()?;
     let groups = groups_of(job, &outcomes);
@@ -155,7 +155,11 @@ pub fn write_results(job: &SweepJob, members: &[Member], timing: Timing, log: &L
 
     let summary = summarize(job, members, &outcomes, &groups, timing);
     let file = out.join("summary.json");
-    let text = crate::io::summary::summary_json(&summary).map_err(|e| Error::Analysis(e.to_string()))?;
+    let text = crate::io::summary::summary_json(&summary).map_err(|source| IoError::Json {
+        file: file.clone(),
+        what: "the summary",
+        source,
+    })?;
     std::fs::write(&file, text + "\n").map_err(|e| io(&file, e))?;
     let txt = out.join("summary.txt");
     let text = summary_text(job, &summary);
@@ -163,12 +167,11 @@ pub fn write_results(job: &SweepJob, members: &[Member], timing: Timing, log: &L
     for line in text.lines() {
         log.info(line);
     }
-    let pictures = ida::draw(job, members, &outcomes, &groups, out).map_err(Error::Analysis)?;
+    let pictures = ida::draw(job, members, &outcomes, &groups, out)?;
     let mut curves = 0;
     for l in &summary.limits {
         let crossings: Vec<&Crossing> = l.variants.iter().flat_map(|v| &v.crossings).collect();
-        curves +=
-            fragility::draw(job, &l.group, l.share, &crossings, &l.fragility, out).map_err(Error::Analysis)? as usize;
+        curves += fragility::draw(job, &l.group, l.share, &crossings, &l.fragility, out)? as usize;
     }
     log.info(format!(
         "results: {}, {}, {} picture(s) ida-*.png and {} fragility-*.png in {}",
@@ -354,7 +357,8 @@ fn summarize(
                             .filter(|(m, o)| m.intensity == Some(i) && o.status == Status::Completed)
                             .map(|(_, o)| o.share_dt(g))
                             .collect();
-                        (!s.is_empty()).then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
+                        (!s.is_empty())
+                            .then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
                     })
                     .collect();
                 mean_share_dt.push(ShareCurve { group: g.clone(), points: curve });

@@ -1,13 +1,27 @@
 //! The error of a whole run: one enum over the modules' typed errors, with the exit code each
 //! calls for (2: bad input; 1: the computation failed; 70: an internal error).
-use crate::config::ConfigError;
+//!
+//! Each layer has its own error enum (`ConfigError`, `MshError`, `MaterialError`,
+//! `ElementError`, `DemError`, `IdentifyError`, `SeismicError`, `IoError`, ...); they compose here
+//! with `#[from]`. The FE analyses' [`AnalysisError`] and the job drivers' [`JobError`] live in
+//! this module, as `analysis/` and `run/` return [`Error`] and sit at or above its layer.
+mod analysis;
+mod job;
+
+pub use analysis::AnalysisError;
+pub use job::JobError;
+
+use crate::config::{ConfigError, FileError};
 use crate::element::ElementError;
+use crate::identify::IdentifyError;
 use crate::io::IoError;
 use crate::mesh::MshError;
 use crate::model::ModelError;
 use crate::parallel::Agreed;
-use crate::parallel::PartitionError;
+use crate::parallel::{BatchError, PartitionError};
 use crate::petsc::{PetscError, SolverError};
+use crate::plot::PlotError;
+use crate::seismic::SeismicError;
 
 /// Anything that stops a run.
 #[derive(Debug, thiserror::Error)]
@@ -15,6 +29,9 @@ pub enum Error {
     /// The job file.
     #[error(transparent)]
     Config(#[from] ConfigError),
+    /// A file the job refers to, found unusable after the job was read.
+    #[error(transparent)]
+    File(#[from] FileError),
     /// The mesh file.
     #[error(transparent)]
     Mesh(#[from] MshError),
@@ -72,10 +89,26 @@ pub enum Error {
     /// A material-point computation failed (Newton did not converge, a chart could not be drawn).
     #[error("material point: {0}")]
     MaterialPoint(String),
-    /// An analysis could not produce its result (too few converged modes, ...).
-    #[error("{0}")]
-    Analysis(String),
-    /// A failure injected for testing (see `run::fault`).
+    /// An FE analysis could not produce its result (too few converged modes, a step that did
+    /// not converge, ...).
+    #[error(transparent)]
+    Analysis(#[from] AnalysisError),
+    /// A job's driver (DEM batch, identification, sweep, record set).
+    #[error(transparent)]
+    Job(#[from] JobError),
+    /// An identification.
+    #[error(transparent)]
+    Identify(#[from] IdentifyError),
+    /// Ground motions and response spectra.
+    #[error(transparent)]
+    Seismic(#[from] SeismicError),
+    /// A chart.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// The batch machinery (a result that could not cross ranks).
+    #[error(transparent)]
+    Batch(#[from] BatchError),
+    /// A failure injected for testing (see [`crate::fault`]).
     #[error("{0}")]
     Injected(String),
     /// An error some rank had, that every rank now knows.
