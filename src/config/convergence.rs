@@ -33,7 +33,7 @@ fn main_law(name: &str) -> String {
 }
 
 /// A convergence study's band file.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ConvergenceBand {
     /// The file (set when read).
     #[serde(skip)]
@@ -48,7 +48,7 @@ pub struct ConvergenceBand {
 }
 
 /// The settings a band was measured with.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct BandSettings {
     /// `[dynamics] dt` [s].
     pub dt: f64,
@@ -69,7 +69,7 @@ fn implicit() -> String {
 }
 
 /// The band of one loading.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct LoadingBand {
     /// The largest PGA over the ground-motion components [m/s²].
     pub pga: f64,
@@ -82,7 +82,7 @@ pub struct LoadingBand {
 }
 
 /// Share differences of one substructure, as fractions of its area.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct GroupBand {
     /// |share(dt) − share(dt/4)|.
     pub time_step: f64,
@@ -98,7 +98,7 @@ impl GroupBand {
 }
 
 /// What a run says about its band (in `summary.json`).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BandReport {
     /// The band file.
     pub file: String,

@@ -17,6 +17,8 @@ mod error;
 mod identify;
 mod identify_job;
 mod job;
+mod keys;
+mod keys_render;
 mod kind;
 mod material_point;
 pub mod plausible;
@@ -40,6 +42,8 @@ pub use error::{ConfigError, Location};
 pub use identify::*;
 pub use identify_job::IdentifyJob;
 pub use job::*;
+pub use keys::{all_keys, keys_of, kind_named, KeyRow, KeyTable, KindKeys, KIND_NAMES};
+pub use keys_render::{markdown as keys_markdown, text as keys_text, REGENERATE as KEYS_REGENERATE};
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
 pub use material_point::*;
 pub use record_set::*;
@@ -338,7 +342,7 @@ fn read_law_file(file: &Path) -> Result<crate::material::DamageParams, String> {
         ConfigError::Read { path, source } => format!("cannot read material file {}: {source}", path.display()),
         other => other.to_string(),
     })?;
-    #[derive(serde::Deserialize)]
+    #[derive(serde::Deserialize, schemars::JsonSchema)]
     struct LawFile {
         law: crate::material::DamageParams,
     }
