@@ -43,7 +43,8 @@ fn rows(dir: &Path) -> Vec<(String, f64, String, f64, String)> {
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
-    let (r, x, st, sh, v) = (col("record"), col("intensity"), col("status"), col("wall:share_dt_above_0.5"), col("variant"));
+    let (r, x, st, sh, v) =
+        (col("record"), col("intensity"), col("status"), col("wall:share_dt_above_0.5"), col("variant"));
     lines
         .map(|l| {
             let c: Vec<&str> = l.split(',').collect();

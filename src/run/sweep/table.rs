@@ -354,7 +354,8 @@ fn summarize(
                             .filter(|(m, o)| m.intensity == Some(i) && o.status == Status::Completed)
                             .map(|(_, o)| o.share_dt(g))
                             .collect();
-                        (!s.is_empty()).then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
+                        (!s.is_empty())
+                            .then(|| SharePoint { intensity: x, share: s.iter().sum::<f64>() / s.len() as f64 })
                     })
                     .collect();
                 mean_share_dt.push(ShareCurve { group: g.clone(), points: curve });
