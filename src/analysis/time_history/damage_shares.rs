@@ -157,7 +157,9 @@ pub fn band_line(r: &crate::config::BandReport) -> String {
         Some(l) => format!(
             "convergence band: {} (loading {l}, measured at PGA {:.3} m/s^2 >= this run's {:.3}): shares of d_t > 0.5 \
              in summary.json (damage_by_group, share_dt_band)",
-            r.file, r.pga[0], r.pga[1]
+            r.file,
+            r.measured_pga.unwrap_or(f64::NAN),
+            r.run_pga
         ),
         None => format!("convergence band of {}: does not apply ({})", r.file, r.not_applicable.join("; ")),
     }
