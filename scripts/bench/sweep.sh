@@ -9,7 +9,8 @@
 #       (MEMBER_SECONDS, default 20 s) at 1.5 times the code level (PGA 2.4 m/s^2), the main
 #       job's law, on 1 rank, with `integration = "implicit"` and `"implex"` (INTEGRATIONS):
 #       seconds of the member, Newton iterations, those in failed attempts, factorizations,
-#       substepped steps, and the members per hour of 2 such members side by side on 2 cores
+#       substepped steps, the system's phases (assemble, factorize, solve, internal_force: s),
+#       and the members per hour of 2 such members side by side on 2 cores
 #       (2 x 3600 / seconds, the sweep's arrangement)
 #   sweep-church-demo         only with DEMO=1: jobs/church-sweep.toml itself on 2 ranks, as
 #       committed (hours): its wall-clock time, members, members per hour
@@ -111,6 +112,7 @@ print(json.dumps({
     "iterations": th["iterations"], "failed_iterations": th.get("failed_iterations", 0),
     "factorizations": th.get("factorizations", 0), "substepped_steps": th.get("substepped_steps", 0),
     "members_per_hour_2_cores": round(2 * 3600 / t["seconds_members"], 2),
+    "phases": {k: round(v, 1) for k, v in th.get("system_seconds", {}).items()},
     "load_average": [float(sys.argv[3]), float(sys.argv[4])], "cpu": sys.argv[5], "blas": sys.argv[6],
 }))
 PY
