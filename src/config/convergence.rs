@@ -104,8 +104,10 @@ pub struct BandReport {
     pub file: String,
     /// The study's loading whose band applies, when one does.
     pub loading: Option<String>,
-    /// Its PGA [m/s²] and the run's.
-    pub pga: [f64; 2],
+    /// The PGA of the study's loading that covers the run [m/s²] (none: none does).
+    pub measured_pga: Option<f64>,
+    /// The run's PGA [m/s²].
+    pub run_pga: f64,
     /// Relative band of the peak drift ratio (when a loading applies).
     pub peak_drift_ratio: Option<f64>,
     /// Why no band applies (settings that differ, or shaking stronger than measured).
@@ -177,7 +179,8 @@ impl ConvergenceBand {
         BandReport {
             file: self.file.display().to_string(),
             loading: loading.filter(|_| applies).map(|(n, _)| n.clone()),
-            pga: [loading.map_or(f64::NAN, |(_, l)| l.pga), pga],
+            measured_pga: loading.map(|(_, l)| l.pga),
+            run_pga: pga,
             peak_drift_ratio: loading.filter(|_| applies).map(|(_, l)| l.peak_drift_ratio),
             not_applicable: why,
         }
