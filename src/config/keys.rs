@@ -297,7 +297,7 @@ pub fn toml_literal(v: &Value) -> String {
         Value::Object(m) if m.is_empty() => "{}".into(),
         Value::Object(_) => "see the table".into(),
         Value::Number(n) => match n.as_f64().filter(|_| n.is_f64()) {
-            Some(x) if x == 0.0 => "0.0".into(),
+            Some(0.0) => "0.0".into(),
             Some(x) if !(1e-3..1e5).contains(&x.abs()) => format!("{x:e}"),
             Some(x) if x.fract() == 0.0 => format!("{x:.1}"),
             Some(x) => x.to_string(),
@@ -343,7 +343,7 @@ fn is_unit(s: &str) -> bool {
         return true;
     }
     let words: Vec<&str> = s
-        .split(|c: char| matches!(c, '/' | '·' | ' ' | '*' | '^' | '(' | ')' | '²' | '³' | '⁴' | '⁻' | '¹'))
+        .split(['/', '·', ' ', '*', '^', '(', ')', '²', '³', '⁴', '⁻', '¹'])
         .map(|t| t.trim_matches(|c: char| c.is_ascii_digit()))
         .filter(|t| !t.is_empty())
         .collect();
