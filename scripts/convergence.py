@@ -199,6 +199,7 @@ def load(out, case):
         "damage": e["dissipated_damage"], "unilateral": e["unilateral"],
         "max_balance_error": th["max_balance_error"],
         "shares": {g: 100.0 * v["share_dt"] for g, v in groups.items()},
+        "dissipated": {g: v["dissipated"] for g, v in groups.items() if "dissipated" in v},
     }
 
 
@@ -272,12 +273,18 @@ def write_tables(out, rows, checks, machine, loadings):
     coarse, fine = by.get("code-coarse-4s"), by.get("code-fine-4s")
     if coarse and fine:
         md.append("\n## Coarse against fine mesh\n")
-        md.append("| substructure | coarse share [%] | fine share [%] | fine / coarse |")
-        md.append("|---|---|---|---|")
+        # The energy each substructure dissipated (summaries that carry it): the crack band's measure.
+        energy = bool(coarse["dissipated"]) and bool(fine["dissipated"])
+        ratio = lambda f, c: f"{f / c:.2f}" if c > 0 else "-"
+        md.append("| substructure | coarse share [%] | fine share [%] | fine / coarse |"
+                  + (" coarse dissipated [J] | fine dissipated [J] | fine / coarse |" if energy else ""))
+        md.append("|---|---|---|---|" + ("---|---|---|" if energy else ""))
         for g in coarse["shares"]:
             c, f = coarse["shares"][g], fine["shares"].get(g, 0.0)
-            if c > 0 or f > 0:
-                md.append(f"| {g} | {c:.2f} | {f:.2f} | {f / c:.2f} |" if c > 0 else f"| {g} | {c:.2f} | {f:.2f} | - |")
+            dc, df = coarse["dissipated"].get(g, 0.0), fine["dissipated"].get(g, 0.0)
+            if c > 0 or f > 0 or dc > 0.01 or df > 0.01:
+                md.append(f"| {g} | {c:.2f} | {f:.2f} | {ratio(f, c)} |"
+                          + (f" {dc:.4g} | {df:.4g} | {ratio(df, dc)} |" if energy else ""))
         md.append("")
         md.append(f"Energy dissipated by damage: {coarse['damage']:.4g} J coarse, {fine['damage']:.4g} J fine "
                   f"({fine['damage'] / coarse['damage']:.2f}); peak drift ratio {coarse['peak_drift_ratio']:.3e} "

@@ -4,6 +4,8 @@
 //! mpirun -n 2 masonry-hpc jobs/tower.toml [PETSc options...]
 //! masonry-hpc check jobs/tower.toml
 //! masonry-hpc check --strict jobs/tower.toml     # implausible values (units) are errors
+//! masonry-hpc keys dem                            # every key of a DEM job file
+//! masonry-hpc keys --markdown > docs/input.md     # the reference page of every job kind
 //! ```
 //!
 //! MPI lives exactly as long as the `Universe` in `main`; PETSc is started inside the run and
@@ -50,10 +52,23 @@ enum Command {
         /// The job file.
         job: PathBuf,
     },
+    /// Print every key of a kind of job file (or of all kinds): type, default, unit, meaning.
+    Keys {
+        /// A job kind (structural, sweep, record_set, spectrum, dem, identification,
+        /// material_point) or an `[analysis] type`; all kinds when absent.
+        kind: Option<String>,
+        /// Write Markdown: the page docs/input.md.
+        #[arg(long)]
+        markdown: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(Command::Keys { kind, markdown }) = &cli.command {
+        // No MPI: the keys come from the config types alone.
+        return keys(kind.as_deref(), *markdown);
+    }
     // Funneled: only the main thread calls MPI; batch runs compute on a second thread of rank 0.
     let Some((universe, threading)) = mpi::initialize_with_threading(mpi::Threading::Funneled) else {
         print_error("error: MPI could not be initialized (was it initialized twice?)");
@@ -66,6 +81,7 @@ fn main() -> ExitCode {
     let ctx = Context::new(universe.world(), cli.quiet);
     let result = match (&cli.command, &cli.job) {
         (Some(Command::Check { job }), _) => check(&ctx, job, cli.strict),
+        (Some(Command::Keys { .. }), _) => unreachable!("answered before MPI starts"),
         (None, Some(job)) => run::run_job_with(&ctx, job, &cli.petsc, cli.restart, cli.strict),
         (None, None) => {
             if ctx.rank == 0 {
@@ -105,4 +121,25 @@ fn check(ctx: &Context, job: &std::path::Path, strict: bool) -> Result<(), Error
     let what = run::check_job(ctx, job, strict)?;
     ctx.log.info(format!("check: OK — {what}"));
     Ok(())
+}
+
+/// `masonry-hpc keys [KIND] [--markdown]`: the keys of one kind or of all, on standard output.
+fn keys(kind: Option<&str>, markdown: bool) -> ExitCode {
+    use masonry_hpc::config::{all_keys, keys_markdown, keys_of, keys_text, kind_named, KIND_NAMES};
+    let kinds = match kind {
+        None => all_keys(),
+        Some(name) => match kind_named(name) {
+            Some(k) => vec![keys_of(k)],
+            None => {
+                let names: Vec<&str> = KIND_NAMES.iter().map(|(n, _)| *n).collect();
+                print_error(&format!(
+                    "error: unknown job kind '{name}', expected one of: {} (or an [analysis] type)",
+                    names.join(", ")
+                ));
+                return ExitCode::from(2);
+            }
+        },
+    };
+    print!("{}", if markdown { keys_markdown(&kinds) } else { keys_text(&kinds) });
+    ExitCode::SUCCESS
 }

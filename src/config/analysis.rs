@@ -6,7 +6,7 @@ use serde::Deserialize;
 use std::path::PathBuf;
 
 /// The analyses a job can ask for.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum AnalysisConfig {
     /// Linear static analysis: K u = f.
@@ -28,7 +28,7 @@ pub enum AnalysisConfig {
 /// load factor λ going from 0 to 1 in `steps` equal steps; in each, Newton iterations on the
 /// tangent stiffness until the out-of-balance force and energy are small; a step that fails is
 /// cut in half (up to `max_cuts` times) before the run stops with a diagnosis.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StaticNonlinearConfig {
     /// Load steps (default 10).
@@ -60,7 +60,7 @@ pub struct StaticNonlinearConfig {
     /// control) lasts 1, so τ = 0.01 is 1% of a stage (`material::state` docs). Absent (the
     /// default): the rate-independent law. A viscous run's dissipated energy depends on τ.
     pub damage_relaxation_time: Option<f64>,
-    /// Radius R (m) of the nonlocal averaging of the damage-driving strains of damage shells
+    /// Radius R [m] of the nonlocal averaging of the damage-driving strains of damage shells
     /// (`material::nonlocal`, `analysis::nonlocal`): each layer point's damage follows the
     /// strains of the same layer within R, weighted by ⟨1 − r²/R²⟩², and B_t (and B_s of
     /// `gf_c`) are regularized by R instead of the element size. R should span at least two
@@ -69,7 +69,7 @@ pub struct StaticNonlinearConfig {
 }
 
 /// `[analysis] stiffness`: the matrix of the Newton-type iterations.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum IterationMatrix {
     /// The consistent tangent (quadratic convergence), with the secant as fallback.
@@ -80,7 +80,7 @@ pub enum IterationMatrix {
 }
 
 /// `[analysis] line_search`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum LineSearchKind {
     /// Full Newton steps.
@@ -111,7 +111,7 @@ pub enum LineSearchKind {
 /// # group = "floors"
 /// # force = [1.0e3, 0.0, 0.0]
 /// ```
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DisplacementControlConfig {
     /// Physical group of the control node(s).
@@ -144,7 +144,7 @@ pub struct DisplacementControlConfig {
 /// y_scale = 0.5            # [m^2] stress -> force on the 1.0 m x 0.5 m section
 /// label = "DEM"
 /// ```
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CurveOverlayConfig {
     /// The CSV file (resolved against the job file's folder at load).
@@ -207,7 +207,7 @@ impl AnalysisConfig {
 }
 
 /// `[analysis] type = "modal"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModalConfig {
     /// Number of modes (lowest frequencies), default 6.
@@ -221,7 +221,7 @@ pub struct ModalConfig {
 /// `[analysis] type = "modal_updating"`: the factors `s_g` multiplying the elastic moduli (E,
 /// and G with it) of the parts of chosen groups are fitted so that computed frequencies match
 /// targets.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModalUpdatingConfig {
     /// Modes computed at each iteration (at least the highest target mode).
@@ -248,7 +248,7 @@ pub struct ModalUpdatingConfig {
 }
 
 /// A measured (or assumed) natural frequency.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TargetFrequency {
     /// Mode number (1 = lowest); with `target_shapes`, the shape `mode` of that file.
@@ -258,7 +258,7 @@ pub struct TargetFrequency {
 }
 
 /// One updating parameter: the factor on E of the parts of a group.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UpdateParameter {
     /// Physical group (one of the job's parts).

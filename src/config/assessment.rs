@@ -32,7 +32,7 @@ use super::{ConfigError, ModalUpdatingConfig, StructuralJobFile};
 use serde::Deserialize;
 
 /// `[analysis] type = "seismic_assessment"`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AssessmentConfig {
     /// Modes of the modal stage (default 12).

@@ -34,7 +34,7 @@ fn main_law(name: &str) -> String {
 }
 
 /// A convergence study's band file.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ConvergenceBand {
     /// The file (set when read).
     #[serde(skip)]
@@ -49,7 +49,7 @@ pub struct ConvergenceBand {
 }
 
 /// The settings a band was measured with.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct BandSettings {
     /// `[dynamics] dt` [s].
     pub dt: f64,
@@ -70,7 +70,7 @@ fn implicit() -> String {
 }
 
 /// The band of one loading.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct LoadingBand {
     /// The largest PGA over the ground-motion components [m/s²].
     pub pga: f64,
@@ -83,7 +83,7 @@ pub struct LoadingBand {
 }
 
 /// Share differences of one substructure, as fractions of its area.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct GroupBand {
     /// |share(dt) − share(dt/4)|.
     pub time_step: f64,
@@ -99,14 +99,16 @@ impl GroupBand {
 }
 
 /// What a run says about its band (in `summary.json`).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BandReport {
     /// The band file.
     pub file: String,
     /// The study's loading whose band applies, when one does.
     pub loading: Option<String>,
-    /// Its PGA [m/s²] and the run's.
-    pub pga: [f64; 2],
+    /// The PGA of the study's loading that covers the run [m/s²] (none: none does).
+    pub measured_pga: Option<f64>,
+    /// The run's PGA [m/s²].
+    pub run_pga: f64,
     /// Relative band of the peak drift ratio (when a loading applies).
     pub peak_drift_ratio: Option<f64>,
     /// Why no band applies (settings that differ, or shaking stronger than measured).
@@ -181,7 +183,8 @@ impl ConvergenceBand {
         BandReport {
             file: self.file.display().to_string(),
             loading: loading.filter(|_| applies).map(|(n, _)| n.clone()),
-            pga: [loading.map_or(f64::NAN, |(_, l)| l.pga), pga],
+            measured_pga: loading.map(|(_, l)| l.pga),
+            run_pga: pga,
             peak_drift_ratio: loading.filter(|_| applies).map(|(_, l)| l.peak_drift_ratio),
             not_applicable: why,
         }

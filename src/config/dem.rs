@@ -24,7 +24,7 @@ use crate::dem::solver::{FactorUpdates, VirtualTest};
 use serde::Deserialize;
 
 /// `[analysis]` of a DEM job.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DemAnalysis {
     /// Always `"dem"`.
@@ -60,24 +60,24 @@ fn one() -> usize {
 
 /// `[mechanics]`: the lattice's parameters (paper §2.1). Defaults are the paper's set
 /// (Ē = 2.5 GPa, ε_cr = 1e-4, θ_cr = 7e-4, μ = 0.6); α is in `[sample]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct MechanicsConfig {
     /// Lattice Young modulus Ē [Pa].
     pub e_bar: f64,
-    /// Critical beam strain ε_cr.
+    /// Critical beam strain ε_cr [-].
     pub eps_cr: f64,
     /// Critical relative rotation θ_cr [rad].
     pub theta_cr: f64,
-    /// Friction coefficient μ.
+    /// Friction coefficient μ [-].
     pub mu: f64,
-    /// Tangential over normal contact stiffness.
+    /// Tangential over normal contact stiffness [-].
     pub kt_over_kn: f64,
     /// Crushing stress σ_c [Pa] (an extension of paper §2.1, `dem::mechanics::crushing`): beams
     /// crush when their compressive stress reaches it, contact pressures are bounded by it and
     /// soften. Absent (default): paper §2.1's model, no compressive failure.
     pub crushing_stress: Option<f64>,
-    /// Crushing fracture energy G_c [J/m² of contact area], the area under the contact's linear
+    /// Crushing fracture energy G_c [J/m²] (per contact area), the area under the contact's linear
     /// softening (plastic penetration at full crushing 2 G_c/σ_c); required with
     /// `crushing_stress`, and G_c > σ_c² ℓ_c/(2 Ē) at every contact.
     pub crushing_energy: Option<f64>,
@@ -140,12 +140,12 @@ impl MechanicsConfig {
 }
 
 /// `[experiment]`: measured values to compare with (all optional).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, serde::Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentConfig {
     /// Young's modulus [Pa].
     pub young_modulus: Option<f64>,
-    /// Poisson ratio.
+    /// Poisson ratio [-].
     pub poisson: Option<f64>,
     /// First-crack stress [Pa].
     pub first_crack_stress: Option<f64>,
@@ -156,7 +156,7 @@ pub struct ExperimentConfig {
 }
 
 /// A DEM job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DemJobFile {
     /// A one-line description.

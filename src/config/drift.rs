@@ -20,7 +20,7 @@ use serde::Deserialize;
 pub const DEFAULT_LEVEL_TOLERANCE: f64 = 0.01;
 
 /// One `[[dynamics.drift]]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DriftConfig {
     /// Name in the CSV header (`drift:<name>:x`) and the summary.
@@ -102,11 +102,11 @@ mod tests {
     use super::*;
 
     fn check(toml_text: &str) -> Result<(), String> {
-        #[derive(Deserialize)]
+        #[derive(Deserialize, schemars::JsonSchema)]
         struct D {
             drift: Vec<DriftConfig>,
         }
-        #[derive(Deserialize)]
+        #[derive(Deserialize, schemars::JsonSchema)]
         struct F {
             dynamics: D,
         }

@@ -57,7 +57,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// Time-integration scheme.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SchemeName {
     /// Newmark's family (β, γ).
@@ -68,7 +68,7 @@ pub enum SchemeName {
 }
 
 /// Newton-type iteration within a step.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum NewtonKind {
     /// Full Newton: the tangent is reassembled and factored at every iteration.
@@ -111,7 +111,7 @@ pub enum NewtonKind {
 /// measures the damage increment of a substep's implicit update, but a point crossing its
 /// threshold jumps in damage whatever the step, so under strong shaking the control cuts steps
 /// into many substeps (docs/convergence-implex.md). `damage_relaxation_time` is refused.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum IntegrationKind {
     /// The damage law at the step's end strain, Newton through the softening.
@@ -132,7 +132,7 @@ impl IntegrationKind {
 }
 
 /// Ground-motion direction.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Direction {
     /// Global X.
@@ -151,7 +151,7 @@ impl Direction {
 }
 
 /// `[dynamics.damping]`: Rayleigh damping `C = α M + β K₀` (K₀ the initial stiffness).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DampingConfig {
     /// Two frequencies [Hz] at which the damping ratio is `ratio`.
@@ -165,7 +165,7 @@ pub struct DampingConfig {
 }
 
 /// `[[dynamics.ground_motion]]`: one component of the base acceleration.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GroundMotionConfig {
     /// Direction of the component.
@@ -189,7 +189,7 @@ pub struct GroundMotionConfig {
 }
 
 /// `[dynamics.checkpoint]`: when to write the restart state.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CheckpointConfig {
     /// Every this many steps (0 = never by count).
@@ -201,7 +201,7 @@ pub struct CheckpointConfig {
 }
 
 /// `[[dynamics.monitor]]`: a node whose history goes to `monitors.csv` and a PNG.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MonitorConfig {
     /// Name in the CSV header and the picture's file name.
@@ -215,7 +215,7 @@ pub struct MonitorConfig {
 }
 
 /// `[dynamics]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicsConfig {
     /// Analysed time [s] (after gravity).

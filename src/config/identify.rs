@@ -78,7 +78,7 @@ use serde::Deserialize;
 use std::path::PathBuf;
 
 /// `[analysis]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IdentifyAnalysis {
     /// Always `"identification"`.
@@ -121,7 +121,7 @@ fn hillerborg() -> Regularization {
 }
 
 /// `[calibration.bounds]`: intervals `[lower, upper]` of the four unknowns.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CalibrationBounds {
     /// Beam inertia coefficient α.
@@ -137,7 +137,7 @@ pub struct CalibrationBounds {
 }
 
 /// `[calibration]`: (a) the DEM against the experiment.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CalibrationConfig {
     /// Staged (elastic parameters first) or joint (identify::calibration).
@@ -165,7 +165,7 @@ pub struct CalibrationConfig {
 }
 
 /// Where the law's E and ν come from.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ElasticSource {
     /// `[experiment]` young_modulus and poisson (paper §3.2b; else the DEM's means).
@@ -177,7 +177,7 @@ pub enum ElasticSource {
 }
 
 /// `[law.bounds]`: intervals of the five unknowns.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LawBounds {
     /// Tensile threshold ε₀^t.
@@ -196,7 +196,7 @@ pub struct LawBounds {
 }
 
 /// `[law.dem_curves]`: DEM curves from files instead of running the DEM.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DemCurveFiles {
     /// Tension curve CSV (columns strain, stress).
@@ -206,7 +206,7 @@ pub struct DemCurveFiles {
 }
 
 /// `[law] variants`: the law fitted again to subsets of the samples (identify::variants).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LawVariants {
     /// How many variants (at least 2).
@@ -222,7 +222,7 @@ pub struct LawVariants {
 }
 
 /// `[law]`: (b) the damage law from virtual tests.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LawIdentConfig {
     /// DEM samples per virtual test.
@@ -285,7 +285,7 @@ pub struct LawIdentConfig {
 }
 
 /// An identification job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct IdentifyJobFile {
     /// A one-line description.

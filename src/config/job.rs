@@ -64,7 +64,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// `[mesh]`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MeshConfig {
     /// Gmsh MSH 4.1 file, relative to the job file's folder.
@@ -72,7 +72,7 @@ pub struct MeshConfig {
 }
 
 /// `[materials.NAME]`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum MaterialConfig {
     /// Isotropic linear elasticity.
@@ -122,7 +122,7 @@ impl MaterialConfig {
 
 /// `type = "damage"` (shell layers and beam fibers): the damage law's parameters, inline (`[materials.NAME.law]`) or from the
 /// material file an identification job writes (`law_file`); exactly one of the two.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DamageMaterial {
     /// Mass density [kg/m³].
@@ -136,7 +136,7 @@ pub struct DamageMaterial {
 }
 
 /// `type = "elastic"`: isotropic linear elasticity.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticMaterial {
     /// Young's modulus [Pa].
@@ -164,7 +164,7 @@ impl ElasticMaterial {
 }
 
 /// `[sections.NAME]`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum SectionConfig {
     /// Elastic frame section of a 2-node beam.
@@ -180,7 +180,7 @@ pub enum SectionConfig {
 /// `type = "tie"`: an iron tie rod (`element::tie`) on 2-node lines, with an elastic material
 /// (E, density). Both end nodes of every tie must belong to a shell or beam, or be held by
 /// supports in ux uy uz.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TieSectionConfig {
     /// Area [m²].
@@ -201,7 +201,7 @@ fn yes() -> bool {
 
 /// `type = "fiber"`: a rectangular section cut into `ny × nz` fibers (`element::fiber_section`),
 /// each with the part's material (elastic, or the damage law in uniaxial form).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FiberSectionConfig {
     /// Width along the local y axis [m].
@@ -227,7 +227,7 @@ fn default_integration_points() -> usize {
 }
 
 /// `type = "shell"`: a layered shell section.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShellSectionConfig {
     /// Thickness [m].
@@ -245,7 +245,7 @@ fn default_layers() -> usize {
 }
 
 /// `type = "frame"`: elastic section of a 2-node beam.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrameSectionConfig {
     /// Area [m²].
@@ -274,7 +274,7 @@ impl SectionConfig {
 }
 
 /// `[[parts]]`: a physical group modelled with a section and a material.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PartConfig {
     /// Physical group name in the mesh.
@@ -289,7 +289,7 @@ pub struct PartConfig {
 }
 
 /// A nodal degree of freedom, as named in job files.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum DofName {
     /// Translation along x.
@@ -322,7 +322,7 @@ impl DofName {
 }
 
 /// `[[supports]]`: fixed DOFs of every node of a group.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SupportConfig {
     /// Physical group name.
@@ -332,7 +332,7 @@ pub struct SupportConfig {
 }
 
 /// `[[loads]]`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum LoadConfig {
     /// A force and a moment on every node of a group.
@@ -340,7 +340,7 @@ pub enum LoadConfig {
 }
 
 /// `type = "nodal"`: a force and a moment on every node of a group.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NodalLoadConfig {
     /// Physical group name.
@@ -363,7 +363,7 @@ pub struct NodalLoadConfig {
 /// mass = 1800.0                         # [kg] on each node
 /// rotary_inertia = [0.0, 0.0, 350.0]    # [kg m^2] about global x, y, z (optional)
 /// ```
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointMassConfig {
     /// Physical group whose every node carries the mass.
@@ -378,7 +378,7 @@ pub struct PointMassConfig {
 }
 
 /// `[gravity]`: self-weight of every element with a density.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GravityConfig {
     /// Gravitational acceleration vector [m/s²].
@@ -386,7 +386,7 @@ pub struct GravityConfig {
 }
 
 /// Storage of the assembled matrices.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum MatrixFormat {
     /// PETSc AIJ (compressed rows): works with every preconditioner and factorization.
@@ -397,7 +397,7 @@ pub enum MatrixFormat {
 }
 
 /// `[solver]`
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolverConfig {
     /// Matrix storage (`"aij"` default, or `"baij"`).
@@ -406,11 +406,25 @@ pub struct SolverConfig {
     /// PETSc options without the leading dash (`ksp_type = "cg"`); the command line and
     /// `PETSC_OPTIONS` win over these.
     #[serde(default)]
+    #[schemars(with = "BTreeMap<String, PetscOptionValue>")]
     pub petsc: BTreeMap<String, toml::Value>,
 }
 
+/// The value of a PETSc option, as the key reference shows it (the job keeps the TOML value).
+#[derive(schemars::JsonSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+enum PetscOptionValue {
+    /// A string (`"cg"`).
+    Text(String),
+    /// A number (`1e-10`).
+    Number(f64),
+    /// A switch (`true`).
+    Switch(bool),
+}
+
 /// What a run does when its output folder holds a previous run's results.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ExistingOutput {
     /// Move the previous results to `<dir>.previous` (replacing an older copy) and say so.
@@ -423,7 +437,7 @@ pub enum ExistingOutput {
 }
 
 /// `[output]`
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputConfig {
     /// Results folder, relative to the job file's folder; default `results/<job file stem>`.
@@ -434,7 +448,7 @@ pub struct OutputConfig {
 }
 
 /// A structural job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StructuralJobFile {
     /// A one-line description, echoed in logs and outputs.

@@ -24,7 +24,7 @@ use crate::material::DamageParams;
 use serde::Deserialize;
 
 /// `[analysis]` of a material-point job.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialPointAnalysis {
     /// Always `"material_point"`.
@@ -38,7 +38,7 @@ pub struct MaterialPointAnalysis {
 }
 
 /// The stress state of the material point.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Kinematics {
     /// Plane stress (a shell layer): components xx, yy, xy.
@@ -51,7 +51,7 @@ pub enum Kinematics {
 }
 
 /// `[path]`: the loading history (strains; stress components not driven are free).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum PathConfig {
     /// ε_xx: 0 → max_strain.
@@ -71,7 +71,7 @@ pub enum PathConfig {
 }
 
 /// `type = "uniaxial_tension"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UniaxialTensionPath {
     /// Final ε_xx (> 0).
@@ -81,7 +81,7 @@ pub struct UniaxialTensionPath {
 }
 
 /// `type = "uniaxial_compression"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UniaxialCompressionPath {
     /// Final shortening |ε_xx| (> 0).
@@ -91,7 +91,7 @@ pub struct UniaxialCompressionPath {
 }
 
 /// `type = "uniaxial"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UniaxialPath {
     /// ε_xx targets, reached in turn from 0.
@@ -101,7 +101,7 @@ pub struct UniaxialPath {
 }
 
 /// `type = "cyclic"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CyclicPath {
     /// Largest tensile ε_xx (> 0).
@@ -115,7 +115,7 @@ pub struct CyclicPath {
 }
 
 /// `type = "biaxial"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BiaxialPath {
     /// Final ε_xx.
@@ -127,7 +127,7 @@ pub struct BiaxialPath {
 }
 
 /// `type = "pure_shear"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PureShearPath {
     /// Final engineering shear γ_xy.
@@ -137,7 +137,7 @@ pub struct PureShearPath {
 }
 
 /// `type = "shear_under_compression"`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShearUnderCompressionPath {
     /// The compressive stress held on yy [Pa] (> 0).
@@ -156,7 +156,7 @@ fn five() -> usize {
 }
 
 /// A material-point job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialPointJobFile {
     /// A one-line description.

@@ -17,6 +17,8 @@ mod error;
 mod identify;
 mod identify_job;
 mod job;
+mod keys;
+mod keys_render;
 mod kind;
 mod material_point;
 pub mod plausible;
@@ -40,6 +42,8 @@ pub use error::{ConfigError, FileError, Location};
 pub use identify::*;
 pub use identify_job::IdentifyJob;
 pub use job::*;
+pub use keys::{all_keys, keys_of, kind_named, KeyRow, KeyTable, KindKeys, KIND_NAMES};
+pub use keys_render::{markdown as keys_markdown, text as keys_text, REGENERATE as KEYS_REGENERATE};
 pub use kind::{job_kind, JobKind, ANALYSIS_TYPES};
 pub use material_point::*;
 pub use record_set::*;
@@ -336,7 +340,7 @@ fn read_law_file(file: &Path) -> Result<crate::material::DamageParams, FileError
         ConfigError::Read { path, source } => FileError::Read { what: WHAT, file: path, reason: source.to_string() },
         other => FileError::Table { what: WHAT, source: Box::new(other) },
     })?;
-    #[derive(serde::Deserialize)]
+    #[derive(serde::Deserialize, schemars::JsonSchema)]
     struct LawFile {
         law: crate::material::DamageParams,
     }

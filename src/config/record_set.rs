@@ -38,7 +38,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// `[analysis]` of a record-set job.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RecordSetAnalysis {
     /// Always `"record_set"`.
@@ -47,7 +47,7 @@ pub struct RecordSetAnalysis {
 }
 
 /// A period interval [s].
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PeriodInterval {
     /// Shortest period [s].
@@ -57,7 +57,7 @@ pub struct PeriodInterval {
 }
 
 /// `[record_set]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RecordSetConfig {
     /// EC8 spectrum type.
@@ -92,7 +92,7 @@ fn yes() -> bool {
 }
 
 /// `[record_set.artificial]`; the defaults are in [`Default`].
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ArtificialConfig {
     /// Number of records.
@@ -135,7 +135,7 @@ impl Default for ArtificialConfig {
 }
 
 /// `[[record_set.recorded]]`: a record file (scaled by the set, so no `scale` key).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RecordedConfig {
     /// The file, relative to the job file's folder.
@@ -149,7 +149,7 @@ pub struct RecordedConfig {
 }
 
 /// A record-set job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RecordSetJobFile {
     /// A one-line description.

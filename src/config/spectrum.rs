@@ -22,7 +22,7 @@ use serde::Deserialize;
 use std::path::PathBuf;
 
 /// `[analysis]` of a spectrum job.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpectrumAnalysis {
     /// Always `"spectrum"`.
@@ -41,7 +41,7 @@ fn five_percent() -> f64 {
 }
 
 /// Log-spaced periods.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PeriodRange {
     /// Shortest period [s].
@@ -59,7 +59,7 @@ impl Default for PeriodRange {
 }
 
 /// Record file formats.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum RecordFormat {
     /// PEER NGA `.AT2` (in g).
@@ -73,7 +73,7 @@ pub enum RecordFormat {
 }
 
 /// `[record]`: the ground motion.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RecordConfig {
     /// A record file, relative to the job file's folder.
@@ -96,7 +96,7 @@ fn unit() -> f64 {
 }
 
 /// `[ec8]`: Eurocode 8 elastic spectra to compare with.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Ec8Config {
     /// Ground type A–E.
@@ -113,7 +113,7 @@ fn both_types() -> Vec<Ec8Type> {
 }
 
 /// A spectrum job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpectrumJobFile {
     /// A one-line description.

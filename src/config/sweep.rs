@@ -38,7 +38,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// `[analysis]` of a sweep job.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SweepAnalysis {
     /// Always `"sweep"`.
@@ -64,7 +64,7 @@ fn default_threshold() -> f64 {
 }
 
 /// The intensity measure a record is scaled by.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum IntensityMeasure {
     /// Peak ground acceleration [m/s²].
@@ -92,7 +92,7 @@ impl IntensityMeasure {
 }
 
 /// `[[sweep.record]]`: a record file (scaled by the sweep, so no `scale` key).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SweepRecordConfig {
     /// The file, relative to the sweep job's folder.
@@ -106,7 +106,7 @@ pub struct SweepRecordConfig {
 }
 
 /// `[[sweep.limit]]`: a damage level of one substructure.
-#[derive(Clone, Debug, Deserialize, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Deserialize, PartialEq, serde::Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LimitConfig {
     /// The substructure (a part's physical group of shells).
@@ -116,7 +116,7 @@ pub struct LimitConfig {
 }
 
 /// `[sweep]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SweepConfig {
     /// A record_set job's results folder.
@@ -151,7 +151,7 @@ pub struct SweepConfig {
 }
 
 /// A sweep job file, as written.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SweepJobFile {
     /// A one-line description.

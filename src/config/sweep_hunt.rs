@@ -36,7 +36,7 @@ fn default_flat_slope() -> f64 {
 }
 
 /// `[sweep.hunt]` as written.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HuntConfig {
     /// The first level [m/s²].

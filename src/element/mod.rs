@@ -91,7 +91,7 @@ pub fn damage_increment(trial: &[crate::material::DamageState], committed: &[cra
 pub const DOFS_PER_NODE: usize = 6;
 
 /// Which mass matrix [`Element::mass`] builds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum MassKind {
     /// Consistent mass M = ∫ ρ Nᵀ N, from the same shape functions as the stiffness.

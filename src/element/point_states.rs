@@ -22,7 +22,11 @@
 //! then reset to the committed ones until the next step sets them.
 //!
 //! An IMPL-EX evaluation is the law at fixed damage (one law evaluation per point), or with the
-//! split frozen `S ε` with the point's secant S of the step (kept from its first evaluation);
+//! split frozen `S ε` with the point's secant S of the step (kept from its first evaluation).
+//! Where the extrapolated damage is equal on both sides (d̃_t = d̃_c, every undamaged point among
+//! them) the law at fixed damage is linear, σ = (1 − d̃) C₀ ε, whatever the split: the tangent of
+//! the point's first evaluation of the step then gives the stress of the others, `C ε`, without
+//! the law (equal to it to round-off; the material point's tests check it for both splits);
 //! the trial state, the implicit update at the evaluated strain, is needed only for the step
 //! that converged: [`PointStates::settle`] computes it then, once per step instead of once per
 //! iteration, and the element calls it before it commits or measures its damage increment.
@@ -156,7 +160,32 @@ impl<'a> PointUpdate<'a> {
         x.trial_strains[N * j..N * (j + 1)].copy_from_slice(strain.as_slice());
         self.trial[j] = self.committed[j];
         *x.pending = true;
+        let linear = x.extrapolated[j].d_t == x.extrapolated[j].d_c;
         let stress = match x.strains {
+            None if linear => {
+                // Equal damage on both sides: the law at fixed damage is linear, σ = (1 − d) C₀ ε
+                // for either split, so its tangent at the first evaluation of the step gives the
+                // stress of every other one (the undamaged points, most of a model, among them).
+                let cell = &mut x.secants[N * N * j..N * N * (j + 1)];
+                if !x.secant_known[j] {
+                    let r = eval(&law.with_frozen_history(), strain, &x.extrapolated[j]);
+                    cell.copy_from_slice(r.tangent.as_slice());
+                    x.secant_known[j] = true;
+                    r
+                } else {
+                    let s = SMatrix::<f64, N, N>::from_column_slice(cell);
+                    let (state, side) = (self.committed[j], Side::Tension);
+                    Response {
+                        stress: s * strain,
+                        secant: s,
+                        tangent: s,
+                        state,
+                        dissipation: 0.0,
+                        side,
+                        loading: false,
+                    }
+                }
+            }
             None => eval(&law.with_frozen_history(), strain, &x.extrapolated[j]),
             Some(strains) => {
                 let cell = &mut x.secants[N * N * j..N * N * (j + 1)];

@@ -5,6 +5,10 @@ use crate::material::implex::SplitAt;
 use crate::material::{DamageParams, Regularization, Side, Split};
 
 fn law() -> PointLaw {
+    law_with(Split::Trace)
+}
+
+fn law_with(split: Split) -> PointLaw {
     DamageParams {
         e: 3.0e9,
         nu: 0.2,
@@ -15,7 +19,7 @@ fn law() -> PointLaw {
         b_c: 800.0,
         gf_c: None,
         regularization: Regularization::Hillerborg,
-        split: Split::Trace,
+        split,
     }
     .for_element(0.1)
     .unwrap()
@@ -180,5 +184,52 @@ fn the_kept_secants_give_the_material_updates_response() {
         assert_ne!(at, strains[0]);
         at = strains[0];
         assert_eq!(frozen_at(&mut s).unwrap(), at.as_slice());
+    }
+}
+
+#[test]
+fn an_undamaged_point_under_the_current_split_is_linear_and_matches_the_law() {
+    // d̃_t = d̃_c = 0 under IMPL-EX with the split at the step's strain: the first evaluation of
+    // a step is the law's (bit for bit); the others are C ε with its tangent, equal to the law's
+    // stress in exact arithmetic (σ = C₀ ε at equal damage for both splits) and here within
+    // 1e-13 of its norm (round-off of the principal decomposition, a few ulps of each term),
+    // across tension, compression and shear, above the damage threshold too (the history is
+    // frozen within the step). A cracked point (d̃_t > d̃_c) keeps the law's response bit for bit.
+    use crate::material::{implex, plane_stress, PlaneStress};
+    use nalgebra::Vector3;
+    let strains = [
+        Vector3::new(3e-5, -1e-5, 2e-5),
+        Vector3::new(-4e-5, 1e-5, -3e-5),
+        Vector3::new(1e-5, 2e-5, -6e-5),
+        Vector3::new(3e-4, -2e-4, 1e-4),
+        Vector3::new(-5e-4, -1e-4, 0.0),
+    ];
+    for split in [Split::Trace, Split::Spectral] {
+        let law = law_with(split);
+        let eval = |l: &PointLaw, e: &Vector3<f64>, s: &DamageState| plane_stress::update(l, e, s);
+        let mut s = PointStates::new(2, 3);
+        step(&mut s, &[DamageState::default(), with_kappa_t(&law, 3.0)], 0.0);
+        s.set_implex(Some(SplitAt::Current));
+        s.set_implex_step(&law, 0.01);
+        let x = extrapolated(&mut s).unwrap();
+        assert_eq!((x[0].d_t, x[0].d_c), (0.0, 0.0), "{split:?}: the virgin point");
+        assert!(x[1].d_t > x[1].d_c, "{split:?}: the cracked point");
+        for (k, e) in strains.iter().enumerate() {
+            for j in 0..2 {
+                let got = s.for_update().respond(&law, j, e, eval);
+                let want = implex::update::<3, PlaneStress>(&law, e, &s.committed()[j], &x[j], None);
+                if j == 1 || k == 0 {
+                    assert_eq!(
+                        (got.stress, got.tangent),
+                        (want.stress, want.tangent),
+                        "{split:?} point {j} strain {k}"
+                    );
+                } else {
+                    let err = (got.stress - want.stress).norm() / want.stress.norm();
+                    assert!(err < 1e-13, "{split:?} strain {k}: relative difference {err:e}");
+                    assert!((got.tangent - want.tangent).norm() < 1e-13 * want.tangent.norm(), "{split:?} strain {k}");
+                }
+            }
+        }
     }
 }

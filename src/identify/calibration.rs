@@ -89,7 +89,7 @@ pub fn sample_stats(runs: &[&DemRun]) -> [Stat; 4] {
 }
 
 /// How the unknowns are searched (see the module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Strategy {
     /// (α, Ē) from (ν, E) on the elastic state, then the strengths by kriging + EI.

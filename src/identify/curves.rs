@@ -110,7 +110,7 @@ impl Curve {
 }
 
 /// How the virtual tests' sample curves are averaged (module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum MeanKind {
     /// Rising branches scaled to the mean peak strain, post-peak branches shifted to it.

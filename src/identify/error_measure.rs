@@ -53,7 +53,7 @@ use serde::{Deserialize, Serialize};
 pub const SKIP_FRACTION: f64 = 1e-3;
 
 /// Which measure.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ErrorMeasure {
     /// Paper eq. 15: Σ sqrt(|Δf| / |f|).

@@ -27,7 +27,7 @@ use super::error::IdentifyError;
 use serde::{Deserialize, Serialize};
 
 /// How the variants' samples are chosen (module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum VariantScheme {
     /// Disjoint groups, samples dealt round-robin.

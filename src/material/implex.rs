@@ -96,7 +96,7 @@ pub fn combine<const N: usize>(stress: Response<N>, history: Response<N>) -> Res
 /// step's own strain (`current`: the law at the extrapolated damage, Newton iterates across
 /// crack closure) or at the committed strain (`frozen`: the step is linear, a crack is seen
 /// closing one step late).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SplitAt {
     /// At the step's strain.

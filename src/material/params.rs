@@ -71,7 +71,7 @@ use super::law::PointLaw;
 use super::split::Split;
 
 /// How `B_t` follows from the element characteristic length (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Regularization {
     /// `B_t = f_t h / G_f`: the softening branch dissipates G_f / h per volume.
@@ -99,27 +99,27 @@ impl Regularization {
 }
 
 /// Parameters of the tension/compression damage law (paper §3.1, paper eqs. 6–14). SI units.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DamageParams {
-    /// Young modulus E (Pa).
+    /// Young modulus E [Pa].
     #[serde(rename = "E")]
     pub e: f64,
-    /// Poisson ratio ν, in (−1, 0.5).
+    /// Poisson ratio ν [-], in (−1, 0.5).
     pub nu: f64,
-    /// Tensile threshold ε₀^t on the equivalent strain ε_eq^t; the tensile strength is f_t = E ε₀^t.
+    /// Tensile threshold ε₀^t [-] on the equivalent strain ε_eq^t; the tensile strength is f_t = E ε₀^t.
     pub eps0_t: f64,
-    /// Compressive threshold ε₀^c on ε_eq^c. Because ε_eq^c measures the positive principal strains
+    /// Compressive threshold ε₀^c [-] on ε_eq^c. Because ε_eq^c measures the positive principal strains
     /// (the lateral extension), under uniaxial compression damage starts at an axial strain of
     /// ε₀^c / (√2 ν), not at ε₀^c.
     pub eps0_c: f64,
-    /// Tensile fracture energy G_f (J/m²), used by the Hillerborg regularizations.
+    /// Tensile fracture energy G_f [J/m²], used by the Hillerborg regularizations.
     pub gf_t: f64,
-    /// Compressive shape parameter A_c in [0, 1] (A_c = 1: no residual plateau).
+    /// Compressive shape parameter A_c [-] in [0, 1] (A_c = 1: no residual plateau).
     pub a_c: f64,
-    /// Compressive shape parameter B_c (1/strain), > 0 (module docs).
+    /// Compressive shape parameter B_c [-] (per unit strain), > 0 (module docs).
     pub b_c: f64,
-    /// Compressive fracture energy G_c (J/m²) of the softening after the compressive peak: when
+    /// Compressive fracture energy G_c [J/m²] of the softening after the compressive peak: when
     /// given, that softening is regularized by the element size (module docs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gf_c: Option<f64>,

@@ -67,7 +67,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The unilateral split of the free energy (module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Split {
     /// The paper's split on the sign of tr σ̃ (smoothed over a band of stress directions in plane

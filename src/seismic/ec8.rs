@@ -15,7 +15,7 @@
 use super::error::SeismicError;
 
 /// Spectrum type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Ec8Type {
     /// Type 1 (Table 3.2): events with Ms > 5.5.
@@ -25,7 +25,7 @@ pub enum Ec8Type {
 }
 
 /// Ground types of EN 1998-1 Table 3.1.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema)]
 pub enum GroundType {
     /// Rock, v_s,30 > 800 m/s.
     A,

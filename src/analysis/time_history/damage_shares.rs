@@ -4,6 +4,13 @@
 //! with d_t > 0.05 and > 0.5), so that a sweep's table and the pictures of one run agree.
 //!
 //! A cell's area is that of its flat polygon (a quad as two triangles over its diagonal 1–3).
+//!
+//! Beside the shares, each group's energy dissipated by damage (J): the shares count the area of
+//! cracked cells, so a crack one element wide weighs as much as the element is large, while the
+//! crack-band regularization (Bažant and Oh 1983) scales each element's softening so that it
+//! dissipates the fracture energy per crack area whatever its size. The dissipated energy is
+//! therefore the nearer to mesh-objective of the two (docs/convergence.md measures both on two
+//! meshes).
 use super::envelope::{Envelopes, CELL_VALUES};
 use crate::analysis::Discretization;
 use crate::config::Job;
@@ -34,6 +41,9 @@ pub struct GroupDamage {
     pub share_dc: f64,
     /// Largest d_t.
     pub max_dt: f64,
+    /// Energy dissipated by damage in its shells up to the committed state [J] (the module docs).
+    #[serde(default)]
+    pub dissipated: f64,
     /// The convergence band of `share_dt` (`[dynamics] convergence`), where one applies.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub share_dt_band: Option<f64>,
@@ -71,8 +81,9 @@ pub fn by_group(
         }
     }
     let n = groups.len();
-    // Per group: area, area with d_t > onset, d_t > cracked, d_c > cracked (sums); max d_t.
-    let mut sums = vec![0.0; 4 * n];
+    // Per group: area, area with d_t > onset, d_t > cracked, d_c > cracked, dissipated energy
+    // (sums); max d_t.
+    let mut sums = vec![0.0; 5 * n];
     let mut max = vec![0.0f64; n];
     for (i, &c) in disc.local_cells.iter().enumerate() {
         let mc = &model.cells[c];
@@ -84,37 +95,39 @@ pub fn by_group(
         let corners: Vec<[f64; 3]> = cell.nodes.iter().map(|&k| mesh.coords[k]).collect();
         let a = polygon_area(&corners);
         let (dt, dc) = (env.cell[CELL_VALUES * i], env.cell[CELL_VALUES * i + 1]);
-        sums[4 * g] += a;
+        sums[5 * g] += a;
         if dt > ONSET {
-            sums[4 * g + 1] += a;
+            sums[5 * g + 1] += a;
         }
         if dt > CRACKED {
-            sums[4 * g + 2] += a;
+            sums[5 * g + 2] += a;
         }
         if dc > CRACKED {
-            sums[4 * g + 3] += a;
+            sums[5 * g + 3] += a;
         }
+        sums[5 * g + 4] += disc.elements[i].dissipated_energy();
         if dt.is_finite() {
             max[g] = max[g].max(dt);
         }
     }
-    let mut total = vec![0.0; 4 * n];
+    let mut total = vec![0.0; 5 * n];
     ctx.comm.all_reduce_into(&sums[..], &mut total[..], SystemOperation::sum());
     let mut peak = vec![0.0; n];
     ctx.comm.all_reduce_into(&max[..], &mut peak[..], SystemOperation::max());
     groups
         .into_iter()
         .enumerate()
-        .filter(|&(g, _)| total[4 * g] > 0.0)
+        .filter(|&(g, _)| total[5 * g] > 0.0)
         .map(|(g, group)| {
-            let area = total[4 * g];
+            let area = total[5 * g];
             GroupDamage {
                 group,
                 area,
-                share_dt_onset: total[4 * g + 1] / area,
-                share_dt: total[4 * g + 2] / area,
-                share_dc: total[4 * g + 3] / area,
+                share_dt_onset: total[5 * g + 1] / area,
+                share_dt: total[5 * g + 2] / area,
+                share_dc: total[5 * g + 3] / area,
                 max_dt: peak[g],
+                dissipated: total[5 * g + 4],
                 share_dt_band: None,
             }
         })
@@ -157,7 +170,9 @@ pub fn band_line(r: &crate::config::BandReport) -> String {
         Some(l) => format!(
             "convergence band: {} (loading {l}, measured at PGA {:.3} m/s^2 >= this run's {:.3}): shares of d_t > 0.5 \
              in summary.json (damage_by_group, share_dt_band)",
-            r.file, r.pga[0], r.pga[1]
+            r.file,
+            r.measured_pga.unwrap_or(f64::NAN),
+            r.run_pga
         ),
         None => format!("convergence band of {}: does not apply ({})", r.file, r.not_applicable.join("; ")),
     }

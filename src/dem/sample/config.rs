@@ -32,7 +32,7 @@ pub const DEFAULT_FACET_TOLERANCE: f64 = 0.02;
 pub const MAX_MIN_DISTANCE_FACTOR: f64 = 0.8;
 
 /// What to do with a facet shorter than `facet_tolerance × mean diameter`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum TinyFacetPolicy {
     /// Snap its two end vertices together (the two particles then touch at a point, no beam).
@@ -43,12 +43,12 @@ pub enum TinyFacetPolicy {
 }
 
 /// Coursed (regular) masonry: courses of stones with jittered seeds and staggered joints.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CoursedLayout {
-    /// Domain width (m).
+    /// Domain width [m].
     pub width: f64,
-    /// Domain height (m).
+    /// Domain height [m].
     pub height: f64,
     /// Number of courses (rows), ≥ 1.
     pub n_courses: usize,
@@ -69,12 +69,12 @@ pub struct CoursedLayout {
 }
 
 /// Random (Poisson-disk) stones.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RandomLayout {
-    /// Domain width (m).
+    /// Domain width [m].
     pub width: f64,
-    /// Domain height (m).
+    /// Domain height [m].
     pub height: f64,
     /// Number of particles, ≥ 1.
     pub n_particles: usize,
@@ -85,7 +85,7 @@ pub struct RandomLayout {
 }
 
 /// How the seeds are laid out.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum SampleLayout {
     /// Coursed masonry.
@@ -95,12 +95,12 @@ pub enum SampleLayout {
 }
 
 /// `[sample]`: a virtual masonry sample.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SampleConfig {
     /// The seed layout.
     pub layout: SampleLayout,
-    /// Out-of-plane thickness `t_z` (m).
+    /// Out-of-plane thickness `t_z` [m].
     #[serde(default = "default_thickness")]
     pub thickness: f64,
     /// RNG seed.
@@ -136,7 +136,7 @@ fn default_facet_tolerance() -> f64 {
 /// The options of the tessellation and the lattice that do not depend on the layout.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GeometryOptions {
-    /// Out-of-plane thickness `t_z` (m).
+    /// Out-of-plane thickness `t_z` [m].
     pub thickness: f64,
     /// Beam inertia coefficient α.
     pub alpha: f64,

@@ -127,7 +127,7 @@ impl Default for SolverOptions {
 /// difference is a fraction of a second, and the paper's wall (about 180 unknowns) keeps the
 /// round-off behind its published figures and behind the identified law
 /// (`materials/rubble-identified.toml`, the same bytes from the same seeds).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum FactorUpdates {
     /// In place from [`IN_PLACE_MIN_UNKNOWNS`] unknowns on, Woodbury below.

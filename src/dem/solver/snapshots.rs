@@ -23,7 +23,7 @@ use super::dofs::DofMap;
 use super::records::{Observer, StateKind, StateRecord};
 
 /// Which recorded states are written as particle states.
-#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ParticleStates {
     /// No particle states.

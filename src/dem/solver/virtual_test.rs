@@ -47,7 +47,7 @@ use crate::dem::mechanics::MechParams;
 use crate::dem::sample::Sample;
 
 /// Rotation of the top platen in the shear test.
-#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum PlatenRotation {
     /// Θ = 0.
@@ -65,29 +65,29 @@ fn default_preload_steps() -> usize {
 }
 
 /// A virtual test.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum VirtualTest {
     /// Uniaxial compression along y.
     Compression {
-        /// Final |ε_yy|.
+        /// Final |ε_yy| [-].
         max_strain: f64,
         /// Load steps.
         steps: usize,
     },
     /// Uniaxial tension along y.
     Tension {
-        /// Final ε_yy.
+        /// Final ε_yy [-].
         max_strain: f64,
         /// Load steps.
         steps: usize,
     },
     /// Shear under a constant vertical compression.
     Shear {
-        /// Vertical compressive stress held on the top platen (Pa).
+        /// Vertical compressive stress held on the top platen [Pa].
         #[serde(default = "default_vertical_stress")]
         vertical_stress: f64,
-        /// Final horizontal displacement of the top platen (m).
+        /// Final horizontal displacement of the top platen [m].
         max_displacement: f64,
         /// Load steps of the horizontal displacement.
         steps: usize,
@@ -100,7 +100,7 @@ pub enum VirtualTest {
     },
     /// Cycles of tension and compression along y, amplitudes increasing per cycle.
     CyclicTensionCompression {
-        /// Tensile strain amplitude `ε_yy` of each cycle (> 0, non-decreasing).
+        /// Tensile strain amplitude `ε_yy` [-] of each cycle, > 0, non-decreasing.
         amplitudes: Vec<f64>,
         /// Compressive amplitude over tensile amplitude (≥ 0; 0 = unload to zero strain only).
         #[serde(default = "one")]
@@ -110,10 +110,10 @@ pub enum VirtualTest {
     },
     /// Cycles of horizontal top-platen displacement `±a_k` under a constant vertical compression.
     CyclicShear {
-        /// Vertical compressive stress held on the top platen (Pa).
+        /// Vertical compressive stress held on the top platen [Pa].
         #[serde(default = "default_vertical_stress")]
         vertical_stress: f64,
-        /// Displacement amplitude of each cycle (m, > 0, non-decreasing).
+        /// Displacement amplitude of each cycle [m], > 0, non-decreasing.
         amplitudes: Vec<f64>,
         /// Load steps per half cycle (`+a → −a`).
         steps_per_half_cycle: usize,
