@@ -1,7 +1,9 @@
 //! The front door stays a front door: README.md is short, names only files that exist, gives the
 //! two commands that CI and the main run really use, and the docs cite public references only.
 //!
-//! * README.md has at most 8,000 characters (Unicode scalar values, not bytes);
+//! * README.md has at most 8,000 characters (Unicode scalar values, not bytes), ARCHITECTURE.md
+//!   (a map read in ten minutes) at most 12,000, and every source file ARCHITECTURE.md names in
+//!   backquotes (`name.rs`, `folder/`) exists under `src/` or `tests/`;
 //! * every repository path it names (`jobs/…`, `scripts/…`, `docs/…`, `materials/…`, `meshes/…`,
 //!   `src/…`, `tests/…`, `examples/…`) and every relative link target exists, except what runs
 //!   write: paths under `results/` and `docs/img/`, and the generated pages of [`GENERATED`]
@@ -19,6 +21,9 @@ use std::path::{Path, PathBuf};
 
 /// The README's budget in characters.
 const MAX_CHARS: usize = 8000;
+
+/// ARCHITECTURE.md's budget in characters.
+const MAX_ARCHITECTURE_CHARS: usize = 12000;
 
 /// Path prefixes the README may name, all inside the repository.
 const PREFIXES: [&str; 8] = ["jobs/", "scripts/", "docs/", "materials/", "meshes/", "src/", "tests/", "examples/"];
@@ -159,6 +164,54 @@ fn readme_is_at_most_8000_characters() {
         n <= MAX_CHARS,
         "README.md has {n} characters, more than {MAX_CHARS}: move the detail to docs/ and link to it"
     );
+}
+
+#[test]
+fn architecture_is_at_most_12000_characters() {
+    let n = read("ARCHITECTURE.md").chars().count();
+    assert!(
+        n <= MAX_ARCHITECTURE_CHARS,
+        "ARCHITECTURE.md has {n} characters, more than {MAX_ARCHITECTURE_CHARS}: it is a map, the detail lives in the modules' docs"
+    );
+}
+
+/// Every file and folder name under `dir`, relative paths with `/` included (`a/b.rs`, `a/`).
+fn tree_names(dir: &Path, base: &str, out: &mut Vec<String>) {
+    for e in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        let rel = format!("{base}{name}");
+        if p.is_dir() {
+            out.push(format!("{rel}/"));
+            tree_names(&p, &format!("{rel}/"), out);
+        } else {
+            out.push(rel);
+        }
+    }
+}
+
+/// The backquoted names of `text` that look like a Rust source file or a folder: `x.rs`,
+/// `a/b.rs`, `dir/` (no spaces, no wildcard).
+fn backquoted_sources(text: &str) -> Vec<String> {
+    text.split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|t| !t.contains([' ', '*', ':']) && (t.ends_with(".rs") || t.ends_with('/')))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn every_source_the_architecture_names_exists() {
+    let named = backquoted_sources(&read("ARCHITECTURE.md"));
+    assert!(named.iter().any(|t| t == "analysis/"), "the scanner found no `analysis/`: {named:?}");
+    let mut tree = Vec::new();
+    tree_names(&root().join("src"), "", &mut tree);
+    tree_names(&root().join("tests"), "tests/", &mut tree);
+    // A name matches a path that ends with it at a folder boundary.
+    let found = |n: &str| tree.iter().any(|p| p == n || p.ends_with(&format!("/{n}")));
+    let gone: Vec<&String> = named.iter().filter(|n| !found(n)).collect();
+    assert!(gone.is_empty(), "ARCHITECTURE.md names sources that do not exist: {gone:?}");
 }
 
 #[test]
