@@ -13,7 +13,7 @@
 //!             mesh carries with a margin (1.37 times the self-weight, tower modulus as given).
 //!   checks    every stage ran: modes.xdmf, modes-updated.xdmf, stages.json, results.xdmf,
 //!             envelopes.xdmf, monitors.csv, energy.csv, summary.json with the four stages, on
-//!             one discretization (summary.json: discretization_setups = 1);
+//!             (one discretization for all stages: the type of FeProblem, tests/layers.rs);
 //!             the updating reduced the frequency error, its factors lie within the bounds;
 //!             tensile damage appears (max d_t > 0.05);
 //!             1 vs 2 ranks: updating factors within 1e-6 (relative; the eigensolver's tolerance
@@ -138,7 +138,6 @@ fn church_job_short_segment_agrees_on_one_and_two_ranks() {
             let f = p["factor"].as_f64().unwrap();
             assert!((0.3..=3.0).contains(&f), "{p}");
         }
-        assert_eq!(s["discretization_setups"].as_u64(), Some(1), "np = {np}: one discretization for the four stages");
         let th = &s["time_history"];
         assert_eq!(th["steps"].as_u64().unwrap(), 5);
         let d_t = th["max_damage"]["d_t"].as_f64().unwrap();
@@ -239,7 +238,6 @@ fn church_job_restarted_after_a_fault_ends_like_the_uninterrupted_run() {
             );
             let s = summary(&dir.join("out"));
             assert_eq!(s["restart"].as_bool(), Some(true));
-            assert_eq!(s["discretization_setups"].as_u64(), Some(1));
         } else {
             let o = run(0, &[job.to_str().unwrap()]);
             assert!(o.status.success(), "{}\n{}", stdout(&o), stderr(&o));

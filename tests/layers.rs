@@ -237,3 +237,30 @@ fn cycles_inside_a_folder_are_named_in_its_module_doc() {
         unnamed.join("\n")
     );
 }
+
+/// One FE problem object: `Discretization::setup` (partition, numbering, elements) is called in
+/// code at exactly one place, `FeProblem::setup` in `src/analysis/problem.rs`, and is visible to
+/// `analysis/` only (`pub(super)`), so an analysis cannot set up a discretization of its own: a
+/// chain of analyses on one problem partitions once. No process-global counter stands in for
+/// this.
+#[test]
+fn the_discretization_is_set_up_by_the_fe_problem_only() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut calls = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let t = line.trim_start();
+            if !t.starts_with("//") && t.contains("Discretization::setup(") {
+                calls.push(format!("{}:{}", f.strip_prefix(&src).unwrap().display(), i + 1));
+            }
+        }
+    }
+    assert_eq!(calls.len(), 1, "Discretization::setup is called at {calls:?}: an analysis takes an FeProblem");
+    assert!(calls[0].starts_with("analysis/problem.rs:"), "{calls:?}");
+    let disc = std::fs::read_to_string(src.join("analysis/discretization.rs")).unwrap();
+    assert!(disc.contains("    pub(super) fn setup("), "Discretization::setup must stay private to analysis/");
+    assert!(!disc.contains("static "), "analysis/discretization.rs keeps no process-global state");
+}

@@ -1,19 +1,19 @@
 //! The `seismic_assessment` job (the church job): the stages of a seismic assessment chained in
-//! one run on one finite-element problem: the discretization (partition, numbering, elements) is
-//! set up once, and every stage works on it (deal.II's `setup_system` once, then phases).
+//! one run on one [`FeProblem`]: its discretization (partition, numbering, elements) is set up
+//! once, by the caller, and every stage works on it (deal.II's `setup_system` once, then phases).
 //!
 //! ```text
-//!  setup            Discretization::setup                        (summary: discretization_setups)
-//!  1 modal          modal::run_on, the model as given            → modes.xdmf, the frequencies,
+//!  setup            FeProblem::setup (the caller)
+//!  1 modal          modal::run, the model as given               → modes.xdmf, the frequencies,
 //!                                                                  the shapes kept in memory
-//!  2 updating       modal_updating::run_on: factors s_g on E per group (LM, exact
+//!  2 updating       modal_updating::run: factors s_g on E per group (LM, exact
 //!                   sensitivities), targets paired by MAC with stage 1's shapes unless
 //!                   target_shapes are given
 //!                   the moduli moved on the problem: the owned elements built again with
 //!                   E ← s_g E per part (G with it; a damage law's f_t = E ε₀ᵗ follows, ε₀ᵗ fixed)
 //!                   → stages.json (stages 1–3 and the factors: what --restart reads back)
-//!  3 modal (updated) modal::run_on                               → modes-updated.xdmf
-//!  4 time history   time_history::run_on: gravity, then [dynamics]
+//!  3 modal (updated) modal::run                                  → modes-updated.xdmf
+//!  4 time history   time_history::run: gravity, then [dynamics]
 //!                   → results.xdmf, envelopes.xdmf, monitors.csv + PNGs, energy.csv, checkpoint/
 //! ```
 //!
@@ -22,12 +22,11 @@
 use super::modal;
 use super::modal_updating::{self, UpdatingSummary};
 use super::time_history::{self, TimeHistorySummary};
-use super::Discretization;
+use super::time_history::Start;
+use super::FeProblem;
 use crate::config::{AssessmentConfig, Job, MaterialConfig};
 use crate::error::{AnalysisError, Error};
 use crate::io::IoError;
-use crate::mesh::Mesh;
-use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -85,8 +84,6 @@ pub struct AssessmentSummary {
     pub ranks: usize,
     /// True when this run continued a time history from its checkpoint.
     pub restart: bool,
-    /// Discretizations set up by this run (partition, numbering, elements): 1, all stages on it.
-    pub discretization_setups: usize,
     /// Stages 1–3 (read back from `stages.json` on a restart).
     pub stages: PreStages,
     /// Stage 4.
@@ -96,22 +93,16 @@ pub struct AssessmentSummary {
     pub seconds: [f64; 3],
 }
 
-/// Collective. Runs the assessment (see the module docs).
-pub fn run(
-    ctx: &Context,
-    job: &Job,
-    cfg: &AssessmentConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    restart: bool,
-) -> Result<AssessmentSummary, Error> {
+/// Collective. Runs the assessment of `p` (see the module docs).
+pub fn run(mut p: FeProblem, cfg: &AssessmentConfig, restart: bool) -> Result<AssessmentSummary, Error> {
+    let (ctx, job) = (p.ctx, p.job);
     let log = &ctx.log;
     let mut phases = Phases::default();
-    let mut disc = phases.time("setup", || Discretization::setup(ctx, job, mesh, model))?;
+    phases.add("setup", p.take_setup_seconds());
     log.info(format!(
         "setup: {} equations, {} element(s) on {} rank(s): one discretization for every stage",
-        6 * disc.dofs.n_global_nodes,
-        model.cells.len(),
+        6 * p.disc.dofs.n_global_nodes,
+        p.model.cells.len(),
         ctx.size
     ));
     let stages = phases.time("stages 1-3", || -> Result<PreStages, Error> {
@@ -120,10 +111,10 @@ pub fn run(
             let read = read_stages(&file).and_then(|s| part_factors(job, &s.moduli).map(|f| (s, f)));
             let (stages, factors) = agree(&ctx.comm, read, Error::exit_code)?;
             log.info(format!("restart: stages 1-3 read back from {} (modal updating skipped)", file.display()));
-            disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
+            p.rebuild_elements(&factors)?;
             Ok(stages)
         } else {
-            pre_stages(ctx, job, cfg, mesh, model, &mut disc)
+            pre_stages(&mut p, cfg)
         }
     })?;
 
@@ -131,12 +122,12 @@ pub fn run(
         "stage 4/4: gravity, then the ground motion on the updated model{}",
         if restart { " (restart)" } else { "" }
     ));
-    let th = phases.time("time history", || time_history::run_on(ctx, job, mesh, model, disc, restart))?;
+    let start = if restart { Start::Restart } else { Start::Gravity };
+    let th = phases.time("time history", || time_history::run(p, start, &mut ()))?;
     let [t_setup, t_pre, t_th] = phases.seconds_of(["setup", "stages 1-3", "time history"]);
     Ok(AssessmentSummary {
         ranks: ctx.size,
         restart,
-        discretization_setups: Discretization::setups(),
         stages,
         time_history: th,
         seconds: [if restart { 0.0 } else { t_setup + t_pre }, t_th, t_setup + t_pre + t_th],
@@ -162,20 +153,14 @@ fn part_factors(job: &Job, moduli: &[ModulusChange]) -> Result<Vec<f64>, Error> 
     Ok(moduli.iter().map(|m| m.factor).collect())
 }
 
-/// Collective. Stages 1–3 on `disc` (its elements left with the updated moduli); rank 0 writes
+/// Collective. Stages 1–3 on `p` (its elements left with the updated moduli); rank 0 writes
 /// them to `stages.json` in the job's results folder. A sweep runs them once per material.
-pub fn pre_stages(
-    ctx: &Context,
-    job: &Job,
-    cfg: &AssessmentConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    disc: &mut Discretization,
-) -> Result<PreStages, Error> {
+pub fn pre_stages(p: &mut FeProblem, cfg: &AssessmentConfig) -> Result<PreStages, Error> {
+    let (ctx, job) = (p.ctx, p.job);
     let log = &ctx.log;
     let mut phases = Phases::default();
     log.info(format!("stage 1/4: modal analysis of the model as given, {} mode(s)", cfg.modes));
-    let (modal, shapes) = phases.time("modal", || modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes"))?;
+    let (modal, shapes) = phases.time("modal", || modal::run(p, &cfg.modal(), "modes"))?;
 
     let updating = phases.time("updating", || -> Result<Option<UpdatingSummary>, Error> {
         Ok(match &cfg.updating {
@@ -191,7 +176,7 @@ pub fn pre_stages(
                 if u.target_shapes.is_none() {
                     log.info("  targets paired by MAC with the mode shapes of stage 1");
                 }
-                Some(modal_updating::run_on(ctx, job, u, mesh, model, disc, Some(&shapes))?)
+                Some(modal_updating::run(p, u, Some(&shapes))?)
             }
             None => {
                 log.info("stage 2/4: no [analysis.updating]: the moduli are used as given");
@@ -217,8 +202,8 @@ pub fn pre_stages(
     log.info("stage 3/4: modal analysis of the updated model");
     let factors: Vec<f64> = moduli.iter().map(|m| m.factor).collect();
     let (modal_updated, _) = phases.time("modal (updated)", || -> Result<_, Error> {
-        disc.rebuild_elements(ctx, job, mesh, model, &factors)?;
-        modal::run_on(ctx, job, &cfg.modal(), mesh, model, disc, "modes-updated")
+        p.rebuild_elements(&factors)?;
+        modal::run(p, &cfg.modal(), "modes-updated")
     })?;
 
     let stages = PreStages {

@@ -10,10 +10,6 @@ use crate::mesh::CellKind;
 use crate::mesh::Mesh;
 use crate::model::{ModelCell, StructuralModel};
 use crate::parallel::{agree, partition_cells, Context, DofMap};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// How many times this process has set up a discretization ([`Discretization::setups`]).
-static SETUPS: AtomicUsize = AtomicUsize::new(0);
 
 /// The discrete system of one rank.
 pub struct Discretization {
@@ -43,8 +39,8 @@ pub fn default_orientation(x1: [f64; 3], x2: [f64; 3]) -> [f64; 3] {
 
 impl Discretization {
     /// Collective. Partitions the model's cells, numbers the DOFs, builds the owned elements.
-    pub fn setup(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel) -> Result<Self, Error> {
-        SETUPS.fetch_add(1, Ordering::Relaxed);
+    /// Called by [`super::FeProblem::setup`] only: an analysis takes the problem.
+    pub(super) fn setup(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel) -> Result<Self, Error> {
         let cells = model.cell_nodes(mesh);
         let cell_rank = agree(&ctx.comm, partition_cells(&ctx.comm, &cells), |_| 1)?;
         let dofs = DofMap::build(&cells, &cell_rank, model.fixed.clone(), ctx.rank, ctx.size);
@@ -60,9 +56,9 @@ impl Discretization {
 
     /// Collective. The owned elements built again, fresh (no damage, no state), with the Young
     /// modulus of each part's material scaled by `scale[part]`
-    /// ([`MaterialConfig::with_modulus_scaled`]); the partition and the numbering stay. Modal
-    /// updating moves the moduli of the problem it runs on this way.
-    pub fn rebuild_elements(
+    /// ([`MaterialConfig::with_modulus_scaled`]); the partition and the numbering stay
+    /// ([`super::FeProblem::rebuild_elements`]).
+    pub(super) fn rebuild_elements(
         &mut self,
         ctx: &Context,
         job: &Job,
@@ -73,12 +69,6 @@ impl Discretization {
         let built = build_elements(job, mesh, model, &self.local_cells, scale);
         self.elements = agree(&ctx.comm, built, Error::exit_code)?;
         Ok(())
-    }
-
-    /// How many discretizations this process has set up (partition, numbering, elements): a
-    /// seismic assessment sets up one for all its stages.
-    pub fn setups() -> usize {
-        SETUPS.load(Ordering::Relaxed)
     }
 
     /// Collective. An empty matrix over the equations, preallocated exactly for the model's

@@ -5,13 +5,13 @@
 //! on the fixed ones it gives the support reactions, whose sum must balance the applied loads.
 use super::assembly::{self, Rows};
 use super::output;
-use super::Discretization;
+use super::{Discretization, FeProblem};
 use crate::config::Job;
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;
 use crate::parallel::{agree, Context, Phases};
-use crate::petsc::{Ksp, Matrix, Petsc, Vector};
+use crate::petsc::{Ksp, Matrix, Vector};
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 
@@ -66,21 +66,17 @@ pub struct Timings {
     pub output: f64,
 }
 
-/// Collective. Runs the analysis and writes results into `job.output_dir`: setup, assemble,
-/// solve, check, output, each timed.
-pub fn run(
-    ctx: &Context,
-    petsc: &Petsc,
-    job: &Job,
-    mesh: &Mesh,
-    model: &StructuralModel,
-) -> Result<LinearStaticSummary, Error> {
-    let _ = petsc;
+/// Collective. Runs the analysis of `p` and writes results into the job's results folder:
+/// setup, assemble, solve, check, output, each timed.
+pub fn run(p: &mut FeProblem) -> Result<LinearStaticSummary, Error> {
+    let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
     let log = &ctx.log;
     let mut phases = Phases::default();
+    phases.add("setup", p.take_setup_seconds());
     let format = job.spec.solver.matrix;
-    let mut sys = phases.time("setup", || LinearSystem::setup(ctx, job, mesh, model))?;
-    let dofs = &sys.disc.dofs;
+    let mut sys = phases.time("setup", || LinearSystem::setup(p))?;
+    let disc = &mut p.disc;
+    let dofs = &disc.dofs;
     log.info(format!(
         "setup: {} nodes, {} elements, {} equations ({} fixed) on {} rank(s); {:?} matrix",
         dofs.n_global_nodes,
@@ -92,7 +88,7 @@ pub fn run(
     ));
 
     crate::fault::inject("assembly", ctx.rank)?;
-    phases.time("assemble", || sys.assemble(mesh, model))?;
+    phases.time("assemble", || sys.assemble(disc, mesh, model))?;
     log.info(format!("assembly: {:.3} s", phases.seconds("assemble")));
 
     let (stats, ksp_desc) = phases.time("solve", || sys.solve(ctx))?;
@@ -101,7 +97,7 @@ pub fn run(
 
     let (u_local, eq) = phases.time("check", || -> Result<_, Error> {
         let u_local = sys.u.with_local_form(|s| s.to_vec())?;
-        let eq = check_equilibrium(ctx, &mut sys.disc, mesh, model, &u_local)?;
+        let eq = check_equilibrium(ctx, disc, mesh, model, &u_local)?;
         Ok((u_local, eq))
     })?;
     log.info(format!("equilibrium: relative residual {:.3e}", eq.residual));
@@ -112,18 +108,17 @@ pub fn run(
         eq.reaction_sum[0], eq.reaction_sum[1], eq.reaction_sum[2]
     ));
 
-    let (umax, umax_tag) = largest_translation(ctx, mesh, &sys.disc, &u_local);
+    let (umax, umax_tag) = largest_translation(ctx, mesh, disc, &u_local);
     log.info(format!("largest displacement: {umax:.6e} m at node {umax_tag}"));
 
     // The writer checks its arguments across ranks before each collective call, so its errors
     // are seen by every rank.
     phases.time("output", || {
-        let written = output::write_static_results(ctx, job, mesh, model, &sys.disc, &u_local, &eq.r_owned);
+        let written = output::write_static_results(ctx, job, mesh, model, disc, &u_local, &eq.r_owned);
         agree(&ctx.comm, written, Error::exit_code)
     })?;
     log.info(format!("results: {}", job.output_dir.join("results.xdmf").display()));
 
-    let disc = &sys.disc;
     Ok(LinearStaticSummary {
         ranks: ctx.size,
         nodes: disc.dofs.n_global_nodes,
@@ -152,31 +147,29 @@ impl Timings {
     }
 }
 
-/// The discretization with `K u = f`'s matrix and vectors (`u` ghosted).
+/// `K u = f`'s matrix and vectors (`u` ghosted) on a problem's discretization.
 struct LinearSystem {
-    disc: Discretization,
     k: Matrix,
     u: Vector,
     f: Vector,
 }
 
 impl LinearSystem {
-    /// Collective. Partition, numbering, elements; the matrix (with the rigid-body modes as its
-    /// near null space) and the vectors.
-    fn setup(ctx: &Context, job: &Job, mesh: &Mesh, model: &StructuralModel) -> Result<LinearSystem, Error> {
-        let disc = Discretization::setup(ctx, job, mesh, model)?;
+    /// Collective. The matrix (with the rigid-body modes as its near null space) and the vectors.
+    fn setup(p: &FeProblem) -> Result<LinearSystem, Error> {
+        let (ctx, job, mesh, model, disc) = (p.ctx, p.job, p.mesh, p.model, &p.disc);
         let n_owned = disc.dofs.n_owned_dofs();
         let mut k = disc.new_matrix(ctx, mesh, model, job.spec.solver.matrix)?;
         k.set_near_null_space(&ctx.comm, super::rigid_body_modes(ctx, mesh, &disc.dofs)?)?;
         let u = Vector::new_ghosted(&ctx.comm, n_owned, &disc.dofs.ghost_dofs())?;
         let f = Vector::new_mpi(&ctx.comm, n_owned, None)?;
-        Ok(LinearSystem { disc, k, u, f })
+        Ok(LinearSystem { k, u, f })
     }
 
     /// Collective. `K` and `f` on the free equations.
-    fn assemble(&mut self, mesh: &Mesh, model: &StructuralModel) -> Result<(), Error> {
-        assembly::assemble_stiffness(&mut self.disc, mesh, model, None, &mut self.k)?;
-        assembly::assemble_loads(&self.disc, mesh, model, Rows::Free, &mut self.f)
+    fn assemble(&mut self, disc: &mut Discretization, mesh: &Mesh, model: &StructuralModel) -> Result<(), Error> {
+        assembly::assemble_stiffness(disc, mesh, model, None, &mut self.k)?;
+        assembly::assemble_loads(disc, mesh, model, Rows::Free, &mut self.f)
     }
 
     /// Collective. `u` by a Cholesky factorization (MUMPS) unless the options say otherwise;

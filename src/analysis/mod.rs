@@ -18,10 +18,12 @@ pub mod newton;
 mod nonlinear_system;
 pub mod nonlocal;
 pub mod output;
+mod problem;
 mod rigid_modes;
 pub mod static_nonlinear;
 pub mod time_history;
 
 pub use discretization::{default_orientation, Discretization};
+pub use problem::FeProblem;
 pub use model_mass::ModelMass;
 pub use rigid_modes::rigid_body_modes;

@@ -10,7 +10,7 @@
 use super::assembly;
 use super::block_lanczos;
 use super::output::{node_triplets, MeshPiece};
-use super::Discretization;
+use super::{Discretization, FeProblem};
 use crate::config::{Job, ModalConfig};
 use crate::element::MassKind;
 use crate::error::Error;
@@ -119,48 +119,16 @@ fn mass_matrix(
     Ok((m, false))
 }
 
-/// Collective. Runs the modal analysis; mode shapes go to `modes.xdmf` (one step per mode).
-pub fn run(
-    ctx: &Context,
-    job: &Job,
-    cfg: &ModalConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-) -> Result<ModalSummary, Error> {
-    run_to(ctx, job, cfg, mesh, model, "modes")
-}
-
-/// Collective. As [`run`], with the mode shapes in `<stem>.xdmf` + `<stem>.h5` of the job's
-/// results folder.
-pub fn run_to(
-    ctx: &Context,
-    job: &Job,
-    cfg: &ModalConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    stem: &str,
-) -> Result<ModalSummary, Error> {
-    let mut phases = Phases::default();
-    let mut disc = phases.time("setup", || Discretization::setup(ctx, job, mesh, model))?;
-    let (mut summary, _) = run_on(ctx, job, cfg, mesh, model, &mut disc, stem)?;
-    summary.seconds[0] += phases.seconds("setup");
-    Ok(summary)
-}
-
-/// Collective. The modal analysis on a discretization already set up (a stage of a seismic
-/// assessment); the mode shapes in `<stem>.xdmf` + `<stem>.h5`, and returned too: the owned
-/// values of each mass-normalized mode, in the discretization's numbering.
-pub fn run_on(
-    ctx: &Context,
-    job: &Job,
-    cfg: &ModalConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    disc: &mut Discretization,
-    stem: &str,
-) -> Result<(ModalSummary, Vec<Vec<f64>>), Error> {
+/// Collective. The modal analysis of `p`: the mode shapes in `<stem>.xdmf` + `<stem>.h5` of the
+/// job's results folder, and returned too: the owned values of each mass-normalized mode, in the
+/// discretization's numbering (a seismic assessment pairs its updating targets with them).
+pub fn run(p: &mut FeProblem, cfg: &ModalConfig, stem: &str) -> Result<(ModalSummary, Vec<Vec<f64>>), Error> {
+    let setup = p.take_setup_seconds();
+    let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
+    let disc = &mut p.disc;
     let log = &ctx.log;
     let mut phases = Phases::default();
+    phases.add("setup", setup);
     let format = job.spec.solver.matrix;
     let mut k = phases.time("setup", || disc.new_matrix(ctx, mesh, model, format))?;
     let (m, diagonal_mass) = phases.time("assemble", || -> Result<(Matrix, bool), Error> {

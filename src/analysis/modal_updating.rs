@@ -20,7 +20,7 @@
 use super::assembly;
 use super::modal::lowest_modes;
 use super::mode_pairing::{computed_target_shapes, load_target_shapes, pair_targets, TargetShape};
-use super::Discretization;
+use super::{Discretization, FeProblem};
 use crate::config::{Job, MaterialConfig, ModalUpdatingConfig};
 use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
@@ -91,32 +91,14 @@ struct Evaluation {
     paired: Vec<(usize, f64)>,
 }
 
-/// Collective. Runs the updating and reports before/after.
-pub fn run(
-    ctx: &Context,
-    job: &Job,
-    cfg: &ModalUpdatingConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-) -> Result<UpdatingSummary, Error> {
-    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
-    run_on(ctx, job, cfg, mesh, model, &mut disc, None)
-}
-
-/// Collective. The updating on a discretization already set up (a stage of a seismic
-/// assessment). Targets are paired with computed modes by MAC against the shapes of
-/// `[analysis.updating] target_shapes` when given, else against `computed` (the owned values of
-/// the modes of the model as given, as [`super::modal::run_on`] returns them), else by number.
-/// The elements are left as they are: the caller moves the moduli (`Discretization::rebuild_elements`).
-pub fn run_on(
-    ctx: &Context,
-    job: &Job,
-    cfg: &ModalUpdatingConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    disc: &mut Discretization,
-    computed: Option<&[Vec<f64>]>,
-) -> Result<UpdatingSummary, Error> {
+/// Collective. The updating of `p`'s moduli, before and after. Targets are paired with computed
+/// modes by MAC against the shapes of `[analysis.updating] target_shapes` when given, else
+/// against `computed` (the owned values of the modes of the model as given, as
+/// [`super::modal::run`] returns them), else by number. The elements are left as they are: the
+/// caller moves the moduli ([`FeProblem::rebuild_elements`]).
+pub fn run(p: &mut FeProblem, cfg: &ModalUpdatingConfig, computed: Option<&[Vec<f64>]>) -> Result<UpdatingSummary, Error> {
+    let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
+    let disc = &mut p.disc;
     let log = &ctx.log;
     let ops = Operators::assemble(ctx, job, cfg, mesh, model, disc)?;
     let shapes = match (&cfg.target_shapes, computed) {

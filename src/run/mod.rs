@@ -23,7 +23,8 @@ pub mod sweep;
 pub use crate::error::Error;
 pub use output_dir::{backup_path, prepare_output_dir};
 
-use crate::analysis::linear_static;
+use crate::analysis::time_history::Start;
+use crate::analysis::{linear_static, FeProblem};
 use crate::config::{load_job, AnalysisConfig, AnyJob, Job, MaterialPointJob};
 use crate::io::IoError;
 use crate::mesh::{read_msh, Mesh};
@@ -276,6 +277,21 @@ fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob) -> Result<()
     write_summary(ctx, &job.output_dir, &summary)
 }
 
+/// The log's line naming the analysis.
+fn analysis_line(analysis: &AnalysisConfig, restart: bool) -> String {
+    let restart = if restart { " (restart)" } else { "" };
+    match analysis {
+        AnalysisConfig::LinearStatic => "analysis: linear static".to_string(),
+        AnalysisConfig::StaticNonlinear(cfg) => format!("analysis: nonlinear static, {} load step(s)", cfg.steps),
+        AnalysisConfig::ModalUpdating(_) => "analysis: modal updating".to_string(),
+        AnalysisConfig::TimeHistory => format!("analysis: time history{restart}"),
+        AnalysisConfig::SeismicAssessment(_) => {
+            format!("analysis: seismic assessment (modal, updating, gravity, earthquake){restart}")
+        }
+        AnalysisConfig::Modal(cfg) => format!("analysis: modal, {} mode(s)", cfg.modes),
+    }
+}
+
 fn run_structural(
     ctx: &Context,
     path: &Path,
@@ -295,38 +311,32 @@ fn run_structural(
     let petsc = Petsc::initialize(&argv)?;
     petsc.set_default_options("", &job.petsc_options)?;
 
+    ctx.log.info(analysis_line(&job.spec.analysis, restart));
+    let mut problem = FeProblem::setup(ctx, job, &input.mesh, &input.model)?;
     match &job.spec.analysis {
         AnalysisConfig::LinearStatic => {
-            ctx.log.info("analysis: linear static");
-            let summary = linear_static::run(ctx, &petsc, job, &input.mesh, &input.model)?;
+            let summary = linear_static::run(&mut problem)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::StaticNonlinear(cfg) => {
-            ctx.log.info(format!("analysis: nonlinear static, {} load step(s)", cfg.steps));
-            let summary = crate::analysis::static_nonlinear::run(ctx, job, cfg, &input.mesh, &input.model)?;
+            let summary = crate::analysis::static_nonlinear::run(&mut problem, cfg)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::ModalUpdating(cfg) => {
-            ctx.log.info("analysis: modal updating");
-            let summary = crate::analysis::modal_updating::run(ctx, job, cfg, &input.mesh, &input.model)?;
+            let summary = crate::analysis::modal_updating::run(&mut problem, cfg, None)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::TimeHistory => {
-            ctx.log.info(format!("analysis: time history{}", if restart { " (restart)" } else { "" }));
-            let summary = crate::analysis::time_history::run(ctx, job, &input.mesh, &input.model, restart)?;
+            let start = if restart { Start::Restart } else { Start::Gravity };
+            let summary = crate::analysis::time_history::run(problem, start, &mut ())?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::SeismicAssessment(cfg) => {
-            ctx.log.info(format!(
-                "analysis: seismic assessment (modal, updating, gravity, earthquake){}",
-                if restart { " (restart)" } else { "" }
-            ));
-            let summary = crate::analysis::assessment::run(ctx, job, cfg, &input.mesh, &input.model, restart)?;
+            let summary = crate::analysis::assessment::run(problem, cfg, restart)?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
         AnalysisConfig::Modal(cfg) => {
-            ctx.log.info(format!("analysis: modal, {} mode(s)", cfg.modes));
-            let summary = crate::analysis::modal::run(ctx, job, cfg, &input.mesh, &input.model)?;
+            let (summary, _) = crate::analysis::modal::run(&mut problem, cfg, "modes")?;
             write_summary(ctx, &job.output_dir, &summary)?;
         }
     }

@@ -43,7 +43,7 @@ mod output;
 use super::increment::{IncrementControl, IncrementStop};
 use super::line_search::LineSearchSettings;
 use super::newton::{global_sum, Increment, NewtonOutcome, NewtonSettings, NonlinearSystem};
-use super::Discretization;
+use super::{Discretization, FeProblem};
 use crate::config::{IterationMatrix, Job, LineSearchKind, StaticNonlinearConfig};
 use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
@@ -93,23 +93,18 @@ struct Stage {
     time: Box<dyn Fn(f64) -> f64>,
 }
 
-/// Collective. Runs the analysis: setup, the outputs opened, the stages (loads, then the
+/// Collective. Runs the analysis of `p`: the outputs opened, the stages (loads, then the
 /// control), each a sequence of increments, then the curve's picture.
-pub fn run(
-    ctx: &Context,
-    job: &Job,
-    cfg: &StaticNonlinearConfig,
-    mesh: &Mesh,
-    model: &StructuralModel,
-) -> Result<StaticNonlinearSummary, Error> {
-    let mut disc = Discretization::setup(ctx, job, mesh, model)?;
-    let mut sys = NonlinearSystem::new(ctx, mesh, model, &disc, job.spec.solver.matrix)?;
+pub fn run(p: &mut FeProblem, cfg: &StaticNonlinearConfig) -> Result<StaticNonlinearSummary, Error> {
+    let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
+    let disc = &mut p.disc;
+    let mut sys = NonlinearSystem::new(ctx, mesh, model, disc, job.spec.solver.matrix)?;
     if let Some(radius) = cfg.nonlocal_radius {
-        sys.enable_nonlocal(ctx, &mut disc, mesh, model, radius)?;
+        sys.enable_nonlocal(ctx, disc, mesh, model, radius)?;
     }
     let (settings, secant_settings) = newton_settings(cfg);
-    let outputs = Outputs::open(ctx, job, cfg, mesh, model, &disc)?;
-    let (stages, pattern_resultant) = stages(ctx, cfg, model, &sys, &disc);
+    let outputs = Outputs::open(ctx, job, cfg, mesh, model, disc)?;
+    let (stages, pattern_resultant) = stages(ctx, cfg, model, &sys, disc);
     let mut run = Increments {
         ctx,
         job,
@@ -212,7 +207,7 @@ struct Increments<'a> {
     settings: NewtonSettings,
     secant_settings: NewtonSettings,
     pattern_resultant: f64,
-    disc: Discretization,
+    disc: &'a mut Discretization,
     sys: NonlinearSystem,
     outputs: Outputs,
     reports: Vec<StepReport>,
@@ -248,7 +243,7 @@ impl Increments<'_> {
             } else {
                 let (ctx, mesh, model) = (self.ctx, self.mesh, self.model);
                 let diagnosis = diagnose(ctx, &self.disc, mesh, model, &self.sys, &inc)?;
-                self.sys.revert(&mut self.disc);
+                self.sys.revert(self.disc);
                 // Stop at the floor, after max_cuts halvings in a row, or when the attempts are
                 // spent (successes in between do not make it shrink forever: `increment.rs`).
                 if let Err(stop) = control.failed() {
@@ -288,16 +283,16 @@ impl Increments<'_> {
                 e.set_damage_relaxation(target - t, self.cfg.damage_relaxation_time);
             }
         }
-        let mut out = self.sys.solve_increment(ctx, &mut self.disc, mesh, model, inc, &self.settings)?;
+        let mut out = self.sys.solve_increment(ctx, self.disc, mesh, model, inc, &self.settings)?;
         self.line_search_evaluations += out.line_search_evaluations;
         if !out.converged && !self.settings.secant {
-            self.sys.revert(&mut self.disc);
+            self.sys.revert(self.disc);
             ctx.log.info(format!(
                 "{} towards {target:.4}: tangent iterations failed ({}); retrying with the secant stiffness",
                 stage.name, out.reason
             ));
             let tangent_iterations = out.iterations;
-            out = self.sys.solve_increment(ctx, &mut self.disc, mesh, model, inc, &self.secant_settings)?;
+            out = self.sys.solve_increment(ctx, self.disc, mesh, model, inc, &self.secant_settings)?;
             out.iterations += tangent_iterations;
             self.line_search_evaluations += out.line_search_evaluations;
         }
@@ -308,7 +303,7 @@ impl Increments<'_> {
     /// keeps its report.
     fn accept(&mut self, stage: &Stage, inc: &Increment, t: f64, out: &NewtonOutcome) -> Result<(), Error> {
         let (ctx, mesh, model) = (self.ctx, self.mesh, self.model);
-        self.sys.commit(ctx, &mut self.disc, mesh, model)?;
+        self.sys.commit(ctx, self.disc, mesh, model)?;
         let report = write_step(
             ctx,
             &self.disc,

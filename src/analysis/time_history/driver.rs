@@ -3,7 +3,7 @@
 //! a checkpoint of the last converged state and a clean stop.
 //!
 //! ```text
-//!  setup       PetscSystem::new: partition, elements, M, K₀, static load, ι_d, M ι_d, KSP
+//!  setup       PetscSystem::on the problem: M, K₀, static load, ι_d, M ι_d, KSP
 //!  initial     gravity::solve_gravity → State::at_rest          | checkpoint::read_latest (--restart)
 //!              (a static load the model cannot carry: gravity-failure.xdmf, the last equilibrium)
 //!  per step    Stepper::advance (Newton, substeps) → envelopes, monitors.csv, energy.csv, progress
@@ -29,7 +29,7 @@ use super::step_output::StepOutputs;
 use super::stepper::{State, StepReport, StepSettings, Stepper};
 pub use super::summary::{DriftPeak, TimeHistorySummary};
 use crate::analysis::output::global_max_with_tag;
-use crate::analysis::Discretization;
+use crate::analysis::FeProblem;
 use crate::config::{scheme_parameters, DynamicsConfig, Job};
 use crate::error::{AnalysisError, Error};
 use crate::mesh::Mesh;
@@ -44,21 +44,6 @@ pub fn ground_motion(cfg: &DynamicsConfig) -> GroundMotion {
         c[g.direction.index()] = g.record.clone();
     }
     GroundMotion::new(c)
-}
-
-/// Collective. Runs the job: setup, gravity or restart, integration.
-pub fn run(
-    ctx: &Context,
-    job: &Job,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    restart: bool,
-) -> Result<TimeHistorySummary, Error> {
-    let mut phases = Phases::default();
-    let disc = phases.time("setup", || Discretization::setup(ctx, job, mesh, model))?;
-    let mut summary = run_on(ctx, job, mesh, model, disc, restart)?;
-    summary.seconds[0] += phases.seconds("setup");
-    Ok(summary)
 }
 
 /// Where a time history starts.
@@ -84,36 +69,17 @@ impl StepObserver for () {
     fn after_step(&mut self, _step: usize) {}
 }
 
-/// Collective. As [`run`], on a discretization already set up (the last stage of a seismic
-/// assessment): the system (setup), gravity or restart, integration.
-pub fn run_on(
-    ctx: &Context,
-    job: &Job,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    disc: Discretization,
-    restart: bool,
-) -> Result<TimeHistorySummary, Error> {
-    let start = if restart { Start::Restart } else { Start::Gravity };
-    run_from(ctx, job, mesh, model, disc, start, &mut ())
-}
-
-/// Collective. As [`run_on`], from `start`, with `observer` called after every step.
-pub fn run_from(
-    ctx: &Context,
-    job: &Job,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    disc: Discretization,
-    start: Start,
-    observer: &mut dyn StepObserver,
-) -> Result<TimeHistorySummary, Error> {
+/// Collective. The time history of `p`: the system (setup), gravity, a restart or a saved gravity
+/// state (`start`), integration; `observer` is called after every step.
+pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> Result<TimeHistorySummary, Error> {
+    let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
     let cfg = job.spec.dynamics.as_ref().ok_or(AnalysisError::NoDynamics)?;
     let (beta, gamma, alpha) = scheme_parameters(cfg);
     let rayleigh = Rayleigh::from_config(&cfg.damping);
     let ground = ground_motion(cfg);
     let mut phases = Phases::default();
-    let mut sys = phases.time("setup", || PetscSystem::on(ctx, job, mesh, model, disc, cfg.mass, rayleigh))?;
+    phases.add("setup", p.take_setup_seconds());
+    let mut sys = phases.time("setup", || PetscSystem::on(p, cfg.mass, rayleigh))?;
     log_setup(ctx, cfg, model, &sys, (beta, gamma, alpha), rayleigh);
     let (state, envelopes) = phases.time("gravity", || -> Result<_, Error> {
         match start {
@@ -160,21 +126,15 @@ pub fn run_from(
     Ok(summary)
 }
 
-/// Collective. Gravity solved on `disc` (as [`Start::Gravity`] does) and its state saved as a
+/// Collective. Gravity solved on `p` (as [`Start::Gravity`] does) and its state saved as a
 /// checkpoint of step 0 under `dir`, for [`Start::SavedGravity`]. A static load the model cannot
 /// carry is an error with its diagnosis in the job's results folder.
-pub fn save_gravity(
-    ctx: &Context,
-    job: &Job,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    disc: Discretization,
-    dir: &Path,
-) -> Result<(), Error> {
+pub fn save_gravity(p: FeProblem, dir: &Path) -> Result<(), Error> {
+    let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
     let cfg = job.spec.dynamics.as_ref().ok_or(AnalysisError::NoDynamics)?;
     let rayleigh = Rayleigh::from_config(&cfg.damping);
     let ground = ground_motion(cfg);
-    let mut sys = PetscSystem::on(ctx, job, mesh, model, disc, cfg.mass, rayleigh)?;
+    let mut sys = PetscSystem::on(p, cfg.mass, rayleigh)?;
     let state = at_rest_under_gravity(ctx, &mut sys, job, mesh, model, cfg, &ground)?;
     let states = agree(&ctx.comm, checkpoint::element_states(&sys.disc.elements), Error::exit_code)?;
     let c = checkpoint::Checkpoint {

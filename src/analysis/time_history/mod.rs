@@ -74,7 +74,7 @@ pub use checkpoint::Checkpoint;
 pub use damage_shares::GroupDamage;
 pub use damping::Rayleigh;
 pub use driver::{
-    ground_motion, integrate, run, run_from, run_on, save_gravity, Start, StepObserver, TimeHistorySummary,
+    ground_motion, integrate, run, save_gravity, Start, StepObserver, TimeHistorySummary,
 };
 pub use energy::EnergyBalance;
 pub use envelope::Envelopes;

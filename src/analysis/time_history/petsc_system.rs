@@ -18,7 +18,7 @@
 use super::damping::Rayleigh;
 use super::system::DynamicSystem;
 use crate::analysis::assembly::{self, Rows};
-use crate::analysis::Discretization;
+use crate::analysis::{Discretization, FeProblem};
 use crate::config::Job;
 use crate::element::{ElementOutput, EvalRequest, MassKind};
 use crate::error::Error;
@@ -104,31 +104,11 @@ fn new_solver(ctx: &Context, linear: bool) -> Result<Ksp, Error> {
 }
 
 impl<'a> PetscSystem<'a> {
-    /// Collective. Sets up the discretization, assembles `M`, `K₀`, the static load and the
-    /// influence vectors, and creates the solver (options read now, under no prefix).
-    pub fn new(
-        ctx: &'a Context,
-        job: &Job,
-        mesh: &'a Mesh,
-        model: &'a StructuralModel,
-        mass: MassKind,
-        rayleigh: Rayleigh,
-    ) -> Result<PetscSystem<'a>, Error> {
-        let disc = Discretization::setup(ctx, job, mesh, model)?;
-        Self::on(ctx, job, mesh, model, disc, mass, rayleigh)
-    }
-
-    /// Collective. As [`PetscSystem::new`], on a discretization already set up (its elements'
-    /// committed state is the system's starting state).
-    pub fn on(
-        ctx: &'a Context,
-        job: &Job,
-        mesh: &'a Mesh,
-        model: &'a StructuralModel,
-        mut disc: Discretization,
-        mass: MassKind,
-        rayleigh: Rayleigh,
-    ) -> Result<PetscSystem<'a>, Error> {
+    /// Collective. The system of problem `p` (its elements' committed state is the system's
+    /// starting state): assembles `M`, `K₀`, the static load and the influence vectors, and
+    /// creates the solver (options read now, under no prefix).
+    pub fn on(p: FeProblem<'a>, mass: MassKind, rayleigh: Rayleigh) -> Result<PetscSystem<'a>, Error> {
+        let FeProblem { ctx, job, mesh, model, mut disc, .. } = p;
         let n = disc.dofs.n_owned_dofs();
         let format = job.spec.solver.matrix;
         let mut m = disc.new_matrix(ctx, mesh, model, format)?;

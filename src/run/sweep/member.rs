@@ -4,7 +4,7 @@
 //! `jobs/<member>.toml`), the file a user runs to repeat the task alone.
 use super::outcome::Outcome;
 use crate::analysis::time_history::{self, Start, StepObserver, TimeHistorySummary};
-use crate::analysis::{assessment, Discretization};
+use crate::analysis::{assessment, FeProblem};
 use crate::config::{AnalysisConfig, Job, Member, SweepJob};
 use crate::error::Error;
 use crate::mesh::Mesh;
@@ -38,22 +38,28 @@ pub fn member_dir(out: &Path, m: &Member) -> PathBuf {
     out.join("members").join(&m.name)
 }
 
-/// Collective over the group. The job in `file`, its model and discretization; with the updated
-/// moduli of `stages` (a seismic assessment's `stages.json` folder) when given.
-fn load(
-    ctx: &Context,
-    file: &Path,
-    mesh: &Mesh,
-    stages: Option<&Path>,
-) -> Result<(Job, StructuralModel, Discretization), Error> {
+/// Collective over the group. The job in `file` and its model.
+fn load(ctx: &Context, file: &Path, mesh: &Mesh) -> Result<(Job, StructuralModel), Error> {
     let job = agree(&ctx.comm, Job::load(file).map_err(Error::from), Error::exit_code)?;
     let model = agree(&ctx.comm, StructuralModel::build(&job, mesh).map_err(Error::from), Error::exit_code)?;
-    let mut disc = Discretization::setup(ctx, &job, mesh, &model)?;
+    Ok((job, model))
+}
+
+/// Collective over the group. The FE problem of `job`, with the updated moduli of `stages` (a
+/// seismic assessment's `stages.json` folder) when given.
+fn problem<'a>(
+    ctx: &'a Context,
+    job: &'a Job,
+    mesh: &'a Mesh,
+    model: &'a StructuralModel,
+    stages: Option<&Path>,
+) -> Result<FeProblem<'a>, Error> {
+    let mut p = FeProblem::setup(ctx, job, mesh, model)?;
     if let (Some(stages), AnalysisConfig::SeismicAssessment(_)) = (stages, &job.spec.analysis) {
-        let factors = agree(&ctx.comm, assessment::part_factors_in(&job, stages), Error::exit_code)?;
-        disc.rebuild_elements(ctx, &job, mesh, &model, &factors)?;
+        let factors = agree(&ctx.comm, assessment::part_factors_in(job, stages), Error::exit_code)?;
+        p.rebuild_elements(&factors)?;
     }
-    Ok((job, model, disc))
+    Ok(p)
 }
 
 /// Collective over the group. The gravity state of the job `file` in its results folder `dir`:
@@ -63,11 +69,12 @@ fn load(
 pub fn prepare_variant(ctx: &Context, file: &Path, dir: &Path, mesh: &Mesh) -> Result<f64, Error> {
     let start = Instant::now();
     let done = (|| -> Result<(), Error> {
-        let (job, model, mut disc) = load(ctx, file, mesh, None)?;
+        let (job, model) = load(ctx, file, mesh)?;
+        let mut p = problem(ctx, &job, mesh, &model, None)?;
         if let AnalysisConfig::SeismicAssessment(cfg) = &job.spec.analysis {
-            assessment::pre_stages(ctx, &job, cfg, mesh, &model, &mut disc)?;
+            assessment::pre_stages(&mut p, cfg)?;
         }
-        time_history::save_gravity(ctx, &job, mesh, &model, disc, dir)
+        time_history::save_gravity(p, dir)
     })();
     if let Err(e) = done {
         if ctx.rank == 0 {
@@ -115,9 +122,10 @@ pub fn run_member(
     let (dir, gravity) = (dir.as_path(), gravity.as_path());
     let resume = dir.join("checkpoint").join("latest.json").is_file();
     let run = (|| -> Result<TimeHistorySummary, Error> {
-        let (mjob, model, disc) = load(ctx, &file, mesh, Some(gravity))?;
+        let (mjob, model) = load(ctx, &file, mesh)?;
+        let p = problem(ctx, &mjob, mesh, &model, Some(gravity))?;
         let from = if resume { Start::Restart } else { Start::SavedGravity(gravity) };
-        let summary = time_history::run_from(ctx, &mjob, mesh, &model, disc, from, observer)?;
+        let summary = time_history::run(p, from, observer)?;
         if ctx.rank == 0 {
             let text = crate::io::summary::summary_json(&summary).unwrap_or_default();
             let _ = std::fs::write(dir.join("summary.json"), text + "\n");
