@@ -251,6 +251,6 @@ mod tests {
         let diverged = crate::dem::error::TestFailure::Params { sample: 3, message: "diverged".into() };
         ego.tell(&[vec![0.1, 0.1], vec![0.5, 0.5]], vec![Ok(1.0), Err(EvalError::Test(diverged))]);
         let e = ego.ask().unwrap_err();
-        assert!(e.to_string().contains("sample 3 diverged"), "{e}");
+        assert!(e.to_string().contains("sample 3: diverged"), "{e}");
     }
 }
