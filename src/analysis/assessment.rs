@@ -21,13 +21,13 @@
 //! continues the time history from its last checkpoint. `summary.json` holds every stage.
 use super::modal;
 use super::modal_updating::{self, UpdatingSummary};
-use super::time_history::{self, TimeHistorySummary};
 use super::time_history::Start;
+use super::time_history::{self, TimeHistorySummary};
 use super::FeProblem;
 use crate::config::{AssessmentConfig, Job, MaterialConfig};
 use crate::error::{AnalysisError, Error};
 use crate::io::IoError;
-use crate::parallel::{agree, Context, Phases};
+use crate::parallel::{agree, Phases};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -6,7 +6,6 @@
 use super::assembly::{self, Rows};
 use super::output;
 use super::{Discretization, FeProblem};
-use crate::config::Job;
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::model::StructuralModel;

@@ -24,6 +24,6 @@ pub mod static_nonlinear;
 pub mod time_history;
 
 pub use discretization::{default_orientation, Discretization};
-pub use problem::FeProblem;
 pub use model_mass::ModelMass;
+pub use problem::FeProblem;
 pub use rigid_modes::rigid_body_modes;

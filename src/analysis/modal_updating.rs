@@ -96,7 +96,11 @@ struct Evaluation {
 /// against `computed` (the owned values of the modes of the model as given, as
 /// [`super::modal::run`] returns them), else by number. The elements are left as they are: the
 /// caller moves the moduli ([`FeProblem::rebuild_elements`]).
-pub fn run(p: &mut FeProblem, cfg: &ModalUpdatingConfig, computed: Option<&[Vec<f64>]>) -> Result<UpdatingSummary, Error> {
+pub fn run(
+    p: &mut FeProblem,
+    cfg: &ModalUpdatingConfig,
+    computed: Option<&[Vec<f64>]>,
+) -> Result<UpdatingSummary, Error> {
     let (ctx, job, mesh, model) = (p.ctx, p.job, p.mesh, p.model);
     let disc = &mut p.disc;
     let log = &ctx.log;

@@ -242,7 +242,7 @@ impl Increments<'_> {
                 }
             } else {
                 let (ctx, mesh, model) = (self.ctx, self.mesh, self.model);
-                let diagnosis = diagnose(ctx, &self.disc, mesh, model, &self.sys, &inc)?;
+                let diagnosis = diagnose(ctx, self.disc, mesh, model, &self.sys, &inc)?;
                 self.sys.revert(self.disc);
                 // Stop at the floor, after max_cuts halvings in a row, or when the attempts are
                 // spent (successes in between do not make it shrink forever: `increment.rs`).
@@ -306,7 +306,7 @@ impl Increments<'_> {
         self.sys.commit(ctx, self.disc, mesh, model)?;
         let report = write_step(
             ctx,
-            &self.disc,
+            self.disc,
             mesh,
             model,
             &mut self.sys,

@@ -73,9 +73,7 @@ mod tests;
 pub use checkpoint::Checkpoint;
 pub use damage_shares::GroupDamage;
 pub use damping::Rayleigh;
-pub use driver::{
-    ground_motion, integrate, run, save_gravity, Start, StepObserver, TimeHistorySummary,
-};
+pub use driver::{ground_motion, integrate, run, save_gravity, Start, StepObserver, TimeHistorySummary};
 pub use energy::EnergyBalance;
 pub use envelope::Envelopes;
 pub use gravity::{solve_gravity, GravityFailure, GravitySettings};

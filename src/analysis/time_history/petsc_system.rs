@@ -19,7 +19,6 @@ use super::damping::Rayleigh;
 use super::system::DynamicSystem;
 use crate::analysis::assembly::{self, Rows};
 use crate::analysis::{Discretization, FeProblem};
-use crate::config::Job;
 use crate::element::{ElementOutput, EvalRequest, MassKind};
 use crate::error::Error;
 use crate::mesh::Mesh;
