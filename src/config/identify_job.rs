@@ -172,8 +172,7 @@ fn calibration_targets(src: &Source, spec: &IdentifyJobFile) -> Result<Targets, 
     let ex = spec.experiment.clone().unwrap_or_default();
     let need = |v: Option<f64>, k: &str| -> Result<f64, ConfigError> {
         match v {
-            Some(x) if x.is_finite() && x > 0.0 => Ok(x),
-            Some(x) => Err(src.error_at(&Seg::path(&["experiment", k]), format!("expected a value > 0, got {x}"))),
+            Some(x) => src.positive_finite(&Seg::path(&["experiment", k]), x, "a value", ""),
             None => Err(src.error_at(
                 &Seg::path(if spec.experiment.is_some() { &["experiment"] } else { &["calibration"] }),
                 format!("the calibration needs [experiment] {k} (all of young_modulus, poisson, first_crack_stress, peak_stress)"),

@@ -196,8 +196,7 @@ impl RecordSetJob {
         let target = Ec8Spectrum::new(c.spectrum_type, c.ground, c.ag, 100.0 * SET_DAMPING)
             .map_err(|e| err(&["ag"], e.to_string()))?;
         let rules = match (c.t1, c.period_range) {
-            (Some(t1), None) if t1.is_finite() && t1 > 0.0 => CompatibilityRules::ec8(t1),
-            (Some(t1), None) => return Err(err(&["t1"], format!("expected T1 > 0 [s], got {t1}"))),
+            (Some(t1), None) => CompatibilityRules::ec8(source.positive_finite(&at(&["t1"]), t1, "T1", "s")?),
             (None, Some(r)) if r.min > 0.0 && r.max > r.min && r.max.is_finite() => {
                 CompatibilityRules::ec8_range(r.min, r.max)
             }

@@ -256,10 +256,8 @@ fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<(Option<f64>, supe
         (IntensityMeasure::SaT1, None) => {
             return Err(err(&["period"], "scale_by = \"sa_t1\" needs period = T1 [s]".into()))
         }
-        (_, Some(t)) if !(t.is_finite() && t > 0.0) => {
-            return Err(err(&["period"], format!("expected T1 > 0 [s], got {t}")))
-        }
-        (_, p) => p,
+        (_, Some(t)) => Some(source.positive_finite(&at(&["period"]), t, "T1", "s")?),
+        (_, None) => None,
     };
     if let Some(x) = c.code_level {
         source.positive_finite(&at(&["code_level"]), x, "a code level", "m/s^2")?;

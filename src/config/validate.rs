@@ -9,14 +9,6 @@ use super::source::{Seg, Source};
 use super::ConfigError;
 use std::collections::BTreeMap;
 
-fn positive(src: &Source, path: &[Seg], what: &str, v: f64) -> Result<(), ConfigError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(src.error_at(path, format!("{what} must be a finite number > 0, got {v}")))
-    }
-}
-
 /// `Ok` when `v` is finite and ≥ 0 (a density, a mass, a pretension), else the error at `path`
 /// with `message`.
 fn non_negative(src: &Source, path: &[Seg], v: f64, message: impl FnOnce() -> String) -> Result<(), ConfigError> {
@@ -83,7 +75,7 @@ fn validate_material(src: &Source, name: &str, m: &MaterialConfig) -> Result<(),
     let at = |k: &str| Seg::path(&["materials", name, k]);
     match m {
         MaterialConfig::Elastic(ElasticMaterial { e, nu, g, density }) => {
-            positive(src, &at("E"), "Young's modulus E [Pa]", *e)?;
+            src.positive_finite(&at("E"), *e, "Young's modulus E", "Pa")?;
             match (nu, g) {
                 (Some(_), Some(_)) => return Err(src.error_at(&at("G"), "give either nu or G, not both")),
                 (None, None) => {
@@ -98,7 +90,9 @@ fn validate_material(src: &Source, name: &str, m: &MaterialConfig) -> Result<(),
                         );
                     }
                 }
-                (None, Some(g)) => positive(src, &at("G"), "shear modulus G [Pa]", *g)?,
+                (None, Some(g)) => {
+                    src.positive_finite(&at("G"), *g, "shear modulus G", "Pa")?;
+                }
             }
             non_negative(src, &at("density"), *density, || {
                 format!("density [kg/m^3] must be a finite number >= 0, got {density}")
@@ -129,15 +123,15 @@ fn validate_section(src: &Source, name: &str, s: &SectionConfig) -> Result<(), C
     };
     match s {
         SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j, nonstructural_mass }) => {
-            positive(src, &at("area"), "section area [m^2]", *area)?;
-            positive(src, &at("iy"), "second moment iy [m^4]", *iy)?;
-            positive(src, &at("iz"), "second moment iz [m^4]", *iz)?;
-            positive(src, &at("j"), "torsion constant j [m^4]", *j)?;
+            src.positive_finite(&at("area"), *area, "section area", "m^2")?;
+            src.positive_finite(&at("iy"), *iy, "second moment iy", "m^4")?;
+            src.positive_finite(&at("iz"), *iz, "second moment iz", "m^4")?;
+            src.positive_finite(&at("j"), *j, "torsion constant j", "m^4")?;
             mass_per(*nonstructural_mass, "length", "kg/m")
         }
         SectionConfig::Fiber(f) => {
-            positive(src, &at("width"), "section width [m]", f.width)?;
-            positive(src, &at("height"), "section height [m]", f.height)?;
+            src.positive_finite(&at("width"), f.width, "section width", "m")?;
+            src.positive_finite(&at("height"), f.height, "section height", "m")?;
             let max = crate::element::MAX_FIBERS_PER_SIDE;
             for (k, n) in [("ny", f.ny), ("nz", f.nz)] {
                 if n < 2 || n > max {
@@ -156,18 +150,18 @@ fn validate_section(src: &Source, name: &str, s: &SectionConfig) -> Result<(), C
                 ));
             }
             if let Some(j) = f.torsion_constant {
-                positive(src, &at("torsion_constant"), "torsion constant [m^4]", j)?;
+                src.positive_finite(&at("torsion_constant"), j, "torsion constant", "m^4")?;
             }
             mass_per(f.nonstructural_mass, "length", "kg/m")
         }
         SectionConfig::Tie(TieSectionConfig { area, pretension, .. }) => {
-            positive(src, &at("area"), &format!("area [m^2] of tie section '{name}'"), *area)?;
+            src.positive_finite(&at("area"), *area, &format!("area of tie section '{name}'"), "m^2")?;
             non_negative(src, &at("pretension"), *pretension, || {
                 format!("pretension [N] of tie section '{name}' must be a finite number >= 0 (tension positive), got {pretension}")
             })
         }
         SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
-            positive(src, &at("thickness"), "shell thickness [m]", *thickness)?;
+            src.positive_finite(&at("thickness"), *thickness, "shell thickness", "m")?;
             if *layers == 0 || *layers > 99 {
                 return Err(src.error_at(&at("layers"), format!("expected 1 to 99 layers, got {layers}")));
             }
@@ -209,13 +203,13 @@ fn validate_static_nonlinear(src: &Source, c: &StaticNonlinearConfig) -> Result<
     if c.max_iterations == 0 {
         return Err(src.error_at(&at("max_iterations"), "expected at least 1 iteration"));
     }
-    positive(src, &at("force_tolerance"), "force tolerance", c.force_tolerance)?;
-    positive(src, &at("energy_tolerance"), "energy tolerance", c.energy_tolerance)?;
+    src.positive_finite(&at("force_tolerance"), c.force_tolerance, "force tolerance", "")?;
+    src.positive_finite(&at("energy_tolerance"), c.energy_tolerance, "energy tolerance", "")?;
     if let Some(tau) = c.damage_relaxation_time {
-        positive(src, &at("damage_relaxation_time"), "damage relaxation time", tau)?;
+        src.positive_finite(&at("damage_relaxation_time"), tau, "damage relaxation time", "")?;
     }
     if let Some(r) = c.nonlocal_radius {
-        positive(src, &at("nonlocal_radius"), "nonlocal radius (m)", r)?;
+        src.positive_finite(&at("nonlocal_radius"), r, "nonlocal radius", "m")?;
     }
     match &c.control {
         Some(ctl) => validate_control(src, ctl),
@@ -385,10 +379,10 @@ pub(super) fn validate_updating(
                 src.error_at(&at("targets", i, "mode"), format!("expected a mode number in 1..={} (modes)", u.modes))
             );
         }
-        positive(src, &at("targets", i, "frequency"), "target frequency [Hz]", t.frequency)?;
+        src.positive_finite(&at("targets", i, "frequency"), t.frequency, "target frequency", "Hz")?;
     }
     for (i, p) in u.parameters.iter().enumerate() {
-        positive(src, &at("parameters", i, "min"), "lower bound of the modulus factor", p.min)?;
+        src.positive_finite(&at("parameters", i, "min"), p.min, "lower bound of the modulus factor", "")?;
         if !(p.max.is_finite() && p.max > p.min) {
             return Err(
                 src.error_at(&at("parameters", i, "max"), format!("expected max > min = {}, got {}", p.min, p.max))
