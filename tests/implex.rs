@@ -18,25 +18,13 @@
 //! * 1 and 2 ranks agree.
 mod common;
 use common::*;
-use std::f64::consts::PI;
 use std::path::Path;
-
-/// The pulse: 5 Hz under a half-sine window over 0.4 s, amplitude 1 m/s², every `dt` to 0.5 s.
-fn write_record(path: &Path, dt: f64) {
-    let n = (0.5 / dt).round() as usize + 1;
-    let mut s = String::from("# test pulse\n# t [s]  a [m/s^2]\n");
-    for i in 0..n {
-        let t = i as f64 * dt;
-        let a = if t < 0.4 { (PI * t / 0.4).sin() * (2.0 * PI * 5.0 * t).sin() } else { 0.0 };
-        s += &format!("{t:.6} {a:.17e}\n");
-    }
-    std::fs::write(path, s).unwrap();
-}
 
 /// The wall job (module docs) with step `dt`, `integration` and `newton`, `extra` in `[dynamics]`.
 fn write_wall(dir: &Path, dt: f64, integration: &str, newton: &str, extra: &str) {
     write_wall_mesh(dir);
-    write_record(&dir.join("rec.txt"), 0.00125);
+    // The pulse: 5 Hz under a half-sine window over 0.4 s, amplitude 1 m/s², to 0.5 s.
+    sweep::write_pulse(&dir.join("rec.txt"), 0.00125, 0.5, 5.0, 0.4, 1.0);
     let job = format!(
         "[analysis]\ntype = \"time_history\"\n[mesh]\nfile = \"m.msh\"\n\
          [materials.masonry]\ntype = \"damage\"\ndensity = 2000.0\n\

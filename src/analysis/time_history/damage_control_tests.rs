@@ -1,29 +1,18 @@
-//! The damage control of the stepper (`stepper.rs`, "Damage control") on a single-DOF bar with
-//! the masonry damage law:
-//!
-//! ```text
-//!        m  ■ ──> u (relative to the base)      bar: L = 1 m, A = 0.01 m², the uniaxial law of
-//!           │                                   the wall of Table 1 (E 2.885 GPa, ν 0.19,
-//!           │  bar, σ = (1 − d) E ε,             f_t = E ε₀ᵗ = 0.144 MPa, G_f 20 J/m², B_t for
-//!           │  ε = u / L                        h = L); m such that f = 5 Hz uncracked
-//!   ════════╧════ base, a_g(t) = a₀ sin(2π 4 t) for t < 0.6 s, then at rest; 5 % damping
-//! ```
+//! The damage control of the stepper (`stepper.rs`, "Damage control") on the single-DOF bar of
+//! `bar_tests.rs` with the masonry damage law.
 //!
 //! The bar cracks in tension (ε₀ᵗ = 5e-5: u = 50 µm) and closes in compression (the compressive
 //! threshold is out of reach), so d_t climbs the softening branch over the first cycles; under
 //! a₀ = 1 m/s² a step of 0.02 s raises it by more than 0.3 at the first opening (asserted
 //! below).
+use super::bar_tests::{largest_difference, linear_part, linear_part_methods, sampled, wall_law, AREA, LENGTH};
 use super::scheme::Scheme;
 use super::stepper::{State, StepReport, StepSettings, Stepper};
 use super::system::{DenseSystem, DynamicSystem};
 use crate::config::NewtonKind;
-use crate::material::{uniaxial, DamageParams, DamageState, PointLaw, Regularization};
-use nalgebra::DMatrix;
+use crate::material::{uniaxial, DamageState, PointLaw};
 use std::cell::RefCell;
 use std::f64::consts::PI;
-
-const LENGTH: f64 = 1.0;
-const AREA: f64 = 0.01;
 
 /// The bar (module docs): the linear part (mass, damping, influence) from a [`DenseSystem`],
 /// the force from the law; the Jacobian with the secant stiffness (positive on the softening
@@ -38,31 +27,10 @@ struct DamageBar {
     commits: Vec<f64>,
 }
 
-fn wall_law() -> PointLaw {
-    DamageParams {
-        e: 2.885e9,
-        nu: 0.19,
-        eps0_t: 5.0e-5,
-        eps0_c: 1.0e-2,
-        gf_t: 20.0,
-        a_c: 0.9,
-        b_c: 2000.0,
-        gf_c: None,
-        regularization: Regularization::Hillerborg,
-        split: crate::material::Split::Trace,
-    }
-    .for_element(LENGTH)
-    .unwrap()
-}
-
 impl DamageBar {
     fn new() -> DamageBar {
         let law = wall_law();
-        let k = law.e() * AREA / LENGTH;
-        let w = 2.0 * PI * 5.0;
-        let m = k / (w * w);
-        let one = |x: f64| DMatrix::from_element(1, 1, x);
-        let lin = DenseSystem::new(one(m), one(2.0 * 0.05 * m * w), one(k), vec![vec![1.0]]);
+        let lin = linear_part(&law);
         let virgin = DamageState::virgin(&law);
         DamageBar { lin, law, committed: virgin, trial: virgin, j: 0.0, commits: Vec::new() }
     }
@@ -73,27 +41,7 @@ impl DamageBar {
 }
 
 impl DynamicSystem for DamageBar {
-    fn len(&self) -> usize {
-        1
-    }
-    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
-        a[0] * b[0]
-    }
-    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
-        self.lin.mass_mult(x, y)
-    }
-    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
-        self.lin.damping_mult(x, y)
-    }
-    fn mass_influence(&self, d: usize) -> &[f64] {
-        self.lin.mass_influence(d)
-    }
-    fn influence(&self, d: usize) -> &[f64] {
-        self.lin.influence(d)
-    }
-    fn static_load(&self) -> &[f64] {
-        self.lin.static_load()
-    }
+    linear_part_methods!();
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), crate::error::Error> {
         let r = self.respond(u[0]);
         self.trial = r.state;
@@ -168,18 +116,6 @@ fn run(dt: f64, duration: f64, a0: f64, limit: f64, max_substeps: usize) -> Run 
         d_t.push(bar.committed.d_t);
     }
     Run { d_t, reports, bar, times: times.into_inner(), last: st }
-}
-
-/// The values of a run with step `dt` at the times of a run with step `coarse` (every
-/// `coarse / dt`-th entry).
-fn sampled(values: &[f64], dt: f64, coarse: f64) -> Vec<f64> {
-    let every = (coarse / dt).round() as usize;
-    values.iter().skip(every - 1).step_by(every).copied().collect()
-}
-
-fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
 
 #[test]

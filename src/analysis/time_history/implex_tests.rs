@@ -1,28 +1,19 @@
-//! IMPL-EX steps (`stepper.rs`, "IMPL-EX") on a single-DOF bar with the masonry damage law, its
-//! point kept by the elements' own store ([`PointStates`]: extrapolation, commits):
+//! IMPL-EX steps (`stepper.rs`, "IMPL-EX") on the single-DOF bar of `bar_tests.rs` with the
+//! masonry damage law, its point kept by the elements' own store ([`PointStates`]:
+//! extrapolation, commits).
 //!
-//! ```text
-//!        m  ■ ──> u (relative to the base)      bar: L = 1 m, A = 0.01 m², the uniaxial law of
-//!           │                                   the wall of Table 1 (E 2.885 GPa, ν 0.19,
-//!           │  bar, σ = (1 − d) E ε,             f_t = E ε₀ᵗ = 0.144 MPa, G_f 20 J/m², B_t for
-//!           │  ε = u / L                        h = L); m such that f = 5 Hz uncracked
-//!   ════════╧════ base, a_g(t) = a₀ sin(2π 4 t) for t < 0.6 s, then at rest; 5 % damping
-//! ```
-//!
-//! The bar of `damage_control_tests.rs`: it cracks in tension and closes in compression, and
+//! The bar cracks in tension and closes in compression, and
 //! under a₀ = 0.05 m/s² its d_t climbs the whole softening branch over the pulse.
+use super::bar_tests::{largest_difference, linear_part, linear_part_methods, sampled, wall_law, AREA, LENGTH};
 use super::scheme::Scheme;
 use super::stepper::{State, StepReport, StepSettings, Stepper};
 use super::system::{DenseSystem, DynamicSystem};
 use crate::config::{IntegrationKind, NewtonKind};
 use crate::element::PointStates;
 use crate::material::implex::SplitAt;
-use crate::material::{DamageParams, PointLaw, Regularization, Response, StressState, Uniaxial};
-use nalgebra::{DMatrix, Vector1};
+use crate::material::{PointLaw, Response, StressState, Uniaxial};
+use nalgebra::Vector1;
 use std::f64::consts::PI;
-
-const LENGTH: f64 = 1.0;
-const AREA: f64 = 0.01;
 
 /// The bar (module docs): mass, damping and influence from a [`DenseSystem`], the force from the
 /// law through a [`PointStates`] of one point; the Jacobian with the point's tangent at the
@@ -35,31 +26,10 @@ struct Bar {
     factorizations: usize,
 }
 
-fn wall_law() -> PointLaw {
-    DamageParams {
-        e: 2.885e9,
-        nu: 0.19,
-        eps0_t: 5.0e-5,
-        eps0_c: 1.0e-2,
-        gf_t: 20.0,
-        a_c: 0.9,
-        b_c: 2000.0,
-        gf_c: None,
-        regularization: Regularization::Hillerborg,
-        split: crate::material::Split::Trace,
-    }
-    .for_element(LENGTH)
-    .unwrap()
-}
-
 impl Bar {
     fn new(implex: Option<SplitAt>) -> Bar {
         let law = wall_law();
-        let k = law.e() * AREA / LENGTH;
-        let w = 2.0 * PI * 5.0;
-        let m = k / (w * w);
-        let one = |x: f64| DMatrix::from_element(1, 1, x);
-        let lin = DenseSystem::new(one(m), one(2.0 * 0.05 * m * w), one(k), vec![vec![1.0]]);
+        let lin = linear_part(&law);
         let mut states = PointStates::new(1, 1);
         states.set_implex(implex);
         Bar { lin, law, states, j: 0.0, factorizations: 0 }
@@ -76,27 +46,7 @@ impl Bar {
 }
 
 impl DynamicSystem for Bar {
-    fn len(&self) -> usize {
-        1
-    }
-    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
-        a[0] * b[0]
-    }
-    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
-        self.lin.mass_mult(x, y)
-    }
-    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
-        self.lin.damping_mult(x, y)
-    }
-    fn mass_influence(&self, d: usize) -> &[f64] {
-        self.lin.mass_influence(d)
-    }
-    fn influence(&self, d: usize) -> &[f64] {
-        self.lin.influence(d)
-    }
-    fn static_load(&self) -> &[f64] {
-        self.lin.static_load()
-    }
+    linear_part_methods!();
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), crate::error::Error> {
         f[0] = AREA * self.respond(u[0]).stress[0];
         Ok(())
@@ -174,17 +124,6 @@ fn run(dt: f64, a0: f64, implex: Option<SplitAt>, newton: NewtonKind) -> Run {
         d_t.push(bar.states.committed()[0].d_t);
     }
     Run { u, d_t, reports, last: st }
-}
-
-/// Every `coarse / dt`-th value (the times of a run with step `coarse`).
-fn sampled(values: &[f64], dt: f64, coarse: f64) -> Vec<f64> {
-    let every = (coarse / dt).round() as usize;
-    values.iter().skip(every - 1).step_by(every).copied().collect()
-}
-
-fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
 
 fn peak(v: &[f64]) -> f64 {

@@ -37,6 +37,8 @@
 //! | `summary.rs`       | what a run reports in `summary.json`                             |
 //! | `integration.rs`   | what the stepping loop reads: settings, job, mesh, model, ground  |
 //! | `driver.rs`        | the `time_history` job, its starts (gravity, restart, a saved gravity state) and the reusable stepping loop |
+#[cfg(test)]
+mod bar_tests;
 mod base_shear;
 mod checkpoint;
 #[cfg(test)]
