@@ -308,58 +308,6 @@ fn sliding_block_balance_at_stick_slip_kinks() {
     assert!(imb_events.abs() <= 1e-3 * w_events, "imbalance with events {imb_events} of {w_events}");
 }
 
-#[test]
-#[ignore = "diagnostic"]
-fn diag_cyclic_shear_refinement() {
-    let s = small_wall(3);
-    let n: usize = std::env::var("DIAG_N").ok().and_then(|v| v.parse().ok()).unwrap_or(8);
-    let t = VirtualTest::CyclicShear {
-        vertical_stress: 1e6,
-        amplitudes: vec![0.5e-3, 1e-3],
-        steps_per_half_cycle: n,
-        preload_steps: 3,
-        rotation: PlatenRotation::Fixed,
-    };
-    let t0 = std::time::Instant::now();
-    let ev = std::env::var("DIAG_EV").is_ok();
-    let o = SolverOptions { contact_events: ev, ..Default::default() };
-    let r = run_test_with(&s, &MechParams::default(), &t, o).unwrap();
-    let mut prev = 0.0;
-    for c in &r.curve {
-        let b = balance(c);
-        if std::env::var("DIAG_V").is_ok() {
-            println!(
-                "{:4} {:?} u {:+.4e} τ {:+.4e} W {:.4e} E {:.4e} D {:.3e} {:.3e} {:.3e} imb {:+.3e} dimb {:+.3e}",
-                c.state,
-                c.kind,
-                c.displacement,
-                c.stress,
-                c.external_work,
-                c.stored,
-                c.dissipated[0],
-                c.dissipated[1],
-                c.dissipated[2],
-                b,
-                b - prev
-            );
-        }
-        prev = b;
-    }
-    let last = r.curve.last().unwrap();
-    println!(
-        "n {n} contact events {ev} ({}): states {}, events {}, W_ext {:.4e}, stored {:.4e}, diss {:?}, imbalance {:+.4e} ({:+.3} %), {:.1} s",
-        r.stats.contact_events,
-        r.curve.len(),
-        r.stats.events,
-        last.external_work,
-        last.stored,
-        last.dissipated,
-        balance(last),
-        100.0 * balance(last) / last.external_work,
-        t0.elapsed().as_secs_f64()
-    );
-}
-
 /// The paper's wall under the protocol of `jobs/wall-cyclic-tension-compression.toml`
 /// (amplitudes 0.5, 1, 2, 4 × 10⁻⁴, 20 steps per half cycle), sample 1 of the job (seed 2). The
 /// first tensile branch cracks it across a bed joint and leaves two stones without a beam; the
