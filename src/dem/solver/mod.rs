@@ -13,7 +13,7 @@
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
 //! | `dofs.rs`, `system.rs` | the unknowns (stones, platens as master DOFs) and the assembled model |
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
-//! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`) and solves of sparse right-hand sides (forward substitution over their reach), a small binding |
+//! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`) and solves of sparse right-hand sides (forward substitution over their reach), bound through bindgen (`cholmod_sys.rs`, `build.rs`) |
 //! | `ordering.rs` | METIS nested dissection from 20k unknowns, AMD below |
 //! | `tangent.rs` | per-contact exact Jacobians (dual numbers through the contact law, `mechanics::contact_jacobian`; `jacobian_tests.rs` checks them against central differences); GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
 //! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator (every contact keeps `k_t c cᵀ` in it, stick or slip, so stick/slip changes never touch the factorization); Eisenstat–Walker forcing |
@@ -28,6 +28,7 @@
 mod break_group_tests;
 mod breaks;
 pub mod cholmod;
+mod cholmod_sys;
 pub mod contact_candidates;
 mod contact_events;
 pub mod contact_set;
