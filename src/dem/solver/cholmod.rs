@@ -80,8 +80,9 @@ impl UpdatableCholesky {
     /// A workspace for `n` unknowns (call [`Self::factorize`] first).
     pub fn new(n: usize) -> Result<Self, CholmodError> {
         // SAFETY: `cholmod_common` holds numbers, pointers and optional function pointers, for
-        // which all-zero bytes are valid values; `cholmod_start` then sets every field.
-        let mut common: Box<cholmod_common> = unsafe { Box::new_zeroed().assume_init() };
+        // which all-zero bytes are valid values; `cholmod_start` then sets every field. (Built on
+        // the stack and moved: `Box::new_zeroed` is newer than the crate's MSRV.)
+        let mut common: Box<cholmod_common> = Box::new(unsafe { std::mem::zeroed() });
         // SAFETY: `common` is a `cholmod_common` of the header this binding was generated from.
         unsafe { cholmod_start(&mut *common) };
         let mut s = UpdatableCholesky {
