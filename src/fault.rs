@@ -13,7 +13,7 @@ pub const FAULT_VAR: &str = "MASONRY_HPC_INJECT_FAULT";
 pub fn inject(phase: &str, rank: usize) -> Result<(), Error> {
     match std::env::var(FAULT_VAR) {
         Ok(spec) if spec == format!("{phase}@{rank}") => {
-            Err(Error::Injected(format!("fault injected at phase '{phase}' on rank {rank} ({FAULT_VAR}={spec})")))
+            Err(Error::Injected { phase: phase.to_string(), rank, variable: FAULT_VAR })
         }
         _ => Ok(()),
     }

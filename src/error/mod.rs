@@ -109,8 +109,15 @@ pub enum Error {
     #[error(transparent)]
     Batch(#[from] BatchError),
     /// A failure injected for testing (see [`crate::fault`]).
-    #[error("{0}")]
-    Injected(String),
+    #[error("fault injected at phase '{phase}' on rank {rank} ({variable}={phase}@{rank})")]
+    Injected {
+        /// The phase that failed.
+        phase: String,
+        /// The rank that failed.
+        rank: usize,
+        /// The environment variable that asked for it.
+        variable: &'static str,
+    },
     /// An error some rank had, that every rank now knows.
     #[error(transparent)]
     Agreed(#[from] Agreed),
