@@ -8,13 +8,16 @@
 /// What went wrong while building or evaluating an element.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ElementError {
-    /// A section or material quantity that must be finite and strictly positive is not.
-    #[error("section quantity `{quantity}` must be finite and > 0, got {value}")]
+    /// A section or material quantity out of its range ([`ElementError::positive`],
+    /// [`ElementError::non_negative`], or Poisson's ratio's).
+    #[error("section quantity `{quantity}` must be finite and {expected}, got {value}")]
     InvalidSection {
-        /// The field name (`e`, `g`, `area`, `iy`, `iz`, `j`, `density`).
+        /// The field name (`e`, `g`, `area`, `iy`, `iz`, `j`, `density`, ...).
         quantity: &'static str,
         /// The offending value.
         value: f64,
+        /// The range it must lie in ("> 0", ">= 0", "in (-1, 0.5)").
+        expected: &'static str,
     },
     /// A node coordinate is NaN or infinite.
     #[error("node {node} has a non-finite coordinate {coords:?}")]
@@ -87,6 +90,28 @@ pub enum ElementError {
         /// The value.
         value: f64,
     },
+}
+
+impl ElementError {
+    /// `value` when it is finite and > 0, else [`ElementError::InvalidSection`] naming
+    /// `quantity`: every strictly positive section quantity is checked here, with one message.
+    pub fn positive(quantity: &'static str, value: f64) -> Result<f64, ElementError> {
+        if value.is_finite() && value > 0.0 {
+            Ok(value)
+        } else {
+            Err(ElementError::InvalidSection { quantity, value, expected: "> 0" })
+        }
+    }
+
+    /// `value` when it is finite and >= 0 (a density, a pretension), else
+    /// [`ElementError::InvalidSection`] naming `quantity`.
+    pub fn non_negative(quantity: &'static str, value: f64) -> Result<f64, ElementError> {
+        if value.is_finite() && value >= 0.0 {
+            Ok(value)
+        } else {
+            Err(ElementError::InvalidSection { quantity, value, expected: ">= 0" })
+        }
+    }
 }
 
 /// Check that `got == expected`, else a [`ElementError::WrongLength`] naming `what`.

@@ -92,20 +92,8 @@ impl FiberSection {
     /// Check every quantity; the error names the first offending one. The damage parameters are
     /// checked when the law is set up for an element (they need the element length).
     pub fn validate(&self) -> Result<(), ElementError> {
-        let positive = |quantity: &'static str, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(ElementError::InvalidSection { quantity, value })
-            }
-        };
-        let non_negative = |quantity: &'static str, value: f64| {
-            if value.is_finite() && value >= 0.0 {
-                Ok(())
-            } else {
-                Err(ElementError::InvalidSection { quantity, value })
-            }
-        };
+        let positive = ElementError::positive;
+        let non_negative = ElementError::non_negative;
         positive("width", self.width)?;
         positive("height", self.height)?;
         for (quantity, value, min, max) in [
@@ -125,7 +113,7 @@ impl FiberSection {
         positive("E", self.material.e())?;
         let nu = self.material.nu();
         if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-            return Err(ElementError::InvalidSection { quantity: "nu", value: nu });
+            return Err(ElementError::InvalidSection { quantity: "nu", value: nu, expected: "in (-1, 0.5)" });
         }
         Ok(())
     }

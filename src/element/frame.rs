@@ -605,7 +605,7 @@ mod tests {
         assert!(el.load_state(&[1.0]).is_err());
         let bad = FrameSection { j: 0.0, ..section() };
         let e = ElasticFrame3d::new([0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], bad).unwrap_err();
-        assert_eq!(e, ElementError::InvalidSection { quantity: "j", value: 0.0 });
+        assert_eq!(e, ElementError::InvalidSection { quantity: "j", value: 0.0, expected: "> 0" });
     }
 
     /// evaluate with a tangent: f_int = K u (linear element), K_t = K, buffers resized once.

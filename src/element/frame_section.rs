@@ -41,21 +41,11 @@ impl FrameSection {
         let fields =
             [("e", self.e), ("g", self.g), ("area", self.area), ("iy", self.iy), ("iz", self.iz), ("j", self.j)];
         for (quantity, value) in fields {
-            let positive_finite = value.is_finite() && value > 0.0; // false for NaN
-            if !positive_finite {
-                return Err(ElementError::InvalidSection { quantity, value });
-            }
+            ElementError::positive(quantity, value)?;
         }
         // A massless member (density 0) is allowed: a static model without self-weight.
-        if !(self.density.is_finite() && self.density >= 0.0) {
-            return Err(ElementError::InvalidSection { quantity: "density", value: self.density });
-        }
-        if !(self.nonstructural_mass.is_finite() && self.nonstructural_mass >= 0.0) {
-            return Err(ElementError::InvalidSection {
-                quantity: "nonstructural_mass",
-                value: self.nonstructural_mass,
-            });
-        }
+        ElementError::non_negative("density", self.density)?;
+        ElementError::non_negative("nonstructural_mass", self.nonstructural_mass)?;
         Ok(())
     }
 

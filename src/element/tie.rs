@@ -110,14 +110,10 @@ impl TieSection {
     /// the first quantity that is not.
     pub fn validate(&self) -> Result<(), ElementError> {
         for (quantity, value) in [("e", self.e), ("area", self.area)] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(ElementError::InvalidSection { quantity, value });
-            }
+            ElementError::positive(quantity, value)?;
         }
         for (quantity, value) in [("density", self.density), ("pretension", self.pretension)] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(ElementError::InvalidSection { quantity, value });
-            }
+            ElementError::non_negative(quantity, value)?;
         }
         Ok(())
     }

@@ -105,20 +105,8 @@ impl ShellSection {
     /// Check the values; the error names the first offending quantity. The damage parameters are
     /// checked when the law is set up for an element (they need the element size).
     pub fn validate(&self) -> Result<(), ShellError> {
-        let positive = |quantity: &'static str, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(ElementError::InvalidSection { quantity, value })
-            }
-        };
-        let non_negative = |quantity: &'static str, value: f64| {
-            if value.is_finite() && value >= 0.0 {
-                Ok(())
-            } else {
-                Err(ElementError::InvalidSection { quantity, value })
-            }
-        };
+        let positive = ElementError::positive;
+        let non_negative = ElementError::non_negative;
         positive("thickness", self.thickness)?;
         if self.layers == 0 {
             return Err(ShellError::NoLayers { layers: 0 });
@@ -128,7 +116,7 @@ impl ShellSection {
         positive("E", self.material.e())?;
         let nu = self.material.nu();
         if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-            return Err(ElementError::InvalidSection { quantity: "nu", value: nu }.into());
+            return Err(ElementError::InvalidSection { quantity: "nu", value: nu, expected: "in (-1, 0.5)" }.into());
         }
         Ok(())
     }
