@@ -68,13 +68,7 @@ impl Sample {
     /// Builds the sample of explicit seeds in `[0, width] × [0, height]` (particle `k` = seed `k`).
     pub fn from_seeds(width: f64, height: f64, seeds: &[P2], options: &GeometryOptions) -> Result<Sample, SampleError> {
         for (field, v) in [("width", width), ("height", height)] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(SampleError::InvalidConfig {
-                    field,
-                    value: v.to_string(),
-                    expected: "a finite number > 0",
-                });
-            }
+            SampleError::positive(field, v)?;
         }
         options.validate()?;
         check_seeds(width, height, seeds)?;
@@ -122,13 +116,7 @@ impl Sample {
 
     /// Recomputes every beam's inertia for a new α (calibration loops vary it).
     pub fn set_alpha(&mut self, alpha: f64) -> Result<(), SampleError> {
-        if !(alpha.is_finite() && alpha > 0.0) {
-            return Err(SampleError::InvalidConfig {
-                field: "alpha",
-                value: alpha.to_string(),
-                expected: "a finite number > 0",
-            });
-        }
+        SampleError::positive("alpha", alpha)?;
         self.alpha = alpha;
         for b in &mut self.beams {
             b.inertia = beam_inertia(alpha, self.thickness, b.facet_length);

@@ -160,8 +160,8 @@ impl Default for GeometryOptions {
 impl GeometryOptions {
     /// Checks every value's range.
     pub fn validate(&self) -> Result<(), SampleError> {
-        positive("thickness", self.thickness)?;
-        positive("alpha", self.alpha)?;
+        SampleError::positive("thickness", self.thickness)?;
+        SampleError::positive("alpha", self.alpha)?;
         in_range("facet_tolerance", self.facet_tolerance, 0.0, 0.5, false, "a number in [0, 0.5)")
     }
 }
@@ -211,8 +211,8 @@ impl SampleConfig {
     /// Checks every value's range; the builder calls it first.
     pub fn validate(&self) -> Result<(), SampleError> {
         let (w, h) = self.layout.domain();
-        positive("width", w)?;
-        positive("height", h)?;
+        SampleError::positive("width", w)?;
+        SampleError::positive("height", h)?;
         match &self.layout {
             SampleLayout::Coursed(c) => {
                 at_least_one("n_courses", c.n_courses)?;
@@ -235,14 +235,6 @@ impl SampleConfig {
 
 fn invalid(field: &'static str, value: impl ToString, expected: &'static str) -> SampleError {
     SampleError::InvalidConfig { field, value: value.to_string(), expected }
-}
-
-fn positive(field: &'static str, v: f64) -> Result<(), SampleError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(field, v, "a finite number > 0"))
-    }
 }
 
 fn at_least_one(field: &'static str, v: usize) -> Result<(), SampleError> {

@@ -144,3 +144,15 @@ pub enum SampleError {
         count: usize,
     },
 }
+
+impl SampleError {
+    /// Nothing when `v` is finite and > 0, else [`SampleError::InvalidConfig`] naming `field`:
+    /// every positive quantity of a sample is checked here, with one message.
+    pub fn positive(field: &'static str, v: f64) -> Result<(), SampleError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(SampleError::InvalidConfig { field, value: v.to_string(), expected: "a finite number > 0" })
+        }
+    }
+}
