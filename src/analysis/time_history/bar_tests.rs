@@ -49,7 +49,8 @@ pub fn linear_part(law: &PointLaw) -> DenseSystem {
     DenseSystem::new(one(m), one(2.0 * 0.05 * m * w), one(k), vec![vec![1.0]])
 }
 
-/// The methods of [`super::system::DynamicSystem`] that a bar takes from its linear part `lin`.
+/// The methods of [`super::system::DynamicSystem`] that a single-DOF test system takes from its
+/// linear part `lin` (the bar here, the Duffing oscillator of `tests.rs`).
 macro_rules! linear_part_methods {
     () => {
         fn len(&self) -> usize {

@@ -1,4 +1,5 @@
 //! The integrator on dense SDOF and 2-DOF systems against closed forms.
+use super::bar_tests::linear_part_methods;
 use super::scheme::Scheme;
 use super::stepper::{State, StepSettings, Stepper};
 use super::system::{DenseSystem, DynamicSystem};
@@ -298,27 +299,7 @@ struct Duffing {
 }
 
 impl DynamicSystem for Duffing {
-    fn len(&self) -> usize {
-        1
-    }
-    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
-        a[0] * b[0]
-    }
-    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
-        self.lin.mass_mult(x, y)
-    }
-    fn damping_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), crate::error::Error> {
-        self.lin.damping_mult(x, y)
-    }
-    fn mass_influence(&self, d: usize) -> &[f64] {
-        self.lin.mass_influence(d)
-    }
-    fn influence(&self, d: usize) -> &[f64] {
-        self.lin.influence(d)
-    }
-    fn static_load(&self) -> &[f64] {
-        self.lin.static_load()
-    }
+    linear_part_methods!();
     fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), crate::error::Error> {
         f[0] = self.lin.k[(0, 0)] * u[0] + self.k3 * u[0].powi(3);
         Ok(())
