@@ -212,6 +212,15 @@ pub trait Element: Debug {
     /// is the implicit law. Elements without that law ignore it (the default).
     fn set_implex(&mut self, _split: Option<crate::material::implex::SplitAt>) {}
 
+    /// Whether the tangent stays symmetric with IMPL-EX on: at the step's fixed damage the stress
+    /// derives from a potential (the spectral split, a uniaxial law, an elastic element), so the
+    /// time history may factor `J` by Cholesky. True by default; a damage law whose stress is not
+    /// a gradient at fixed damage (the paper's split in plane stress, nonlocal driving strains)
+    /// says false.
+    fn implex_tangent_symmetric(&self) -> bool {
+        true
+    }
+
     /// With IMPL-EX on, the size `h` of the step the next evaluations belong to: the histories
     /// are extrapolated by the ratio of `h` to the last committed step's size. Elements without
     /// the damage law ignore it (the default).

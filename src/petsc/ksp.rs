@@ -86,6 +86,17 @@ impl Ksp {
         petsc_call!(PCSetType(self.pc()?, c.as_ptr()))
     }
 
+    /// Whether the options database chooses this solver's preconditioner (`-<prefix>pc_type`):
+    /// a choice the program must then not override. Not collective.
+    pub fn pc_type_in_options(&self) -> Result<bool, PetscError> {
+        let mut prefix: *const c_char = std::ptr::null();
+        petsc_call!(KSPGetOptionsPrefix(self.raw, &mut prefix))?;
+        let mut set = sys::PETSC_FALSE;
+        let name = c_string("-pc_type", "PetscOptionsHasName")?;
+        petsc_call!(PetscOptionsHasName(std::ptr::null_mut(), prefix, name.as_ptr(), &mut set))?;
+        Ok(set == sys::PETSC_TRUE)
+    }
+
     /// Factorization package of an `lu`/`cholesky` preconditioner: `"mumps"`, `"petsc"`,
     /// `"superlu_dist"`, ... (set the PC type first). Collective.
     pub fn set_factor_solver(&mut self, solver: &str) -> Result<(), PetscError> {

@@ -101,7 +101,9 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
     // After gravity (implicit) or the restored state (either layout): the history starts here.
     let implex =
         (cfg.integration == crate::config::IntegrationKind::Implex).then(|| cfg.implex_split.unwrap_or_default());
-    sys.set_implex(implex);
+    if sys.set_implex(implex)? {
+        ctx.log.info("IMPL-EX: J is symmetric at each step's fixed damage, factored by Cholesky");
+    }
     let restart = matches!(start, Start::Restart);
     let first_step = state.step;
     let stem = if restart { format!("{RESULTS_STEM}-restart-{first_step:06}") } else { RESULTS_STEM.to_string() };

@@ -59,17 +59,15 @@
 
 use nalgebra::{DMatrix, DVector, Matrix6, SMatrix, SVector, Vector2, Vector3, Vector6};
 
-use super::geometry::FlatGeometry;
 use super::layers::{damage_section, plane_stress_matrix, NonlocalInput, SectionResponse, ThicknessRule};
-use super::products;
 use super::section::{ShellMaterial, ShellSection};
-use super::ShellError;
+use super::{geometry::FlatGeometry, products, ShellError};
 use crate::element::error::{check_finite_displacement, check_len};
 use crate::element::output::{prepare_matrix, prepare_vector};
 use crate::element::{
     AppliedLoads, Element, ElementError, ElementOutput, EvalRequest, MassKind, NonlocalPoint, PointStates, PointUpdate,
 };
-use crate::material::{nonlocal, plane_stress, DamageState, MaterialError, PointLaw};
+use crate::material::{nonlocal, plane_stress, DamageState, MaterialError, PointLaw, Split};
 
 /// α of the drilling stiffness k_δ = α G t (module docs).
 pub const DRILLING_FACTOR: f64 = 1e-2;
@@ -573,6 +571,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
 
     fn set_implex(&mut self, split: Option<crate::material::implex::SplitAt>) {
         self.states.set_implex(split);
+    }
+
+    fn implex_tangent_symmetric(&self) -> bool {
+        self.averaged.is_empty() && !matches!(&self.law, SectionLaw::Damage(l) if l.split() != Split::Spectral)
     }
 
     fn set_implex_step(&mut self, h: f64) {
