@@ -11,9 +11,11 @@
 //! | domain             | [`element`], [`material`], [`dem`], [`identify`], [`seismic`]            |
 //! | platform           | [`petsc`], [`mesh`], [`io`], [`parallel`], [`plot`]                      |
 //! | leaves             | [`error`] (the run's error and its exit codes), [`fault`] (fault injection for tests) |
+//! | input bounds       | [`bounds`]: the one finite-and-positive check of input, below every layer |
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod bounds;
 pub mod config;
 pub mod dem;
 pub mod element;

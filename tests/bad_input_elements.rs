@@ -152,7 +152,7 @@ fn non_positive_thickness() {
         "bad-el-thickness",
         |d| edit(d, "job.toml", "thickness = 0.3", "thickness = -0.3"),
         2,
-        &["job.toml:11:1", "sections.wall.thickness", "expected shell thickness > 0 [m], got -0.3"],
+        &["job.toml:11:1", "sections.wall.thickness", "shell thickness [m]: expected > 0, got -0.3"],
     );
 }
 
@@ -218,7 +218,7 @@ fn tie_with_zero_area() {
     expect_job_error(
         &job,
         2,
-        &["job.toml:22:1", "sections.nave_tie.area", "expected area of tie section 'nave_tie' > 0 [m^2], got 0"],
+        &["job.toml:22:1", "sections.nave_tie.area", "area of tie section 'nave_tie' [m^2]: expected > 0, got 0"],
     );
 }
 
@@ -226,7 +226,7 @@ fn tie_with_zero_area() {
 fn tie_with_negative_area() {
     let job = tie_case("bad-tie-negative-area", &[[1, 3]], NODE5);
     edit(job.parent().unwrap(), "job.toml", "area = 1.6e-3", "area = -1.6e-3");
-    expect_job_error(&job, 2, &["job.toml:22:1", "sections.nave_tie.area", "> 0 [m^2], got -0.0016"]);
+    expect_job_error(&job, 2, &["job.toml:22:1", "sections.nave_tie.area", "[m^2]: expected > 0, got -0.0016"]);
 }
 
 #[test]
@@ -236,7 +236,11 @@ fn tie_with_negative_pretension() {
     expect_job_error(
         &job,
         2,
-        &["job.toml:23:1", "sections.nave_tie.pretension", "must be a finite number >= 0", "got -20000"],
+        &[
+            "job.toml:23:1",
+            "sections.nave_tie.pretension",
+            "pretension of tie section 'nave_tie' (tension positive) [N]: expected >= 0, got -20000",
+        ],
     );
 }
 

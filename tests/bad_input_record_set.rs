@@ -60,12 +60,12 @@ fn unknown_spectrum_type_and_ground() {
 #[test]
 fn non_positive_ag() {
     let at = format!("set.toml:{}:1", line_of("ag = "));
-    expect_error("rs-ag", "ag = 1.6 ", "ag = -1.0 ", &[&at, "record_set.ag", "expected a_g > 0 [m/s^2], got -1"]);
+    expect_error("rs-ag", "ag = 1.6 ", "ag = -1.0 ", &[&at, "record_set.ag", "a_g [m/s^2]: expected > 0, got -1"]);
 }
 
 #[test]
 fn the_period_range_is_given_once() {
-    expect_error("rs-t1-zero", "t1 = 0.333 ", "t1 = 0.0 ", &["record_set.t1", "expected T1 > 0 [s], got 0"]);
+    expect_error("rs-t1-zero", "t1 = 0.333 ", "t1 = 0.0 ", &["record_set.t1", "T1 [s]: expected > 0, got 0"]);
     expect_error(
         "rs-both",
         "t1 = 0.333 ",
@@ -90,7 +90,7 @@ fn the_envelope_must_fit_the_duration() {
         "stationary = 19.0",
         &[&at, "record_set.artificial.duration", "expected at least rise + stationary = 21 s, got 20 s"],
     );
-    expect_error("rs-dt", "dt = 0.01", "dt = -0.01", &["record_set.artificial.dt", "expected a value > 0, got -0.01"]);
+    expect_error("rs-dt", "dt = 0.01", "dt = -0.01", &["record_set.artificial.dt", "dt [s]: expected > 0, got -0.01"]);
 }
 
 #[test]

@@ -175,7 +175,12 @@ fn dem_samples_and_gf_c_bounds_are_checked() {
     write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
     // gf_c with a_c allowed to reach 0 (line 14 holds the bounds).
     let f = law_job(&dir, "", &LAW_BOUNDS.replace("a_c = [0.5, 1.0]", "a_c = [0.0, 1.0], gf_c = [10.0, 100.0]"));
-    expect_error(&dir, &f, &["law.toml:14:", "key 'law.bounds.a_c'", "a_c must be > 0"], &[0]);
+    expect_error(
+        &dir,
+        &f,
+        &["law.toml:14:", "key 'law.bounds.a_c'", "the lower bound of a_c: expected > 0, got 0"],
+        &[0],
+    );
     // Both kinds of curve files.
     std::fs::write(dir.join("s.csv"), "sample,strain,stress,loss_of_load\n0,0,0,0\n0,1e-4,2e5,0\n").unwrap();
     let f = law_job(&dir, "dem_samples = { tension = \"s.csv\", compression = \"s.csv\" }\n", LAW_BOUNDS);
@@ -210,7 +215,16 @@ fn bad_bounds_are_located() {
     write_law_curve(&dir.join("c.csv"), &p, 1.5e-2, false);
     // ε₀ ≤ 0 (line 14 holds the bounds).
     let f = law_job(&dir, "", &LAW_BOUNDS.replace("eps0_t = [5e-5", "eps0_t = [0.0"));
-    expect_error(&dir, &f, &["law.toml:14:", "key 'law.bounds.eps0_t'", "must be > 0"], &[0, 2]);
+    expect_error(
+        &dir,
+        &f,
+        &[
+            "law.toml:14:",
+            "key 'law.bounds.eps0_t'",
+            "the lower bound of the tensile threshold eps0_t: expected > 0, got 0",
+        ],
+        &[0, 2],
+    );
     // A_c outside [0, 1].
     let f = law_job(&dir, "", &LAW_BOUNDS.replace("a_c = [0.5, 1.0]", "a_c = [0.5, 1.2]"));
     expect_error(&dir, &f, &["law.toml:14:", "key 'law.bounds.a_c'", "[0, 1]"], &[0]);

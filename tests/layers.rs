@@ -7,13 +7,14 @@
 //!   4  model, config                         the structural model, typed job files
 //!   3  element, material, dem, identify, seismic
 //!   2  petsc, mesh, io, parallel, plot       platform
+//!   1  bounds                                input bounds
 //! ```
 //! An import is any `crate::<module>` path in code (comments and doc links excluded): a
 //! `use crate::x::…`, a `crate::x::f(…)` call, or a name inside `use crate::{…}`.
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const LAYERS: [(&str, u32); 17] = [
+const LAYERS: [(&str, u32); 18] = [
     ("run", 6),
     ("analysis", 5),
     ("error", 5),
@@ -30,6 +31,7 @@ const LAYERS: [(&str, u32); 17] = [
     ("io", 2),
     ("parallel", 2),
     ("plot", 2),
+    ("bounds", 1),
     ("lib", 7),
 ];
 

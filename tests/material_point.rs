@@ -92,7 +92,10 @@ fn non_positive_threshold_is_located() {
         let out = run(np, &[f.to_str().unwrap()]);
         let err = stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{err}");
-        assert!(err.contains("mp.toml:8:1: key 'material.eps0_t'") && err.contains("must be > 0"), "np={np}: {err}");
+        assert!(
+            err.contains("mp.toml:8:1: key 'material.eps0_t'") && err.contains("`eps0_t`: expected > 0, got 0"),
+            "np={np}: {err}"
+        );
     }
 }
 

@@ -241,7 +241,7 @@ fn an_intensity_of_zero_is_an_error_at_its_key() {
         "sweep-bad-intensity",
         "intensities = [0.5, 1.5]",
         "intensities = [0.0, 1.5]",
-        &["sweep.toml:8:", "sweep.intensities[0]", "expected an intensity > 0", "got 0"],
+        &["sweep.toml:8:", "sweep.intensities[0]", "intensity [m/s^2]: expected > 0, got 0"],
     );
 }
 

@@ -441,7 +441,11 @@ fn nonlocal_radius_bad_input_is_named() {
         .unwrap()
         .replace("steps = 2\n[analysis.control]", "steps = 2\nnonlocal_radius = -0.1\n[analysis.control]");
     std::fs::write(&job, &text).unwrap();
-    expect_job_error(&job, 2, &["key 'analysis.nonlocal_radius'", "job.toml:4:1", "> 0 [m], got -0.1"]);
+    expect_job_error(
+        &job,
+        2,
+        &["key 'analysis.nonlocal_radius'", "job.toml:4:1", "nonlocal radius [m]: expected > 0, got -0.1"],
+    );
     let elastic = text
         .replace("nonlocal_radius = -0.1", "nonlocal_radius = 0.1")
         .replace(

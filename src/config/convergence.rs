@@ -128,13 +128,11 @@ impl ConvergenceBand {
             .map_err(|e| invalid(format!("{e} (expected the band.json that scripts/convergence.py writes)")))?;
         for (name, l) in &b.loadings {
             let bad = |what: &str| invalid(format!("loading {name}: {what}"));
-            if !(l.pga.is_finite() && l.pga > 0.0) {
-                return Err(bad("expected pga > 0 [m/s²]"));
-            }
+            crate::bounds::positive(l.pga).map_err(|b| bad(&format!("pga [m/s²]: {b}")))?;
             for (g, v) in &l.groups {
-                if !(v.time_step.is_finite() && v.time_step >= 0.0 && v.ranks.is_none_or(|r| r.is_finite() && r >= 0.0))
-                {
-                    return Err(bad(&format!("group {g}: expected shares' differences >= 0")));
+                for (k, x) in [("time_step", Some(v.time_step)), ("ranks", v.ranks)] {
+                    let share_difference = |b| bad(&format!("group {g}: {k} share difference: {b}"));
+                    x.map(crate::bounds::non_negative).transpose().map_err(share_difference)?;
                 }
             }
         }
@@ -260,7 +258,7 @@ mod tests {
         assert!(e.contains("band.json") && e.contains("scripts/convergence.py"), "{e}");
         std::fs::write(&f, band_text_with_pga(-1.0)).unwrap();
         let e = ConvergenceBand::read(&f).unwrap_err().to_string();
-        assert!(e.contains("loading code: expected pga > 0"), "{e}");
+        assert!(e.contains("loading code: pga [m/s²]: expected > 0, got -1"), "{e}");
         let e = ConvergenceBand::read(&dir.join("missing.json")).unwrap_err().to_string();
         assert!(e.contains("cannot read convergence band file"), "{e}");
         std::fs::remove_dir_all(&dir).ok();

@@ -363,7 +363,7 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
     check_monitors(src, &d.monitor)?;
     super::drift::check_drifts(src, &d.drift)?;
     if let Some(tau) = d.damage_relaxation_time {
-        src.positive_finite(&Seg::path(&["dynamics", "damage_relaxation_time"]), tau, "a relaxation time", "s")?;
+        src.positive_finite(&Seg::path(&["dynamics", "damage_relaxation_time"]), tau, "damage relaxation time", "s")?;
         if d.integration == IntegrationKind::Implex {
             return Err(src.error_at(
                 &Seg::path(&["dynamics", "damage_relaxation_time"]),
@@ -378,10 +378,8 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
         d.convergence = Some(file);
         d.convergence_band = Some(band);
     }
-    let c = &d.checkpoint;
-    if !(c.every_minutes.is_finite() && c.every_minutes >= 0.0) {
-        return Err(src.error_at(&Seg::path(&["dynamics", "checkpoint", "every_minutes"]), "expected minutes >= 0"));
-    }
+    let every = d.checkpoint.every_minutes;
+    src.non_negative(&Seg::path(&["dynamics", "checkpoint", "every_minutes"]), every, "checkpoint interval", "min")?;
     Ok(())
 }
 
@@ -389,8 +387,8 @@ pub fn load_dynamics(src: &Source, folder: &Path, d: &mut DynamicsConfig) -> Res
 /// [−1/3, 0], and Newmark's β, γ within its unconditional stability.
 fn check_time_and_scheme(src: &Source, d: &DynamicsConfig) -> Result<(), ConfigError> {
     let at = |k: &str| Seg::path(&["dynamics", k]);
-    src.positive_finite(&at("dt"), d.dt, "a time step", "s")?;
-    src.positive_finite(&at("duration"), d.duration, "a duration", "s")?;
+    src.positive_finite(&at("dt"), d.dt, "time step", "s")?;
+    src.positive_finite(&at("duration"), d.duration, "duration", "s")?;
     if d.duration / d.dt > 1e8 {
         return Err(src.error_at(&at("dt"), format!("{} steps of {} s: expected at most 1e8", d.duration / d.dt, d.dt)));
     }
@@ -472,9 +470,7 @@ fn check_damping(src: &Source, dam: &DampingConfig) -> Result<(), ConfigError> {
         (None, None, _, _) => {
             for (k, v) in [("alpha", dam.alpha), ("beta", dam.beta)] {
                 if let Some(v) = v {
-                    if !(v.is_finite() && v >= 0.0) {
-                        return Err(src.error_at(&dat(k), format!("expected a coefficient >= 0, got {v}")));
-                    }
+                    src.non_negative(&dat(k), v, &format!("Rayleigh coefficient {k}"), "")?;
                 }
             }
         }

@@ -106,8 +106,8 @@ fn interval(src: &Source, keys: &[&str], b: [f64; 2], positive: bool, what: &str
             format!("expected bounds [lower, upper] with lower < upper, got [{lo}, {hi}]"),
         ));
     }
-    if positive && lo <= 0.0 {
-        return Err(src.error_at(&Seg::path(keys), format!("{what} must be > 0: the lower bound is {lo}")));
+    if positive {
+        src.positive_finite(&Seg::path(keys), lo, &format!("the lower bound of {what}"), "")?;
     }
     Ok(())
 }
@@ -135,7 +135,10 @@ fn check_calibration(src: &Source, spec: &IdentifyJobFile, c: &CalibrationConfig
     }
     check_calibration_bounds(src, spec, c)?;
     let weights = Seg::path(&["calibration", "weights"]);
-    if c.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) || c.weights.iter().all(|w| *w == 0.0) {
+    for (i, w) in c.weights.iter().enumerate() {
+        src.non_negative(&[weights.clone(), vec![Seg::Index(i)]].concat(), *w, "weight", "")?;
+    }
+    if c.weights.iter().all(|w| *w == 0.0) {
         return Err(src.error_at(&weights, "expected four finite weights >= 0, not all zero"));
     }
     if c.strategy == crate::identify::Strategy::Staged && c.weights[2] == 0.0 && c.weights[3] == 0.0 {
@@ -172,7 +175,7 @@ fn calibration_targets(src: &Source, spec: &IdentifyJobFile) -> Result<Targets, 
     let ex = spec.experiment.clone().unwrap_or_default();
     let need = |v: Option<f64>, k: &str| -> Result<f64, ConfigError> {
         match v {
-            Some(x) => src.positive_finite(&Seg::path(&["experiment", k]), x, "a value", ""),
+            Some(x) => src.positive_finite(&Seg::path(&["experiment", k]), x, k, ""),
             None => Err(src.error_at(
                 &Seg::path(if spec.experiment.is_some() { &["experiment"] } else { &["calibration"] }),
                 format!("the calibration needs [experiment] {k} (all of young_modulus, poisson, first_crack_stress, peak_stress)"),
@@ -208,12 +211,12 @@ fn check_law(src: &Source, spec: &IdentifyJobFile, l: &LawIdentConfig) -> Result
     }
     let h = l.element_size.unwrap_or(spec.sample.layout.domain().1);
     src.positive_finite(&Seg::path(&["law", "element_size"]), h, "h", "m")?;
-    for (k, v) in [("young_modulus", l.young_modulus), ("poisson", l.poisson)] {
-        if let Some(x) = v {
-            let ok = if k == "poisson" { x.is_finite() && x > -1.0 && x < 0.5 } else { x.is_finite() && x > 0.0 };
-            if !ok {
-                return Err(src.error_at(&Seg::path(&["law", k]), format!("invalid {k} {x}")));
-            }
+    if let Some(e) = l.young_modulus {
+        src.positive_finite(&Seg::path(&["law", "young_modulus"]), e, "young_modulus", "Pa")?;
+    }
+    if let Some(nu) = l.poisson {
+        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+            return Err(src.error_at(&Seg::path(&["law", "poisson"]), format!("invalid poisson {nu}")));
         }
     }
     let from_files = l.dem_curves.is_some() || l.dem_samples.is_some();
@@ -248,12 +251,8 @@ fn check_law_bounds(src: &Source, l: &LawIdentConfig) -> Result<(), ConfigError>
     let a_c = Seg::path(&["law", "bounds", "a_c"]);
     if let Some(g) = b.gf_c {
         interval(src, &["law", "bounds", "gf_c"], g, true, "the compressive fracture energy gf_c")?;
-        if b.a_c[0] <= 0.0 {
-            return Err(src.error_at(
-                &a_c,
-                format!("with bounds.gf_c, a_c must be > 0 throughout (gf_c regularizes the decaying part A_c), got the lower bound {}", b.a_c[0]),
-            ));
-        }
+        let what = "with bounds.gf_c (it regularizes the decaying part A_c), the lower bound of a_c";
+        src.positive_finite(&a_c, b.a_c[0], what, "")?;
     }
     if b.a_c[0] < 0.0 || b.a_c[1] > 1.0 {
         return Err(src.error_at(&a_c, format!("a_c must lie in [0, 1], got bounds [{}, {}]", b.a_c[0], b.a_c[1])));

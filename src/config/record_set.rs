@@ -249,10 +249,15 @@ impl RecordSetJob {
 /// The generator's settings of `[record_set.artificial]`, each checked at its key.
 fn artificial_spec(source: &Source, a: &ArtificialConfig) -> Result<ArtificialSpec, ConfigError> {
     let err = |k: &str, msg: String| source.error_at(&at(&["artificial", k]), msg);
-    let positive =
-        [("duration", a.duration), ("dt", a.dt), ("rise", a.rise), ("stationary", a.stationary), ("decay", a.decay)];
-    for (k, v) in positive {
-        source.positive_finite(&at(&["artificial", k]), v, "a value", "")?;
+    let positive = [
+        ("duration", a.duration, "s"),
+        ("dt", a.dt, "s"),
+        ("rise", a.rise, "s"),
+        ("stationary", a.stationary, "s"),
+        ("decay", a.decay, "1/s"),
+    ];
+    for (k, v, unit) in positive {
+        source.positive_finite(&at(&["artificial", k]), v, k, unit)?;
     }
     if a.duration / a.dt > 1.0e6 {
         return Err(err("dt", format!("{} s over {} s is more than 10^6 samples", a.dt, a.duration)));

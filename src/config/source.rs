@@ -107,15 +107,22 @@ impl Source {
         best
     }
 
-    /// `v` when it is finite and > 0, else the error at `path`: "expected `what` > 0 [`unit`],
-    /// got `v`" (no brackets when `unit` is empty). Every such check of a job goes through here,
-    /// so they all say it the same way.
+    /// `v` when it is finite and > 0 ([`crate::bounds::positive`]), else the error at `path`:
+    /// "`what` [`unit`]: expected > 0, got `v`" (no brackets when `unit` is empty).
     pub fn positive_finite(&self, path: &[Seg], v: f64, what: &str, unit: &str) -> Result<f64, ConfigError> {
-        if v.is_finite() && v > 0.0 {
-            return Ok(v);
-        }
+        crate::bounds::positive(v).map_err(|b| self.out_of_bounds(path, b, what, unit))
+    }
+
+    /// `v` when it is finite and >= 0 ([`crate::bounds::non_negative`]), else the error at
+    /// `path`: "`what` [`unit`]: expected >= 0, got `v`".
+    pub fn non_negative(&self, path: &[Seg], v: f64, what: &str, unit: &str) -> Result<f64, ConfigError> {
+        crate::bounds::non_negative(v).map_err(|b| self.out_of_bounds(path, b, what, unit))
+    }
+
+    /// The error at `path` for a value out of its bound: "`what` [`unit`]: `b`".
+    pub fn out_of_bounds(&self, path: &[Seg], b: crate::bounds::OutOfBounds, what: &str, unit: &str) -> ConfigError {
         let unit = if unit.is_empty() { String::new() } else { format!(" [{unit}]") };
-        Err(self.error_at(path, format!("expected {what} > 0{unit}, got {v}")))
+        self.error_at(path, format!("{what}{unit}: {b}"))
     }
 
     /// An `Invalid` error at `path` (located in the text when found there).

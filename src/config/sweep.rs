@@ -260,10 +260,10 @@ fn check_keys(source: &Source, spec: &SweepJobFile) -> Result<(Option<f64>, supe
         (_, None) => None,
     };
     if let Some(x) = c.code_level {
-        source.positive_finite(&at(&["code_level"]), x, "a code level", "m/s^2")?;
+        source.positive_finite(&at(&["code_level"]), x, "code level", "m/s^2")?;
     }
     if let Some(d) = c.duration {
-        source.positive_finite(&at(&["duration"]), d, "a duration", "s")?;
+        source.positive_finite(&at(&["duration"]), d, "duration", "s")?;
     }
     if !(c.threshold > 0.0 && c.threshold < 1.0) {
         return Err(err(&["threshold"], format!("expected a damage threshold in (0, 1), got {}", c.threshold)));
@@ -370,12 +370,9 @@ fn read_records(
             IntensityMeasure::Pga => crate::seismic::pga(&record),
             IntensityMeasure::SaT1 => sa_at(&record, period.unwrap_or(1.0)),
         };
-        if !(intensity.is_finite() && intensity > 0.0) {
-            return Err(source.error_at(
-                &key,
-                format!("{}: its {} is {intensity}: it cannot be scaled", file.display(), c.scale_by.label()),
-            ));
-        }
+        crate::bounds::positive(intensity).map_err(|b| {
+            source.error_at(&key, format!("{}: its {} cannot be scaled: {b}", file.display(), c.scale_by.label()))
+        })?;
         let stem = file.file_stem().map_or_else(|| "record".into(), |s| s.to_string_lossy().into_owned());
         let mut name = stem.clone();
         let mut k = 2;

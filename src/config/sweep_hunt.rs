@@ -147,7 +147,7 @@ fn check_grid(source: &Source, xs: &[f64]) -> Result<(), ConfigError> {
         source.positive_finite(
             &[Seg::key("sweep"), Seg::key("intensities"), Seg::Index(i)],
             x,
-            "an intensity",
+            "intensity",
             "m/s^2",
         )?;
     }
@@ -195,9 +195,7 @@ fn check_rules(source: &Source, h: &HuntRules) -> Result<(), ConfigError> {
     if !(h.step.is_finite() && h.step >= res) {
         return Err(err("step", format!("expected a step >= {res} [m/s^2], got {}", h.step)));
     }
-    if !(h.step_increase.is_finite() && h.step_increase >= 0.0) {
-        return Err(err("step_increase", format!("expected a step increase >= 0 [m/s^2], got {}", h.step_increase)));
-    }
+    source.non_negative(&at(&["hunt", "step_increase"]), h.step_increase, "step increase", "m/s^2")?;
     if !(h.cap.is_finite() && h.cap >= h.first) {
         return Err(err("cap", format!("expected a cap >= first = {} [m/s^2], got {}", h.first, h.cap)));
     }

@@ -9,16 +9,6 @@ use super::source::{Seg, Source};
 use super::ConfigError;
 use std::collections::BTreeMap;
 
-/// `Ok` when `v` is finite and ≥ 0 (a density, a mass, a pretension), else the error at `path`
-/// with `message`.
-fn non_negative(src: &Source, path: &[Seg], v: f64, message: impl FnOnce() -> String) -> Result<(), ConfigError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(())
-    } else {
-        Err(src.error_at(path, message()))
-    }
-}
-
 fn finite3(src: &Source, path: &[Seg], v: &[f64; 3]) -> Result<(), ConfigError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
@@ -94,14 +84,10 @@ fn validate_material(src: &Source, name: &str, m: &MaterialConfig) -> Result<(),
                     src.positive_finite(&at("G"), *g, "shear modulus G", "Pa")?;
                 }
             }
-            non_negative(src, &at("density"), *density, || {
-                format!("density [kg/m^3] must be a finite number >= 0, got {density}")
-            })
+            src.non_negative(&at("density"), *density, "density", "kg/m^3").map(drop)
         }
         MaterialConfig::Damage(d) => {
-            non_negative(src, &at("density"), d.density, || {
-                format!("density [kg/m^3] must be a finite number >= 0, got {}", d.density)
-            })?;
+            src.non_negative(&at("density"), d.density, "density", "kg/m^3")?;
             match (&d.law, &d.law_file) {
                 (Some(_), Some(_)) => Err(src.error_at(&at("law_file"), "give either [law] or law_file, not both")),
                 (None, None) => Err(src.error_at(&table, "a damage material needs its [law] table or a law_file")),
@@ -117,9 +103,7 @@ fn validate_material(src: &Source, name: &str, m: &MaterialConfig) -> Result<(),
 fn validate_section(src: &Source, name: &str, s: &SectionConfig) -> Result<(), ConfigError> {
     let at = |k: &str| Seg::path(&["sections", name, k]);
     let mass_per = |v: f64, per: &str, unit: &str| {
-        non_negative(src, &at("nonstructural_mass"), v, || {
-            format!("expected a finite mass per {per} >= 0 [{unit}], got {v}")
-        })
+        src.non_negative(&at("nonstructural_mass"), v, &format!("non-structural mass per {per}"), unit).map(drop)
     };
     match s {
         SectionConfig::Frame(FrameSectionConfig { area, iy, iz, j, nonstructural_mass }) => {
@@ -156,9 +140,8 @@ fn validate_section(src: &Source, name: &str, s: &SectionConfig) -> Result<(), C
         }
         SectionConfig::Tie(TieSectionConfig { area, pretension, .. }) => {
             src.positive_finite(&at("area"), *area, &format!("area of tie section '{name}'"), "m^2")?;
-            non_negative(src, &at("pretension"), *pretension, || {
-                format!("pretension [N] of tie section '{name}' must be a finite number >= 0 (tension positive), got {pretension}")
-            })
+            let what = format!("pretension of tie section '{name}' (tension positive)");
+            src.non_negative(&at("pretension"), *pretension, &what, "N").map(drop)
         }
         SectionConfig::Shell(ShellSectionConfig { thickness, layers, nonstructural_mass }) => {
             src.positive_finite(&at("thickness"), *thickness, "shell thickness", "m")?;
@@ -333,12 +316,9 @@ fn validate_point_mass(src: &Source, i: usize, m: &PointMassConfig) -> Result<()
         }
         _ => {}
     }
-    non_negative(src, &at("mass"), m.mass, || format!("expected a finite mass >= 0 [kg], got {}", m.mass))?;
-    if m.rotary_inertia.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
-        return Err(src.error_at(
-            &at("rotary_inertia"),
-            format!("expected three finite inertias >= 0 [kg m^2], got {:?}", m.rotary_inertia),
-        ));
+    src.non_negative(&at("mass"), m.mass, "point mass", "kg")?;
+    for (axis, x) in ["x", "y", "z"].iter().zip(m.rotary_inertia) {
+        src.non_negative(&at("rotary_inertia"), x, &format!("rotary inertia about {axis}"), "kg m^2")?;
     }
     Ok(())
 }

@@ -10,7 +10,7 @@
 pub enum ElementError {
     /// A section or material quantity out of its range ([`ElementError::positive`],
     /// [`ElementError::non_negative`], or Poisson's ratio's).
-    #[error("section quantity `{quantity}` must be finite and {expected}, got {value}")]
+    #[error("section quantity `{quantity}`: expected {expected}, got {value}")]
     InvalidSection {
         /// The field name (`e`, `g`, `area`, `iy`, `iz`, `j`, `density`, ...).
         quantity: &'static str,
@@ -93,24 +93,21 @@ pub enum ElementError {
 }
 
 impl ElementError {
-    /// `value` when it is finite and > 0, else [`ElementError::InvalidSection`] naming
-    /// `quantity`: every strictly positive section quantity is checked here, with one message.
+    /// `value` when it is finite and > 0 ([`crate::bounds::positive`]), else
+    /// [`ElementError::InvalidSection`] naming `quantity`.
     pub fn positive(quantity: &'static str, value: f64) -> Result<f64, ElementError> {
-        if value.is_finite() && value > 0.0 {
-            Ok(value)
-        } else {
-            Err(ElementError::InvalidSection { quantity, value, expected: "> 0" })
-        }
+        crate::bounds::positive(value).map_err(|b| ElementError::out_of_bounds(quantity, b))
     }
 
-    /// `value` when it is finite and >= 0 (a density, a pretension), else
-    /// [`ElementError::InvalidSection`] naming `quantity`.
+    /// `value` when it is finite and >= 0 (a density, a pretension; [`crate::bounds::non_negative`]),
+    /// else [`ElementError::InvalidSection`] naming `quantity`.
     pub fn non_negative(quantity: &'static str, value: f64) -> Result<f64, ElementError> {
-        if value.is_finite() && value >= 0.0 {
-            Ok(value)
-        } else {
-            Err(ElementError::InvalidSection { quantity, value, expected: ">= 0" })
-        }
+        crate::bounds::non_negative(value).map_err(|b| ElementError::out_of_bounds(quantity, b))
+    }
+
+    /// The [`ElementError::InvalidSection`] of `quantity` out of its bound `b`.
+    fn out_of_bounds(quantity: &'static str, b: crate::bounds::OutOfBounds) -> ElementError {
+        ElementError::InvalidSection { quantity, value: b.value, expected: b.expected }
     }
 }
 

@@ -140,9 +140,9 @@ pub fn peak_aligned_mean(curves: &[Curve], max: f64, points: usize, what: &str) 
     let n = curves.len() as f64;
     let peaks: Vec<f64> = curves.iter().map(|c| c.peak().1).collect();
     let mean_peak = peaks.iter().sum::<f64>() / n;
-    if !(mean_peak > 0.0 && mean_peak.is_finite()) {
+    let Ok(mean_peak) = crate::bounds::positive(mean_peak) else {
         return mean_curve(curves, &uniform_grid(max, points), what);
-    }
+    };
     let grid = grid_through(max.max(mean_peak), points, mean_peak);
     let y = grid
         .iter()

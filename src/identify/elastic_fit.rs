@@ -119,7 +119,7 @@ impl ElasticSearch {
                 return Err(IdentifyError::InvalidBounds { name: name.into(), lower: lo, upper: hi });
             }
         }
-        if !(s.poisson.is_finite() && s.young_modulus.is_finite() && s.young_modulus > 0.0) {
+        if !s.poisson.is_finite() || crate::bounds::positive(s.young_modulus).is_err() {
             return Err(IdentifyError::Settings(format!(
                 "elastic fit: invalid targets E = {}, nu = {}",
                 s.young_modulus, s.poisson

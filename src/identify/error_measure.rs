@@ -162,10 +162,7 @@ pub fn curve_distance(reference: &Curve, model: &Curve, measure: ErrorMeasure) -
     }
     // The reference peak: the first index of the largest value (test direction).
     let p = (0..n).fold(0, |b, i| if reference.y[i] > reference.y[b] { i } else { b });
-    let fp = reference.y[p];
-    if !(fp > 0.0 && fp.is_finite()) {
-        return None;
-    }
+    let fp = crate::bounds::positive(reference.y[p]).ok()?;
     let envelope = curve_error(&reference.y[..=p], &on_grid[..=p], ErrorMeasure::RelativeRms)?;
     // The model's peak: its first largest value, and the strain there.
     let m = (0..model.y.len()).fold(0, |b, i| if model.y[i] > model.y[b] { i } else { b });

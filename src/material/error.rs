@@ -7,16 +7,16 @@
 /// What is wrong with a set of [`DamageParams`](super::DamageParams) or an element size.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MaterialError {
-    /// A parameter is NaN or infinite.
+    /// A parameter without a positive bound (`nu`, `a_c`) is NaN or infinite.
     #[error("damage law parameter `{quantity}` must be finite, got {value}")]
     NonFinite {
-        /// The parameter, as spelled in the job file (`E`, `nu`, `eps0_t`, ...).
+        /// The parameter, as spelled in the job file (`nu`, `a_c`).
         quantity: &'static str,
         /// The offending value.
         value: f64,
     },
-    /// A parameter that must be strictly positive is not.
-    #[error("damage law parameter `{quantity}` must be > 0, got {value}")]
+    /// A parameter that must be finite and > 0 is not (NaN, infinite, or <= 0).
+    #[error("damage law parameter `{quantity}`: expected > 0, got {value}")]
     NonPositive {
         /// The parameter, as spelled in the job file.
         quantity: &'static str,
@@ -34,7 +34,7 @@ pub enum MaterialError {
         range: &'static str,
     },
     /// The element characteristic length is not a finite positive number.
-    #[error("element characteristic length h must be finite and > 0, got {h} m")]
+    #[error("element characteristic length h [m]: expected > 0, got {h}")]
     InvalidElementSize {
         /// The element size given (m).
         h: f64,

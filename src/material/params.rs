@@ -131,15 +131,15 @@ pub struct DamageParams {
     pub split: Split,
 }
 
-/// A parameter must be finite and strictly positive.
+/// A parameter must be finite and > 0 ([`crate::bounds::positive`]), else
+/// [`MaterialError::NonPositive`] naming it.
 fn positive(quantity: &'static str, value: f64) -> Result<(), MaterialError> {
-    if !value.is_finite() {
-        return Err(MaterialError::NonFinite { quantity, value });
-    }
-    if value <= 0.0 {
-        return Err(MaterialError::NonPositive { quantity, value });
-    }
-    Ok(())
+    crate::bounds::positive(value).map(drop).map_err(|b| MaterialError::NonPositive { quantity, value: b.value })
+}
+
+/// The element size `h` must be finite and > 0, else [`MaterialError::InvalidElementSize`].
+fn element_size(h: f64) -> Result<f64, MaterialError> {
+    crate::bounds::positive(h).map_err(|b| MaterialError::InvalidElementSize { h: b.value })
 }
 
 impl DamageParams {
@@ -203,9 +203,7 @@ impl DamageParams {
     /// parameters and `h`.
     pub fn compression_softening(&self, h: f64) -> Result<Option<f64>, MaterialError> {
         self.validate()?;
-        if !(h.is_finite() && h > 0.0) {
-            return Err(MaterialError::InvalidElementSize { h });
-        }
+        element_size(h)?;
         let Some(gf_c) = self.gf_c else { return Ok(None) };
         let r = self.uniaxial_compression_ratio();
         if r <= 0.0 {
@@ -242,9 +240,7 @@ impl DamageParams {
     /// (m), per the regularization (module docs). Validates the parameters and `h`.
     pub fn b_t(&self, h: f64) -> Result<f64, MaterialError> {
         self.validate()?;
-        if !(h.is_finite() && h > 0.0) {
-            return Err(MaterialError::InvalidElementSize { h });
-        }
+        element_size(h)?;
         let ft = self.tensile_strength();
         let b_t = match self.regularization {
             Regularization::Hillerborg => ft * h / self.gf_t,
@@ -308,7 +304,9 @@ mod tests {
             }
         }
         let p = DamageParams { eps0_t: f64::NAN, ..good() };
-        assert!(matches!(p.validate(), Err(MaterialError::NonFinite { quantity: "eps0_t", .. })));
+        let err = p.validate().unwrap_err();
+        assert!(matches!(err, MaterialError::NonPositive { quantity: "eps0_t", value } if value.is_nan()), "{err:?}");
+        assert_eq!(err.to_string(), "damage law parameter `eps0_t`: expected > 0, got NaN");
     }
 
     #[test]

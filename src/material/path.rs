@@ -83,10 +83,7 @@ fn check_steps(n: usize) -> Result<(), PathError> {
 }
 
 fn check_positive(what: &str, v: f64) -> Result<(), PathError> {
-    if !(v.is_finite() && v > 0.0) {
-        return Err(invalid(format!("{what} must be finite and > 0, got {v}")));
-    }
-    Ok(())
+    crate::bounds::positive(v).map(drop).map_err(|b| invalid(format!("{what}: {b}")))
 }
 
 impl<const N: usize> LoadPath<N> {

@@ -63,12 +63,19 @@ impl ArtificialSpec {
         self.seed.wrapping_add(index as u64)
     }
 
-    /// Checks the parameters: times > 0, the envelope's rise and stationary part inside the duration.
+    /// Checks the parameters: times and the decay rate > 0, the envelope's rise and stationary part
+    /// inside the duration.
     pub fn validate(&self) -> Result<(), SeismicError> {
         let what = || format!("artificial records '{}'", self.prefix);
-        let pos = |x: f64| x.is_finite() && x > 0.0;
-        if !(pos(self.duration) && pos(self.dt) && pos(self.rise) && pos(self.stationary) && pos(self.decay)) {
-            return Err(SeismicError::invalid(what(), "duration, dt, rise, stationary and decay must be > 0"));
+        let positive = [
+            ("duration [s]", self.duration),
+            ("dt [s]", self.dt),
+            ("rise [s]", self.rise),
+            ("stationary [s]", self.stationary),
+            ("decay [1/s]", self.decay),
+        ];
+        for (k, v) in positive {
+            crate::bounds::positive(v).map_err(|b| SeismicError::out_of_bounds(format!("{}: {k}", what()), b))?;
         }
         if self.rise + self.stationary > self.duration {
             return Err(SeismicError::invalid(
@@ -112,9 +119,8 @@ pub fn artificial_record(
 ) -> Result<(Record, MatchReport), SeismicError> {
     spec.validate()?;
     target.validate()?;
-    if !(target.ag > 0.0) {
-        return Err(SeismicError::invalid("artificial records", "the target's a_g must be > 0"));
-    }
+    crate::bounds::positive(target.ag)
+        .map_err(|b| SeismicError::out_of_bounds("artificial records: the target's a_g [m/s²]", b))?;
     let noise = generate(&spec.synthetic(target, index))?;
     let (matched, report) = match_spectrum(&noise, &|t| target.se(t), &spec.matching)?;
     let mut r = correct(&matched, Baseline::Displacement { order: 1 })?;

@@ -85,9 +85,8 @@ impl Ec8Spectrum {
     /// viscous damping `xi_percent` [%] (5 for the usual η = 1).
     pub fn new(kind: Ec8Type, ground: GroundType, ag: f64, xi_percent: f64) -> Result<Ec8Spectrum, SeismicError> {
         let (s, tb, tc, td) = Ec8Spectrum::table(kind, ground);
-        if !(xi_percent.is_finite() && xi_percent >= 0.0) {
-            return Err(SeismicError::invalid("EC8 spectrum damping ξ", format!("{xi_percent}% is not ≥ 0")));
-        }
+        crate::bounds::non_negative(xi_percent)
+            .map_err(|b| SeismicError::out_of_bounds("EC8 spectrum damping ξ [%]", b))?;
         let sp = Ec8Spectrum { ag, s, tb, tc, td, eta: Ec8Spectrum::eta_for(xi_percent) };
         sp.validate()?;
         Ok(sp)
@@ -95,9 +94,8 @@ impl Ec8Spectrum {
 
     /// Checks overridden parameters: a_g ≥ 0, S > 0, 0 < T_B < T_C < T_D, η > 0.
     pub fn validate(&self) -> Result<(), SeismicError> {
-        let ok = self.ag.is_finite()
-            && self.ag >= 0.0
-            && self.s > 0.0
+        crate::bounds::non_negative(self.ag).map_err(|b| SeismicError::out_of_bounds("EC8 spectrum a_g [m/s²]", b))?;
+        let ok = self.s > 0.0
             && self.tb > 0.0
             && self.tb < self.tc
             && self.tc < self.td

@@ -98,4 +98,10 @@ impl SeismicError {
     pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> SeismicError {
         SeismicError::InvalidParameter { what: what.into(), reason: reason.into() }
     }
+
+    /// The [`SeismicError::InvalidParameter`] of `what` out of its bound `b`
+    /// ([`crate::bounds`]): "`what`: expected > 0, got `value`".
+    pub fn out_of_bounds(what: impl Into<String>, b: crate::bounds::OutOfBounds) -> SeismicError {
+        SeismicError::invalid(what, b.to_string())
+    }
 }

@@ -54,8 +54,9 @@ pub fn match_spectrum(
         return Err(SeismicError::invalid(what(), "matching periods must be > 0 and increasing"));
     }
     let tgt: Vec<f64> = p.iter().map(|&t| target(t)).collect();
-    if tgt.iter().any(|&x| !(x > 0.0 && x.is_finite())) {
-        return Err(SeismicError::invalid(what(), "the target spectrum must be > 0 at every matching period"));
+    for (t, &x) in p.iter().zip(&tgt) {
+        crate::bounds::positive(x)
+            .map_err(|b| SeismicError::out_of_bounds(format!("{}: the target spectrum at T = {t} s", what()), b))?;
     }
     let n = r.len();
     let nfft = (2 * n).next_power_of_two();

@@ -30,12 +30,8 @@ impl Record {
         source: impl Into<String>,
     ) -> Result<Record, SeismicError> {
         let name = name.into();
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(SeismicError::invalid(
-                format!("time step of record '{name}'"),
-                format!("dt = {dt} is not > 0"),
-            ));
-        }
+        crate::bounds::positive(dt)
+            .map_err(|b| SeismicError::out_of_bounds(format!("time step dt [s] of record '{name}'"), b))?;
         if accel.len() < 2 {
             return Err(SeismicError::invalid(
                 format!("record '{name}'"),

@@ -51,12 +51,10 @@ impl SdofStep {
     /// Coefficients for `ω > 0`, `ζ ≥ 0`, `Δt > 0` (any damping: closed form below ζ = 0.95,
     /// matrix exponential above).
     pub fn new(omega: f64, zeta: f64, dt: f64) -> Result<SdofStep, SeismicError> {
-        if !(omega.is_finite() && omega > 0.0 && zeta.is_finite() && zeta >= 0.0 && dt.is_finite() && dt > 0.0) {
-            return Err(SeismicError::invalid(
-                "SDOF oscillator",
-                format!("needs ω > 0, ζ ≥ 0, Δt > 0; got ω = {omega}, ζ = {zeta}, Δt = {dt}"),
-            ));
-        }
+        let bound = |what: &'static str| move |b| SeismicError::out_of_bounds(format!("SDOF oscillator {what}"), b);
+        crate::bounds::positive(omega).map_err(bound("ω [rad/s]"))?;
+        crate::bounds::non_negative(zeta).map_err(bound("ζ"))?;
+        crate::bounds::positive(dt).map_err(bound("Δt [s]"))?;
         Ok(if zeta < 0.95 { SdofStep::closed_form(omega, zeta, dt) } else { SdofStep::by_exponential(omega, zeta, dt) })
     }
 

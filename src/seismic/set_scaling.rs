@@ -25,15 +25,12 @@ pub fn log_least_squares_factor(sa: &[f64], target: &[f64]) -> Result<f64, Seism
     if sa.is_empty() || sa.len() != target.len() {
         return Err(SeismicError::invalid(what, "needs the record's and the target's spectra at the same periods"));
     }
-    if let Some(k) = sa.iter().zip(target).position(|(s, t)| !(*s > 0.0 && *t > 0.0 && s.is_finite() && t.is_finite()))
-    {
-        return Err(SeismicError::invalid(
-            what,
-            format!(
-                "spectral acceleration {} against target {} at period index {k}: both must be > 0",
-                sa[k], target[k]
-            ),
-        ));
+    for (k, (&s, &t)) in sa.iter().zip(target).enumerate() {
+        for (whose, v) in [("record's", s), ("target's", t)] {
+            crate::bounds::positive(v).map_err(|b| {
+                SeismicError::out_of_bounds(format!("{what}: the {whose} spectral acceleration at period index {k}"), b)
+            })?;
+        }
     }
     let mean_log = sa.iter().zip(target).map(|(s, t)| (t / s).ln()).sum::<f64>() / sa.len() as f64;
     Ok(mean_log.exp())

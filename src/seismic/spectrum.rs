@@ -63,12 +63,9 @@ pub fn response_spectrum(r: &Record, periods: &[f64], damping: f64) -> Result<Re
     let mut out =
         ResponseSpectrum { damping, periods: periods.to_vec(), sd: Vec::new(), sv: Vec::new(), sa: Vec::new() };
     for &t in periods {
-        if !(t.is_finite() && t >= 0.0) {
-            return Err(SeismicError::invalid(
-                format!("response spectrum of '{}'", r.name),
-                format!("period {t} s is not ≥ 0"),
-            ));
-        }
+        crate::bounds::non_negative(t).map_err(|b| {
+            SeismicError::out_of_bounds(format!("period [s] of the response spectrum of '{}'", r.name), b)
+        })?;
         if t == 0.0 {
             out.sd.push(0.0);
             out.sv.push(0.0);

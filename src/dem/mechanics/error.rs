@@ -6,16 +6,16 @@
 /// What went wrong while building or evaluating a beam, a contact or a threshold.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MechanicsError {
-    /// A quantity that must be finite and strictly positive is not.
-    #[error("`{quantity}` must be finite and > 0, got {value}")]
+    /// A quantity that must be finite and > 0 is not.
+    #[error("`{quantity}`: expected > 0, got {value}")]
     NotPositive {
         /// The field name (`ell`, `area`, `inertia`, `e_bar`, `d_i`, ...).
         quantity: &'static str,
         /// The offending value.
         value: f64,
     },
-    /// A quantity that must be finite and ≥ 0 is not.
-    #[error("`{quantity}` must be finite and >= 0, got {value}")]
+    /// A quantity that must be finite and >= 0 is not.
+    #[error("`{quantity}`: expected >= 0, got {value}")]
     Negative {
         /// The field name (`mu`, `f_n`, ...).
         quantity: &'static str,
@@ -58,13 +58,9 @@ pub enum MechanicsError {
     },
 }
 
-/// `Ok(x)` if `x` is finite and > 0.
+/// `Ok(x)` if `x` is finite and > 0 ([`crate::bounds::positive`]).
 pub(crate) fn positive(quantity: &'static str, value: f64) -> Result<f64, MechanicsError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(MechanicsError::NotPositive { quantity, value })
-    }
+    crate::bounds::positive(value).map_err(|b| MechanicsError::NotPositive { quantity, value: b.value })
 }
 
 /// `Ok(v)` if both components are finite.
@@ -76,13 +72,9 @@ pub(crate) fn finite(quantity: &'static str, value: [f64; 2]) -> Result<[f64; 2]
     }
 }
 
-/// `Ok(x)` if `x` is finite and ≥ 0.
+/// `Ok(x)` if `x` is finite and >= 0 ([`crate::bounds::non_negative`]).
 pub(crate) fn non_negative(quantity: &'static str, value: f64) -> Result<f64, MechanicsError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(value)
-    } else {
-        Err(MechanicsError::Negative { quantity, value })
-    }
+    crate::bounds::non_negative(value).map_err(|b| MechanicsError::Negative { quantity, value: b.value })
 }
 
 impl MechanicsError {

@@ -312,7 +312,7 @@ mod tests {
             l.jitter = 1.0;
         }
         let e = c.validate().unwrap_err();
-        assert!(e.to_string().contains("`jitter` = 1"), "{e}");
+        assert!(e.to_string().contains("`jitter`: expected a number in [0, 1), got 1"), "{e}");
         if let SampleLayout::Coursed(l) = &mut c.layout {
             l.jitter = 0.1;
             l.n_courses = 0;

@@ -5,7 +5,7 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SampleError {
     /// A configuration value outside its admissible range.
-    #[error("sample config: `{field}` = {value} is invalid: expected {expected}")]
+    #[error("sample config: `{field}`: expected {expected}, got {value}")]
     InvalidConfig {
         /// The config key.
         field: &'static str,
@@ -146,13 +146,13 @@ pub enum SampleError {
 }
 
 impl SampleError {
-    /// Nothing when `v` is finite and > 0, else [`SampleError::InvalidConfig`] naming `field`:
-    /// every positive quantity of a sample is checked here, with one message.
+    /// Nothing when `v` is finite and > 0 ([`crate::bounds::positive`]), else
+    /// [`SampleError::InvalidConfig`] naming `field`.
     pub fn positive(field: &'static str, v: f64) -> Result<(), SampleError> {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(SampleError::InvalidConfig { field, value: v.to_string(), expected: "a finite number > 0" })
-        }
+        crate::bounds::positive(v).map(drop).map_err(|b| SampleError::InvalidConfig {
+            field,
+            value: b.value.to_string(),
+            expected: b.expected,
+        })
     }
 }

@@ -7,7 +7,7 @@ use crate::dem::sample::SampleError;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DemError {
     /// A test or solver parameter outside its admissible range.
-    #[error("virtual test: `{field}` = {value} is invalid: expected {expected}")]
+    #[error("virtual test: `{field}`: expected {expected}, got {value}")]
     InvalidParameter {
         /// The parameter name.
         field: &'static str,
@@ -95,13 +95,18 @@ pub enum DemError {
     Sample(#[from] SampleError),
 }
 
-/// `Err(InvalidParameter)` unless `v` is finite and > 0.
+/// `Err(InvalidParameter)` unless `v` is finite and > 0 ([`crate::bounds::positive`]).
 pub(crate) fn positive(field: &'static str, v: f64) -> Result<f64, DemError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(DemError::InvalidParameter { field, value: v.to_string(), expected: "a finite number > 0" })
-    }
+    crate::bounds::positive(v).map_err(|b| out_of_bounds(field, b))
+}
+
+/// `Err(InvalidParameter)` unless `v` is finite and >= 0 ([`crate::bounds::non_negative`]).
+pub(crate) fn non_negative(field: &'static str, v: f64) -> Result<f64, DemError> {
+    crate::bounds::non_negative(v).map_err(|b| out_of_bounds(field, b))
+}
+
+fn out_of_bounds(field: &'static str, b: crate::bounds::OutOfBounds) -> DemError {
+    DemError::InvalidParameter { field, value: b.value.to_string(), expected: b.expected }
 }
 
 /// The tail of the no-convergence message naming the unbonded stones (at most 12).

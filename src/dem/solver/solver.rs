@@ -131,13 +131,7 @@ impl<'a> Solver<'a> {
     /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0, the default,
     /// recomputes every Jacobian at every Newton iteration). Errors: `η` negative or not finite.
     pub fn set_jacobian_reuse(&mut self, eta: f64) -> Result<(), DemError> {
-        if !(eta.is_finite() && eta >= 0.0) {
-            return Err(DemError::InvalidParameter {
-                field: "jacobian reuse fraction",
-                value: eta.to_string(),
-                expected: "a finite number >= 0",
-            });
-        }
+        super::error::non_negative("jacobian reuse fraction", eta)?;
         self.jacobians.reuse_fraction = eta;
         Ok(())
     }

@@ -36,7 +36,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::dofs::{DofControl, DofMap};
-use super::error::{positive, DemError};
+use super::error::{non_negative, positive, DemError};
 use super::options::SolverOptions;
 use super::records::{LoadPoint, Observer, StageEnd, StateRecord};
 use super::snapshots::{ParticleStates, Recorder};
@@ -202,38 +202,20 @@ impl VirtualTest {
                 steps(s)
             }
             VirtualTest::Shear { vertical_stress, max_displacement, steps: s, preload_steps, .. } => {
-                if !(vertical_stress.is_finite() && vertical_stress >= 0.0) {
-                    return Err(DemError::InvalidParameter {
-                        field: "vertical_stress",
-                        value: vertical_stress.to_string(),
-                        expected: "a finite number >= 0 (compression)",
-                    });
-                }
+                non_negative("vertical_stress", vertical_stress)?;
                 positive("max_displacement", max_displacement)?;
                 steps(s)?;
                 steps(preload_steps)
             }
             VirtualTest::CyclicTensionCompression { ref amplitudes, compression_ratio, steps_per_half_cycle } => {
                 check_amplitudes(amplitudes)?;
-                if !(compression_ratio.is_finite() && compression_ratio >= 0.0) {
-                    return Err(DemError::InvalidParameter {
-                        field: "compression_ratio",
-                        value: compression_ratio.to_string(),
-                        expected: "a finite number >= 0",
-                    });
-                }
+                non_negative("compression_ratio", compression_ratio)?;
                 half_cycle_steps(steps_per_half_cycle)
             }
             VirtualTest::CyclicShear {
                 vertical_stress, ref amplitudes, steps_per_half_cycle, preload_steps, ..
             } => {
-                if !(vertical_stress.is_finite() && vertical_stress >= 0.0) {
-                    return Err(DemError::InvalidParameter {
-                        field: "vertical_stress",
-                        value: vertical_stress.to_string(),
-                        expected: "a finite number >= 0 (compression)",
-                    });
-                }
+                non_negative("vertical_stress", vertical_stress)?;
                 check_amplitudes(amplitudes)?;
                 half_cycle_steps(steps_per_half_cycle)?;
                 steps(preload_steps)

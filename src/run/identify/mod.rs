@@ -359,7 +359,7 @@ fn fit_inputs(
             "the law's E = {e:.4e} Pa differs from the virtual tests' mean E = {e_dem:.4e} Pa by more than 5%: the law cannot follow the DEM's elastic branch (set [law] elastic = \"dem\" to use the DEM's)"
         ));
     }
-    if !(e.is_finite() && e > 0.0 && nu.is_finite() && nu > -1.0 && nu < 0.5) {
+    if crate::bounds::positive(e).is_err() || !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
         return Err(JobError::LawWithoutElastic { file: path.to_path_buf() }.into());
     }
     let (t, c) = if r.gridded {
