@@ -19,8 +19,14 @@ pub fn scratch(name: &str) -> PathBuf {
     d
 }
 
-/// Runs `masonry-hpc args` on `np` ranks (`np = 0`: without mpirun, as a singleton).
+/// Runs `masonry-hpc args` on `np` ranks (`np = 0`: without mpirun, as a singleton), failing
+/// the test after 300 s (a hang).
 pub fn run(np: usize, args: &[&str]) -> Output {
+    run_for(np, args, std::time::Duration::from_secs(300))
+}
+
+/// [`run`] for a run whose work is known to take minutes in a debug build, with its own limit.
+pub fn run_for(np: usize, args: &[&str], limit: std::time::Duration) -> Output {
     let mut cmd = if np == 0 {
         Command::new(exe())
     } else {
@@ -33,7 +39,7 @@ pub fn run(np: usize, args: &[&str]) -> Output {
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
         .env_remove("PETSC_OPTIONS");
-    run_with_timeout(cmd, std::time::Duration::from_secs(300))
+    run_with_timeout(cmd, limit)
 }
 
 /// Runs `cmd` to completion, killing it (and failing the test) if it takes longer than `limit`:
