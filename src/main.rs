@@ -98,7 +98,7 @@ fn main() -> ExitCode {
             }
             ExitCode::from(a.exit_code.clamp(1, 255) as u8)
         }
-        Err(Error::Mechanism(m)) => {
+        Err(m @ (Error::Mechanism { .. } | Error::SingularStiffness(_))) => {
             // Found identically by every rank: one message.
             if ctx.rank == 0 {
                 print_error(&format!("error: {m}"));

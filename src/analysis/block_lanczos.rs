@@ -421,10 +421,7 @@ fn lanczos(
         let (rhs, x) = blocks.as_mut().expect("created above");
         rhs.set_local_values(&front.mf)?;
         ksp.mat_solve(rhs, x).map_err(|e| match e {
-            SolverError::Diverged { .. } => Error::Mechanism(format!(
-                "modal: the Cholesky factorization of the stiffness failed ({e}): K is singular or not \
-                 positive definite; check the supports"
-            )),
+            SolverError::Diverged { .. } => Error::SingularStiffness(e),
             other => Error::Solver(other),
         })?;
         x.local_values_into(&mut sf)?;

@@ -38,9 +38,22 @@ pub enum Error {
     /// The job against the mesh.
     #[error(transparent)]
     Model(#[from] ModelError),
-    /// The model cannot carry load: it is a mechanism.
-    #[error("{0}")]
-    Mechanism(String),
+    /// The model cannot carry load: `piece` can move as a rigid body, one of `pieces` such
+    /// pieces (found alike by every rank).
+    #[error("{piece}{}", if *.pieces > 1 { format!(" ({} such pieces in all)", .pieces) } else { String::new() })]
+    Mechanism {
+        /// The first piece found.
+        piece: crate::model::Mechanism,
+        /// How many pieces are free.
+        pieces: usize,
+    },
+    /// The stiffness could not be factored by Cholesky: K is singular or not positive definite
+    /// (a mechanism the supports leave, or a negative stiffness).
+    #[error(
+        "modal: the Cholesky factorization of the stiffness failed ({0}): K is singular or not positive \
+         definite; check the supports"
+    )]
+    SingularStiffness(SolverError),
     /// METIS.
     #[error(transparent)]
     Partition(#[from] PartitionError),
@@ -86,9 +99,18 @@ pub enum Error {
     #[error("results folder {} already holds results of a previous run, and [output] existing = \"error\"; \
              move them away or set existing = \"backup\" or \"overwrite\"", .0.display())]
     OutputExists(std::path::PathBuf),
-    /// A material-point computation failed (Newton did not converge, a chart could not be drawn).
+    /// A material-point path could not be built, or the law could not follow it; `reached` steps
+    /// of it are kept in `curve` when it stopped on the way.
+    #[error("material point: {source}{}", .reached.as_ref().map_or(String::new(), |(n, f)| format!("; the {n} step(s) reached are in {}", f.display())))]
+    MaterialPoint {
+        /// What stopped it.
+        source: crate::material::PathError,
+        /// The steps reached and the file that keeps them.
+        reached: Option<(usize, std::path::PathBuf)>,
+    },
+    /// A material point's chart could not be drawn.
     #[error("material point: {0}")]
-    MaterialPoint(String),
+    MaterialPointChart(PlotError),
     /// An FE analysis could not produce its result (too few converged modes, a step that did
     /// not converge, ...).
     #[error(transparent)]
@@ -128,7 +150,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Config(_) | Error::Mesh(_) | Error::Model(_) | Error::OutputExists(_) => 2,
-            Error::Mechanism(_) | Error::ElementInput { .. } => 2,
+            Error::Mechanism { .. } | Error::SingularStiffness(_) | Error::ElementInput { .. } => 2,
             Error::Agreed(a) => a.exit_code,
             _ => 1,
         }

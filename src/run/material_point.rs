@@ -78,7 +78,7 @@ fn compute_and_write(ctx: &Context, job: &MaterialPointJob) -> Result<Option<Mat
 fn path_error(job: &MaterialPointJob, e: PathError) -> Error {
     match e {
         PathError::InvalidPath { .. } => job.source.error_at(&[crate::config::Seg::key("path")], e.to_string()).into(),
-        other => Error::MaterialPoint(other.to_string()),
+        other => Error::MaterialPoint { source: other, reached: None },
     }
 }
 
@@ -126,7 +126,7 @@ fn drive<const N: usize, M: StressState<N>>(
     };
     let title = job.spec.title.clone().unwrap_or_else(|| "material point".into());
     let curve: Vec<(f64, f64)> = records.iter().map(|r| (r.strain[driven], r.stress[driven] / 1e6)).collect();
-    let plot = |e: crate::plot::PlotError| Error::MaterialPoint(e.to_string());
+    let plot = Error::MaterialPointChart;
     LineChart::new(&title, &strain_label, &stress_label)
         .series("damage law", curve, SeriesStyle::Line)
         .save_png(&dir.join("stress_strain.png"))
@@ -137,9 +137,10 @@ fn drive<const N: usize, M: StressState<N>>(
         .save_png(&dir.join("damage.png"))
         .map_err(plot)?;
     if let Some(e) = stopped {
-        let kept = format!("; the {} step(s) reached are in {}", records.len() - 1, dir.join("curve.csv").display());
         return Err(match path_error(job, e) {
-            Error::MaterialPoint(m) => Error::MaterialPoint(m + &kept),
+            Error::MaterialPoint { source, .. } => {
+                Error::MaterialPoint { source, reached: Some((records.len() - 1, dir.join("curve.csv"))) }
+            }
             other => other,
         });
     }

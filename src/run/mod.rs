@@ -127,9 +127,8 @@ pub fn load_input(ctx: &Context, path: &Path, job: Job, strict: bool) -> Result<
     }
     warn_implausible(ctx, path, &job, &mesh, &model, strict)?;
     let mech = model.find_mechanisms(&mesh);
-    if let Some(m) = mech.first() {
-        let more = if mech.len() > 1 { format!(" ({} such pieces in all)", mech.len()) } else { String::new() };
-        return Err(Error::Mechanism(format!("{m}{more}")));
+    if let Some(piece) = mech.first() {
+        return Err(Error::Mechanism { piece: piece.clone(), pieces: mech.len() });
     }
     Ok(Input { job, mesh, model })
 }
