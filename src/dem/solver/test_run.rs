@@ -1,6 +1,6 @@
 //! Running a virtual test ([`super::virtual_test`]): the protocol's stages one after the other
 //! on one solver, stopped at the target or at a loss of load (that module's "Stopping"), or by
-//! an error that [`classify_stop`] names a post-peak collapse or a failure; then the curve, the
+//! an error that `classify_stop` names a post-peak collapse or a failure; then the curve, the
 //! derived numbers and the statistics ([`TestResult`]).
 //!
 //! With checkpoints ([`run_test_checkpointed`], [`super::checkpoint`]) a sink is asked after
@@ -140,7 +140,8 @@ impl CheckpointSink for Clocked<'_> {
 
 /// [`run_test_observed`] with checkpoints: written to `checkpoints.sink` as the test goes and at
 /// its end, and continued from `checkpoints.resume` when given. A resumed test's particle states
-/// start at the resumption; its counters and wall time add to the checkpoint's. Errors: those of
+/// start at the resumption; its counters and wall time add to the checkpoint's (its
+/// factorizations are this run's: the workspace is not checkpointed). Errors: those of
 /// [`run_test`], a finished test's checkpoint to resume from, and the sink's
 /// ([`DemError::Checkpoint`]), which end the test without a result.
 pub fn run_test_checkpointed<'a>(
