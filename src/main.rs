@@ -37,7 +37,7 @@ struct Cli {
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
-    /// Continue a time history from the last checkpoint in its results folder.
+    /// Continue a killed time history, sweep or DEM job from the checkpoints in its results folder.
     #[arg(long)]
     restart: bool,
     /// Treat the warnings of implausible input (units) as errors: exit code 2.

@@ -7,6 +7,7 @@
 //! particle_states = "steps"    # HDF5/XDMF particle states per sample: "none" | "steps" | "all"
 //! breaks_per_equilibrium = 1   # > 1: several beams break per equilibrium (approximate, opt-in)
 //! factor_updates = "auto"      # "auto" | "in_place" | "woodbury": how the factor follows breaks
+//! checkpoint_minutes = 10      # a checkpoint of each running test this often (0: none)
 //! [sample]                     # dem::sample::SampleConfig
 //! seed = 1
 //! layout = { type = "coursed", width = 1.0, height = 1.2, n_courses = 10, n_per_course = 6, jitter = 0.2, size_variability = 0.2 }
@@ -48,6 +49,17 @@ pub struct DemAnalysis {
     /// faster and lighter on large samples.
     #[serde(default = "auto")]
     pub factor_updates: FactorUpdates,
+    /// Wall time between two checkpoints of a sample's running test [min] (default 10; 0: no
+    /// checkpoints). Each sample's test writes `checkpoints/sample-KKK.ckpt` in the results
+    /// folder when this much time has passed since its last one, and once when it ends;
+    /// `masonry-hpc --restart` then takes a finished sample's result from its checkpoint and
+    /// continues a running one from it (docs/running.md).
+    #[serde(default = "ten")]
+    pub checkpoint_minutes: f64,
+}
+
+fn ten() -> f64 {
+    10.0
 }
 
 fn auto() -> FactorUpdates {

@@ -264,6 +264,13 @@ impl DemJob {
                 "expected at least 1 (1: one break per equilibrium, the exact algorithm)",
             ));
         }
+        let minutes = spec.analysis.checkpoint_minutes;
+        if !(minutes.is_finite() && minutes >= 0.0) {
+            return Err(source.error_at(
+                &[Seg::key("analysis"), Seg::key("checkpoint_minutes")],
+                "expected minutes >= 0 (0: no checkpoints)",
+            ));
+        }
         spec.sample.validate().map_err(|e| source.error_at(&[Seg::key("sample")], e.to_string()))?;
         spec.test.validate().map_err(|e| {
             // At the offending key when the file has it, else at [test].

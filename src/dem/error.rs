@@ -21,6 +21,8 @@ pub enum StopKind {
     Factorization,
     /// More beam-break events than the cap.
     TooManyEvents,
+    /// A checkpoint could not be written.
+    Checkpoint,
 }
 
 impl From<&DemError> for StopKind {
@@ -36,6 +38,7 @@ impl From<&DemError> for StopKind {
             DemError::FreeFloating { .. } => StopKind::FreeFloating,
             DemError::Factorization { .. } => StopKind::Factorization,
             DemError::TooManyEvents { .. } => StopKind::TooManyEvents,
+            DemError::Checkpoint(_) => StopKind::Checkpoint,
         }
     }
 }

@@ -48,8 +48,8 @@ pub enum JobError {
         /// The failed rules.
         failures: Vec<String>,
     },
-    /// A sweep restarted in a folder that holds none.
-    #[error("--restart: {} does not exist (no sweep to continue); run without --restart", dir.display())]
+    /// A sweep or a DEM job restarted in a folder that holds none.
+    #[error("--restart: {} does not exist (no earlier run to continue); run without --restart", dir.display())]
     NothingToRestart {
         /// The results folder.
         dir: PathBuf,
@@ -62,4 +62,34 @@ pub enum JobError {
         /// Its folder.
         dir: PathBuf,
     },
+    /// A DEM checkpoint that `--restart` cannot continue from.
+    #[error(
+        "--restart: checkpoint {}: {source}; remove it to run that sample afresh, or run the job without --restart",
+        file.display()
+    )]
+    DemCheckpoint {
+        /// The file.
+        file: PathBuf,
+        /// Why it cannot be used.
+        source: crate::dem::solver::checkpoint::Unreadable,
+    },
+    /// A DEM checkpoint that cannot be read.
+    #[error("--restart: cannot read checkpoint {}: {source}", file.display())]
+    DemCheckpointRead {
+        /// The file.
+        file: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+}
+
+impl JobError {
+    /// Whether the job's input is at fault (exit code 2): nothing to restart, or a checkpoint
+    /// that cannot be continued.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            JobError::NothingToRestart { .. } | JobError::DemCheckpoint { .. } | JobError::DemCheckpointRead { .. }
+        )
+    }
 }

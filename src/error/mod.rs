@@ -152,6 +152,7 @@ impl Error {
             Error::Config(_) | Error::Mesh(_) | Error::Model(_) | Error::OutputExists(_) => 2,
             Error::Mechanism { .. } | Error::SingularStiffness(_) | Error::ElementInput { .. } => 2,
             Error::Agreed(a) => a.exit_code,
+            Error::Job(j) if j.is_bad_input() => 2,
             _ => 1,
         }
     }

@@ -15,19 +15,24 @@
 //!   timing and how the factor followed the breaks (`factor_updates`); their mean and sample standard deviation (`null` when no sample has the quantity:
 //!   ν in shear, first crack in a sample that never cracked); the experiment's values beside them.
 //!
+//! * `checkpoints/sample-KKK.ckpt`: each sample's test as it goes and once it ended
+//!   (`[analysis] checkpoint_minutes`, [`super::dem_checkpoint`]); `--restart` continues from them.
+//!
 //! Signs: the curve files keep the solver's convention (tension positive); the chart plots
 //! compression tests as shortening and compressive stress, both positive.
+use super::dem_checkpoint::{checkpoint_file, read_checkpoint, FileSink};
 use crate::config::DemJob;
 use crate::dem::error::TestFailure;
 use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{
-    run_test_observed, FailureModeTag, Report, SolverOptions, StateRecord, TestEnd, TestResult, VirtualTest,
+    finished_result, run_test_checkpointed, CheckpointSink, Checkpoints, FailureModeTag, Fingerprint, ParticleStates,
+    Report, SolverOptions, StateRecord, TestEnd, TestResult, VirtualTest,
 };
 use crate::error::{Error, JobError};
 use crate::identify::Stat;
 use crate::io::summary::with_message;
-use crate::parallel::{agree, run_batch, Context, Log, Phases};
+use crate::parallel::{agree, global_sum, run_batch, Context, Log, Phases};
 use crate::plot::{LineChart, SeriesStyle};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -93,12 +98,12 @@ fn sample_config(job: &DemJob, k: usize) -> crate::dem::sample::SampleConfig {
     c
 }
 
-/// Collective. Runs the batch and writes the outputs.
-pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
+/// Collective. Runs the batch and writes the outputs; `restart` continues a killed run from the
+/// samples' checkpoints ([`super::dem_checkpoint`]).
+pub fn run(ctx: &Context, job: &DemJob, restart: bool) -> Result<DemSummary, Error> {
     let n = job.spec.analysis.samples;
     let mut phases = Phases::default();
     ctx.log.info(format!("DEM: {n} sample(s) of {:?}, over {} rank(s)", job.spec.test, ctx.size));
-    let states = job.spec.analysis.particle_states;
     let analysis = &job.spec.analysis;
     let opts = SolverOptions {
         breaks_per_equilibrium: analysis.breaks_per_equilibrium,
@@ -111,32 +116,11 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
             opts.breaks_per_equilibrium
         ));
     }
-    // Runs on the rank that got sample k; that rank writes the sample's particle states. Rank 0
-    // reports the progress of the samples it runs itself.
+    if restart {
+        check_checkpoints(ctx, job)?;
+    }
     let log = &ctx.log;
-    let work = |k: usize| -> Result<TestResult, TestFailure> {
-        let sample = Sample::build(&sample_config(job, k)).map_err(|e| TestFailure::Sample {
-            sample: k,
-            seed: None,
-            message: e.to_string(),
-        })?;
-        let report = log.is_root().then(|| sample_progress(log.clone(), k, PROGRESS_EVERY));
-        let mut result = run_test_observed(&sample, &job.params, &job.spec.test, opts, states, report)
-            .map_err(|e| TestFailure::solver(k, None, &e))?;
-        if !result.particle_states.is_empty() {
-            let sdir = job.output_dir.join(format!("sample-{k:03}"));
-            let output = |what: String, e: &dyn std::fmt::Display| TestFailure::Output {
-                sample: k,
-                what,
-                message: e.to_string(),
-            };
-            std::fs::create_dir_all(&sdir).map_err(|e| output(format!("cannot create {}", sdir.display()), &e))?;
-            write_particle_states(&sdir, "particles", &sample, &result)
-                .map_err(|e| output("particle states".into(), &e))?;
-            result.particle_states = Vec::new();
-        }
-        Ok(result)
-    };
+    let work = |k: usize| run_sample(job, k, opts, restart, log);
     let results = phases.time("batch", || {
         let batch = run_batch(&ctx.comm, n, work, |done, total| log.info(format!("  {done}/{total} samples done")));
         agree(&ctx.comm, batch.map_err(Error::from), Error::exit_code)
@@ -161,6 +145,92 @@ pub fn run(ctx: &Context, job: &DemJob) -> Result<DemSummary, Error> {
         seconds,
         events_per_second: 0.0,
     }))
+}
+
+/// Sample `k`'s test, on the rank that got it; that rank writes its checkpoints and particle
+/// states. Restarted: a finished test's result from its checkpoint (unless its particle states
+/// are missing), a running one continued from it. Rank 0 reports the progress of the samples
+/// it runs itself.
+fn run_sample(
+    job: &DemJob,
+    k: usize,
+    opts: SolverOptions,
+    restart: bool,
+    log: &Log,
+) -> Result<TestResult, TestFailure> {
+    let config = sample_config(job, k);
+    let sample =
+        Sample::build(&config).map_err(|e| TestFailure::Sample { sample: k, seed: None, message: e.to_string() })?;
+    let (test, params) = (&job.spec.test, &job.params);
+    let fingerprint = Fingerprint::new(&sample, config.seed, params, test);
+    let file = checkpoint_file(&job.output_dir, k);
+    let sdir = job.output_dir.join(format!("sample-{k:03}"));
+    let states = job.spec.analysis.particle_states;
+    let output =
+        |what: String, e: &dyn std::fmt::Display| TestFailure::Output { sample: k, what, message: e.to_string() };
+    let resume =
+        if restart { read_checkpoint(&file, &fingerprint).map_err(|e| output("checkpoint".into(), &e))? } else { None };
+    let resume = match resume {
+        Some(c) if c.finished.is_some() && particles_kept(job, k) => {
+            return finished_result(&sample, params, test, &c).map_err(|e| TestFailure::solver(k, None, &e));
+        }
+        running => running.filter(|c| c.finished.is_none()),
+    };
+    let minutes = job.spec.analysis.checkpoint_minutes;
+    let out = &job.output_dir;
+    let sink =
+        (minutes > 0.0).then(|| Box::new(FileSink::new(out, k, fingerprint, minutes)) as Box<dyn CheckpointSink>);
+    let report = log.is_root().then(|| sample_progress(log.clone(), k, PROGRESS_EVERY));
+    let checkpoints = Checkpoints { sink, resume };
+    let mut result = run_test_checkpointed(&sample, params, test, opts, states, report, checkpoints)
+        .map_err(|e| TestFailure::solver(k, None, &e))?;
+    if !result.particle_states.is_empty() {
+        std::fs::create_dir_all(&sdir).map_err(|e| output(format!("cannot create {}", sdir.display()), &e))?;
+        write_particle_states(&sdir, "particles", &sample, &result)
+            .map_err(|e| output("particle states".into(), &e))?;
+        result.particle_states = Vec::new();
+    }
+    Ok(result)
+}
+
+/// Whether sample `k`'s particle states are on disk, or none are asked for: a finished test's
+/// checkpoint stands for the test only then (it is written before the particle states).
+fn particles_kept(job: &DemJob, k: usize) -> bool {
+    let sdir = job.output_dir.join(format!("sample-{k:03}"));
+    job.spec.analysis.particle_states == ParticleStates::None || sdir.join("particles.xdmf").is_file()
+}
+
+/// Collective. A restart's checkpoints, each checked against its sample, mechanics and test
+/// before any sample runs (rank r checks samples r, r + size, ...): one that cannot be
+/// continued stops the job on every rank with its file named (exit code 2). Logs what the
+/// restart finds.
+fn check_checkpoints(ctx: &Context, job: &DemJob) -> Result<(), Error> {
+    let n = job.spec.analysis.samples;
+    let mut found = [0.0f64; 2];
+    let checked = (ctx.rank..n).step_by(ctx.size).try_for_each(|k| -> Result<(), Error> {
+        let file = checkpoint_file(&job.output_dir, k);
+        let config = sample_config(job, k);
+        if !file.exists() {
+            return Ok(());
+        }
+        // A sample that cannot be built fails in the batch, with its message.
+        let Ok(sample) = Sample::build(&config) else { return Ok(()) };
+        let fingerprint = Fingerprint::new(&sample, config.seed, &job.params, &job.spec.test);
+        match read_checkpoint(&file, &fingerprint)? {
+            Some(c) if c.finished.is_none() => found[1] += 1.0,
+            Some(_) if particles_kept(job, k) => found[0] += 1.0,
+            _ => {}
+        }
+        Ok(())
+    });
+    agree(&ctx.comm, checked, Error::exit_code)?;
+    let (finished, running) = (global_sum(ctx, found[0]), global_sum(ctx, found[1]));
+    ctx.log.info(format!(
+        "restart: {finished} sample(s) finished before (results read from their checkpoints), \
+         {running} continued from a checkpoint, {} started afresh",
+        n as f64 - finished - running
+    ));
+    Ok(())
 }
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {

@@ -6,6 +6,7 @@
 //! | file                | job                                                              |
 //! |---------------------|------------------------------------------------------------------|
 //! | `dem.rs`            | `[analysis] type = "dem"`: virtual tests of the DEM lab, batched over ranks |
+//! | `dem_checkpoint.rs` | the DEM job's checkpoints: one file per sample, written as its test goes; `--restart` |
 //! | `identify/`         | `"identification"`: calibration, virtual tests, law fit, material file |
 //! | `spectrum.rs`       | `"spectrum"`: a record's response spectra against Eurocode 8     |
 //! | `material_point.rs` | `"material_point"`: one integration point along a strain path   |
@@ -13,6 +14,7 @@
 //! | `sweep/`            | `"sweep"`: many time histories of one model (records × intensities × materials) in groups of ranks |
 //! | `output_dir.rs`     | the results folder: backup, overwrite or refuse                  |
 pub mod dem;
+mod dem_checkpoint;
 pub mod identify;
 pub mod material_point;
 mod output_dir;
@@ -26,6 +28,7 @@ pub use output_dir::{backup_path, prepare_output_dir};
 use crate::analysis::time_history::Start;
 use crate::analysis::{linear_static, FeProblem};
 use crate::config::{load_job, AnalysisConfig, AnyJob, Job, MaterialPointJob};
+use crate::error::JobError;
 use crate::io::IoError;
 use crate::mesh::{read_msh, Mesh};
 use crate::model::StructuralModel;
@@ -179,11 +182,11 @@ pub fn run_job_with(
         |a: &AnalysisConfig| matches!(a, AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_));
     if restart
         && !matches!(&job, AnyJob::Structural(j) if restartable(&j.spec.analysis))
-        && !matches!(job, AnyJob::Sweep(_))
+        && !matches!(job, AnyJob::Sweep(_) | AnyJob::Dem(_))
     {
         // Every rank knows it: print it once.
         let message = format!(
-            "{}: --restart applies to [analysis] type = \"time_history\", \"seismic_assessment\" or \"sweep\" jobs only",
+            "{}: --restart applies to [analysis] type = \"time_history\", \"seismic_assessment\", \"sweep\" or \"dem\" jobs only",
             path.display()
         );
         return Err(Error::Agreed(crate::parallel::Agreed { message, exit_code: 2, rank: 0 }));
@@ -191,7 +194,7 @@ pub fn run_job_with(
     match job {
         AnyJob::Structural(job) => run_structural(ctx, path, job, petsc_args, restart, strict),
         AnyJob::MaterialPoint(job) => run_material_point(ctx, path, &job),
-        AnyJob::Dem(job) => run_dem(ctx, path, &job),
+        AnyJob::Dem(job) => run_dem(ctx, path, &job, restart),
         AnyJob::Identify(job) => {
             ctx.log.info(format!(
                 "job {}{}",
@@ -264,14 +267,23 @@ fn run_material_point(ctx: &Context, path: &Path, job: &MaterialPointJob) -> Res
     write_summary(ctx, &job.output_dir, &summary)
 }
 
-fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob) -> Result<(), Error> {
+/// A DEM job; `restart` continues it from the checkpoints in its results folder.
+fn run_dem(ctx: &Context, path: &Path, job: &crate::config::DemJob, restart: bool) -> Result<(), Error> {
     ctx.log.info(format!(
-        "job {}{}",
+        "job {}{}{}",
         path.display(),
-        job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default()
+        job.spec.title.as_deref().map(|t| format!(": {t}")).unwrap_or_default(),
+        if restart { " (restart)" } else { "" }
     ));
-    prepare(ctx, &job.output_dir, job.spec.output.existing)?;
-    let summary = dem::run(ctx, job)?;
+    if !restart {
+        prepare(ctx, &job.output_dir, job.spec.output.existing)?;
+    } else {
+        let dir = &job.output_dir;
+        let missing = ctx.rank == 0 && !dir.is_dir();
+        let found = if missing { Err(Error::from(JobError::NothingToRestart { dir: dir.clone() })) } else { Ok(()) };
+        agree(&ctx.comm, found, Error::exit_code)?;
+    }
+    let summary = dem::run(ctx, job, restart)?;
     ctx.log.info(format!("results: {}", job.output_dir.display()));
     write_summary(ctx, &job.output_dir, &summary)
 }

@@ -84,7 +84,7 @@ use super::MechParams;
 use crate::dem::polygon::{Polygon, P2};
 
 /// A contact between particles i and j in the current configuration.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Contact {
     /// Unit normal `n_c`, from i to j.
     pub normal: P2,

@@ -85,7 +85,7 @@ use super::error::{positive, MechanicsError};
 use super::thickness::ThicknessProfile;
 
 /// The crushing parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Crushing {
     /// Crushing stress `σ_c` (Pa).
     pub stress: f64,
@@ -241,7 +241,7 @@ impl Crushing {
 }
 
 /// The plastic state of a crushing contact (module docs).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PlasticState {
     /// Plastic depth `δ_p` (m), uniform across the chord: the layer carries `κ (δ(s) − δ_p)₊`.
     pub depth: f64,
@@ -253,7 +253,7 @@ pub struct PlasticState {
 }
 
 /// The result of one contact crushing update.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CrushUpdate {
     /// Normal force `F_n` (N, ≥ 0).
     pub f_n: f64,

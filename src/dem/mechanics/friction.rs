@@ -23,7 +23,7 @@ use super::contact::Contact;
 use super::error::{non_negative, positive, MechanicsError};
 
 /// Whether the contact sticks or slides at the end of the increment.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SlipState {
     /// Elastic (no sliding): `|F_t| < μ F_n` or on the cone without exceeding it.
     Stick,
@@ -32,7 +32,7 @@ pub enum SlipState {
 }
 
 /// The result of one friction update.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrictionUpdate {
     /// The new tangential force `F_t` (N, signed along `t_c`): store it as the next `F_t,old`.
     pub f_t: f64,

@@ -50,7 +50,7 @@ use error::{non_negative, positive};
 /// Table 1 (`Ē = 2.5 GPa, ε_cr = 1e-4, θ_cr = 7e-4, μ = 0.6`), `t_z = 1 m`, `k_t = k_n`.
 /// (The inertia coefficient α enters through each beam's `inertia`, computed by the sample
 /// generator.)
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct MechParams {
     /// Lattice Young modulus `Ē` (Pa), beams and contacts.
     pub e_bar: f64,

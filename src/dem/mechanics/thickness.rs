@@ -21,7 +21,7 @@
 //! exact on each linear piece: where the piece is partly below `c`, it is cut at the crossing.
 
 /// `δ(s)` as its values at increasing coordinates (module docs).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ThicknessProfile {
     /// Tangential coordinates `s_k` (m), increasing.
     pub s: Vec<f64>,

@@ -39,7 +39,7 @@ use crate::dem::sample::Sample;
 use nalgebra::{SMatrix, SVector};
 
 /// The committed history of a pair: its tangential force and its plastic (crushing) state.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactHistory {
     /// Committed tangential force `F_t` (N).
     pub f_t: f64,
@@ -51,7 +51,7 @@ pub struct ContactHistory {
 pub type Histories = BTreeMap<(usize, usize), ContactHistory>;
 
 /// An active contact in a trial state.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ActiveContact {
     /// First stone (lower index).
     pub i: usize,

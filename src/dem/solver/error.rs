@@ -93,6 +93,10 @@ pub enum DemError {
     /// Sample construction failed.
     #[error(transparent)]
     Sample(#[from] SampleError),
+    /// A checkpoint could not be written ([`super::checkpoint`]): the test stops with it,
+    /// without a result.
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
 }
 
 /// `Err(InvalidParameter)` unless `v` is finite and > 0 ([`crate::bounds::positive`]).

@@ -6,7 +6,7 @@
 //! | `solver.rs` | the solver of one test: the model and options, the state, the workspace, the diagnostics |
 //! | `state.rs` | the mechanical state (coordinates, intact beams, contacts and histories, load, energy, records): cloned, it continues in a new solver |
 //! | `options.rs`, `records.rs`, `scales.rs` | the options (among them how the factor follows breaks: in place from 1,000 unknowns, `FactorUpdates`); what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
-//! | `stage.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs) |
+//! | `stage.rs`, `walk.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs); where a stage's walk over its load stands |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
@@ -22,11 +22,13 @@
 //! | `continuation.rs` | the fallback where Newton fails at the smallest increment: pseudo-transient continuation (K_T + σ diag K₀) Δz = r, kept only downhill; the state is recorded as `Relaxed` |
 //! | `step_predictor.rs` | the load step after a break starts from the response of the step that was cut (never with crushing) |
 //! | `contact_events.rs` | optional (`SolverOptions::contact_events`): a load step ends where a contact starts to slide, closes or opens |
-//! | `virtual_test.rs` | tension, compression, shear and cyclic tests; ends as target, loss of load, collapse or failed |
+//! | `checkpoint.rs` | a test's checkpoint: the state, the stage walk and the counters (and how a finished test ended), asked for by a sink after each load step; the file: versioned, fingerprinted (sample, mechanics, test), checksummed, written atomically; a resumed test continues from it |
+//! | `virtual_test.rs`, `test_run.rs` | tension, compression, shear and cyclic tests (their protocols); running one: ends as target, loss of load, collapse or failed, with checkpoints or from one |
 //! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
 #[cfg(test)]
 mod break_group_tests;
 mod breaks;
+pub mod checkpoint;
 pub mod cholmod;
 mod cholmod_sys;
 pub mod contact_candidates;
@@ -64,11 +66,14 @@ mod step_predictor;
 pub mod system;
 pub mod tangent;
 pub mod test_result;
+pub mod test_run;
 #[cfg(test)]
 mod tests;
 pub mod trace;
 pub mod virtual_test;
+mod walk;
 
+pub use checkpoint::{CheckpointSink, Fingerprint, TestCheckpoint};
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
@@ -80,7 +85,8 @@ pub use solver::Solver;
 pub use state::SolverState;
 pub use system::Model;
 pub use test_result::{CurvePoint, Derived, RunStats, TestEnd, TestResult};
-pub use virtual_test::{
-    cyclic_protocol, run_test, run_test_observed, run_test_recording, run_test_with, PlatenRotation, Report,
-    VirtualTest,
+pub use test_run::{
+    finished_result, run_test, run_test_checkpointed, run_test_observed, run_test_recording, run_test_with,
+    Checkpoints, Report,
 };
+pub use virtual_test::{cyclic_protocol, PlatenRotation, VirtualTest};

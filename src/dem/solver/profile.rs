@@ -117,7 +117,7 @@ impl SolverProfile {
 }
 
 /// How often the stage loop took each of its branches ([`super::stage`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Counters {
     /// Linear solves with the factorized operator (GMRES preconditioner applications included).
     pub solves: usize,

@@ -4,7 +4,7 @@
 
 /// The load of a stage: prescribed platen values (order of [`super::DofMap::prescribed`]) and forces
 /// (order of [`super::DofMap::forced`]).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LoadPoint {
     /// Imposed displacements/rotations.
     pub prescribed: Vec<f64>,

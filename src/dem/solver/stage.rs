@@ -86,11 +86,13 @@
 //! ([`super::operator`]).
 //!
 //! **Energy.** Each recorded state carries the energy account of [`super::energy`].
+use super::checkpoint::{CheckpointSink, TestCheckpoint};
 use super::error::DemError;
 use super::phases::Phase;
 use super::records::{LoadPoint, StageEnd, StateKind, StateRecord};
 use super::solver::Solver;
 use super::step_predictor::StepPredictor;
+use super::walk::StageWalk;
 
 /// The shortest load step a contact event makes, as a fraction of the stage's step: the
 /// trapezoid error of an unresolved kink scales with the square of the step containing it, so
@@ -100,66 +102,6 @@ const MIN_EVENT_STEP: f64 = 1.0 / 16.0;
 /// The largest energy imbalance of one load step with crushing, as a fraction of the external
 /// work so far (at least of the stored energy), module docs, "Snaps inside a step".
 const MAX_STEP_IMBALANCE: f64 = 1e-3;
-
-/// Where a stage's walk over its load parameter `t ∈ [0, 1]` stands: the committed `t`, the
-/// next increment `h` (halved on a cut-back, doubled after a success up to the step), whether
-/// the trial ends at a contact event, and the response of the last step cut by a break.
-struct StageWalk {
-    from: LoadPoint,
-    target: LoadPoint,
-    /// Steps of the stage.
-    n: f64,
-    /// The stage's step `1/n`.
-    step: f64,
-    /// The smallest increment: the step after `max_cutbacks` halvings.
-    h_min: f64,
-    t: f64,
-    h: f64,
-    /// The trial already ends at a contact event: it is not cut again (no Zeno steps).
-    at_event: bool,
-    /// The response of the last step cut by a break ([`super::step_predictor`]).
-    predictor: Option<StepPredictor>,
-}
-
-impl StageWalk {
-    fn new(from: LoadPoint, target: LoadPoint, steps: usize, max_cutbacks: usize) -> StageWalk {
-        let n = steps.max(1) as f64;
-        let step = 1.0 / n;
-        let h_min = step * 0.5f64.powi(max_cutbacks as i32);
-        StageWalk { from, target, n, step, h_min, t: 0.0, h: step, at_event: false, predictor: None }
-    }
-
-    fn done(&self) -> bool {
-        self.t >= 1.0 - 1e-12
-    }
-
-    /// The load at `t`.
-    fn load_at(&self, t: f64) -> LoadPoint {
-        LoadPoint::lerp(&self.from, &self.target, t)
-    }
-
-    /// The end of the next trial: `t + h`, never past the next step boundary (the recorded curve
-    /// keeps its regular points) and without slivers from round-off.
-    fn trial_end(&self) -> f64 {
-        let boundary = (((self.t * self.n) + 1e-9).floor() + 1.0) / self.n;
-        let t_try = (self.t + self.h).min(boundary).min(1.0);
-        if boundary - t_try < 1e-9 * self.step {
-            boundary
-        } else {
-            t_try
-        }
-    }
-
-    /// The increment can be halved once more.
-    fn can_halve(&self) -> bool {
-        self.h * 0.5 >= self.h_min
-    }
-
-    /// The trial to `t_try` is retried with half its increment.
-    fn halve(&mut self, t_try: f64) {
-        self.h = 0.5 * (t_try - self.t);
-    }
-}
 
 /// What a trial load step `t → t_try` came to, before the beams are checked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -220,8 +162,26 @@ impl<'a> Solver<'a> {
         steps: usize,
         monitor: Option<(usize, usize)>,
     ) -> Result<StageEnd, DemError> {
-        let mut walk = StageWalk::new(self.state.load.clone(), target.clone(), steps, self.opts.max_cutbacks);
-        let mut watch = monitor.map(|force| LossWatch { force, peak: 0.0, seen: self.state.records.len() });
+        let walk = self.stage_walk(target, steps);
+        self.continue_stage(walk, monitor, None)
+    }
+
+    /// The walk of a stage from the current load to `target` in `steps` steps, not yet begun.
+    pub(super) fn stage_walk(&self, target: &LoadPoint, steps: usize) -> StageWalk {
+        let (load, records) = (self.state.load.clone(), self.state.records.len());
+        StageWalk::new(load, target.clone(), steps, self.opts.max_cutbacks, records)
+    }
+
+    /// Runs the stage `walk` stands in to its end ([`Self::run_stage`]): a new walk, or one read
+    /// from a checkpoint. After each committed load step `sink` is asked whether a checkpoint is
+    /// due ([`super::checkpoint`]); its errors end the stage.
+    pub(super) fn continue_stage(
+        &mut self,
+        mut walk: StageWalk,
+        monitor: Option<(usize, usize)>,
+        mut sink: Option<&mut dyn CheckpointSink>,
+    ) -> Result<StageEnd, DemError> {
+        let mut watch = monitor.map(|force| LossWatch { force, peak: 0.0, seen: walk.records_at_start });
         while !walk.done() {
             let t_try = walk.trial_end();
             let z_old = self.state.z.clone();
@@ -280,8 +240,11 @@ impl<'a> Solver<'a> {
             if watch.as_mut().is_some_and(|w| w.lost(&self.state.records, any_broken, fraction)) {
                 return Ok(StageEnd::LossOfLoad);
             }
+            if let Some(sink) = sink.as_deref_mut() {
+                self.checkpoint_if_due(sink, &walk)?;
+            }
         }
-        self.state.load = target.clone();
+        self.state.load = walk.target.clone();
         self.state.stage += 1;
         Ok(StageEnd::Completed)
     }
@@ -369,6 +332,20 @@ impl<'a> Solver<'a> {
         self.state.load = load_l.clone();
         self.break_cascade(vec![b], &load_l, t_l)?;
         Ok(true)
+    }
+
+    /// Hands a checkpoint of the committed state and `walk` to the sink when it finds one due.
+    fn checkpoint_if_due(&self, sink: &mut dyn CheckpointSink, walk: &StageWalk) -> Result<(), DemError> {
+        if !sink.due(&self.state) {
+            return Ok(());
+        }
+        sink.write(TestCheckpoint {
+            state: self.state.clone(),
+            walk: Some(walk.clone()),
+            counters: self.counters,
+            seconds: 0.0,
+            finished: None,
+        })
     }
 
     /// Ends the stage on `e`: back to the committed state and its load.

@@ -10,7 +10,8 @@
 //!
 //! A clone of the state, taken between stages, continues the test in a new solver
 //! ([`super::Solver::resume`]): the workspace is rebuilt from the state, and the path agrees
-//! with the uninterrupted one to the round-off of a fresh factorization.
+//! with the uninterrupted one to the round-off of a fresh factorization. Serialized with the
+//! stage walk, it is a test's checkpoint ([`super::checkpoint`]).
 //!
 //! **Trial and committed.** During an equilibrium iteration `z` and `contacts` are the trial.
 //! [`SolverState::accept`] makes the trial the committed state: the friction histories, the
@@ -20,7 +21,7 @@ use super::contact_set::{self, ActiveContact, Histories};
 use super::records::{BrokenBeam, LoadPoint, StateRecord};
 
 /// The mechanical state of one virtual test (module docs).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SolverState {
     /// Generalized coordinates: the trial during an equilibrium iteration, the committed state
     /// after it.
@@ -35,6 +36,7 @@ pub struct SolverState {
     /// The active contacts of the last committed state (for the contact events).
     pub committed_contacts: Vec<ActiveContact>,
     /// Committed contact histories (tangential force, plastic penetration) by pair.
+    #[serde(with = "pairs")]
     pub histories: Histories,
     /// The load of the last committed state.
     pub load: LoadPoint,
@@ -105,7 +107,7 @@ impl SolverState {
 }
 
 /// The energy account's running totals (J), [`super::energy`].
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Energy {
     /// External work.
     pub external: f64,
@@ -117,4 +119,25 @@ pub struct Energy {
     pub relaxation: f64,
     /// Crushing: the plastic work of crushing contacts.
     pub crushing: f64,
+}
+
+/// `(i, j)`-keyed maps as a list of pairs (JSON keys are strings).
+mod pairs {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use std::collections::BTreeMap;
+
+    /// Serializes the map as `[[key, value], ...]`.
+    pub fn serialize<K: Serialize, V: Serialize, S: Serializer>(m: &BTreeMap<K, V>, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(m.iter())
+    }
+
+    /// Reads `[[key, value], ...]`.
+    pub fn deserialize<'de, K, V, D>(d: D) -> Result<BTreeMap<K, V>, D::Error>
+    where
+        K: Deserialize<'de> + Ord,
+        V: Deserialize<'de>,
+        D: Deserializer<'de>,
+    {
+        Ok(Vec::<(K, V)>::deserialize(d)?.into_iter().collect())
+    }
 }

@@ -29,7 +29,7 @@ use super::records::LoadPoint;
 use super::solver::Solver;
 
 /// The response of a cut load step, kept for the step that follows the break.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub(super) struct StepPredictor {
     t_from: f64,
     t_to: f64,

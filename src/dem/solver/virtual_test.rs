@@ -30,21 +30,13 @@
 //! Platens are bonded to the bottom and top rows ([`super::dofs`]). Sign convention: tension
 //! positive; `strain = U_y/H` (compression, tension) or `U_x/H` (shear), `stress = F/(W t_z)` with
 //! `F` the top platen's force along the driven DOF. Lateral strain `(ū_x,right − ū_x,left)/W`.
-
-use std::time::Instant;
+//! The tests run in [`super::test_run`].
 
 use serde::{Deserialize, Serialize};
 
-use super::dofs::{DofControl, DofMap};
+use super::dofs::DofControl;
 use super::error::{non_negative, positive, DemError};
-use super::options::SolverOptions;
-use super::records::{LoadPoint, Observer, StageEnd, StateRecord};
-use super::snapshots::{ParticleStates, Recorder};
-use super::solver::Solver;
-use super::system::Model;
-use super::test_result::{curve_of, derive, RunStats, TestEnd, TestResult};
-use crate::dem::mechanics::MechParams;
-use crate::dem::sample::Sample;
+use super::records::LoadPoint;
 
 /// Rotation of the top platen in the shear test.
 #[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq, schemars::JsonSchema)]
@@ -234,54 +226,22 @@ impl VirtualTest {
     }
 }
 
-/// Runs `test` on `sample` with the default solver options.
-pub fn run_test(sample: &Sample, params: &MechParams, test: &VirtualTest) -> Result<TestResult, DemError> {
-    run_test_with(sample, params, test, SolverOptions::default())
-}
-
-/// Runs `test` on `sample` with explicit solver options.
-pub fn run_test_with(
-    sample: &Sample,
-    params: &MechParams,
-    test: &VirtualTest,
-    opts: SolverOptions,
-) -> Result<TestResult, DemError> {
-    run_test_recording(sample, params, test, opts, ParticleStates::None)
-}
-
-/// A report of a test's recorded states, called with each state's index and record as it is
-/// committed ([`run_test_observed`]).
-pub type Report<'a> = Box<dyn FnMut(usize, &StateRecord) + 'a>;
-
-/// The particle-state recorder (if any) and a report of every recorded state, as one observer.
-struct Reporting<'a> {
-    recorder: Option<Box<dyn Observer + 'a>>,
-    report: Report<'a>,
-}
-
-impl Observer for Reporting<'_> {
-    fn recorded(&mut self, index: usize, record: &StateRecord, z: &[f64]) {
-        if let Some(r) = self.recorder.as_mut() {
-            r.recorded(index, record, z);
-        }
-        (self.report)(index, record);
-    }
-}
-
 /// One load stage of a test's protocol.
-struct Stage {
-    target: LoadPoint,
-    steps: usize,
+pub(super) struct Stage {
+    /// The load at the stage's end.
+    pub(super) target: LoadPoint,
+    /// Its load steps.
+    pub(super) steps: usize,
     /// Monotonic tests: `run_stage` watches the driven force for loss of load.
-    monitor: bool,
+    pub(super) monitor: bool,
     /// Cyclic branches: the direction (±1) of the amplitude the branch ends at; `None` for a
     /// preload, a monotonic stage or the final return to zero.
-    towards: Option<f64>,
+    pub(super) towards: Option<f64>,
 }
 
 /// The platen controls, the driven top DOF (0 = U_x, 1 = U_y), the stages and the first stage
 /// whose force is the test's driven force.
-fn protocol(test: &VirtualTest, w: f64, h: f64, tz: f64) -> ([DofControl; 3], usize, Vec<Stage>, usize) {
+pub(super) fn protocol(test: &VirtualTest, w: f64, h: f64, tz: f64) -> ([DofControl; 3], usize, Vec<Stage>, usize) {
     use DofControl::{Force, Prescribed};
     let fixed = [Prescribed; 3];
     let axial = |value: f64| LoadPoint { prescribed: vec![0.0, 0.0, 0.0, 0.0, value * h, 0.0], forces: vec![] };
@@ -333,155 +293,5 @@ fn protocol(test: &VirtualTest, w: f64, h: f64, tz: f64) -> ([DofControl; 3], us
             stages.extend(cyclic(amplitudes, 1.0, steps_per_half_cycle, &at));
             (ctl, 0, stages, 1)
         }
-    }
-}
-
-/// Loss of load of a cyclic test: per direction, the peak |force| so far and the largest |force|
-/// of the latest branch towards it.
-#[derive(Default)]
-struct CyclicEnvelope {
-    peak: [f64; 2],
-    latest: [Option<f64>; 2],
-}
-
-impl CyclicEnvelope {
-    fn branch(&mut self, towards: f64, largest: f64) {
-        let k = usize::from(towards < 0.0);
-        self.peak[k] = self.peak[k].max(largest);
-        self.latest[k] = Some(largest);
-    }
-
-    /// Every direction visited carries less than `fraction` of its peak.
-    fn lost(&self, fraction: f64) -> bool {
-        let visited: Vec<usize> = (0..2).filter(|&k| self.latest[k].is_some()).collect();
-        !visited.is_empty()
-            && visited
-                .iter()
-                .all(|&k| self.peak[k] > 0.0 && self.latest[k].is_some_and(|l| l < fraction * self.peak[k]))
-    }
-}
-
-/// Runs `test` on `sample` with explicit solver options, keeping the particle states `states`
-/// asks for in [`TestResult::particle_states`].
-pub fn run_test_recording(
-    sample: &Sample,
-    params: &MechParams,
-    test: &VirtualTest,
-    opts: SolverOptions,
-    states: ParticleStates,
-) -> Result<TestResult, DemError> {
-    run_test_observed(sample, params, test, opts, states, None)
-}
-
-/// [`run_test_recording`], with `report` called on every recorded state (its index and record) as
-/// the test goes, e.g. to print the progress of a long test.
-pub fn run_test_observed<'a>(
-    sample: &'a Sample,
-    params: &MechParams,
-    test: &VirtualTest,
-    opts: SolverOptions,
-    states: ParticleStates,
-    report: Option<Report<'a>>,
-) -> Result<TestResult, DemError> {
-    test.validate()?;
-    let clock = Instant::now();
-    let (w, h, tz) = (sample.width, sample.height, params.t_z);
-    let (top, driven, stages, first_driven) = protocol(test, w, h, tz);
-    let map = DofMap::new(sample, [[DofControl::Prescribed; 3], top])?;
-    let model = Model::new(sample, params, map)?;
-    let n_f = model.map.forced.len();
-    let n_p = model.map.prescribed.len();
-    let initial = LoadPoint { prescribed: vec![0.0; n_p], forces: vec![0.0; n_f] };
-    let mut solver = Solver::new(model, opts, initial)?;
-    let recorder = Recorder::new(states, first_driven, (1, driven));
-    solver.observer = match report {
-        Some(report) => Some(Box::new(Reporting { recorder: recorder.observer(), report })),
-        None => recorder.observer(),
-    };
-    let mut end = TestEnd::Target;
-    let mut envelope = CyclicEnvelope::default();
-    let outcome = solver.start().and_then(|()| {
-        for (k, stage) in stages.iter().enumerate() {
-            let monitor = stage.monitor.then_some((1, driven));
-            if solver.run_stage(&stage.target, stage.steps, monitor)? == StageEnd::LossOfLoad {
-                end = TestEnd::LossOfLoad;
-                break;
-            }
-            if let Some(towards) = stage.towards {
-                let largest = solver
-                    .states()
-                    .iter()
-                    .filter(|s| s.stage == k)
-                    .map(|s| s.platen_force[1][driven].abs())
-                    .fold(0.0, f64::max);
-                envelope.branch(towards, largest);
-                if !solver.broken().is_empty() && envelope.lost(opts.loss_fraction) {
-                    end = TestEnd::LossOfLoad;
-                    break;
-                }
-            }
-        }
-        Ok(())
-    });
-    if let Err(e) = outcome {
-        end = classify_stop(e.to_string(), &solver, &stages, first_driven, driven);
-    }
-    let curve = curve_of(solver.states(), driven, (w, h, tz));
-    let derived = derive(&curve, solver.broken(), first_driven, solver.states());
-    let loss = end == TestEnd::LossOfLoad;
-    let (factorizations, _) = solver.factor_stats();
-    let updates_in_place = solver.operator.factor.updates_in_place();
-    solver.observer = None;
-    let last = solver.states().len().checked_sub(1).map(|i| (i, solver.state().z_commit.as_slice()));
-    let c = solver.counters;
-    let particle_states = recorder.finish(&solver.model().map, sample.particles.len(), last);
-    Ok(TestResult {
-        stats: RunStats {
-            events: solver.broken().len(),
-            solves: c.solves,
-            factorizations,
-            seconds: clock.elapsed().as_secs_f64(),
-            loss_of_load: loss,
-            cutbacks: c.cutbacks,
-            contact_events: c.contact_events,
-            continued_steps: c.continued_steps,
-            continuations: c.continuations,
-            imbalance_cutbacks: c.imbalance_cutbacks,
-            snaps_in_steps: c.snaps_in_steps,
-            updates_in_place,
-        },
-        end,
-        curve,
-        broken: solver.broken().to_vec(),
-        floating: solver.state().floating.clone(),
-        derived,
-        particle_states,
-        trace: solver.trace.take(),
-    })
-}
-
-/// How a test the solver stopped ended: a post-peak `Collapse` when, after a break, the driven
-/// force had fallen at least 10 % below its peak (monotonic: |F| over the driven stage; cyclic:
-/// the force along the current branch's direction, which must still be on its loading side),
-/// else `Failed`.
-fn classify_stop(message: String, solver: &Solver, stages: &[Stage], first_driven: usize, driven: usize) -> TestEnd {
-    let current = solver.states().last().map_or(0, |s| s.stage);
-    let force = |s: &StateRecord| s.platen_force[1][driven];
-    let along: Vec<f64> = match stages.get(current) {
-        Some(Stage { towards: Some(dir), .. }) => {
-            solver.states().iter().filter(|s| s.stage >= first_driven).map(|s| dir * force(s)).collect()
-        }
-        Some(Stage { monitor: true, .. }) => {
-            solver.states().iter().filter(|s| s.stage == current).map(|s| force(s).abs()).collect()
-        }
-        _ => Vec::new(),
-    };
-    let peak = along.iter().cloned().fold(0.0, f64::max);
-    let now = along.last().copied().unwrap_or(0.0);
-    let loading_side = now >= 0.0;
-    if peak > 0.0 && loading_side && now <= 0.9 * peak && !solver.broken().is_empty() {
-        TestEnd::Collapse { message }
-    } else {
-        TestEnd::Failed { message }
     }
 }
