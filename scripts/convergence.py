@@ -214,6 +214,135 @@ def diff(a, b):
     return worst
 
 
+def cracked_cells(out, case):
+    """Per cell of the final envelope (cells ordered by id): its group number, its peak d_t, its
+    area; None without envelopes.h5 or h5py."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        return None
+    path = os.path.join(out, case, "envelopes.h5")
+    if not os.path.isfile(path):
+        return None
+    with h5py.File(path, "r") as f:
+        last = f["steps"][str(len(f["steps/times"]) - 1)]
+        dt = last["d_t_max"] if "d_t_max" in last else last["max_d_t"]
+        ids = f["mesh/cell_ids"][:]
+        o = np.argsort(ids)
+        xyz = f["mesh/coordinates"][:]
+        topo, kinds = f["mesh/topology"][:], f["mesh/cell_types"][:]
+        # XDMF mixed topology: a type code, a corner count for poly-vertices (1) and polylines
+        # (2), then the corners; only triangles (4) and quads (5) have an area.
+        areas, k = [], 0
+        for _ in kinds:
+            code = int(topo[k])
+            if code in (1, 2):
+                n, k = int(topo[k + 1]), k + 1
+            else:
+                n = {4: 3, 5: 4}.get(code)
+                if n is None:
+                    return None
+            pts = xyz[topo[k + 1:k + 1 + n]]
+            a = 0.0
+            for j in range(1, n - 1) if code in (4, 5) else ():
+                a += 0.5 * np.linalg.norm(np.cross(pts[j] - pts[0], pts[j + 1] - pts[0]))
+            areas.append(a)
+            k += 1 + n
+        return ids[o], f["mesh/cell_group"][:][o], dt[:][o], np.array(areas)[o]
+
+
+def first_substeps(out, case):
+    """The steps of `case` taken in substeps, from its log."""
+    path = os.path.join(out, "jobs", f"{case}.log")
+    if not os.path.isfile(path):
+        return set()
+    with open(path) as fh:
+        return {int(m.group(1)) for m in re.finditer(r"step (\d+)/\d+ t = [^:]*: \d+ iteration\(s\) in \d+ substeps",
+                                                         fh.read())}
+
+
+def first_parting(out, a, b, rel=1e-6):
+    """The first step at which the monitors of runs a and b differ by more than rel of each
+    column's largest value, or None."""
+    import csv
+    rows = []
+    for case in (a, b):
+        path = os.path.join(out, case, "monitors.csv")
+        if not os.path.isfile(path):
+            return None
+        with open(path) as fh:
+            r = list(csv.reader(fh))
+        rows.append((r[0], r[1:]))
+    (ha, ra), (hb, rb) = rows
+    cols = [c for c in ha if c in hb and c not in ("step", "time")]
+    ia, ib = [ha.index(c) for c in cols], [hb.index(c) for c in cols]
+    scale = [max(abs(float(x[i])) for x in ra) or 1.0 for i in ia]
+    for xa, xb in zip(ra, rb):
+        for k, (i, j) in enumerate(zip(ia, ib)):
+            if abs(float(xa[i]) - float(xb[j])) > rel * scale[k]:
+                return int(xa[0])
+    return None
+
+
+def physical_names(msh):
+    """Surface physical tags of a Gmsh file: {tag: name}."""
+    names, inside = {}, False
+    try:
+        with open(msh) as fh:
+            for line in fh:
+                if line.startswith("$PhysicalNames"):
+                    inside = True
+                    next(fh)
+                elif line.startswith("$EndPhysicalNames"):
+                    break
+                elif inside:
+                    dim, tag, name = line.split(maxsplit=2)
+                    if dim == "2":
+                        names[int(tag)] = name.strip().strip('"')
+    except OSError:
+        pass
+    return names
+
+
+def rank_cells(out, rows_by, groups_by_number):
+    """Lines of the cell-by-cell comparison of each 1-rank run with its 2-rank twin."""
+    md = []
+    for one, two in (("code-1rank", "code-dt"), ("member-1rank", "member-dt"),
+                     ("member-dt-2-1rank", "member-dt-2")):
+        if one not in rows_by or two not in rows_by:
+            continue
+        a, b = cracked_cells(out, one), cracked_cells(out, two)
+        if a is None or b is None or len(a[0]) != len(b[0]) or (a[0] != b[0]).any():
+            continue
+        parting = first_parting(out, one, two)
+        subs = (first_substeps(out, one), first_substeps(out, two))
+        where = "never (to 1e-6 of each monitor's largest value)" if parting is None else f"at step {parting}"
+        if parting is not None:
+            taken = [n for n, s in zip((one, two), subs) if parting in s]
+            where += (f", a step {' and '.join(taken)} took in substeps and " if len(taken) == 1 else
+                      ", a step both took in substeps" if taken else ", a step neither took in substeps")
+            if len(taken) == 1:
+                where += f"{two if taken[0] == one else one} did not"
+        md.append(f"**{one} against {two}**: the monitors part {where}.\n")
+        md.append("| substructure | cells | cracked (1 rank) | cracked (2 ranks) | cells that differ "
+                  "| one cell [points] | largest cell d_t difference |")
+        md.append("|---|---|---|---|---|---|---|")
+        for g, name in groups_by_number.items():
+            m = a[1] == g
+            if not m.any():
+                continue
+            fa, fb = a[2][m] > 0.5, b[2][m] > 0.5
+            if not (fa.any() or fb.any()):
+                continue
+            area = a[3][m]
+            cell = 100.0 * area.max() / area.sum() if area.sum() > 0 else float("nan")
+            dd = abs(a[2][m] - b[2][m]).max()
+            md.append(f"| {name} | {m.sum()} | {fa.sum()} | {fb.sum()} | {(fa != fb).sum()} | {cell:.2f} | {dd:.3f} |")
+        md.append("")
+    return md
+
+
 def git_commit():
     try:
         r = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
@@ -223,7 +352,7 @@ def git_commit():
         return "unknown"
 
 
-def write_tables(out, rows, checks, machine, loadings):
+def write_tables(out, rows, checks, machine, loadings, groups_by_number):
     groups = []
     for r in rows:
         for g in r["shares"]:
@@ -270,6 +399,15 @@ def write_tables(out, rows, checks, machine, loadings):
         verdict = "reported" if c["band"] is None else ("within" if c["diff"] <= c["band"] else "OUTSIDE")
         md.append(f"| {c['loading']} | {c['what']} | {c['diff']:.2f} | {c['group']} | {band} | {verdict} |")
     by = {r["case"]: r for r in rows}
+    cells = rank_cells(out, by, groups_by_number)
+    if cells:
+        md.append("\n## 1 against 2 ranks, cell by cell\n")
+        md.append("A share counts whole cells (a cell is cracked when its peak d_t over the layers passes 0.5), "
+                  "so it moves in steps of one cell's area: \"one cell\" is the largest cell's share of its "
+                  "substructure. The rank count changes the order of floating-point sums (assembly, the direct "
+                  "solver's pivots), nothing else; where the runs part is read from their monitors, and whether "
+                  "a step there was halved in one run and not in the other from their logs.\n")
+        md.extend(cells)
     coarse, fine = by.get("code-coarse-4s"), by.get("code-fine-4s")
     if coarse and fine:
         md.append("\n## Coarse against fine mesh\n")
@@ -444,7 +582,8 @@ def main():
                   f"{MEMBER_FACTOR:g} times the code level of {a.sweep}, for its first "
                   f"{MEMBER_DURATION:g} s",
     }
-    write_tables(out, rows, checks, machine(), loadings)
+    groups_by_number = physical_names(os.path.join(job_dir, base["mesh"]["file"]))
+    write_tables(out, rows, checks, machine(), loadings, groups_by_number)
     band_file(out, rows_by, base, a.job, {"code": code_pga, "member": member_pga})
     missed = [c for c in checks if c["band"] is not None and c["diff"] > c["band"]]
     if a.publish:
