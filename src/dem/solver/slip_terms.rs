@@ -40,6 +40,30 @@
 //!
 //! The preconditioner changes GMRES's path only: with every linear solve converged to its
 //! tolerance, the equilibria are the same within the Newton tolerance whatever `s` and `lag`.
+//!
+//! **Measured: why [`SlipTerms::FULL`] stays the default** (`examples/dem_profile.rs`, random
+//! samples in compression to 2e-3, 2-core AMD EPYC shared with other jobs, load 4–8; the counts
+//! do not depend on the load, the seconds do; docs/benchmarks.md, "DEM"). On the 1k sample
+//! (689 breaks, the same breaks in the same order in every setting, the stresses at the regular
+//! load points within 4·10⁻⁹ of the peak of the stored reference):
+//!
+//! | `share:lag` | Newton | GMRES per step | flips in / turned back | CPU s (3 paired runs) |
+//! |---|---|---|---|---|
+//! | `FULL` | 3,559 | 4.60 | 0 / 0 | 7.0, 7.9, 7.2 |
+//! | `0.01:0` | 3,579 | 3.60 | 27,240 / 0 | 8.0, 8.9, 8.5 |
+//! | `0.01:2` | 3,625 | 3.91 | 15,095 / 6,260 | |
+//! | `0:0` | 3,517 | 3.13 | 27,251 / 0 | 8.1, 8.4, 8.7 |
+//!
+//! On the 10k sample the first 3,000 breaks (the same breaks at the same states as `FULL`)
+//! took 13–21 % fewer GMRES iterations per Newton step with `0.01:0` (1.75 → 1.52,
+//! 2.73 → 2.33, 3.64 → 2.88 per thousand breaks), but 31–44 flips reached the factor per Newton
+//! iteration, at about 1 ms each (a rank-one `cholmod_updown` over 29k unknowns, 7 % of a
+//! preconditioner solve): 138 s of factor updates over the first 1,000 breaks against 6 s,
+//! for 13 s of solves saved. The GMRES iterations that grow with the sliding contacts are
+//! mostly not the held `k_t`: with none held for sliding contacts (`0:0`, 1k sample), a Newton
+//! step with 128–255 sliding contacts still takes 4.7 GMRES iterations against 1.1 with none
+//! (7.5 with `FULL`). The rest of `D` (the slip coupling, the turning of the normal, the area
+//! gradient) grows with the contacts as well.
 use std::collections::BTreeMap;
 
 /// The tangential terms of the preconditioner: the share of `k_t c cᵀ` a sliding contact keeps
