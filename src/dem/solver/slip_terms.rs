@@ -54,16 +54,29 @@
 //! | `0.01:2` | 3,625 | 3.91 | 15,095 / 6,260 | |
 //! | `0:0` | 3,517 | 3.13 | 27,251 / 0 | 8.1, 8.4, 8.7 |
 //!
-//! On the 10k sample the first 3,000 breaks (the same breaks at the same states as `FULL`)
-//! took 13–21 % fewer GMRES iterations per Newton step with `0.01:0` (1.75 → 1.52,
-//! 2.73 → 2.33, 3.64 → 2.88 per thousand breaks), but 31–44 flips reached the factor per Newton
-//! iteration, at about 1 ms each (a rank-one `cholmod_updown` over 29k unknowns, 7 % of a
-//! preconditioner solve): 138 s of factor updates over the first 1,000 breaks against 6 s,
-//! for 13 s of solves saved. The GMRES iterations that grow with the sliding contacts are
-//! mostly not the held `k_t`: with none held for sliding contacts (`0:0`, 1k sample), a Newton
-//! step with 128–255 sliding contacts still takes 4.7 GMRES iterations against 1.1 with none
-//! (7.5 with `FULL`). The rest of `D` (the slip coupling, the turning of the normal, the area
-//! gradient) grows with the contacts as well.
+//! On the 10k sample, to 5,779 breaks (strain 0.85e-3, the late phase where sliding contacts
+//! multiply; the same number of breaks at every one of the 281 progress states compared), with
+//! `0.01:0` against `FULL`:
+//!
+//! | breaks | GMRES per Newton step | Newton per break | flips per Newton iteration |
+//! |---|---|---|---|
+//! | 0–1,000 | 1.75 → 1.52 | 3.20 → 3.06 | 44 |
+//! | 3,000–4,000 | 4.69 → 3.54 | 3.93 → 4.03 | 33 |
+//! | 4,000–5,000 | 6.70 → 4.86 | 4.73 → 4.77 | 46 |
+//! | 5,000–5,500 | 9.15 → 6.78 | 4.70 → 4.73 | 36 |
+//! | 0–5,779 | 5.05 → 3.84 | 3.95 → 3.97 | 38 |
+//!
+//! A flip costs about 1 ms (a rank-one `cholmod_updown` over 29k unknowns, 6–7 % of a
+//! preconditioner solve measured in the same stretch), so to 5,779 breaks the factor updates
+//! took 1,036 s against 59 s, the preconditioner solves 1,540 s against 2,004 s (wall seconds,
+//! load 4–8): 1,308 CPU-s for the whole run (to 5,798 breaks) against 1,082 (to 5,779). Per
+//! Newton step the solves saved pay for the flips only from about 5,000 breaks on (5,000–5,500:
+//! 2.4 solves saved against 2.2 solves' worth of updates; 4,000–5,000: 1.8 against 3.3). The
+//! GMRES iterations that grow with the sliding contacts are mostly not the held `k_t`: with
+//! none held for sliding contacts (`0:0`, 1k sample), a Newton step with 128–255 sliding
+//! contacts still takes 4.7 GMRES iterations against 1.1 with none (7.5 with `FULL`): the rest
+//! of `D` (the slip coupling, the turning of the normal, the area gradient) grows with the
+//! contacts as well.
 use std::collections::BTreeMap;
 
 /// The tangential terms of the preconditioner: the share of `k_t c cᵀ` a sliding contact keeps
