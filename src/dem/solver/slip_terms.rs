@@ -19,12 +19,14 @@
 //! scales the held term `t = k_t c₀ c₀ᵀ` (`c₀` the direction it entered with): stick → slip
 //! is the downdate `−(1 − s) t`, slip → stick the update `(1/s − 1) t`, one rank-one column
 //! each; the flips of a Newton iteration go into the factor as one multiple-rank
-//! `cholmod_updown` per sign ([`super::cholmod`], passes of up to 8 columns), after the
-//! iteration's other contact changes. On the Woodbury path, or with `s = 0`, a flip takes the
-//! held term out and puts the new one in at the contact's current direction. A contact on the
+//! `cholmod_updown` per sign ([`super::cholmod`], passes of up to 8 columns), before the
+//! iteration's other contact changes. On the Woodbury path a flip takes the held term out and
+//! puts the new one in at the contact's current direction; with `s = 0` a sliding contact holds
+//! no tangential term, so a flip takes it out or puts it in. A contact on the
 //! Coulomb cone (it slid at the committed state and has not moved since) counts as sliding, as
-//! its tangent does ([`super::tangent`], "On the cone"): else every sliding contact would flip
-//! to stick at the first Newton iteration of each equilibrium and back at the second.
+//! its tangent does ([`super::tangent`], "On the cone"): counted as sticking, a contact that
+//! keeps sliding flips to stick at the first Newton iteration of each equilibrium and back at
+//! the second (on the 1k sample with `s = 0`, lag 0: 58,106 flips against 27,251).
 //!
 //! The share `s` keeps a stone held only by sliding contacts (no intact beam left) stiff along
 //! the chords of its contacts in `M`: the regularization `ε` alone (10⁻¹⁰ of the stone's
