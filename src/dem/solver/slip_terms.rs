@@ -74,7 +74,25 @@
 //! load 4–8): 1,308 CPU-s for the whole run (to 5,798 breaks) against 1,082 (to 5,779). Per
 //! Newton step the solves saved pay for the flips only from about 5,000 breaks on (5,000–5,500:
 //! 2.4 solves saved against 2.2 solves' worth of updates; 4,000–5,000: 1.8 against 3.3). The
-//! GMRES iterations that grow with the sliding contacts are mostly not the held `k_t`: with
+//! The lag keeps most of the gain for a fraction of the flips. The first 1,000 breaks of the
+//! 10k sample, run one after the other at load 1.8–2.9:
+//!
+//! | `share:lag` | CPU s | GMRES per step | flips in / turned back | factor updates, s |
+//! |---|---|---|---|---|
+//! | `FULL` | 72.0 | 1.75 | 0 / 0 | 3.1 |
+//! | `0.01:0` | 122.5 | 1.52 | 135,429 / 0 | 59.9 |
+//! | `0.01:2` | 75.9 | 1.56 | 34,443 / 50,575 | 18.3 |
+//!
+//! Over 5,329 breaks of the same sample with `0.01:2` (the same breaks as `FULL` at all 274
+//! progress states compared): GMRES per Newton step 1.56, 2.53, 3.27, 3.95, 5.37 per thousand
+//! breaks (`FULL`: 1.75, 2.73, 3.64, 4.69, 6.70), 11–25 flips per Newton iteration, but 3–5 %
+//! more Newton iterations from 2,000 breaks on (4.13 against 3.93 per break from 3,000 to
+//! 4,000, 4.91 against 4.73 from 4,000 to 5,000). From 4,000 to 5,000 breaks it took 250 s;
+//! `FULL`'s counts priced at this run's own cost of a solve (5.35 ms) and of its other phases
+//! come to about 234 s (an estimate: `FULL`'s own run was measured at another load). Near the
+//! peak (GMRES 9–12 per step with `FULL`) a lagged setting may pay; that is not measured.
+//!
+//! The GMRES iterations that grow with the sliding contacts are mostly not the held `k_t`: with
 //! none held for sliding contacts (`0:0`, 1k sample), a Newton step with 128–255 sliding
 //! contacts still takes 4.7 GMRES iterations against 1.1 with none (7.5 with `FULL`): the rest
 //! of `D` (the slip coupling, the turning of the normal, the area gradient) grows with the
