@@ -12,8 +12,10 @@
 //! its penetration (default 0: every Jacobian exact at every Newton iteration,
 //! `dem::solver::tangent`).
 //!
-//! `DEM_SLIP_TERMS=0` leaves sliding contacts' `k_t c cᵀ` out of the preconditioner (the former
-//! behaviour: every stick/slip change is a change of the factorized operator);
+//! `DEM_SLIP_TERMS=s:n` keeps the share `s` of a sliding contact's `k_t c cᵀ` in the
+//! preconditioner, a stick/slip flip reaching the factor after `n` more Newton iterations in its
+//! new regime (`SolverOptions::slip_terms`, `dem::solver::slip_terms`); `DEM_SLIP_TERMS=1`:
+//! every contact keeps `k_t c cᵀ`; `DEM_SLIP_TERMS=0`: sliding contacts keep none, flips at once;
 //! `DEM_FORCING=1e-8` fixes the linear tolerance of Newton steps (default: Eisenstat–Walker),
 //! `DEM_FORCING=ew:0.01` sets Eisenstat–Walker's `η_max`.
 //! `DEM_BROKEN_CSV=path` writes the broken beams in order (event, beam, mode, state).
@@ -56,8 +58,8 @@ use masonry_hpc::dem::mechanics::MechParams;
 mod random_sample;
 use masonry_hpc::dem::solver::gmres::Forcing;
 use masonry_hpc::dem::solver::{
-    DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, Solver, SolverOptions, SolverProfile, StageEnd,
-    StateRecord,
+    DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, SlipTerms, Solver, SolverOptions, SolverProfile,
+    StageEnd, StateRecord,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -115,7 +117,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.refresh_drift = v.parse().map_err(|e| format!("DEM_REFRESH={v}: {e}"))?;
     }
     if let Ok(v) = std::env::var("DEM_SLIP_TERMS") {
-        opts.slip_in_preconditioner = v != "0";
+        opts.slip_terms = match v.split_once(':') {
+            Some((share, lag)) => SlipTerms {
+                share: share.parse().map_err(|e| format!("DEM_SLIP_TERMS={v}: {e}"))?,
+                lag: lag.parse().map_err(|e| format!("DEM_SLIP_TERMS={v}: {e}"))?,
+            },
+            None if v == "0" => SlipTerms::STICK_ONLY,
+            None => SlipTerms::FULL,
+        };
     }
     if let Ok(v) = std::env::var("DEM_FORCING") {
         let num = |x: &str| x.parse::<f64>().map_err(|e| format!("DEM_FORCING={v}: {e}"));
@@ -136,8 +145,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.trace = v != "0";
     }
     let settings = format!(
-        "tol={} slip_in_preconditioner={} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
-        opts.tol, opts.slip_in_preconditioner, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.factor_updates, opts.fill_refactor, opts.refresh_drift,
+        "tol={} slip_terms={:?} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
+        opts.tol, opts.slip_terms, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.factor_updates, opts.fill_refactor, opts.refresh_drift,
         opts.breaks_per_equilibrium
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;
@@ -234,7 +243,7 @@ impl Observer for Progress {
                 "{} refreshed {} newton {} gmres {} gmres_solves {} direct {} evaluations {} continuation {} \
                  s_solve {:.2} s_gmres {:.2} s_tangent {:.2} s_evaluate {:.2} s_factor {:.2} s_columns {:.2} \
                  s_failure {:.2} s_commit {:.2} factorizations {} entries {} {} sliding_at_gmres {} \
-                 newton_by_phase {} {} {} {} {} gmres_by_phase {} {} {} {} {} trials_discarded {}",
+                 newton_by_phase {} {} {} {} {} gmres_by_phase {} {} {} {} {} trials_discarded {} slip_flips {} {}",
                 self.line,
                 p.refreshed_terms,
                 p.newton_iterations,
@@ -265,7 +274,9 @@ impl Observer for Progress {
                 ph.release.gmres_iterations,
                 ph.cascade.gmres_iterations,
                 ph.cut_back.gmres_iterations,
-                ph.trial_discarded
+                ph.trial_discarded,
+                p.slip_flips[0],
+                p.slip_flips[1]
             );
         }
     }

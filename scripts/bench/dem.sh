@@ -17,7 +17,8 @@
 #  (r) before (b): the 1k sample against its stored reference run (below);
 #  (m) before (b): several breaks per equilibrium (an opt-in approximation) against the exact path;
 #  (k) before (b): the contact-free phase at 10k stones against its bound (issue 25);
-#  (u) before (b): the factor's Woodbury path against its updates in place, side by side.
+#  (u) before (b): the factor's Woodbury path against its updates in place, side by side;
+#  (s) before (b): the preconditioner's tangential terms of sliding contacts, side by side.
 # Every line carries the load average and `uptime` (the machine may be shared) and, for (b), the
 # CPU seconds of the run beside its wall seconds (on a loaded machine the CPU time is the cost),
 # and the peak memory twice: the maximum RSS from /usr/bin/time, VmHWM from the run itself.
@@ -153,6 +154,33 @@ print(json.dumps({"case": "dem-factor-updates", "size": int(sys.argv[3]), "ranks
                   "load_average": sys.argv[4]}))
 PY
   done
+fi
+
+# (s) the preconditioner's tangential terms (`SolverOptions::slip_terms`,
+#     src/dem/solver/slip_terms.rs): every contact keeps k_t c cᵀ (the default, DEM_SLIP_TERMS=1)
+#     against sliding contacts keeping 1 % of it, each flip an update or downdate of the factor
+#     at once (0.01:0) or after 2 more Newton iterations (0.01:2), on the 1k sample in
+#     compression to 2e-3: Newton iterations, GMRES iterations per Newton step, flips, the
+#     seconds of preconditioner solves and of factor updates, and the peaks' relative difference.
+#     DEM_BENCH_SKIP_SLIP=1 skips it.
+if [ "${DEM_BENCH_SKIP_SLIP:-0}" != 1 ]; then
+  for st in 1 0.01:0 0.01:2; do
+    DEM_SLIP_TERMS=$st "$PROFILE_BIN" 1000 2e-3 40 > "$work/slip-$st.json" 2>/dev/null || true
+  done
+  python3 - "$work"/slip-{1,0.01:0,0.01:2}.json "$(load)" <<'PY' || true
+import json, sys
+runs = [json.load(open(p)) for p in sys.argv[1:4]]
+full = runs[0]
+for r in runs:
+    p = r["profile"]
+    print(json.dumps({"case": "dem-slip-terms-1k", "settings": r["settings"].split(" forcing")[0], "events": r["events"],
+                      "seconds": round(r["seconds"], 2), "newton_iterations": p["newton_iterations"],
+                      "gmres_per_newton_step": round(p["gmres_iterations"] / max(p["gmres_solves"], 1), 2),
+                      "slip_flips": p["slip_flips"], "solve_seconds": round(p["solve_seconds"], 2),
+                      "columns_seconds": round(p["columns_seconds"], 2),
+                      "peak_rel_difference": abs(r["peak_stress_pa"] / full["peak_stress_pa"] - 1),
+                      "load_average": sys.argv[4]}))
+PY
 fi
 
 # (m) the opt-in approximation, several breaks per equilibrium (`[analysis]

@@ -73,6 +73,14 @@ impl ActiveContact {
         self.friction.state == SlipState::Stick
     }
 
+    /// Whether the contact sticks off the Coulomb cone: a sticking trial within
+    /// [`contact_jacobian::ON_CONE`] of `μ F_n` (a contact that slid at the committed state and
+    /// has not moved since) takes the slip branch's tangent ([`super::tangent`], "On the cone").
+    pub fn sticks_off_cone(&self, mu: f64) -> bool {
+        let limit = mu * self.contact.f_n;
+        self.sticks() && !(limit > 0.0 && self.friction.f_t.abs() >= (1.0 - contact_jacobian::ON_CONE) * limit)
+    }
+
     /// The history to commit for this pair.
     pub fn history(&self) -> ContactHistory {
         ContactHistory { f_t: self.friction.f_t, plastic: self.crush.map_or(Default::default(), |c| c.state) }

@@ -16,7 +16,8 @@
 //! | `cholmod.rs` | CHOLMOD's simplicial `LDLᵀ` with multiple-rank update/downdate in place (`cholmod_updown`) and solves of sparse right-hand sides (forward substitution over their reach), bound through bindgen (`cholmod_sys.rs`, `build.rs`) |
 //! | `ordering.rs` | METIS nested dissection from 20k unknowns, AMD below |
 //! | `tangent.rs` | per-contact exact Jacobians (dual numbers through the contact law, `mechanics::contact_jacobian`; `jacobian_tests.rs` checks them against central differences); GMRES products through `TangentDifference` (contacts only: the beams cancel); a direct sparse LU where GMRES misses its tolerance |
-//! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator (every contact keeps `k_t c cᵀ` in it, stick or slip, so stick/slip changes never touch the factorization); Eisenstat–Walker forcing |
+//! | `gmres.rs` | GMRES preconditioned by the factorized symmetric operator; Eisenstat–Walker forcing |
+//! | `slip_terms.rs` | how much of a contact's `k_t c cᵀ` the factorized operator holds, stick or slip, and when a stick/slip flip reaches it (a lagged update or downdate of the factor) |
 //! | `contact_set.rs`, `contact_candidates.rs` | contact pairs and their histories (committed chord, plastic depth of crushing); candidates kept between residual evaluations with a margin, exactly the contacts of a search from scratch |
 //! | `energy.rs` | the energy account: commits, the trial step's balance (with crushing, a step whose energy does not balance within 1e-3 of the work is halved) |
 //! | `continuation.rs` | the fallback where Newton fails at the smallest increment: pseudo-transient continuation (K_T + σ diag K₀) Δz = r, kept only downhill; the state is recorded as `Relaxed` |
@@ -55,6 +56,7 @@ pub mod phases;
 pub mod profile;
 pub mod records;
 pub mod scales;
+pub mod slip_terms;
 pub mod snapshots;
 #[allow(clippy::module_inception)]
 pub mod solver;
@@ -77,7 +79,7 @@ pub use checkpoint::{CheckpointSink, Fingerprint, TestCheckpoint};
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
-pub use options::{FactorUpdates, FloatingPolicy, SolverOptions};
+pub use options::{FactorUpdates, FloatingPolicy, SlipTerms, SolverOptions};
 pub use profile::{Counters, SolverProfile};
 pub use records::{BrokenBeam, FailureModeTag, LoadPoint, Observer, StageEnd, StateKind, StateRecord};
 pub use snapshots::{ParticleState, ParticleStates};

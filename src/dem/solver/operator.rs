@@ -26,16 +26,17 @@
 //! **Pattern.** Every pair whose contact terms were once factorized keeps its entries (zeros once
 //! the contact is gone), in pair order: the same triplets in the same order, so the symbolic
 //! analysis (a fill-reducing ordering, METIS at 10k stones) is reused.
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 
 use super::contact_set::ActiveContact;
 use super::error::DemError;
 use super::factor::{LowRankCholesky, SparseColumn, TermId};
 use super::options::SolverOptions;
 use super::profile::{self, SolverProfile};
+use super::slip_terms::{Held, HeldRegimes};
 use super::system::{Model, ZTerm};
 
 /// Why the operator is refactorized (counted in [`super::SolverProfile::refactorizations`]).
@@ -54,6 +55,12 @@ pub(super) enum Refactor {
 /// A contact term's key: the pair and 0 = normal, 1 = tangential.
 type TermKey = (usize, usize, u8);
 
+type V6 = SVector<f64, 6>;
+
+/// A term the operator is to hold: key, direction, stiffness, and on a stick/slip flip the
+/// regime it is to hold (`true`: stick).
+type Want = (TermKey, V6, f64, Option<bool>);
+
 /// The factorized operator and the contact terms it holds (module docs).
 pub(super) struct Operator {
     /// The factorization with its Woodbury correction.
@@ -68,6 +75,9 @@ pub(super) struct Operator {
     /// The `z` indices of every pair whose contact terms were ever factorized (module docs,
     /// "Pattern").
     pattern: BTreeMap<(usize, usize), [usize; 6]>,
+    /// The regime each contact's tangential term holds, with the flips waiting
+    /// ([`super::slip_terms`]; empty while every contact holds `k_t c cᵀ`).
+    regimes: HeldRegimes,
 }
 
 /// What the operator's upkeep reads besides the contacts: the model, the intact beams, the
@@ -89,7 +99,14 @@ impl Operator {
         } else {
             LowRankCholesky::new(n_eq)
         };
-        Ok(Operator { factor, stale: true, pending: None, terms: BTreeMap::new(), pattern: BTreeMap::new() })
+        Ok(Operator {
+            factor,
+            stale: true,
+            pending: None,
+            terms: BTreeMap::new(),
+            pattern: BTreeMap::new(),
+            regimes: HeldRegimes::default(),
+        })
     }
 
     /// Marks the operator for refactorization; `cause` replaces the recorded one when given.
@@ -202,66 +219,112 @@ impl Operator {
         Ok(Some(id))
     }
 
-    /// Brings the operator's contact terms (normal penalty, tangential) in line with `contacts`:
-    /// a term that leaves is dropped from the Woodbury correction when it entered since the last
-    /// factorization, else subtracted; the new and subtracted terms are added in one batch. A
-    /// refactorization is requested instead when the correction would pass `max_rank`, or when
-    /// it has cost more than a factorization (the cost model of [`super::factor`]).
-    pub fn sync(&mut self, u: &mut Upkeep<'_, '_>, contacts: &[ActiveContact]) -> Result<(), DemError> {
-        let mut want: BTreeMap<TermKey, ()> = BTreeMap::new();
+    /// The terms the operator is to hold for `contacts`, in their order (normal, then
+    /// tangential): key, direction, stiffness, and on a stick/slip flip that reaches the
+    /// operator the regime its term is to hold (`true`: stick; [`super::slip_terms`]).
+    /// A contact on the Coulomb cone counts as sliding, as in its tangent ([`super::tangent`]).
+    fn wanted(&mut self, opts: &SolverOptions, mu: f64, contacts: &[ActiveContact]) -> Vec<Want> {
+        let slip = opts.slip_terms;
+        let mut want = Vec::with_capacity(2 * contacts.len());
         for a in contacts {
-            want.insert((a.i, a.j, 0), ());
-            if a.sticks() || u.opts.slip_in_preconditioner {
-                want.insert((a.i, a.j, 1), ());
+            want.push(((a.i, a.j, 0), a.contact.normal_direction(), a.contact.k_n, None));
+            let (sticks, flip) = if slip.follows_regime() {
+                match self.regimes.observe((a.i, a.j), a.sticks_off_cone(mu), slip.lag) {
+                    Held::Keep(s) => (s, None),
+                    Held::Enter(s) => (s, Some(s)),
+                }
+            } else {
+                (true, None)
+            };
+            let k = slip.held_stiffness(a.k_t, sticks);
+            if k > 0.0 {
+                want.push(((a.i, a.j, 1), a.contact.tangential_direction(), k, flip));
             }
         }
+        if slip.follows_regime() {
+            let live: BTreeSet<(usize, usize)> = contacts.iter().map(|a| (a.i, a.j)).collect();
+            self.regimes.retain(|p| live.contains(p));
+        }
+        want
+    }
+
+    /// Takes the term `key` out of the operator: dropped from the Woodbury correction when it
+    /// entered since the last factorization, else its subtraction joins `batch`.
+    fn take_out(&mut self, model: &Model, key: TermKey, batch: &mut Vec<(Option<TermKey>, Vec<SparseColumn>, f64)>) {
+        if let Some((t, id)) = self.terms.remove(&key) {
+            let dropped = id.is_some_and(|id| self.factor.remove(id));
+            if !dropped && !self.stale {
+                batch.push((None, model.factors(&t), -1.0));
+            }
+        }
+    }
+
+    /// With updates in place and a share `s > 0`: scales the held tangential terms `t` of the
+    /// flips in `want` (stick → slip by `s`, slip → stick by `1/s`), and returns their keys and
+    /// the columns of the differences, `(1/s − 1) t` to add and `(1 − s) t` to subtract: one
+    /// column per flip, each sign one multiple-rank update of the factor
+    /// ([`super::slip_terms`]). A flip of the Woodbury path, or with `s = 0`, replaces the term
+    /// instead.
+    fn scale_flips(&mut self, model: &Model, share: f64, want: &[Want]) -> (BTreeSet<TermKey>, [Vec<SparseColumn>; 2]) {
+        let (mut scaled, mut cols) = (BTreeSet::new(), [Vec::new(), Vec::new()]);
+        if !self.factor.updates_in_place() || share <= 0.0 {
+            return (scaled, cols);
+        }
+        for &(key, _, _, flip) in want {
+            let (Some(sticks), Some((t, _))) = (flip, self.terms.get_mut(&key)) else { continue };
+            let ratio = if sticks { 1.0 / share } else { share };
+            if !self.stale {
+                let difference = ZTerm { idx: t.idx, k: t.k * (ratio - 1.0).abs() };
+                cols[usize::from(!sticks)].extend(model.factors(&difference));
+            }
+            t.k *= ratio;
+            scaled.insert(key);
+        }
+        (scaled, cols)
+    }
+
+    /// Brings the operator's contact terms (normal penalty, tangential) in line with `contacts`:
+    /// a term that leaves (or flips between the stick and slip stiffness, [`super::slip_terms`])
+    /// is dropped from the Woodbury correction when it entered since the last factorization,
+    /// else subtracted; the new and subtracted terms are added in one batch. A refactorization
+    /// is requested instead when the correction would pass `max_rank`, or when it has cost more
+    /// than a factorization (the cost model of [`super::factor`]).
+    pub fn sync(&mut self, u: &mut Upkeep<'_, '_>, contacts: &[ActiveContact]) -> Result<(), DemError> {
+        let want = self.wanted(u.opts, u.model.params.mu, contacts);
+        let (scaled, flip_columns) = self.scale_flips(u.model, u.opts.slip_terms.share, &want);
+        let keep: BTreeSet<TermKey> =
+            want.iter().filter(|w| w.3.is_none() || scaled.contains(&w.0)).map(|w| w.0).collect();
         // (key of a new term, or None for a subtraction; columns; sign)
         let mut batch: Vec<(Option<TermKey>, Vec<SparseColumn>, f64)> = Vec::new();
-        let gone: Vec<_> = self.terms.keys().filter(|k| !want.contains_key(k)).copied().collect();
+        let gone: Vec<_> = self.terms.keys().filter(|k| !keep.contains(k)).copied().collect();
         for k in gone {
             u.profile.operator_changes[if k.2 == 0 { 1 } else { 3 }] += 1;
-            if let Some((t, id)) = self.terms.remove(&k) {
-                if id.is_some_and(|id| self.factor.remove(id)) || self.stale {
-                    continue;
-                }
-                batch.push((None, u.model.factors(&t), -1.0));
-            }
+            self.take_out(u.model, k, &mut batch);
         }
-        for a in contacts {
-            for (kind, dir, k) in
-                [(0u8, a.contact.normal_direction(), a.contact.k_n), (1u8, a.contact.tangential_direction(), a.k_t)]
-            {
-                let key = (a.i, a.j, kind);
-                if !want.contains_key(&key) {
-                    continue;
-                }
-                let mut current = None;
-                if u.opts.refresh_drift.is_finite() {
-                    // A held term that drifted from the contact's current one is replaced.
-                    let current = current.insert(u.model.rank_one(a.i, a.j, &dir, k));
-                    let drifted = self.terms.get(&key).is_some_and(|(t, _)| {
-                        (current.k - t.k).norm() > u.opts.refresh_drift * t.k.norm().max(current.k.norm())
-                    });
-                    if drifted {
-                        u.profile.refreshed_terms += 1;
-                        if let Some((t, id)) = self.terms.remove(&key) {
-                            let dropped = id.is_some_and(|id| self.factor.remove(id));
-                            if !dropped && !self.stale {
-                                batch.push((None, u.model.factors(&t), -1.0));
-                            }
-                        }
-                    }
-                }
-                if !self.terms.contains_key(&key) {
-                    u.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
-                    let t = current.unwrap_or_else(|| u.model.rank_one(a.i, a.j, &dir, k));
-                    if !self.stale {
-                        batch.push((Some(key), u.model.factors(&t), 1.0));
-                    }
-                    self.terms.insert(key, (t, None));
+        for (key, dir, k, _) in want.into_iter().filter(|w| !scaled.contains(&w.0)) {
+            let (i, j, kind) = key;
+            let mut current = None;
+            if u.opts.refresh_drift.is_finite() {
+                // A held term that drifted from the contact's current one is replaced.
+                let current = current.insert(u.model.rank_one(i, j, &dir, k));
+                let drifted = self.terms.get(&key).is_some_and(|(t, _)| {
+                    (current.k - t.k).norm() > u.opts.refresh_drift * t.k.norm().max(current.k.norm())
+                });
+                if drifted {
+                    u.profile.refreshed_terms += 1;
+                    self.take_out(u.model, key, &mut batch);
                 }
             }
+            if !self.terms.contains_key(&key) {
+                u.profile.operator_changes[if kind == 0 { 0 } else { 2 }] += 1;
+                let t = current.unwrap_or_else(|| u.model.rank_one(i, j, &dir, k));
+                if !self.stale {
+                    batch.push((Some(key), u.model.factors(&t), 1.0));
+                }
+                self.terms.insert(key, (t, None));
+            }
         }
+        u.profile.slip_flips = self.regimes.flips;
         if self.stale {
             return Ok(()); // the next factorization includes the current terms
         }
@@ -269,6 +332,13 @@ impl Operator {
         if self.over_rank_cap(cols, u.opts.max_rank) {
             self.invalidate(Some(Refactor::RankCap));
             return Ok(());
+        }
+        let [up, down] = flip_columns;
+        let flips: Vec<_> = [(up, 1.0), (down, -1.0)].into_iter().filter(|f| !f.0.is_empty()).collect();
+        if !flips.is_empty() {
+            let clock = Instant::now();
+            self.factor.add_batch(flips).map_err(|e| DemError::Factorization { event: u.event, reason: e.0 })?;
+            profile::add(&mut u.profile.columns_seconds, clock.elapsed());
         }
         if !batch.is_empty() {
             let clock = Instant::now();

@@ -1,5 +1,6 @@
 //! The solver's options: tolerances, caps and the switches of its optional algorithms, a plain
 //! `Copy + Default` parameter block (the defaults are the ones the virtual tests run with).
+pub use super::slip_terms::SlipTerms;
 
 /// What to do with a stone that lost every bond and contact.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
@@ -35,10 +36,11 @@ pub struct SolverOptions {
     /// End load steps at contact events (stick → slip, a contact closing or opening), see the
     /// module docs (default off).
     pub contact_events: bool,
-    /// Keep every contact's tangential stiffness `k_t c cᵀ` in the factorized preconditioner,
-    /// sliding or not (default on): a stick/slip change then leaves the factorization alone and
-    /// GMRES absorbs the difference ([`super::tangent`]). Off: only sticking contacts carry it.
-    pub slip_in_preconditioner: bool,
+    /// The contacts' tangential terms in the factorized preconditioner: the share of `k_t c cᵀ`
+    /// a sliding contact keeps and how many Newton iterations a stick/slip flip waits before it
+    /// reaches the factor ([`SlipTerms`], [`super::slip_terms`]; default [`SlipTerms::FULL`]:
+    /// every contact keeps `k_t c cᵀ`, so flips never touch the factor and GMRES absorbs them).
+    pub slip_terms: SlipTerms,
     /// Tolerance of the linear (GMRES) solve inside Newton ([`super::gmres::Forcing`]).
     pub forcing: super::gmres::Forcing,
     /// Where Newton's method finds no equilibrium at the smallest increment (a load step or a
@@ -93,7 +95,7 @@ impl Default for SolverOptions {
             floating: FloatingPolicy::Regularize,
             max_cutbacks: 10,
             contact_events: false,
-            slip_in_preconditioner: true,
+            slip_terms: SlipTerms::FULL,
             forcing: super::gmres::Forcing::default(),
             continuation: true,
             trace: false,

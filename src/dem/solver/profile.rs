@@ -58,8 +58,12 @@ pub struct SolverProfile {
     pub columns_dropped: usize,
     /// Contact terms that entered / left the operator: normal in, normal out, tangential in,
     /// tangential out (the contact-set churn the Woodbury columns pay for; with
-    /// `SolverOptions::slip_in_preconditioner` off, every stick↔slip flip counts here).
+    /// `SolverOptions::slip_terms` following the regimes, every stick↔slip flip that reaches
+    /// the operator counts here, out and in).
     pub operator_changes: [usize; 4],
+    /// Stick↔slip flips that reached the operator, and flips that turned back before their lag
+    /// was over ([`super::slip_terms`]; zero with [`super::SlipTerms::FULL`]).
+    pub slip_flips: [usize; 2],
     /// Largest Woodbury rank reached.
     pub max_rank: usize,
     /// Contact terms of the operator replaced because they drifted

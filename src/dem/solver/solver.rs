@@ -61,7 +61,8 @@ impl<'a> Solver<'a> {
 
     /// A solver that continues `state` (a clone of another solver's state for the same model,
     /// or a new one): the workspace is built afresh, the counters and the profile start at zero.
-    /// Errors: a state or load of another size than the model's.
+    /// Errors: a state or load of another size than the model's, a share of `slip_terms` outside
+    /// `[0, 1]`.
     pub fn resume(model: Model<'a>, opts: SolverOptions, state: SolverState) -> Result<Solver<'a>, DemError> {
         let map = &model.map;
         let load = &state.load;
@@ -77,6 +78,13 @@ impl<'a> Solver<'a> {
                 field: "solver state",
                 value: format!("{} coordinates / {} beams", state.z.len(), state.intact.len()),
                 expected: "the model's coordinates and beams",
+            });
+        }
+        if !opts.slip_terms.is_valid() {
+            return Err(DemError::InvalidParameter {
+                field: "slip_terms.share",
+                value: opts.slip_terms.share.to_string(),
+                expected: "a share of k_t in [0, 1]",
             });
         }
         Ok(Solver {

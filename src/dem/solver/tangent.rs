@@ -20,14 +20,14 @@
 //!
 //! The factorized operator (beams, penalty `k_n w_b w_bᵀ`, tangential `k_t w_c w_cᵀ`, `ε`) is the
 //! symmetric positive definite approximation of `K_T` used as GMRES preconditioner
-//! ([`super::gmres`]); for flat sticking contacts the two agree. Every contact carries its
-//! `k_t w_c w_cᵀ` there whether it sticks or slides (`SolverOptions::slip_in_preconditioner`):
-//! a sliding contact's tangent replaces it by the slip coupling `μ sign(F_t) w_c (∂F_n)ᵀ`, a
-//! rank-one difference per sliding contact that GMRES absorbs, while the factorization changes
-//! only when a contact closes or opens. With only sticking contacts in it, each of the ~55
-//! stick↔slip flips per Newton iteration of a 10k-stone sample was a Woodbury column pair, and the
-//! rank cap forced a refactorization nearly every iteration (`examples/dem_profile.rs`, 100
-//! events of 10k stones: 262 factorizations and 4520 columns before, 20 and 338 after).
+//! ([`super::gmres`]); for flat sticking contacts the two agree. A sliding contact's tangent
+//! replaces `k_t w_c w_cᵀ` by the slip coupling `μ sign(F_t) w_c (∂F_n)ᵀ`; how much of
+//! `k_t w_c w_cᵀ` such a contact keeps in the factorized operator, and when a stick/slip flip
+//! reaches the factor, is `SolverOptions::slip_terms` ([`super::slip_terms`]). With only sticking
+//! contacts in it and the Woodbury path, each of the ~55 stick↔slip flips per Newton iteration
+//! of a 10k-stone sample was a Woodbury column pair, and the rank cap forced a refactorization
+//! nearly every iteration (`examples/dem_profile.rs`, 100 events of 10k stones: 262
+//! factorizations and 4520 columns, against 20 and 338 with every contact's `k_t w_c w_cᵀ` kept).
 //!
 //! **Reused Jacobians.** A contact's `J_c` is kept ([`JacobianCache`]) with the states `q`, `c`
 //! it was computed at, and reused while
@@ -59,7 +59,7 @@ use super::contact_set::{self, ActiveContact};
 use super::error::DemError;
 use super::state::SolverState;
 use super::system::Model;
-use crate::dem::mechanics::{contact_jacobian, SlipState};
+use crate::dem::mechanics::SlipState;
 
 type V6 = SVector<f64, 6>;
 
@@ -123,10 +123,7 @@ impl JacobianCache {
     ) -> Result<SMatrix<f64, 6, 6>, DemError> {
         let plastic = a.crush.as_ref().is_some_and(|u| u.plastic);
         // On the cone the slip branch's derivative (module docs; `contact_jacobian::ON_CONE`).
-        let limit = model.params.mu * a.contact.f_n;
-        let on_cone = a.friction.state == SlipState::Stick
-            && limit > 0.0
-            && a.friction.f_t.abs() >= (1.0 - contact_jacobian::ON_CONE) * limit;
+        let on_cone = a.sticks() && !a.sticks_off_cone(model.params.mu);
         let regime: Regime = if on_cone {
             self.on_cone += 1;
             (SlipState::Slip, model.params.mu * a.friction.f_t.signum(), plastic)
