@@ -163,7 +163,7 @@ pub fn run_test_checkpointed<'a>(
     let (mut solver, walk) = solver_from(model, opts, checkpoints.resume)?;
     let mut sink = checkpoints.sink.map(|inner| Clocked { inner, clock, before });
     let recorder = Recorder::new(states, first_driven, (1, driven));
-    solver.observer = match report {
+    solver.diag.observer = match report {
         Some(report) => Some(Box::new(Reporting { recorder: recorder.observer(), report })),
         None => recorder.observer(),
     };
@@ -173,11 +173,11 @@ pub fn run_test_checkpointed<'a>(
         Err(e @ DemError::Checkpoint(_)) => return Err(e),
         Err(e) => classify_stop(e.to_string(), &solver, &stages, first_driven, driven),
     };
-    solver.observer = None;
+    solver.diag.observer = None;
     let result = result_of(&mut solver, sample, &recorder, end, (driven, first_driven), before + secs(clock));
     if let Some(mut sink) = sink {
         let finished = Finished { end: result.end.clone(), stats: result.stats.clone() };
-        let (state, counters) = (solver.state().clone(), solver.counters);
+        let (state, counters) = (solver.state().clone(), solver.diag.counters);
         sink.write(TestCheckpoint { state, walk: None, counters, seconds: 0.0, finished: Some(finished) })?;
     }
     Ok(result)
@@ -202,7 +202,7 @@ fn solver_from(
         }
         Some(TestCheckpoint { state, walk: Some(walk), counters, finished: None, .. }) => {
             let mut solver = Solver::resume(model, opts, state)?;
-            solver.counters = counters;
+            solver.diag.counters = counters;
             Ok((solver, Some(walk)))
         }
         Some(_) => Err(DemError::InvalidParameter {
@@ -243,7 +243,7 @@ fn run_stages(
         }
         if let Some(towards) = stage.towards {
             envelope.branch(towards, largest_of(solver.states(), k, driven));
-            if k >= first && !solver.broken().is_empty() && envelope.lost(solver.opts.loss_fraction) {
+            if k >= first && !solver.broken().is_empty() && envelope.lost(solver.problem.opts.loss_fraction) {
                 return Ok(TestEnd::LossOfLoad);
             }
         }
@@ -268,7 +268,7 @@ fn result_of(
     let (factorizations, _) = solver.factor_stats();
     let last = solver.states().len().checked_sub(1).map(|i| (i, solver.state().z_commit.as_slice()));
     let particle_states = recorder.finish(&solver.model().map, sample.particles.len(), last);
-    let c = solver.counters;
+    let c = solver.diag.counters;
     TestResult {
         stats: RunStats {
             events: solver.broken().len(),
@@ -282,7 +282,7 @@ fn result_of(
             continuations: c.continuations,
             imbalance_cutbacks: c.imbalance_cutbacks,
             snaps_in_steps: c.snaps_in_steps,
-            updates_in_place: solver.operator.factor.updates_in_place(),
+            updates_in_place: solver.ws.operator.factor.updates_in_place(),
         },
         end,
         curve,
@@ -290,7 +290,7 @@ fn result_of(
         floating: solver.state().floating.clone(),
         derived,
         particle_states,
-        trace: solver.trace.take(),
+        trace: solver.diag.trace.take(),
     }
 }
 
