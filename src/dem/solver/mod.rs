@@ -94,6 +94,6 @@ pub use system::Model;
 pub use test_result::{CurvePoint, Derived, RunStats, TestEnd, TestResult};
 pub use test_run::{
     finished_result, run_test, run_test_checkpointed, run_test_observed, run_test_recording, run_test_with,
-    Checkpoints, Report,
+    Checkpoints, Report, TestRun,
 };
 pub use virtual_test::{cyclic_protocol, PlatenRotation, VirtualTest};

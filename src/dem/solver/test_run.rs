@@ -107,7 +107,33 @@ pub fn run_test_observed<'a>(
     states: ParticleStates,
     report: Option<Report<'a>>,
 ) -> Result<TestResult, DemError> {
-    run_test_checkpointed(sample, params, test, opts, states, report, Checkpoints::default())
+    run_test_checkpointed(sample, params, test, TestRun { opts, states, report, ..Default::default() })
+}
+
+/// How a test is run besides its sample, law and protocol ([`run_test_checkpointed`]): the
+/// solver's options, the particle states kept, a report of the recorded states and the
+/// checkpoints. The default is [`run_test_with`]'s: default options, no particle states
+/// ([`ParticleStates::None`]), no report, no checkpoints.
+pub struct TestRun<'a> {
+    /// The solver's options.
+    pub opts: SolverOptions,
+    /// The particle states kept in [`TestResult::particle_states`].
+    pub states: ParticleStates,
+    /// Called on every recorded state (its index and record) as the test goes.
+    pub report: Option<Report<'a>>,
+    /// Where the checkpoints go, and the one the test continues from.
+    pub checkpoints: Checkpoints<'a>,
+}
+
+impl Default for TestRun<'_> {
+    fn default() -> Self {
+        TestRun {
+            opts: SolverOptions::default(),
+            states: ParticleStates::None,
+            report: None,
+            checkpoints: Checkpoints::default(),
+        }
+    }
 }
 
 /// A test's checkpoints ([`super::checkpoint`]): where they go, and the one it continues from.
@@ -138,21 +164,20 @@ impl CheckpointSink for Clocked<'_> {
     }
 }
 
-/// [`run_test_observed`] with checkpoints: written to `checkpoints.sink` as the test goes and at
-/// its end, and continued from `checkpoints.resume` when given. A resumed test's particle states
-/// start at the resumption; its counters and wall time add to the checkpoint's (its
-/// factorizations are this run's: the workspace is not checkpointed). Errors: those of
-/// [`run_test`], a finished test's checkpoint to resume from, and the sink's
-/// ([`DemError::Checkpoint`]), which end the test without a result.
+/// Runs `test` on `sample` as `run` asks ([`TestRun`]): [`run_test_observed`] with checkpoints,
+/// written to `run.checkpoints.sink` as the test goes and at its end, and continued from
+/// `run.checkpoints.resume` when given. A resumed test's particle states start at the
+/// resumption; its counters and wall time add to the checkpoint's (its factorizations are this
+/// run's: the workspace is not checkpointed). Errors: those of [`run_test`], a finished test's
+/// checkpoint to resume from, and the sink's ([`DemError::Checkpoint`]), which end the test
+/// without a result.
 pub fn run_test_checkpointed<'a>(
     sample: &'a Sample,
     params: &MechParams,
     test: &VirtualTest,
-    opts: SolverOptions,
-    states: ParticleStates,
-    report: Option<Report<'a>>,
-    checkpoints: Checkpoints<'a>,
+    run: TestRun<'a>,
 ) -> Result<TestResult, DemError> {
+    let TestRun { opts, states, report, checkpoints } = run;
     test.validate()?;
     let clock = Instant::now();
     let (w, h, tz) = (sample.width, sample.height, params.t_z);
