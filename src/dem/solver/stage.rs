@@ -14,6 +14,12 @@
 //! stop at t = 1 of the last stage, or on loss of load (|R| < loss_fraction × peak).
 //! ```
 //!
+//! **In the pipeline** ([`super::solver`], "The step as a pipeline"). [`continue_stage`] runs
+//! this loop over the solver's parts: each trial step (`solve_trial`: the equilibrium from the
+//! step predictor or the plain start, continuation at the smallest increment, the energy check
+//! with crushing), the first failure along it ([`super::breaks`]), a contact event inside it
+//! ([`super::contact_events`]), the commit ([`super::energy`]) and the break cascade.
+//!
 //! **Contact events.** A contact that starts to slide (stick → slip), closes or opens inside a
 //! load step puts a kink into the platen force–displacement path; the trapezoid rule of the
 //! external work misses the area at the kink: for a spring–slider driven from `F_0` (sticking)
