@@ -158,14 +158,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Progress on stderr every 25 recorded states: a run stopped by a time limit still says how
     // far it got, and the profile's counters and phase seconds so far say where each stretch of
     // the run went (differences between two lines).
-    solver.observer = Some(Box::new(Progress { clock, height: sample.height, line: String::new() }));
+    solver.diag.observer = Some(Box::new(Progress { clock, height: sample.height, line: String::new() }));
     let end = solver.start().and_then(|()| solver.run_stage(&target, steps, Some((1, 1))));
     let seconds = clock.elapsed().as_secs_f64();
     let end = match end {
         Ok(StageEnd::Completed) => "target".to_string(),
         Ok(StageEnd::LossOfLoad) => "loss_of_load".to_string(),
         Err(e) => {
-            if let Some(tr) = solver.trace.as_ref() {
+            if let Some(tr) = solver.diag.trace.as_ref() {
                 eprintln!("{}", tr.report());
             }
             format!("stopped: {e}")
@@ -207,8 +207,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "seconds": seconds, "events_per_second": events as f64 / seconds.max(1e-9),
         "peak_stress_pa": peak, "strain_at_peak": strain_at_peak, "e_pa": e,
         "external_work_j": energy.map(|e| e.0), "stored_j": energy.map(|e| e.1),
-        "dissipated_j": energy.map(|e| e.2), "dissipated_total_j": energy.map(|e| e.2.iter().sum::<f64>()), "solves": solver.counters.solves, "cutbacks": solver.counters.cutbacks,
-        "vm_hwm_kb": vm_hwm_kb, "breaks_per_equilibrium": breaks_per_equilibrium, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.profile,
+        "dissipated_j": energy.map(|e| e.2), "dissipated_total_j": energy.map(|e| e.2.iter().sum::<f64>()), "solves": solver.diag.counters.solves, "cutbacks": solver.diag.counters.cutbacks,
+        "vm_hwm_kb": vm_hwm_kb, "breaks_per_equilibrium": breaks_per_equilibrium, "settings": settings, "factorizations": solver.factor_stats().0, "symbolic_analyses": solver.factor_stats().1, "profile": solver.diag.profile,
     });
     println!("{line}");
     Ok(())

@@ -23,7 +23,7 @@ use masonry_hpc::dem::mechanics::MechParams;
 use masonry_hpc::dem::sample::{Sample, SampleConfig, SampleLayout};
 use masonry_hpc::dem::solver::{
     finished_result, run_test_checkpointed, run_test_with, CheckpointSink, Checkpoints, CurvePoint, DemError,
-    ParticleStates, PlatenRotation, SolverOptions, SolverState, TestCheckpoint, TestResult, VirtualTest,
+    PlatenRotation, SolverOptions, SolverState, TestCheckpoint, TestResult, TestRun, VirtualTest,
 };
 use std::cell::RefCell;
 use std::path::Path;
@@ -69,7 +69,7 @@ fn run_kept(
     let sink = Keep { kept: kept.clone(), stop_after };
     let c = Checkpoints { sink: Some(Box::new(sink)), resume };
     let p = MechParams::default();
-    let r = run_test_checkpointed(s, &p, test, SolverOptions::default(), ParticleStates::None, None, c);
+    let r = run_test_checkpointed(s, &p, test, TestRun { checkpoints: c, ..Default::default() });
     (r, kept.take())
 }
 

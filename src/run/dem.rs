@@ -27,7 +27,7 @@ use crate::dem::output::write_particle_states;
 use crate::dem::sample::{draw_svg, Sample, SvgStyle};
 use crate::dem::solver::{
     finished_result, run_test_checkpointed, CheckpointSink, Checkpoints, FailureModeTag, Fingerprint, ParticleStates,
-    Report, SolverOptions, StateRecord, TestEnd, TestResult, VirtualTest,
+    Report, SolverOptions, StateRecord, TestEnd, TestResult, TestRun, VirtualTest,
 };
 use crate::error::{Error, JobError};
 use crate::identify::Stat;
@@ -182,8 +182,8 @@ fn run_sample(
         (minutes > 0.0).then(|| Box::new(FileSink::new(out, k, fingerprint, minutes)) as Box<dyn CheckpointSink>);
     let report = log.is_root().then(|| sample_progress(log.clone(), k, PROGRESS_EVERY));
     let checkpoints = Checkpoints { sink, resume };
-    let mut result = run_test_checkpointed(&sample, params, test, opts, states, report, checkpoints)
-        .map_err(|e| TestFailure::solver(k, None, &e))?;
+    let run = TestRun { opts, states, report, checkpoints };
+    let mut result = run_test_checkpointed(&sample, params, test, run).map_err(|e| TestFailure::solver(k, None, &e))?;
     if !result.particle_states.is_empty() {
         std::fs::create_dir_all(&sdir).map_err(|e| output(format!("cannot create {}", sdir.display()), &e))?;
         write_particle_states(&sdir, "particles", &sample, &result)

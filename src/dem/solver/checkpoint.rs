@@ -267,7 +267,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 mod tests {
     use super::*;
     use crate::dem::solver::tests::small_wall;
-    use crate::dem::solver::{run_test_checkpointed, Checkpoints, ParticleStates, SolverOptions, VirtualTest};
+    use crate::dem::solver::{run_test_checkpointed, Checkpoints, TestRun, VirtualTest};
     use std::cell::RefCell;
     use std::rc::Rc;
 
@@ -300,8 +300,7 @@ mod tests {
         let (s, p) = (small_wall(2), MechParams::default());
         let kept = Rc::new(RefCell::new(Vec::new()));
         let c = Checkpoints { sink: Some(Box::new(Keep(kept.clone()))), resume: None };
-        let opts = SolverOptions::default();
-        run_test_checkpointed(&s, &p, &shear(), opts, ParticleStates::None, None, c).unwrap();
+        run_test_checkpointed(&s, &p, &shear(), TestRun { checkpoints: c, ..Default::default() }).unwrap();
         let fp = Fingerprint::new(&s, 2, &p, &shear());
         (kept.take(), fp)
     }

@@ -282,7 +282,7 @@ fn sliding_block_balance_at_stick_slip_kinks() {
         solver.run_stage(&load(0.0, n), steps, None).unwrap();
         let last = solver.states().last().unwrap().clone();
         let bal = |st: &StateRecord| st.external_work - st.stored - st.dissipated.iter().sum::<f64>();
-        (last.external_work - st0.external_work, bal(&last) - bal(&st0), solver.counters.contact_events)
+        (last.external_work - st0.external_work, bal(&last) - bal(&st0), solver.diag.counters.contact_events)
     };
     // The spring–slider on the same steps: trapezoid work minus (ΔE + D).
     let limit = p.mu * n;

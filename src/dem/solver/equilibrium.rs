@@ -74,17 +74,19 @@
 //! If the iterations do not converge in `max_iterations`, [`DemError::NoConvergence`] is returned
 //! with the stones that have no intact beam left (the usual cause: a stone held only by contacts
 //! that slide, or by nothing): the caller cuts the load increment back.
-use std::collections::BTreeMap;
-
 use super::contact_set::{self, ActiveContact};
+use super::diagnostics::Diagnostics;
 use super::error::DemError;
 use super::gmres::{gmres_split, ForcingSequence};
+use super::linear::linear_step;
 use super::operator::Refactor;
+use super::problem::Problem;
 use super::profile;
 use super::records::LoadPoint;
-use super::solver::Solver;
+use super::state::SolverState;
 use super::tangent::Tangent;
-use super::trace::NewtonStep;
+use super::trace::{newton_step, NewtonStep};
+use super::workspace::{upkeep, Workspace};
 use std::time::Instant;
 
 /// The floor of the convergence scale relative to the largest platen force of the test so far
@@ -136,434 +138,427 @@ pub(super) struct Evaluation {
     pub beam_forces: Vec<f64>,
 }
 
-impl<'a> Solver<'a> {
-    /// The residual at `z` for the external forces `f_ext` (over `z`).
-    pub(super) fn evaluate(&mut self, z: &[f64], f_ext: &[f64]) -> Result<Evaluation, DemError> {
-        let clock = Instant::now();
-        let mut beam_forces = vec![0.0; self.model.map.n_z];
-        self.model.add_beam_forces(&self.state.intact, z, &mut beam_forces);
-        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
-        self.evaluate_with_beams(z, f_ext, beam_forces)
-    }
+/// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
+/// broken beam's force being released), starting from the current `z` (Newton's method, module
+/// docs); leaves the contacts of the equilibrium state in the state's `contacts`. Its work is
+/// booked to the current phase, or to the cut-backs when it does not converge
+/// ([`super::phases`]).
+pub(super) fn equilibrate(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    load: &LoadPoint,
+    extra: Option<&[f64]>,
+    t: f64,
+) -> Result<(), DemError> {
+    let (before, clock) = (diag.profile.running(), Instant::now());
+    let out = newton(pb, state, ws, diag, load, extra, t);
+    let mut w = diag.profile.running().since(&before);
+    w.equilibria = 1;
+    w.seconds = clock.elapsed().as_secs_f64();
+    let failed = matches!(out, Err(DemError::NoConvergence { .. }));
+    diag.profile.phases.book(diag.phase, failed, &w);
+    out
+}
 
-    /// [`Self::evaluate`] with the beams' forces at `z` given (e.g. `K_b (z₀ + α Δz)` as
-    /// `K_b z₀ + α K_b Δz` along a line search: the beam law is linear).
-    fn evaluate_with_beams(&mut self, z: &[f64], f_ext: &[f64], beam_forces: Vec<f64>) -> Result<Evaluation, DemError> {
-        let clock = Instant::now();
-        let pairs = if self.opts.contacts && !self.state.broken.is_empty() {
-            self.candidates.candidates(self.model.sample, &self.model.map, z, &self.state.intact)
-        } else {
-            Vec::new()
-        };
-        self.profile.pair_evaluations += pairs.len();
-        self.profile.candidate_rebuilds = self.candidates.rebuilds;
-        let ev = self.evaluate_at(z, f_ext, &pairs, beam_forces);
-        if let Ok(e) = &ev {
-            if !pairs.is_empty() {
-                let touching: Vec<(usize, usize)> = e.contacts.iter().map(|a| (a.i, a.j)).collect();
-                self.candidates.refresh_apart(self.model.sample, &self.model.map, z, &touching);
-            }
-        }
-        self.profile.evaluations += 1;
-        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
-        ev
-    }
+/// The residual at `z` for the external forces `f_ext` (over `z`).
+pub(super) fn evaluate(
+    pb: &Problem<'_>,
+    state: &SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    z: &[f64],
+    f_ext: &[f64],
+) -> Result<Evaluation, DemError> {
+    let clock = Instant::now();
+    let mut beam_forces = vec![0.0; pb.model.map.n_z];
+    pb.model.add_beam_forces(&state.intact, z, &mut beam_forces);
+    profile::add(&mut diag.profile.evaluate_seconds, clock.elapsed());
+    evaluate_with_beams(pb, state, ws, diag, z, f_ext, beam_forces)
+}
 
-    /// Raises the reference force of the convergence scale (module docs) to a tenth of the
-    /// platen forces `pf` of a recorded state.
-    pub(super) fn raise_reference_force(&mut self, pf: &[[f64; 3]; 2]) {
-        for f in pf {
-            self.state.reference_force =
-                self.state.reference_force.max(REFERENCE_FRACTION * f[0].abs().max(f[1].abs()));
+/// [`evaluate`] with the beams' forces at `z` given (e.g. `K_b (z₀ + α Δz)` as
+/// `K_b z₀ + α K_b Δz` along a line search: the beam law is linear).
+fn evaluate_with_beams(
+    pb: &Problem<'_>,
+    state: &SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    z: &[f64],
+    f_ext: &[f64],
+    beam_forces: Vec<f64>,
+) -> Result<Evaluation, DemError> {
+    let clock = Instant::now();
+    let pairs = if pb.opts.contacts && !state.broken.is_empty() {
+        ws.candidates.candidates(pb.model.sample, &pb.model.map, z, &state.intact)
+    } else {
+        Vec::new()
+    };
+    diag.profile.pair_evaluations += pairs.len();
+    diag.profile.candidate_rebuilds = ws.candidates.rebuilds;
+    let ev = evaluate_at(pb, state, z, f_ext, &pairs, beam_forces);
+    if let Ok(e) = &ev {
+        if !pairs.is_empty() {
+            let touching: Vec<(usize, usize)> = e.contacts.iter().map(|a| (a.i, a.j)).collect();
+            ws.candidates.refresh_apart(pb.model.sample, &pb.model.map, z, &touching);
         }
     }
+    diag.profile.evaluations += 1;
+    profile::add(&mut diag.profile.evaluate_seconds, clock.elapsed());
+    ev
+}
 
-    /// The residual at `z` with the contact law evaluated on the candidate `pairs`
-    /// ([`super::contact_candidates`]).
-    pub(super) fn evaluate_at(
-        &self,
-        z: &[f64],
-        f_ext: &[f64],
-        pairs: &[(usize, usize)],
-        beam_forces: Vec<f64>,
-    ) -> Result<Evaluation, DemError> {
-        let contacts = contact_set::evaluate(
-            self.model.sample,
-            &self.model.map,
-            &self.model.params,
-            pairs,
-            z,
-            &self.state.z_commit,
-            &self.state.histories,
-        )?;
-        let mut f = beam_forces.clone();
-        contact_set::add_contact_forces(&self.model.map, &contacts, &mut f);
-        let map = &self.model.map;
-        let mut r = vec![0.0; map.n_eq()];
-        let mut scale = (1e-9 * self.model.params.e_bar * self.model.params.t_z * self.model.sample.width)
-            .max(self.scales.roundoff_force / self.opts.tol)
-            .max(self.state.reference_force);
-        for v in f.iter().chain(f_ext.iter()) {
-            scale = scale.max(v.abs());
-        }
-        let (mut inf, mut merit) = (0.0f64, 0.0);
-        for (e, &zi) in map.unknowns.iter().enumerate() {
-            r[e] = f_ext[zi] - f[zi] - self.scales.reg[e] * (z[zi] - self.state.z_commit[zi]);
-            inf = inf.max(r[e].abs());
-            let w = if zi % 3 == 2 { 1.0 / self.scales.mean_diameter } else { 1.0 };
-            merit += 0.5 * (w * r[e]).powi(2);
-        }
-        Ok(Evaluation { contacts, r, relative: inf / scale, merit, beam_forces })
+/// Raises the reference force of the convergence scale (module docs) to a tenth of the
+/// platen forces `pf` of a recorded state.
+pub(super) fn raise_reference_force(state: &mut SolverState, pf: &[[f64; 3]; 2]) {
+    for f in pf {
+        state.reference_force = state.reference_force.max(REFERENCE_FRACTION * f[0].abs().max(f[1].abs()));
     }
+}
 
-    /// Newton's method for [`Self::equilibrate_with`] (module docs).
-    pub(super) fn newton(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
-        let f_ext = self.apply_load(load, extra);
-        let (stage, events) = (self.state.stage, self.state.broken.len());
-        let z0 = self.state.z.clone();
-        let mut ev = self.evaluate(&z0, &f_ext)?;
-        let mut forcing = ForcingSequence::new(self.opts.forcing);
-        if let Some(tr) = self.trace.as_mut() {
-            tr.begin(stage, t, events, if extra.is_some() { "release" } else { "load" });
+/// The residual at `z` with the contact law evaluated on the candidate `pairs`
+/// ([`super::contact_candidates`]).
+fn evaluate_at(
+    pb: &Problem<'_>,
+    state: &SolverState,
+    z: &[f64],
+    f_ext: &[f64],
+    pairs: &[(usize, usize)],
+    beam_forces: Vec<f64>,
+) -> Result<Evaluation, DemError> {
+    let contacts = contact_set::evaluate(
+        pb.model.sample,
+        &pb.model.map,
+        &pb.model.params,
+        pairs,
+        z,
+        &state.z_commit,
+        &state.histories,
+    )?;
+    let mut f = beam_forces.clone();
+    contact_set::add_contact_forces(&pb.model.map, &contacts, &mut f);
+    let map = &pb.model.map;
+    let mut r = vec![0.0; map.n_eq()];
+    let mut scale = (1e-9 * pb.model.params.e_bar * pb.model.params.t_z * pb.model.sample.width)
+        .max(pb.scales.roundoff_force / pb.opts.tol)
+        .max(state.reference_force);
+    for v in f.iter().chain(f_ext.iter()) {
+        scale = scale.max(v.abs());
+    }
+    let (mut inf, mut merit) = (0.0f64, 0.0);
+    for (e, &zi) in map.unknowns.iter().enumerate() {
+        r[e] = f_ext[zi] - f[zi] - pb.scales.reg[e] * (z[zi] - state.z_commit[zi]);
+        inf = inf.max(r[e].abs());
+        let w = if zi % 3 == 2 { 1.0 / pb.scales.mean_diameter } else { 1.0 };
+        merit += 0.5 * (w * r[e]).powi(2);
+    }
+    Ok(Evaluation { contacts, r, relative: inf / scale, merit, beam_forces })
+}
+
+/// Newton's method for [`equilibrate`] (module docs).
+fn newton(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    load: &LoadPoint,
+    extra: Option<&[f64]>,
+    t: f64,
+) -> Result<(), DemError> {
+    let f_ext = apply_load(pb, state, load, extra);
+    let (stage, events) = (state.stage, state.broken.len());
+    let z0 = state.z.clone();
+    let mut ev = evaluate(pb, state, ws, diag, &z0, &f_ext)?;
+    let mut forcing = ForcingSequence::new(pb.opts.forcing);
+    if let Some(tr) = diag.trace.as_mut() {
+        tr.begin(stage, t, events, if extra.is_some() { "release" } else { "load" });
+    }
+    let mut previous: Option<Vec<(usize, usize, bool)>> = None;
+    for iteration in 0..pb.opts.max_iterations {
+        ws.jacobians.fresh_only = iteration >= super::tangent::FRESH_AFTER;
+        if ev.relative <= pb.opts.tol {
+            break;
         }
-        let mut previous: Option<Vec<(usize, usize, bool)>> = None;
-        for iteration in 0..self.opts.max_iterations {
-            self.jacobians.fresh_only = iteration >= super::tangent::FRESH_AFTER;
-            if ev.relative <= self.opts.tol {
-                break;
-            }
-            let mut step = self.trace.as_ref().map(|_| newton_step(&ev, &mut previous, &self.model.map));
-            self.profile.newton_iterations += 1;
-            {
-                let (op, mut u, _) = self.operator_upkeep();
-                op.sync(&mut u, &ev.contacts)?;
-            }
-            self.refresh_operator()?;
-            let factor = &self.operator.factor;
-            self.profile.max_rank = self.profile.max_rank.max(factor.rank());
-            self.profile.columns_added = factor.n_columns;
-            self.profile.columns_dropped = factor.n_dropped;
-            // The linear solve's tolerance (Eisenstat–Walker by default; the goal: ‖r‖∞ at
-            // convergence, tol · scale = tol ‖r‖∞ / relative).
-            let r2 = ev.r.iter().map(|x| x * x).sum::<f64>().sqrt();
-            let r_inf = ev.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let eta = forcing.next(r2, if ev.relative > 0.0 { self.opts.tol * r_inf / ev.relative } else { 0.0 });
-            if factor.rank() > 0 && !factor.is_accurate() {
-                // A near-singular Woodbury capacitance matrix: drop the correction.
-                let (op, mut u, scales) = self.operator_upkeep();
-                op.refactorize(&mut u, Some(Refactor::Accuracy), &scales.reg)?;
-            }
-            let mut dz = self.newton_direction(&ev, eta, step.as_mut())?;
-            let cap = self.cap_step(&mut dz);
-            if iteration == 0 && cap == 1.0 && ev.contacts.is_empty() && self.linear_step(&dz)? {
-                // The linear phase: the step is the equilibrium ([`super::linear`]); its
-                // residual is not evaluated (NaN in the trace).
-                if let (Some(tr), Some(st)) = (self.trace.as_mut(), step) {
-                    tr.step(st);
-                    tr.end(f64::NAN, true);
-                }
-                self.state.contacts = Vec::new();
-                return Ok(());
-            }
-            let alpha;
-            (ev, alpha) = self.line_search(&dz, &f_ext, ev)?;
-            if let (Some(tr), Some(mut st)) = (self.trace.as_mut(), step) {
-                st.cap = cap;
-                st.alpha = alpha;
+        let mut step = diag.trace.as_ref().map(|_| newton_step(&ev, &mut previous, &pb.model.map));
+        diag.profile.newton_iterations += 1;
+        ws.operator.sync(&mut upkeep(pb, state, &mut diag.profile), &ev.contacts)?;
+        ws.operator.refresh(&mut upkeep(pb, state, &mut diag.profile), &pb.scales.reg)?;
+        let factor = &ws.operator.factor;
+        diag.profile.max_rank = diag.profile.max_rank.max(factor.rank());
+        diag.profile.columns_added = factor.n_columns;
+        diag.profile.columns_dropped = factor.n_dropped;
+        // The linear solve's tolerance (Eisenstat–Walker by default; the goal: ‖r‖∞ at
+        // convergence, tol · scale = tol ‖r‖∞ / relative).
+        let r2 = ev.r.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let r_inf = ev.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let eta = forcing.next(r2, if ev.relative > 0.0 { pb.opts.tol * r_inf / ev.relative } else { 0.0 });
+        if factor.rank() > 0 && !factor.is_accurate() {
+            // A near-singular Woodbury capacitance matrix: drop the correction.
+            let mut u = upkeep(pb, state, &mut diag.profile);
+            ws.operator.refactorize(&mut u, Some(Refactor::Accuracy), &pb.scales.reg)?;
+        }
+        let mut dz = newton_direction(pb, state, ws, diag, &ev, eta, step.as_mut())?;
+        let cap = cap_step(pb, &mut dz);
+        if iteration == 0 && cap == 1.0 && ev.contacts.is_empty() && linear_step(pb, state, ws, diag, &dz)? {
+            // The linear phase: the step is the equilibrium ([`super::linear`]); its
+            // residual is not evaluated (NaN in the trace).
+            if let (Some(tr), Some(st)) = (diag.trace.as_mut(), step) {
                 tr.step(st);
+                tr.end(f64::NAN, true);
             }
-        }
-        let converged = ev.relative <= self.opts.tol;
-        if let Some(tr) = self.trace.as_mut() {
-            tr.end(ev.relative, converged);
-        }
-        if converged {
-            self.state.contacts = ev.contacts;
+            state.contacts = Vec::new();
             return Ok(());
         }
-        Err(DemError::NoConvergence {
-            stage,
-            load: t,
-            event: events,
-            iterations: self.opts.max_iterations,
-            residual: ev.relative,
-            unbonded: self.unbonded_stones(),
-        })
-    }
-
-    /// Puts the prescribed platen values of `load` into `z` and returns the external forces
-    /// (over `z`): `load`'s forces plus `extra`.
-    pub(super) fn apply_load(&mut self, load: &LoadPoint, extra: Option<&[f64]>) -> Vec<f64> {
-        let map = &self.model.map;
-        for (k, &zi) in map.prescribed.iter().enumerate() {
-            self.state.z[zi] = load.prescribed[k];
-        }
-        let mut f_ext = extra.map_or_else(|| vec![0.0; map.n_z], |x| x.to_vec());
-        for (k, &zi) in map.forced.iter().enumerate() {
-            f_ext[zi] += load.forces[k];
-        }
-        f_ext
-    }
-
-    /// Newton's direction `K_T Δz = r` at the evaluation `ev`: one solve with the factorized
-    /// operator when no contact is active (then `K_T = M`); else GMRES to the relative tolerance
-    /// `eta`, preconditioned by `M`, with a direct sparse LU of `K_T` where GMRES misses it
-    /// (module docs). The trace's `step` gets the GMRES figures.
-    fn newton_direction(
-        &mut self,
-        ev: &Evaluation,
-        eta: f64,
-        step: Option<&mut NewtonStep>,
-    ) -> Result<Vec<f64>, DemError> {
-        let events = self.state.broken.len();
-        let fail = |e: super::factor::FactorError| DemError::Factorization { event: events, reason: e.0 };
-        let mut dz = ev.r.clone();
-        if ev.contacts.is_empty() {
-            let clock = Instant::now();
-            let support = self.sparse_support(ev);
-            let sparse = match &support {
-                Some(s) => self.operator.factor.solve_sparse(&mut dz, s).map_err(fail)?,
-                None => None,
-            };
-            match sparse {
-                Some(columns) => {
-                    self.profile.sparse_solves += 1;
-                    self.profile.sparse_columns += columns;
-                }
-                None => self.operator.factor.solve(&mut dz).map_err(fail)?,
-            }
-            self.counters.solves += 1;
-            profile::add(&mut self.profile.solve_seconds, clock.elapsed());
-            return Ok(dz);
-        }
-        let clock = Instant::now();
-        let tangent = Tangent::new(&self.model, &self.state, &self.scales.reg, &ev.contacts, &mut self.jacobians)?;
-        let jc = &self.jacobians;
-        let p = &mut self.profile;
-        (p.jacobians_computed, p.jacobians_reused) = (jc.computed, jc.reused);
-        p.jacobians_on_cone = jc.on_cone;
-        // Inexact Newton: the linear solve to η ‖r‖ (`SolverOptions::forcing`; a fixed 1e-6 lost
-        // two of the paper wall's 16 shear samples, a fixed 1e-8 was the former default).
-        // D = K_T − M: GMRES's products cost O(contacts) (`gmres_split`).
-        let op = &mut self.operator;
-        let difference = tangent.difference(&ev.contacts, |i, j| op.held(i, j));
-        profile::add(&mut p.tangent_seconds, clock.elapsed());
-        let clock = Instant::now();
-        let factor = &mut op.factor;
-        let mut in_precond = std::time::Duration::ZERO;
-        dz.iter_mut().for_each(|x| *x = 0.0);
-        let info = gmres_split(
-            &mut dz,
-            &ev.r,
-            |v, o| tangent.apply(v, o),
-            |v, o| difference.apply(v, o),
-            |v| {
-                let c = Instant::now();
-                let r = factor.solve(v);
-                in_precond += c.elapsed();
-                r
-            },
-            eta,
-            60,
-            240,
-        )
-        .map_err(fail)?;
-        self.counters.solves += info.iterations;
-        p.gmres_solves += 1;
-        p.gmres_iterations += info.iterations;
-        let sliding = ev.contacts.iter().filter(|a| !a.sticks()).count();
-        p.sliding_at_gmres += sliding;
-        p.contacts_at_gmres += ev.contacts.len();
-        p.phases.gmres_step(sliding, info.iterations);
-        profile::add(&mut p.solve_seconds, in_precond);
-        profile::add(&mut p.gmres_seconds, clock.elapsed().saturating_sub(in_precond));
-        let mut linear_converged = info.converged;
-        if !info.converged {
-            if op.factor.rank() > 0 {
-                // An inaccurate Woodbury correction: start the next iteration afresh.
-                op.invalidate(Some(Refactor::Accuracy));
-            }
-            // GMRES missed its tolerance (a tangent far from the preconditioner's: many sliding
-            // contacts around stones with no intact beam): Newton's step by a direct solve of
-            // the assembled tangent, so that the iteration is not driven by an unconverged
-            // direction.
-            let clock = Instant::now();
-            if let Some(x) = tangent.solve_direct(&ev.r) {
-                dz = x;
-                p.direct_solves += 1;
-                linear_converged = true;
-            }
-            profile::add(&mut p.solve_seconds, clock.elapsed());
-        }
-        if let Some(st) = step {
-            st.gmres_iterations = info.iterations;
-            st.linear_converged = linear_converged;
-        }
-        Ok(dz)
-    }
-
-    /// The unknowns where the residual of `ev` passes `SPARSE_RHS_DROP · tol · scale`, when
-    /// they are few enough (at most `n / SPARSE_RHS_FEW`) for a solve over their reach to pay
-    /// ([`super::factor`], "Sparse right-hand sides"); `None`: solve densely.
-    ///
-    /// **Not with crushing**, like the step predictor ([`super::step_predictor`]): past the
-    /// peak, crushing contacts soften and which equilibrium Newton's method finds depends on
-    /// differences far below its tolerance. On the paper's wall with crushing
-    /// (`crushing_tests.rs`, seed 4, updates in place) the residual the sparse step leaves
-    /// (`10⁻¹³` of the scale) turned the loss of load into a collapse at event 78.
-    fn sparse_support(&self, ev: &Evaluation) -> Option<Vec<usize>> {
-        let crushing = self.model.params.crushing.is_some();
-        if !self.opts.sparse_rhs || crushing || !self.operator.factor.updates_in_place() || ev.relative <= 0.0 {
-            return None;
-        }
-        let r_inf = ev.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let drop = SPARSE_RHS_DROP * self.opts.tol * r_inf / ev.relative;
-        let few = ev.r.len() / SPARSE_RHS_FEW;
-        let mut support = Vec::new();
-        for (e, x) in ev.r.iter().enumerate() {
-            if x.abs() > drop {
-                if support.len() == few {
-                    return None;
-                }
-                support.push(e);
-            }
-        }
-        Some(support)
-    }
-
-    /// Scales `dz` so that no stone moves by more than `max_move` in one iteration; returns the
-    /// scale applied (1: none).
-    pub(super) fn cap_step(&self, dz: &mut [f64]) -> f64 {
-        let map = &self.model.map;
-        let big = map
-            .unknowns
-            .iter()
-            .zip(dz.iter())
-            .map(|(&zi, d)| if zi % 3 == 2 { d.abs() * self.scales.mean_diameter } else { d.abs() })
-            .fold(0.0f64, f64::max);
-        if big > self.scales.max_move {
-            let s = self.scales.max_move / big;
-            dz.iter_mut().for_each(|d| *d *= s);
-            return s;
-        }
-        1.0
-    }
-
-    /// Backtracking on the merit function along `dz`; moves `self.z` and returns the evaluation
-    /// at the accepted point and the step length taken.
-    ///
-    /// The beams' forces along the line are `K_b z₀ + α K_b Δz` (one product `K_b Δz` per
-    /// search, the beam law being linear; the same forces as `K_b z` to round-off).
-    fn line_search(&mut self, dz: &[f64], f_ext: &[f64], ev0: Evaluation) -> Result<(Evaluation, f64), DemError> {
-        let base = self.state.z.clone();
-        let unknowns = self.model.map.unknowns.clone();
-        let clock = Instant::now();
-        let mut dz_z = vec![0.0; self.model.map.n_z];
-        for (e, &zi) in unknowns.iter().enumerate() {
-            dz_z[zi] = dz[e];
-        }
-        let mut k_dz = vec![0.0; self.model.map.n_z];
-        self.model.add_beam_forces(&self.state.intact, &dz_z, &mut k_dz);
-        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
-        let mut best: Option<(f64, Evaluation)> = None;
-        let mut alpha = 1.0;
-        for _ in 0..6 {
-            let mut z = base.clone();
-            for (e, &zi) in unknowns.iter().enumerate() {
-                z[zi] += alpha * dz[e];
-            }
-            let beams = ev0.beam_forces.iter().zip(&k_dz).map(|(f, k)| f + alpha * k).collect();
-            let ev = self.evaluate_with_beams(&z, f_ext, beams)?;
-            let accept = ev.merit <= (1.0 - 1e-4 * alpha) * ev0.merit;
-            if best.as_ref().is_none_or(|(_, b)| ev.merit < b.merit) {
-                best = Some((alpha, ev));
-            }
-            if accept {
-                break;
-            }
-            alpha *= 0.5;
-        }
-        match best {
-            Some((a, ev)) => {
-                for (e, &zi) in unknowns.iter().enumerate() {
-                    self.state.z[zi] = base[zi] + a * dz[e];
-                }
-                Ok((ev, a))
-            }
-            None => Ok((ev0, 0.0)),
+        let alpha;
+        (ev, alpha) = line_search(pb, state, ws, diag, &dz, &f_ext, ev)?;
+        if let (Some(tr), Some(mut st)) = (diag.trace.as_mut(), step) {
+            st.cap = cap;
+            st.alpha = alpha;
+            tr.step(st);
         }
     }
-
-    /// Stones (not bonded to a platen) without any intact beam.
-    pub(super) fn unbonded_stones(&self) -> Vec<usize> {
-        let s = self.model.sample;
-        (0..s.particles.len())
-            .filter(|&p| !self.model.map.is_slave(p) && !s.neighbours[p].iter().any(|&(_, b)| self.state.intact[b]))
-            .collect()
+    let converged = ev.relative <= pb.opts.tol;
+    if let Some(tr) = diag.trace.as_mut() {
+        tr.end(ev.relative, converged);
     }
+    if converged {
+        state.contacts = ev.contacts;
+        return Ok(());
+    }
+    Err(DemError::NoConvergence {
+        stage,
+        load: t,
+        event: events,
+        iterations: pb.opts.max_iterations,
+        residual: ev.relative,
+        unbonded: unbonded_stones(pb, state),
+    })
 }
 
-/// The trace's record of a Newton iteration at the evaluation `ev` (the linear solve's and the
-/// line search's figures filled in later); `previous` is the contact set of the last one, `map`
-/// names the stone of each equation.
-pub(super) fn newton_step(
+/// Puts the prescribed platen values of `load` into `z` and returns the external forces
+/// (over `z`): `load`'s forces plus `extra`.
+pub(super) fn apply_load(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    load: &LoadPoint,
+    extra: Option<&[f64]>,
+) -> Vec<f64> {
+    let map = &pb.model.map;
+    for (k, &zi) in map.prescribed.iter().enumerate() {
+        state.z[zi] = load.prescribed[k];
+    }
+    let mut f_ext = extra.map_or_else(|| vec![0.0; map.n_z], |x| x.to_vec());
+    for (k, &zi) in map.forced.iter().enumerate() {
+        f_ext[zi] += load.forces[k];
+    }
+    f_ext
+}
+
+/// Newton's direction `K_T Δz = r` at the evaluation `ev`: one solve with the factorized
+/// operator when no contact is active (then `K_T = M`); else GMRES to the relative tolerance
+/// `eta`, preconditioned by `M`, with a direct sparse LU of `K_T` where GMRES misses it
+/// (module docs). The trace's `step` gets the GMRES figures.
+fn newton_direction(
+    pb: &Problem<'_>,
+    state: &SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
     ev: &Evaluation,
-    previous: &mut Option<Vec<(usize, usize, bool)>>,
-    map: &super::DofMap,
-) -> NewtonStep {
-    let mut changed = previous.as_ref().map_or_else(Vec::new, |p| changed_contacts(p, ev));
-    let changes = changed.len();
-    changed.truncate(super::trace::KEPT_CHANGES);
-    *previous = Some(ev.contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect());
-    let (e, r) =
-        ev.r.iter().enumerate().fold((0, 0.0f64), |(k, m), (e, x)| if x.abs() > m { (e, x.abs()) } else { (k, m) });
-    let zi = map.unknowns.get(e).copied().unwrap_or(0);
-    NewtonStep {
-        relative: ev.relative,
-        merit: ev.merit,
-        contacts: ev.contacts.len(),
-        sliding: ev.contacts.iter().filter(|a| !a.sticks()).count(),
-        crushing: ev.contacts.iter().filter(|a| a.crush.is_some_and(|c| c.plastic)).count(),
-        set_changes: changes,
-        gmres_iterations: 0,
-        linear_converged: true,
-        cap: 1.0,
-        alpha: 1.0,
-        shift: 0.0,
-        worst: (map.stone_of(zi), zi % 3, r),
-        changed,
+    eta: f64,
+    step: Option<&mut NewtonStep>,
+) -> Result<Vec<f64>, DemError> {
+    let events = state.broken.len();
+    let fail = |e: super::factor::FactorError| DemError::Factorization { event: events, reason: e.0 };
+    let mut dz = ev.r.clone();
+    if ev.contacts.is_empty() {
+        let clock = Instant::now();
+        let support = sparse_support(pb, ws, ev);
+        let sparse = match &support {
+            Some(s) => ws.operator.factor.solve_sparse(&mut dz, s).map_err(fail)?,
+            None => None,
+        };
+        match sparse {
+            Some(columns) => {
+                diag.profile.sparse_solves += 1;
+                diag.profile.sparse_columns += columns;
+            }
+            None => ws.operator.factor.solve(&mut dz).map_err(fail)?,
+        }
+        diag.counters.solves += 1;
+        profile::add(&mut diag.profile.solve_seconds, clock.elapsed());
+        return Ok(dz);
+    }
+    let clock = Instant::now();
+    let tangent = Tangent::new(&pb.model, state, &pb.scales.reg, &ev.contacts, &mut ws.jacobians)?;
+    let jc = &ws.jacobians;
+    let p = &mut diag.profile;
+    (p.jacobians_computed, p.jacobians_reused) = (jc.computed, jc.reused);
+    p.jacobians_on_cone = jc.on_cone;
+    // Inexact Newton: the linear solve to η ‖r‖ (`SolverOptions::forcing`; a fixed 1e-6 lost
+    // two of the paper wall's 16 shear samples, a fixed 1e-8 was the former default).
+    // D = K_T − M: GMRES's products cost O(contacts) (`gmres_split`).
+    let op = &mut ws.operator;
+    let difference = tangent.difference(&ev.contacts, |i, j| op.held(i, j));
+    profile::add(&mut p.tangent_seconds, clock.elapsed());
+    let clock = Instant::now();
+    let factor = &mut op.factor;
+    let mut in_precond = std::time::Duration::ZERO;
+    dz.iter_mut().for_each(|x| *x = 0.0);
+    let info = gmres_split(
+        &mut dz,
+        &ev.r,
+        |v, o| tangent.apply(v, o),
+        |v, o| difference.apply(v, o),
+        |v| {
+            let c = Instant::now();
+            let r = factor.solve(v);
+            in_precond += c.elapsed();
+            r
+        },
+        eta,
+        60,
+        240,
+    )
+    .map_err(fail)?;
+    diag.counters.solves += info.iterations;
+    p.gmres_solves += 1;
+    p.gmres_iterations += info.iterations;
+    let sliding = ev.contacts.iter().filter(|a| !a.sticks()).count();
+    p.sliding_at_gmres += sliding;
+    p.contacts_at_gmres += ev.contacts.len();
+    p.phases.gmres_step(sliding, info.iterations);
+    profile::add(&mut p.solve_seconds, in_precond);
+    profile::add(&mut p.gmres_seconds, clock.elapsed().saturating_sub(in_precond));
+    let mut linear_converged = info.converged;
+    if !info.converged {
+        if op.factor.rank() > 0 {
+            // An inaccurate Woodbury correction: start the next iteration afresh.
+            op.invalidate(Some(Refactor::Accuracy));
+        }
+        // GMRES missed its tolerance (a tangent far from the preconditioner's: many sliding
+        // contacts around stones with no intact beam): Newton's step by a direct solve of
+        // the assembled tangent, so that the iteration is not driven by an unconverged
+        // direction.
+        let clock = Instant::now();
+        if let Some(x) = tangent.solve_direct(&ev.r) {
+            dz = x;
+            p.direct_solves += 1;
+            linear_converged = true;
+        }
+        profile::add(&mut p.solve_seconds, clock.elapsed());
+    }
+    if let Some(st) = step {
+        st.gmres_iterations = info.iterations;
+        st.linear_converged = linear_converged;
+    }
+    Ok(dz)
+}
+
+/// The unknowns where the residual of `ev` passes `SPARSE_RHS_DROP · tol · scale`, when
+/// they are few enough (at most `n / SPARSE_RHS_FEW`) for a solve over their reach to pay
+/// ([`super::factor`], "Sparse right-hand sides"); `None`: solve densely.
+///
+/// **Not with crushing**, like the step predictor ([`super::step_predictor`]): past the
+/// peak, crushing contacts soften and which equilibrium Newton's method finds depends on
+/// differences far below its tolerance. On the paper's wall with crushing
+/// (`crushing_tests.rs`, seed 4, updates in place) the residual the sparse step leaves
+/// (`10⁻¹³` of the scale) turned the loss of load into a collapse at event 78.
+fn sparse_support(pb: &Problem<'_>, ws: &Workspace, ev: &Evaluation) -> Option<Vec<usize>> {
+    let crushing = pb.model.params.crushing.is_some();
+    if !pb.opts.sparse_rhs || crushing || !ws.operator.factor.updates_in_place() || ev.relative <= 0.0 {
+        return None;
+    }
+    let r_inf = ev.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let drop = SPARSE_RHS_DROP * pb.opts.tol * r_inf / ev.relative;
+    let few = ev.r.len() / SPARSE_RHS_FEW;
+    let mut support = Vec::new();
+    for (e, x) in ev.r.iter().enumerate() {
+        if x.abs() > drop {
+            if support.len() == few {
+                return None;
+            }
+            support.push(e);
+        }
+    }
+    Some(support)
+}
+
+/// Scales `dz` so that no stone moves by more than `max_move` in one iteration; returns the
+/// scale applied (1: none).
+fn cap_step(pb: &Problem<'_>, dz: &mut [f64]) -> f64 {
+    let map = &pb.model.map;
+    let big = map
+        .unknowns
+        .iter()
+        .zip(dz.iter())
+        .map(|(&zi, d)| if zi % 3 == 2 { d.abs() * pb.scales.mean_diameter } else { d.abs() })
+        .fold(0.0f64, f64::max);
+    if big > pb.scales.max_move {
+        let s = pb.scales.max_move / big;
+        dz.iter_mut().for_each(|d| *d *= s);
+        return s;
+    }
+    1.0
+}
+
+/// Backtracking on the merit function along `dz`; moves the state's `z` and returns the
+/// evaluation at the accepted point and the step length taken.
+///
+/// The beams' forces along the line are `K_b z₀ + α K_b Δz` (one product `K_b Δz` per
+/// search, the beam law being linear; the same forces as `K_b z` to round-off).
+fn line_search(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    dz: &[f64],
+    f_ext: &[f64],
+    ev0: Evaluation,
+) -> Result<(Evaluation, f64), DemError> {
+    let base = state.z.clone();
+    let unknowns = pb.model.map.unknowns.clone();
+    let clock = Instant::now();
+    let mut dz_z = vec![0.0; pb.model.map.n_z];
+    for (e, &zi) in unknowns.iter().enumerate() {
+        dz_z[zi] = dz[e];
+    }
+    let mut k_dz = vec![0.0; pb.model.map.n_z];
+    pb.model.add_beam_forces(&state.intact, &dz_z, &mut k_dz);
+    profile::add(&mut diag.profile.evaluate_seconds, clock.elapsed());
+    let mut best: Option<(f64, Evaluation)> = None;
+    let mut alpha = 1.0;
+    for _ in 0..6 {
+        let mut z = base.clone();
+        for (e, &zi) in unknowns.iter().enumerate() {
+            z[zi] += alpha * dz[e];
+        }
+        let beams = ev0.beam_forces.iter().zip(&k_dz).map(|(f, k)| f + alpha * k).collect();
+        let ev = evaluate_with_beams(pb, state, ws, diag, &z, f_ext, beams)?;
+        let accept = ev.merit <= (1.0 - 1e-4 * alpha) * ev0.merit;
+        if best.as_ref().is_none_or(|(_, b)| ev.merit < b.merit) {
+            best = Some((alpha, ev));
+        }
+        if accept {
+            break;
+        }
+        alpha *= 0.5;
+    }
+    match best {
+        Some((a, ev)) => {
+            for (e, &zi) in unknowns.iter().enumerate() {
+                state.z[zi] = base[zi] + a * dz[e];
+            }
+            Ok((ev, a))
+        }
+        None => Ok((ev0, 0.0)),
     }
 }
 
-/// The contacts of `ev` that entered or flipped between stick and slip, then those that left,
-/// against the previous set `a` `(i, j, sticks)`.
-fn changed_contacts(a: &[(usize, usize, bool)], ev: &Evaluation) -> Vec<super::trace::Change> {
-    use super::trace::Change;
-    let ma: BTreeMap<(usize, usize), bool> = a.iter().map(|&(i, j, s)| ((i, j), s)).collect();
-    let mut out = Vec::new();
-    for c in &ev.contacts {
-        let what = match ma.get(&(c.i, c.j)) {
-            None => "enter",
-            Some(&s) if s != c.sticks() => {
-                if c.sticks() {
-                    "stick"
-                } else {
-                    "slip"
-                }
-            }
-            _ => continue,
-        };
-        let f_n = c.contact.f_n;
-        out.push(Change {
-            pair: (c.i, c.j),
-            what,
-            f_n,
-            ratio: if f_n > 0.0 { c.friction.f_t.abs() / f_n } else { 0.0 },
-        });
-    }
-    let now: std::collections::BTreeSet<(usize, usize)> = ev.contacts.iter().map(|c| (c.i, c.j)).collect();
-    for k in ma.keys().filter(|k| !now.contains(k)) {
-        out.push(Change { pair: *k, what: "leave", f_n: 0.0, ratio: 0.0 });
-    }
-    out
+/// Stones (not bonded to a platen) without any intact beam.
+pub(super) fn unbonded_stones(pb: &Problem<'_>, state: &SolverState) -> Vec<usize> {
+    let s = pb.model.sample;
+    (0..s.particles.len())
+        .filter(|&p| !pb.model.map.is_slave(p) && !s.neighbours[p].iter().any(|&(_, b)| state.intact[b]))
+        .collect()
 }

@@ -31,49 +31,61 @@
 use std::time::Instant;
 
 use super::contact_set::{self, ActiveContact};
+use super::diagnostics::Diagnostics;
 use super::error::DemError;
+use super::problem::Problem;
 use super::profile;
-use super::solver::Solver;
+use super::state::SolverState;
+use super::workspace::Workspace;
 
-impl<'a> Solver<'a> {
-    /// Newton's first step `Δz` (over the unknowns, from a start without contacts, not capped)
-    /// taken as the equilibrium when the problem is linear over it (module docs): `true`, `z`
-    /// moved to `z + Δz`; `false`, `z` unchanged and Newton's method goes on as before.
-    pub(super) fn linear_step(&mut self, dz: &[f64]) -> Result<bool, DemError> {
-        if !self.opts.linear_phase || !self.state.committed_contacts.is_empty() {
-            return Ok(false);
-        }
-        let mut z1 = self.state.z.clone();
-        for (e, &zi) in self.model.map.unknowns.iter().enumerate() {
-            z1[zi] += dz[e];
-        }
-        if !self.contacts_at(&z1)?.is_empty() {
-            self.profile.linear_fallbacks += 1;
-            return Ok(false);
-        }
-        self.state.z = z1;
-        self.profile.linear_solves += 1;
-        Ok(true)
+/// Newton's first step `Δz` (over the unknowns, from a start without contacts, not capped)
+/// taken as the equilibrium when the problem is linear over it (module docs): `true`, `z`
+/// moved to `z + Δz`; `false`, `z` unchanged and Newton's method goes on as before.
+pub(super) fn linear_step(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    dz: &[f64],
+) -> Result<bool, DemError> {
+    if !pb.opts.linear_phase || !state.committed_contacts.is_empty() {
+        return Ok(false);
     }
+    let mut z1 = state.z.clone();
+    for (e, &zi) in pb.model.map.unknowns.iter().enumerate() {
+        z1[zi] += dz[e];
+    }
+    if !contacts_at(pb, state, ws, diag, &z1)?.is_empty() {
+        diag.profile.linear_fallbacks += 1;
+        return Ok(false);
+    }
+    state.z = z1;
+    diag.profile.linear_solves += 1;
+    Ok(true)
+}
 
-    /// The active contacts at `z` (the contact search of a residual evaluation, without the
-    /// forces).
-    fn contacts_at(&mut self, z: &[f64]) -> Result<Vec<ActiveContact>, DemError> {
-        if !self.opts.contacts || self.state.broken.is_empty() {
-            return Ok(Vec::new());
-        }
-        let clock = Instant::now();
-        let pairs = self.candidates.candidates(self.model.sample, &self.model.map, z, &self.state.intact);
-        self.profile.pair_evaluations += pairs.len();
-        self.profile.candidate_rebuilds = self.candidates.rebuilds;
-        let m = &self.model;
-        let contacts =
-            contact_set::evaluate(m.sample, &m.map, &m.params, &pairs, z, &self.state.z_commit, &self.state.histories)?;
-        if !pairs.is_empty() {
-            let touching: Vec<(usize, usize)> = contacts.iter().map(|a| (a.i, a.j)).collect();
-            self.candidates.refresh_apart(m.sample, &m.map, z, &touching);
-        }
-        profile::add(&mut self.profile.evaluate_seconds, clock.elapsed());
-        Ok(contacts)
+/// The active contacts at `z` (the contact search of a residual evaluation, without the
+/// forces).
+fn contacts_at(
+    pb: &Problem<'_>,
+    state: &SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    z: &[f64],
+) -> Result<Vec<ActiveContact>, DemError> {
+    if !pb.opts.contacts || state.broken.is_empty() {
+        return Ok(Vec::new());
     }
+    let clock = Instant::now();
+    let pairs = ws.candidates.candidates(pb.model.sample, &pb.model.map, z, &state.intact);
+    diag.profile.pair_evaluations += pairs.len();
+    diag.profile.candidate_rebuilds = ws.candidates.rebuilds;
+    let m = &pb.model;
+    let contacts = contact_set::evaluate(m.sample, &m.map, &m.params, &pairs, z, &state.z_commit, &state.histories)?;
+    if !pairs.is_empty() {
+        let touching: Vec<(usize, usize)> = contacts.iter().map(|a| (a.i, a.j)).collect();
+        ws.candidates.refresh_apart(m.sample, &m.map, z, &touching);
+    }
+    profile::add(&mut diag.profile.evaluate_seconds, clock.elapsed());
+    Ok(contacts)
 }

@@ -3,13 +3,14 @@
 //!
 //! | file | concept |
 //! |---|---|
-//! | `solver.rs` | the solver of one test: the model and options, the state, the workspace, the diagnostics |
+//! | `solver.rs` | the solver of one test: the owner of the problem, the state, the workspace and the diagnostics, whose entry points hand them to the step pipeline; the pipeline's shape: free functions `(pb: &Problem, state: &mut SolverState, ws: &mut Workspace, diag: &mut Diagnostics, …)` in the files below |
+//! | `problem.rs`, `workspace.rs`, `diagnostics.rs` | the parts the pipeline works on: the model, options and scales (fixed); the operator, candidates and Jacobians (rebuilt from the state); counters, profile, trace, observer and phase (read after the run) |
 //! | `state.rs` | the mechanical state (coordinates, intact beams, contacts and histories, load, energy, records): cloned, it continues in a new solver |
 //! | `options.rs`, `records.rs`, `scales.rs` | the options (among them how the factor follows breaks: in place from 1,000 unknowns, `FactorUpdates`); what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
-//! | `stage.rs`, `walk.rs` | the stage loop: load steps, cut-backs, snaps, contact events (the algorithm's module docs); where a stage's walk over its load stands |
+//! | `stage.rs`, `walk.rs` | the stage loop, the top of the pipeline: load steps, cut-backs, snaps, contact events (the algorithm's module docs); where a stage's walk over its load stands |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
-//! | `equilibrium.rs` | Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
+//! | `equilibrium.rs` | an equilibrium, booked to its phase: Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
 //! | `dofs.rs`, `system.rs` | the unknowns (stones, platens as master DOFs) and the assembled model |
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
@@ -25,7 +26,7 @@
 //! | `contact_events.rs` | optional (`SolverOptions::contact_events`): a load step ends where a contact starts to slide, closes or opens |
 //! | `checkpoint.rs` | a test's checkpoint: the state, the stage walk and the counters (and how a finished test ended), asked for by a sink after each load step; the file: versioned, fingerprinted (sample, mechanics, test), checksummed, written atomically; a resumed test continues from it |
 //! | `virtual_test.rs`, `test_run.rs` | tension, compression, shear and cyclic tests (their protocols); running one: ends as target, loss of load, collapse or failed, with checkpoints or from one |
-//! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts, counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
+//! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts (each iteration's record read off its residual evaluation), counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
 #[cfg(test)]
 mod break_group_tests;
 mod breaks;
@@ -40,6 +41,7 @@ mod continuation;
 mod crushing_tests;
 #[cfg(test)]
 mod cyclic_tests;
+pub mod diagnostics;
 pub mod dofs;
 pub mod energy;
 mod equilibrium;
@@ -53,6 +55,7 @@ mod operator;
 pub mod options;
 pub mod ordering;
 pub mod phases;
+mod problem;
 pub mod profile;
 pub mod records;
 pub mod scales;
@@ -74,8 +77,10 @@ mod tests;
 pub mod trace;
 pub mod virtual_test;
 mod walk;
+mod workspace;
 
 pub use checkpoint::{CheckpointSink, Fingerprint, TestCheckpoint};
+pub use diagnostics::Diagnostics;
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
@@ -89,6 +94,6 @@ pub use system::Model;
 pub use test_result::{CurvePoint, Derived, RunStats, TestEnd, TestResult};
 pub use test_run::{
     finished_result, run_test, run_test_checkpointed, run_test_observed, run_test_recording, run_test_with,
-    Checkpoints, Report,
+    Checkpoints, Report, TestRun,
 };
 pub use virtual_test::{cyclic_protocol, PlatenRotation, VirtualTest};

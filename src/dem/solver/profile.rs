@@ -2,7 +2,7 @@
 //! iterations and the linear solver, filled as the solver runs (a few `Instant::now()` per
 //! Newton iteration; negligible against the work they time).
 //!
-//! Read it after a run ([`super::Solver::profile`]); `examples/dem_profile.rs` prints it as JSON
+//! Read it after a run ([`super::Diagnostics::profile`]); `examples/dem_profile.rs` prints it as JSON
 //! for a compression test of a random sample.
 use std::time::Duration;
 

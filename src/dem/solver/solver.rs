@@ -1,55 +1,65 @@
-//! The solver of one virtual test: the model, its options, the mechanical state
-//! ([`SolverState`]) and the workspace that computes it, with the counters, the profile and
-//! the observer of recorded states.
+//! The solver of one virtual test: the owner of the parts the step pipeline works on, with the
+//! public entry points that call it.
 //!
-//! | part | fields | lives |
-//! |---|---|---|
-//! | problem | `model`, `opts`, `scales` | fixed for the test |
-//! | state | `state` | the test's mechanics: cloned, it continues in a new solver ([`Solver::resume`]) |
-//! | workspace | `operator`, `candidates`, `jacobians` | rebuilt from the state when lost |
-//! | diagnostics | `counters`, `profile`, `trace`, `observer` | read after the run |
+//! | part | type | fields | lives |
+//! |---|---|---|---|
+//! | problem | [`Problem`] | `model`, `opts`, `scales` | fixed for the test |
+//! | state | [`SolverState`] | coordinates, beams, contacts, load, energy, records | the test's mechanics: cloned, it continues in a new solver ([`Solver::resume`]) |
+//! | workspace | [`Workspace`] | `operator`, `shifted`, `candidates`, `jacobians` | rebuilt from the state when lost |
+//! | diagnostics | [`Diagnostics`] | `counters`, `profile`, `trace`, `observer`, `phase` | read after the run |
 //!
-//! The algorithm's steps live in their own files: the stage loop ([`super::stage`]), the
-//! breaks ([`super::breaks`]), equilibrium ([`super::equilibrium`]), continuation
-//! ([`super::continuation`]), the energy account and commits ([`super::energy`]).
-use super::contact_candidates::CandidateList;
+//! **The step as a pipeline.** The algorithm is free functions over these parts, in the manner
+//! of rapier's pipelines and pmsim's solvers: each takes the parts it touches, always in the
+//! order
+//!
+//! ```text
+//!   fn step(pb: &Problem, state: &mut SolverState, ws: &mut Workspace, diag: &mut Diagnostics, <its own arguments>)
+//! ```
+//!
+//! leaving out those it does not touch (a function that only reads the state takes
+//! `&SolverState`). The problem is one struct passed by reference, not the model, the options
+//! and the scales apart, because nearly every step reads the model and most read the options or
+//! the scales; the diagnostics are one struct for the same reason. So every list stays within
+//! seven arguments, the borrows are disjoint by construction (the workspace's operator beside
+//! the state it is kept up from), and a signature says what a step may change: a `&mut` part.
+//! The solver holds no algorithm: [`Solver::start`], [`Solver::run_stage`] and the others hand
+//! its parts to the pipeline.
+//!
+//! | file | the pipeline's step |
+//! |---|---|
+//! | [`super::stage`] | the stage loop: trial load steps, cut-backs, snaps, breaks inside a step, contact events |
+//! | [`super::breaks`] | where a beam breaks, the most critical beams, the release of a broken beam's force |
+//! | [`super::equilibrium`] | an equilibrium at a fixed load: Newton's method, booked to its phase |
+//! | [`super::linear`] | Newton's first step as the equilibrium where the problem is linear |
+//! | [`super::continuation`] | pseudo-transient continuation where Newton's method fails |
+//! | [`super::energy`] | the commit of a state and the energy account |
+//! | [`super::step_predictor`], [`super::contact_events`] | the start of a step after a break; the first contact event of a step |
+use super::breaks;
+use super::checkpoint::CheckpointSink;
 use super::contact_set::ActiveContact;
+use super::diagnostics::Diagnostics;
+use super::equilibrium;
 use super::error::DemError;
-use super::operator::{Operator, Upkeep};
 use super::options::SolverOptions;
-use super::phases::Phase;
-use super::profile::{Counters, SolverProfile};
-use super::records::{BrokenBeam, LoadPoint, Observer, StateRecord};
-use super::scales::Scales;
+use super::problem::Problem;
+use super::records::{BrokenBeam, LoadPoint, StageEnd, StateRecord};
+use super::stage;
 use super::state::SolverState;
 use super::system::Model;
-use super::tangent::JacobianCache;
-use super::trace::Trace;
+use super::walk::StageWalk;
+use super::workspace::Workspace;
 
 /// The solver of one test (module docs).
 pub struct Solver<'a> {
-    pub(super) model: Model<'a>,
-    pub(super) opts: SolverOptions,
-    pub(super) scales: Scales,
+    /// The model, the options and the scales.
+    pub(super) problem: Problem<'a>,
+    /// The mechanical state.
     pub(super) state: SolverState,
-    pub(super) operator: Operator,
-    /// With updates in place: the continuation's shifted operators, a Woodbury operator of their
-    /// own, so that the updatable factor stays unshifted ([`super::continuation`]).
-    pub(super) shifted: Option<Operator>,
-    /// The contact search's candidate list ([`super::contact_candidates`]).
-    pub(super) candidates: CandidateList,
-    /// Contact Jacobians kept between evaluations ([`super::tangent`]).
-    pub(super) jacobians: JacobianCache,
-    /// How often the algorithm's branches were taken ([`Counters`]).
-    pub counters: Counters,
-    /// Counters and phase times of the numerics ([`SolverProfile`]).
-    pub profile: SolverProfile,
-    /// Sees every recorded state ([`Observer`]).
-    pub observer: Option<Box<dyn Observer + 'a>>,
-    /// The Newton history of the last equilibrium attempts (with [`SolverOptions::trace`]).
-    pub trace: Option<Trace>,
-    /// What the next equilibria are solved for ([`super::phases`]).
-    pub(super) phase: Phase,
+    /// The operator, the contact candidates and the Jacobians.
+    pub(super) ws: Workspace,
+    /// The counters, the profile and the trace, read after the run, and the observer, set
+    /// before it ([`Diagnostics`]).
+    pub diag: Diagnostics<'a>,
 }
 
 impl<'a> Solver<'a> {
@@ -87,21 +97,9 @@ impl<'a> Solver<'a> {
                 expected: "a share of k_t in [0, 1]",
             });
         }
-        Ok(Solver {
-            scales: Scales::of(&model),
-            operator: Operator::new(map.n_eq(), opts.factor_updates.in_place(map.n_eq()), opts.fill_refactor)?,
-            shifted: None,
-            opts,
-            state,
-            candidates: CandidateList::default(),
-            jacobians: JacobianCache::default(),
-            counters: Counters::default(),
-            profile: SolverProfile::default(),
-            observer: None,
-            trace: opts.trace.then(Default::default),
-            phase: Phase::Other,
-            model,
-        })
+        let problem = Problem::new(model, opts);
+        let ws = Workspace::new(problem.model.map.n_eq(), &problem.opts)?;
+        Ok(Solver { diag: Diagnostics::new(&problem.opts), problem, state, ws })
     }
 
     /// The mechanical state ([`SolverState`]).
@@ -126,62 +124,71 @@ impl<'a> Solver<'a> {
 
     /// The model.
     pub fn model(&self) -> &Model<'a> {
-        &self.model
+        &self.problem.model
     }
 
     /// The factorization statistics `(numeric factorizations, symbolic analyses)`, the
     /// continuation's own shifted operator's included.
     pub fn factor_stats(&self) -> (usize, usize) {
-        let shifted = self.shifted.as_ref().map_or((0, 0), |s| (s.factor.n_factorizations, s.factor.n_symbolic));
-        (self.operator.factor.n_factorizations + shifted.0, self.operator.factor.n_symbolic + shifted.1)
+        self.ws.factor_stats()
     }
 
     /// Sets the reuse threshold `η` of contact Jacobians ([`super::tangent`]; 0, the default,
     /// recomputes every Jacobian at every Newton iteration). Errors: `η` negative or not finite.
     pub fn set_jacobian_reuse(&mut self, eta: f64) -> Result<(), DemError> {
         super::error::non_negative("jacobian reuse fraction", eta)?;
-        self.jacobians.reuse_fraction = eta;
+        self.ws.jacobians.reuse_fraction = eta;
         Ok(())
+    }
+
+    /// Records the unloaded initial state (call once before the first stage).
+    pub fn start(&mut self) -> Result<(), DemError> {
+        stage::start(&self.problem, &mut self.state, &mut self.ws, &mut self.diag)
+    }
+
+    /// Runs one load stage from the current load to `target` in `steps` equal steps; `monitor`
+    /// is the platen force `(platen, dof)` watched for loss of load ([`super::stage`]).
+    ///
+    /// **Cut-back.** A step whose equilibrium is not found is retried from the committed state
+    /// with half the increment (at most `max_cutbacks` halvings of one step); after a success the
+    /// increment doubles again up to the step. If the smallest increment fails too, the error is
+    /// returned: the recorded states so far stay in [`Self::states`].
+    pub fn run_stage(
+        &mut self,
+        target: &LoadPoint,
+        steps: usize,
+        monitor: Option<(usize, usize)>,
+    ) -> Result<StageEnd, DemError> {
+        let walk = self.stage_walk(target, steps);
+        self.continue_stage(walk, monitor, None)
+    }
+
+    /// The walk of a stage from the current load to `target` in `steps` steps, not yet begun.
+    pub(super) fn stage_walk(&self, target: &LoadPoint, steps: usize) -> StageWalk {
+        stage::stage_walk(&self.problem.opts, &self.state, target, steps)
+    }
+
+    /// Runs the stage `walk` stands in to its end ([`stage::continue_stage`]), asking `sink`
+    /// after each load step whether a checkpoint is due.
+    pub(super) fn continue_stage(
+        &mut self,
+        walk: StageWalk,
+        monitor: Option<(usize, usize)>,
+        sink: Option<&mut dyn CheckpointSink>,
+    ) -> Result<StageEnd, DemError> {
+        stage::continue_stage(&self.problem, &mut self.state, &mut self.ws, &mut self.diag, walk, monitor, sink)
+    }
+
+    /// Breaks beam `b` now (e.g. a pre-cracked sample), re-equilibrates at the current load and
+    /// records the state ([`super::breaks`]). Errors: `b` not an intact beam, and those of the
+    /// release.
+    pub fn break_and_relax(&mut self, b: usize) -> Result<(), DemError> {
+        breaks::break_and_relax(&self.problem, &mut self.state, &mut self.ws, &mut self.diag, b)
     }
 
     /// Finds equilibrium at `load` starting from the current `z` (see [`super::equilibrium`]);
     /// leaves the contacts of the equilibrium state in [`Self::contacts`].
     pub fn equilibrate(&mut self, load: &LoadPoint, t: f64) -> Result<(), DemError> {
-        self.equilibrate_with(load, None, t)
-    }
-
-    /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
-    /// broken beam's force being released), starting from the current `z` (Newton's method,
-    /// [`super::equilibrium`]); leaves the contacts of the equilibrium state in the state's
-    /// `contacts`. Its work is booked to the current phase, or to the cut-backs when it does
-    /// not converge ([`super::phases`]).
-    pub(super) fn equilibrate_with(&mut self, load: &LoadPoint, extra: Option<&[f64]>, t: f64) -> Result<(), DemError> {
-        let (before, clock) = (self.profile.running(), std::time::Instant::now());
-        let out = self.newton(load, extra, t);
-        let mut w = self.profile.running().since(&before);
-        w.equilibria = 1;
-        w.seconds = clock.elapsed().as_secs_f64();
-        let failed = matches!(out, Err(DemError::NoConvergence { .. }));
-        self.profile.phases.book(self.phase, failed, &w);
-        out
-    }
-
-    /// The operator with what its upkeep reads, and the scales (disjoint borrows of the
-    /// solver's parts).
-    pub(super) fn operator_upkeep(&mut self) -> (&mut Operator, Upkeep<'_, 'a>, &Scales) {
-        let upkeep = Upkeep {
-            model: &self.model,
-            intact: &self.state.intact,
-            opts: &self.opts,
-            profile: &mut self.profile,
-            event: self.state.broken.len(),
-        };
-        (&mut self.operator, upkeep, &self.scales)
-    }
-
-    /// Refactorizes the operator with the regularization when it is stale.
-    pub(super) fn refresh_operator(&mut self) -> Result<(), DemError> {
-        let (op, mut u, scales) = self.operator_upkeep();
-        op.refresh(&mut u, &scales.reg)
+        equilibrium::equilibrate(&self.problem, &mut self.state, &mut self.ws, &mut self.diag, load, None, t)
     }
 }

@@ -77,12 +77,12 @@ fn predicted_load_steps_reach_the_same_equilibria() {
     // A break's load fraction comes from the converged end of its step, known to the
     // tolerance: 1e-7 of the stage (measured: 2e-9).
     assert_same_path(&with, &without, 1e-6, Some(1e-7), "predictor");
-    assert!(with.profile.predicted_steps > 0 && without.profile.predicted_steps == 0);
+    assert!(with.diag.profile.predicted_steps > 0 && without.diag.profile.predicted_steps == 0);
     assert!(
-        with.profile.newton_iterations < without.profile.newton_iterations,
+        with.diag.profile.newton_iterations < without.diag.profile.newton_iterations,
         "Newton iterations {} with the predictor, {} without",
-        with.profile.newton_iterations,
-        without.profile.newton_iterations
+        with.diag.profile.newton_iterations,
+        without.diag.profile.newton_iterations
     );
 }
 
@@ -102,14 +102,14 @@ fn linear_phase_reaches_the_same_equilibria_as_newton() {
         let newton = compress(&s, SolverOptions { linear_phase: false, ..base });
         assert!(newton.broken().len() > 10, "breaks {}", newton.broken().len());
         assert_same_path(&linear, &newton, 1e-12, Some(1e-12), &format!("contacts {contacts}"));
-        assert!(linear.profile.linear_solves > 0 && newton.profile.linear_solves == 0);
+        assert!(linear.diag.profile.linear_solves > 0 && newton.diag.profile.linear_solves == 0);
         if contacts {
-            let p = &linear.profile;
+            let p = &linear.diag.profile;
             assert!(p.gmres_solves > 0 && p.linear_solves < p.newton_iterations, "{p:?}");
         } else {
-            assert_eq!(linear.profile.newton_iterations, linear.profile.linear_solves);
-            assert_eq!(linear.profile.linear_fallbacks, 0);
-            assert!(linear.profile.evaluations < newton.profile.evaluations);
+            assert_eq!(linear.diag.profile.newton_iterations, linear.diag.profile.linear_solves);
+            assert_eq!(linear.diag.profile.linear_fallbacks, 0);
+            assert!(linear.diag.profile.evaluations < newton.diag.profile.evaluations);
         }
     }
 }
@@ -134,19 +134,21 @@ fn updates_in_place_reach_the_same_equilibria_as_woodbury() {
         if !contacts {
             // The default (`FactorUpdates::Auto`) keeps the Woodbury path below 1,000 unknowns:
             // the same run, bit for bit.
-            assert!(woodbury.model.map.n_eq() < super::options::IN_PLACE_MIN_UNKNOWNS);
+            assert!(woodbury.model().map.n_eq() < super::options::IN_PLACE_MIN_UNKNOWNS);
             let auto = compress(&s, SolverOptions { contacts, ..Default::default() });
             assert_same_path(&auto, &woodbury, 0.0, Some(0.0), "auto below 1,000 unknowns");
         }
         assert!(woodbury.broken().len() > 10, "breaks {}", woodbury.broken().len());
         assert_same_path(&updown, &woodbury, 1e-6, None, &format!("contacts {contacts}"));
-        let r = updown.profile.refactorizations;
+        let r = updown.diag.profile.refactorizations;
         assert_eq!((r.initial, r.rank_cap), (1, 0), "{r:?}");
         if !contacts {
             assert_eq!(r.cost_model, 0, "{r:?}");
         }
-        assert!(woodbury.profile.refactorizations.cost_model + woodbury.profile.refactorizations.rank_cap > 0);
-        assert!(updown.profile.columns_added >= 3 * updown.broken().len());
+        assert!(
+            woodbury.diag.profile.refactorizations.cost_model + woodbury.diag.profile.refactorizations.rank_cap > 0
+        );
+        assert!(updown.diag.profile.columns_added >= 3 * updown.broken().len());
     }
 }
 
@@ -169,7 +171,7 @@ fn sparse_right_hand_sides_reach_the_same_equilibria_as_dense_solves() {
         if !contacts {
             // The default (`FactorUpdates::Auto`) updates a system of 1,092 unknowns in place:
             // the same run, bit for bit.
-            assert!(sparse.model.map.n_eq() >= super::options::IN_PLACE_MIN_UNKNOWNS);
+            assert!(sparse.model().map.n_eq() >= super::options::IN_PLACE_MIN_UNKNOWNS);
             let auto = compress(&s, SolverOptions { contacts, ..Default::default() });
             assert_same_path(&auto, &sparse, 0.0, Some(0.0), "auto from 1,000 unknowns");
         }
@@ -177,8 +179,8 @@ fn sparse_right_hand_sides_reach_the_same_equilibria_as_dense_solves() {
         assert!(dense.broken().len() > 10, "breaks {}", dense.broken().len());
         let tol = if contacts { 1e-6 } else { 1e-9 };
         assert_same_path(&sparse, &dense, tol, None, &format!("contacts {contacts}"));
-        let (p, n) = (&sparse.profile, sparse.model.map.n_eq());
-        assert!(p.sparse_solves > 0 && dense.profile.sparse_solves == 0, "{} sparse solves", p.sparse_solves);
+        let (p, n) = (&sparse.diag.profile, sparse.model().map.n_eq());
+        assert!(p.sparse_solves > 0 && dense.diag.profile.sparse_solves == 0, "{} sparse solves", p.sparse_solves);
         assert!(
             p.sparse_columns < p.sparse_solves * n,
             "{} columns in {} solves of {n}",
@@ -370,7 +372,7 @@ fn slip_terms_that_follow_the_regimes_reach_the_same_equilibria() {
         let following = compress(&s, SolverOptions { slip_terms, factor_updates, ..base });
         let label = format!("{slip_terms:?} {factor_updates:?}");
         assert_same_path(&following, &full, 1e-6, None, &label);
-        assert!(following.profile.slip_flips[0] > 0, "{label}: {:?}", following.profile.slip_flips);
+        assert!(following.diag.profile.slip_flips[0] > 0, "{label}: {:?}", following.diag.profile.slip_flips);
     }
-    assert_eq!(full.profile.slip_flips, [0, 0]);
+    assert_eq!(full.diag.profile.slip_flips, [0, 0]);
 }

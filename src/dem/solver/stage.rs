@@ -14,6 +14,12 @@
 //! stop at t = 1 of the last stage, or on loss of load (|R| < loss_fraction × peak).
 //! ```
 //!
+//! **In the pipeline** ([`super::solver`], "The step as a pipeline"). [`continue_stage`] runs
+//! this loop over the solver's parts: each trial step (`solve_trial`: the equilibrium from the
+//! step predictor or the plain start, continuation at the smallest increment, the energy check
+//! with crushing), the first failure along it ([`super::breaks`]), a contact event inside it
+//! ([`super::contact_events`]), the commit ([`super::energy`]) and the break cascade.
+//!
 //! **Contact events.** A contact that starts to slide (stick → slip), closes or opens inside a
 //! load step puts a kink into the platen force–displacement path; the trapezoid rule of the
 //! external work misses the area at the kink: for a spring–slider driven from `F_0` (sticking)
@@ -86,13 +92,22 @@
 //! ([`super::operator`]).
 //!
 //! **Energy.** Each recorded state carries the energy account of [`super::energy`].
+use super::breaks::{break_cascade, first_failure};
 use super::checkpoint::{CheckpointSink, TestCheckpoint};
+use super::contact_events::first_contact_event;
+use super::continuation::continuation;
+use super::diagnostics::Diagnostics;
+use super::energy::{commit, trial_step_imbalance};
+use super::equilibrium::equilibrate;
 use super::error::DemError;
+use super::options::SolverOptions;
 use super::phases::Phase;
+use super::problem::Problem;
 use super::records::{LoadPoint, StageEnd, StateKind, StateRecord};
-use super::solver::Solver;
-use super::step_predictor::StepPredictor;
+use super::state::SolverState;
+use super::step_predictor::{equilibrate_predicted, predicts_steps, StepPredictor};
 use super::walk::StageWalk;
+use super::workspace::Workspace;
 
 /// The shortest load step a contact event makes, as a fraction of the stage's step: the
 /// trapezoid error of an unresolved kink scales with the square of the step containing it, so
@@ -117,6 +132,16 @@ enum Trial {
     Unbalanced,
 }
 
+/// A trial load step from the committed state at the walk's `t` to `t_try`.
+struct TrialStep {
+    /// The end of the step.
+    t_try: f64,
+    /// The committed coordinates the step starts from.
+    z_old: Vec<f64>,
+    /// The load at `t_try`.
+    load: LoadPoint,
+}
+
 /// Watches the monitored platen force for loss of load: `|R| < loss_fraction × peak |R|`.
 struct LossWatch {
     /// `(platen, dof)` of the force.
@@ -139,219 +164,221 @@ impl LossWatch {
     }
 }
 
-impl<'a> Solver<'a> {
-    /// Records the unloaded initial state (call once before the first stage).
-    pub fn start(&mut self) -> Result<(), DemError> {
-        let l = self.state.load.clone();
-        self.phase = Phase::Other;
-        self.equilibrate(&l, 0.0)?;
-        self.commit(0.0, StateKind::Loading);
-        Ok(())
-    }
+/// Records the unloaded initial state (call once before the first stage).
+pub(super) fn start(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+) -> Result<(), DemError> {
+    let l = state.load.clone();
+    diag.phase = Phase::Other;
+    equilibrate(pb, state, ws, diag, &l, None, 0.0)?;
+    commit(pb, state, diag, 0.0, StateKind::Loading);
+    Ok(())
+}
 
-    /// Runs one load stage from the current load to `target` in `steps` equal steps; `monitor`
-    /// is the platen force `(platen, dof)` watched for loss of load.
-    ///
-    /// **Cut-back.** A step whose equilibrium is not found is retried from the committed state
-    /// with half the increment (at most `max_cutbacks` halvings of one step); after a success the
-    /// increment doubles again up to the step. If the smallest increment fails too, the error is
-    /// returned: the recorded states so far stay in [`Self::states`].
-    pub fn run_stage(
-        &mut self,
-        target: &LoadPoint,
-        steps: usize,
-        monitor: Option<(usize, usize)>,
-    ) -> Result<StageEnd, DemError> {
-        let walk = self.stage_walk(target, steps);
-        self.continue_stage(walk, monitor, None)
-    }
+/// The walk of a stage from the current load to `target` in `steps` steps, not yet begun.
+pub(super) fn stage_walk(opts: &SolverOptions, state: &SolverState, target: &LoadPoint, steps: usize) -> StageWalk {
+    let (load, records) = (state.load.clone(), state.records.len());
+    StageWalk::new(load, target.clone(), steps, opts.max_cutbacks, records)
+}
 
-    /// The walk of a stage from the current load to `target` in `steps` steps, not yet begun.
-    pub(super) fn stage_walk(&self, target: &LoadPoint, steps: usize) -> StageWalk {
-        let (load, records) = (self.state.load.clone(), self.state.records.len());
-        StageWalk::new(load, target.clone(), steps, self.opts.max_cutbacks, records)
-    }
-
-    /// Runs the stage `walk` stands in to its end ([`Self::run_stage`]): a new walk, or one read
-    /// from a checkpoint. After each committed load step `sink` is asked whether a checkpoint is
-    /// due ([`super::checkpoint`]); its errors end the stage.
-    pub(super) fn continue_stage(
-        &mut self,
-        mut walk: StageWalk,
-        monitor: Option<(usize, usize)>,
-        mut sink: Option<&mut dyn CheckpointSink>,
-    ) -> Result<StageEnd, DemError> {
-        let mut watch = monitor.map(|force| LossWatch { force, peak: 0.0, seen: walk.records_at_start });
-        while !walk.done() {
-            let t_try = walk.trial_end();
-            let z_old = self.state.z.clone();
-            let load = walk.load_at(t_try);
-            let trial = self.trial_step(&walk, &load, t_try)?;
-            if trial == Trial::Unbalanced {
-                self.profile.phases.trial_discarded += 1;
-                self.state.restore();
-                self.counters.cutbacks += 1;
-                self.counters.imbalance_cutbacks += 1;
-                walk.halve(t_try);
+/// Runs the stage `walk` stands in to its end ([`super::Solver::run_stage`]): a new walk, or one
+/// read from a checkpoint. After each committed load step `sink` is asked whether a checkpoint
+/// is due ([`super::checkpoint`]); its errors end the stage.
+pub(super) fn continue_stage(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    mut walk: StageWalk,
+    monitor: Option<(usize, usize)>,
+    mut sink: Option<&mut dyn CheckpointSink>,
+) -> Result<StageEnd, DemError> {
+    let mut watch = monitor.map(|force| LossWatch { force, peak: 0.0, seen: walk.records_at_start });
+    while !walk.done() {
+        let t_try = walk.trial_end();
+        let step = TrialStep { t_try, z_old: state.z.clone(), load: walk.load_at(t_try) };
+        let trial = solve_trial(pb, state, ws, diag, &walk, &step)?;
+        if trial == Trial::Unbalanced {
+            diag.profile.phases.trial_discarded += 1;
+            state.restore();
+            diag.counters.cutbacks += 1;
+            diag.counters.imbalance_cutbacks += 1;
+            walk.halve(t_try);
+            continue;
+        }
+        let failure = if trial == Trial::Converged { first_failure(pb, state, diag, &step.z_old) } else { None };
+        let breaks = failure.filter(|&(lam, _)| lam < 1.0);
+        if breaks.is_some() {
+            diag.profile.phases.trial_discarded += 1;
+        }
+        if trial == Trial::Converged && breaks.is_none() {
+            if let Some(t_c) = contact_event_within(pb, state, &walk, &step) {
+                diag.profile.phases.trial_discarded += 1;
+                state.restore();
+                diag.counters.contact_events += 1;
+                walk.h = t_c - walk.t;
+                walk.at_event = true;
                 continue;
-            }
-            let failure = if trial == Trial::Converged { self.first_failure(&z_old) } else { None };
-            let breaks = failure.filter(|&(lam, _)| lam < 1.0);
-            if breaks.is_some() {
-                self.profile.phases.trial_discarded += 1;
-            }
-            if trial == Trial::Converged && breaks.is_none() {
-                if let Some(t_c) = self.contact_event_within(&walk, &z_old, t_try) {
-                    self.profile.phases.trial_discarded += 1;
-                    self.state.restore();
-                    self.counters.contact_events += 1;
-                    walk.h = t_c - walk.t;
-                    walk.at_event = true;
-                    continue;
-                }
-            }
-            walk.at_event = false;
-            let advanced = match (trial, breaks) {
-                (Trial::Snapped, _) => {
-                    self.counters.continued_steps += 1;
-                    self.commit(t_try, StateKind::Relaxed);
-                    walk.t = t_try;
-                    self.state.load = load.clone();
-                    self.break_cascade(Vec::new(), &load, t_try)?;
-                    true
-                }
-                (Trial::Converged, Some((lam, b))) => self.break_within_step(&mut walk, &z_old, lam, b, t_try)?,
-                (Trial::Converged, None) => {
-                    self.commit(t_try, StateKind::Loading);
-                    walk.t = t_try;
-                    true
-                }
-                (Trial::Failed | Trial::Unbalanced, _) => false,
-            };
-            if !advanced {
-                self.state.restore();
-                self.counters.cutbacks += 1;
-                walk.halve(t_try);
-                continue;
-            }
-            self.state.load = walk.load_at(walk.t);
-            walk.h = (2.0 * walk.h).min(walk.step);
-            let (any_broken, fraction) = (!self.state.broken.is_empty(), self.opts.loss_fraction);
-            if watch.as_mut().is_some_and(|w| w.lost(&self.state.records, any_broken, fraction)) {
-                return Ok(StageEnd::LossOfLoad);
-            }
-            if let Some(sink) = sink.as_deref_mut() {
-                self.checkpoint_if_due(sink, &walk)?;
             }
         }
-        self.state.load = walk.target.clone();
-        self.state.stage += 1;
-        Ok(StageEnd::Completed)
+        walk.at_event = false;
+        let advanced = match (trial, breaks) {
+            (Trial::Snapped, _) => {
+                diag.counters.continued_steps += 1;
+                commit(pb, state, diag, t_try, StateKind::Relaxed);
+                walk.t = t_try;
+                state.load = step.load.clone();
+                break_cascade(pb, state, ws, diag, Vec::new(), &step.load, t_try)?;
+                true
+            }
+            (Trial::Converged, Some(crossing)) => break_within_step(pb, state, ws, diag, &mut walk, &step, crossing)?,
+            (Trial::Converged, None) => {
+                commit(pb, state, diag, t_try, StateKind::Loading);
+                walk.t = t_try;
+                true
+            }
+            (Trial::Failed | Trial::Unbalanced, _) => false,
+        };
+        if !advanced {
+            state.restore();
+            diag.counters.cutbacks += 1;
+            walk.halve(t_try);
+            continue;
+        }
+        state.load = walk.load_at(walk.t);
+        walk.h = (2.0 * walk.h).min(walk.step);
+        let (any_broken, fraction) = (!state.broken.is_empty(), pb.opts.loss_fraction);
+        if watch.as_mut().is_some_and(|w| w.lost(&state.records, any_broken, fraction)) {
+            return Ok(StageEnd::LossOfLoad);
+        }
+        if let Some(sink) = sink.as_deref_mut() {
+            checkpoint_if_due(state, diag, sink, &walk)?;
+        }
     }
+    state.load = walk.target.clone();
+    state.stage += 1;
+    Ok(StageEnd::Completed)
+}
 
-    /// The trial load step to `t_try` at `load`: Newton's method (from the cut step's response
-    /// after a break, [`super::step_predictor`]); at the smallest increment, continuation; with
-    /// crushing, the energy balance. Errors that no halving can mend end the stage, the
-    /// committed state and its load restored.
-    fn trial_step(&mut self, walk: &StageWalk, load: &LoadPoint, t_try: f64) -> Result<Trial, DemError> {
-        let predictor = walk.predictor.as_ref().filter(|_| self.predicts_steps());
-        self.phase = Phase::Trial;
-        match self.equilibrate_predicted(predictor, load, walk.t, t_try) {
+/// The trial load `step`: Newton's method (from the cut step's response after a break,
+/// [`super::step_predictor`]); at the smallest increment, continuation; with crushing, the
+/// energy balance. Errors that no halving can mend end the stage, the committed state and its
+/// load restored.
+fn solve_trial(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &StageWalk,
+    step: &TrialStep,
+) -> Result<Trial, DemError> {
+    let predictor = walk.predictor.as_ref().filter(|_| predicts_steps(pb));
+    let start = predictor.and_then(|p| p.guess(&state.z, walk.t, step.t_try));
+    diag.phase = Phase::Trial;
+    match equilibrate_predicted(pb, state, ws, diag, start, &step.load, step.t_try) {
+        Ok(()) => {}
+        Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(Trial::Failed),
+        Err(e @ DemError::NoConvergence { .. }) if pb.opts.continuation => {
+            // No equilibrium at the smallest increment: past a limit point of the path, the
+            // state after the snap-back (module docs, "Continuation").
+            state.restore();
+            if continuation(pb, state, ws, diag, &step.load, None, step.t_try).is_err() {
+                return Err(abandon(state, walk, e));
+            }
+            return Ok(Trial::Snapped);
+        }
+        Err(e) => return Err(abandon(state, walk, e)),
+    }
+    // Energy released inside a converged step (crushing only): halve the step; at the
+    // smallest one the release is a snap (module docs, "Snaps inside a step").
+    if pb.model.params.crushing.is_some() {
+        let (imbalance, scale) = trial_step_imbalance(pb, state);
+        if imbalance.abs() > MAX_STEP_IMBALANCE * scale {
+            if walk.can_halve() {
+                return Ok(Trial::Unbalanced);
+            }
+            diag.counters.snaps_in_steps += 1;
+            return Ok(Trial::Snapped);
+        }
+    }
+    Ok(Trial::Converged)
+}
+
+/// The load parameter of the first contact event inside the converged trial `step` (with
+/// [`super::SolverOptions::contact_events`]), when the step is to end there: not a trial already
+/// ending at an event, and not closer than `MIN_EVENT_STEP` to either end.
+fn contact_event_within(pb: &Problem<'_>, state: &SolverState, walk: &StageWalk, step: &TrialStep) -> Option<f64> {
+    if !pb.opts.contact_events || walk.at_event {
+        return None;
+    }
+    let lam = first_contact_event(pb, state, &step.z_old)?;
+    let t_c = walk.t + lam * (step.t_try - walk.t);
+    let min = MIN_EVENT_STEP * walk.step;
+    (t_c - walk.t >= min && step.t_try - t_c >= min).then_some(t_c)
+}
+
+/// The converged trial `step` has beam `b` reaching `P = 1` at the fraction `lam`: the state
+/// there (`z_old + λ Δz`, exact without contacts; Newton's method from it with contacts) is
+/// committed as "pre-break", the beam breaks and the beams it overloads follow. `false`: no
+/// equilibrium at the break's load, the trial is to be halved.
+fn break_within_step(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &mut StageWalk,
+    step: &TrialStep,
+    (lam, b): (f64, usize),
+) -> Result<bool, DemError> {
+    let t_l = walk.t + lam * (step.t_try - walk.t);
+    let load_l = walk.load_at(t_l);
+    let z_end = state.z.clone();
+    for (zo, zn) in step.z_old.iter().zip(state.z.iter_mut()) {
+        *zn = zo + lam * (*zn - zo);
+    }
+    if !state.contacts.is_empty() {
+        // Newton starts from the interpolated state: exact while the contact forces are
+        // linear along the step, so usually one iteration away.
+        diag.phase = Phase::Lambda;
+        match equilibrate(pb, state, ws, diag, &load_l, None, t_l) {
             Ok(()) => {}
-            Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(Trial::Failed),
-            Err(e @ DemError::NoConvergence { .. }) if self.opts.continuation => {
-                // No equilibrium at the smallest increment: past a limit point of the path, the
-                // state after the snap-back (module docs, "Continuation").
-                self.state.restore();
-                if self.continuation(load, None, t_try).is_err() {
-                    return Err(self.abandon(walk, e));
-                }
-                return Ok(Trial::Snapped);
-            }
-            Err(e) => return Err(self.abandon(walk, e)),
+            Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(false),
+            Err(e) => return Err(abandon(state, walk, e)),
         }
-        // Energy released inside a converged step (crushing only): halve the step; at the
-        // smallest one the release is a snap (module docs, "Snaps inside a step").
-        if self.model.params.crushing.is_some() {
-            let (imbalance, scale) = self.trial_step_imbalance();
-            if imbalance.abs() > MAX_STEP_IMBALANCE * scale {
-                if walk.can_halve() {
-                    return Ok(Trial::Unbalanced);
-                }
-                self.counters.snaps_in_steps += 1;
-                return Ok(Trial::Snapped);
-            }
-        }
-        Ok(Trial::Converged)
     }
+    commit(pb, state, diag, t_l, StateKind::PreBreak);
+    walk.predictor = Some(StepPredictor::new(t_l, step.t_try, &state.z, &z_end));
+    walk.t = t_l;
+    state.load = load_l.clone();
+    break_cascade(pb, state, ws, diag, vec![b], &load_l, t_l)?;
+    Ok(true)
+}
 
-    /// The load parameter of the first contact event inside the converged trial `t → t_try`
-    /// (with [`super::SolverOptions::contact_events`]), when the step is to end there: not a
-    /// trial already ending at an event, and not closer than `MIN_EVENT_STEP` to either end.
-    fn contact_event_within(&self, walk: &StageWalk, z_old: &[f64], t_try: f64) -> Option<f64> {
-        if !self.opts.contact_events || walk.at_event {
-            return None;
-        }
-        let lam = self.first_contact_event(z_old)?;
-        let t_c = walk.t + lam * (t_try - walk.t);
-        let min = MIN_EVENT_STEP * walk.step;
-        (t_c - walk.t >= min && t_try - t_c >= min).then_some(t_c)
+/// Hands a checkpoint of the committed state and `walk` to the sink when it finds one due.
+fn checkpoint_if_due(
+    state: &SolverState,
+    diag: &Diagnostics<'_>,
+    sink: &mut dyn CheckpointSink,
+    walk: &StageWalk,
+) -> Result<(), DemError> {
+    if !sink.due(state) {
+        return Ok(());
     }
+    sink.write(TestCheckpoint {
+        state: state.clone(),
+        walk: Some(walk.clone()),
+        counters: diag.counters,
+        seconds: 0.0,
+        finished: None,
+    })
+}
 
-    /// The converged trial `t → t_try` has beam `b` reaching `P = 1` at the fraction `lam`: the
-    /// state there (`z_old + λ Δz`, exact without contacts; Newton's method from it with
-    /// contacts) is committed as "pre-break", the beam breaks and the beams it overloads follow.
-    /// `false`: no equilibrium at the break's load, the trial is to be halved.
-    fn break_within_step(
-        &mut self,
-        walk: &mut StageWalk,
-        z_old: &[f64],
-        lam: f64,
-        b: usize,
-        t_try: f64,
-    ) -> Result<bool, DemError> {
-        let t_l = walk.t + lam * (t_try - walk.t);
-        let load_l = walk.load_at(t_l);
-        let z_end = self.state.z.clone();
-        for (zo, zn) in z_old.iter().zip(self.state.z.iter_mut()) {
-            *zn = zo + lam * (*zn - zo);
-        }
-        if !self.state.contacts.is_empty() {
-            // Newton starts from the interpolated state: exact while the contact forces are
-            // linear along the step, so usually one iteration away.
-            self.phase = Phase::Lambda;
-            match self.equilibrate(&load_l, t_l) {
-                Ok(()) => {}
-                Err(DemError::NoConvergence { .. }) if walk.can_halve() => return Ok(false),
-                Err(e) => return Err(self.abandon(walk, e)),
-            }
-        }
-        self.commit(t_l, StateKind::PreBreak);
-        walk.predictor = Some(StepPredictor::new(t_l, t_try, &self.state.z, &z_end));
-        walk.t = t_l;
-        self.state.load = load_l.clone();
-        self.break_cascade(vec![b], &load_l, t_l)?;
-        Ok(true)
-    }
-
-    /// Hands a checkpoint of the committed state and `walk` to the sink when it finds one due.
-    fn checkpoint_if_due(&self, sink: &mut dyn CheckpointSink, walk: &StageWalk) -> Result<(), DemError> {
-        if !sink.due(&self.state) {
-            return Ok(());
-        }
-        sink.write(TestCheckpoint {
-            state: self.state.clone(),
-            walk: Some(walk.clone()),
-            counters: self.counters,
-            seconds: 0.0,
-            finished: None,
-        })
-    }
-
-    /// Ends the stage on `e`: back to the committed state and its load.
-    fn abandon(&mut self, walk: &StageWalk, e: DemError) -> DemError {
-        self.state.restore();
-        self.state.load = walk.load_at(walk.t);
-        e
-    }
+/// Ends the stage on `e`: back to the committed state and its load.
+fn abandon(state: &mut SolverState, walk: &StageWalk, e: DemError) -> DemError {
+    state.restore();
+    state.load = walk.load_at(walk.t);
+    e
 }

@@ -1,9 +1,10 @@
 //! What a virtual test is at a moment, apart from how the solver computes it.
 //!
-//! The solver ([`super::Solver`]) owns a [`SolverState`] and a workspace. The state is the
-//! mechanics: coordinates, intact beams, contacts and their committed histories, the load, the
-//! energy account and the record of committed states. The workspace holds what the state
-//! determines and the solver keeps only for speed:
+//! The solver ([`super::Solver`]) owns a [`SolverState`] and a workspace, and the step
+//! pipeline takes both as arguments ([`super::solver`]). The state is the mechanics:
+//! coordinates, intact beams, contacts and their committed histories, the load, the energy
+//! account and the record of committed states. The workspace ([`super::workspace`]) holds what
+//! the state determines and the solver keeps only for speed:
 //! - the factorized operator with its Woodbury correction ([`super::operator`]);
 //! - the contact candidate list ([`super::contact_candidates`]);
 //! - the contact Jacobian cache ([`super::tangent`]).

@@ -24,9 +24,13 @@
 //! took the post-peak path to a loss of load at 345 states instead of the target at 325. With
 //! `MechParams::crushing` the steps start from the plain start, as before.
 
+use super::diagnostics::Diagnostics;
+use super::equilibrium::equilibrate;
 use super::error::DemError;
+use super::problem::Problem;
 use super::records::LoadPoint;
-use super::solver::Solver;
+use super::state::SolverState;
+use super::workspace::Workspace;
 
 /// The response of a cut load step, kept for the step that follows the break.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -55,38 +59,38 @@ impl StepPredictor {
     }
 }
 
-impl<'a> Solver<'a> {
-    /// Whether load steps after a break start from the predictor (module docs).
-    pub(super) fn predicts_steps(&self) -> bool {
-        self.opts.predict_steps && self.model.params.crushing.is_none()
-    }
+/// Whether load steps after a break start from the predictor (module docs).
+pub(super) fn predicts_steps(pb: &Problem<'_>) -> bool {
+    pb.opts.predict_steps && pb.model.params.crushing.is_none()
+}
 
-    /// Equilibrium at `load` (the load parameter `t_try`) for a step from the committed state
-    /// at `t`: first from the predictor's starting point, if it has one for this step, then, if
-    /// Newton's method fails from there, from the plain start (module docs).
-    pub(super) fn equilibrate_predicted(
-        &mut self,
-        predictor: Option<&StepPredictor>,
-        load: &LoadPoint,
-        t: f64,
-        t_try: f64,
-    ) -> Result<(), DemError> {
-        if let Some(z0) = predictor.and_then(|p| p.guess(&self.state.z, t, t_try)) {
-            self.state.z = z0;
-            match self.equilibrate(load, t_try) {
-                Ok(()) => {
-                    self.profile.predicted_steps += 1;
-                    return Ok(());
-                }
-                Err(DemError::NoConvergence { .. }) => {
-                    self.profile.predictor_fallbacks += 1;
-                    self.state.restore();
-                }
-                Err(e) => return Err(e),
+/// Equilibrium at `load` (the load parameter `t_try`) for a step from the committed state:
+/// first from `start`, the predictor's starting point ([`StepPredictor::guess`]) when it has one
+/// for this step, then, if Newton's method fails from there, from the plain start (module docs).
+pub(super) fn equilibrate_predicted(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    start: Option<Vec<f64>>,
+    load: &LoadPoint,
+    t_try: f64,
+) -> Result<(), DemError> {
+    if let Some(z0) = start {
+        state.z = z0;
+        match equilibrate(pb, state, ws, diag, load, None, t_try) {
+            Ok(()) => {
+                diag.profile.predicted_steps += 1;
+                return Ok(());
             }
+            Err(DemError::NoConvergence { .. }) => {
+                diag.profile.predictor_fallbacks += 1;
+                state.restore();
+            }
+            Err(e) => return Err(e),
         }
-        self.equilibrate(load, t_try)
     }
+    equilibrate(pb, state, ws, diag, load, None, t_try)
 }
 
 #[cfg(test)]

@@ -107,7 +107,33 @@ pub fn run_test_observed<'a>(
     states: ParticleStates,
     report: Option<Report<'a>>,
 ) -> Result<TestResult, DemError> {
-    run_test_checkpointed(sample, params, test, opts, states, report, Checkpoints::default())
+    run_test_checkpointed(sample, params, test, TestRun { opts, states, report, ..Default::default() })
+}
+
+/// How a test is run besides its sample, law and protocol ([`run_test_checkpointed`]): the
+/// solver's options, the particle states kept, a report of the recorded states and the
+/// checkpoints. The default is [`run_test_with`]'s: default options, no particle states
+/// ([`ParticleStates::None`]), no report, no checkpoints.
+pub struct TestRun<'a> {
+    /// The solver's options.
+    pub opts: SolverOptions,
+    /// The particle states kept in [`TestResult::particle_states`].
+    pub states: ParticleStates,
+    /// Called on every recorded state (its index and record) as the test goes.
+    pub report: Option<Report<'a>>,
+    /// Where the checkpoints go, and the one the test continues from.
+    pub checkpoints: Checkpoints<'a>,
+}
+
+impl Default for TestRun<'_> {
+    fn default() -> Self {
+        TestRun {
+            opts: SolverOptions::default(),
+            states: ParticleStates::None,
+            report: None,
+            checkpoints: Checkpoints::default(),
+        }
+    }
 }
 
 /// A test's checkpoints ([`super::checkpoint`]): where they go, and the one it continues from.
@@ -138,21 +164,20 @@ impl CheckpointSink for Clocked<'_> {
     }
 }
 
-/// [`run_test_observed`] with checkpoints: written to `checkpoints.sink` as the test goes and at
-/// its end, and continued from `checkpoints.resume` when given. A resumed test's particle states
-/// start at the resumption; its counters and wall time add to the checkpoint's (its
-/// factorizations are this run's: the workspace is not checkpointed). Errors: those of
-/// [`run_test`], a finished test's checkpoint to resume from, and the sink's
-/// ([`DemError::Checkpoint`]), which end the test without a result.
+/// Runs `test` on `sample` as `run` asks ([`TestRun`]): [`run_test_observed`] with checkpoints,
+/// written to `run.checkpoints.sink` as the test goes and at its end, and continued from
+/// `run.checkpoints.resume` when given. A resumed test's particle states start at the
+/// resumption; its counters and wall time add to the checkpoint's (its factorizations are this
+/// run's: the workspace is not checkpointed). Errors: those of [`run_test`], a finished test's
+/// checkpoint to resume from, and the sink's ([`DemError::Checkpoint`]), which end the test
+/// without a result.
 pub fn run_test_checkpointed<'a>(
     sample: &'a Sample,
     params: &MechParams,
     test: &VirtualTest,
-    opts: SolverOptions,
-    states: ParticleStates,
-    report: Option<Report<'a>>,
-    checkpoints: Checkpoints<'a>,
+    run: TestRun<'a>,
 ) -> Result<TestResult, DemError> {
+    let TestRun { opts, states, report, checkpoints } = run;
     test.validate()?;
     let clock = Instant::now();
     let (w, h, tz) = (sample.width, sample.height, params.t_z);
@@ -163,7 +188,7 @@ pub fn run_test_checkpointed<'a>(
     let (mut solver, walk) = solver_from(model, opts, checkpoints.resume)?;
     let mut sink = checkpoints.sink.map(|inner| Clocked { inner, clock, before });
     let recorder = Recorder::new(states, first_driven, (1, driven));
-    solver.observer = match report {
+    solver.diag.observer = match report {
         Some(report) => Some(Box::new(Reporting { recorder: recorder.observer(), report })),
         None => recorder.observer(),
     };
@@ -173,11 +198,11 @@ pub fn run_test_checkpointed<'a>(
         Err(e @ DemError::Checkpoint(_)) => return Err(e),
         Err(e) => classify_stop(e.to_string(), &solver, &stages, first_driven, driven),
     };
-    solver.observer = None;
+    solver.diag.observer = None;
     let result = result_of(&mut solver, sample, &recorder, end, (driven, first_driven), before + secs(clock));
     if let Some(mut sink) = sink {
         let finished = Finished { end: result.end.clone(), stats: result.stats.clone() };
-        let (state, counters) = (solver.state().clone(), solver.counters);
+        let (state, counters) = (solver.state().clone(), solver.diag.counters);
         sink.write(TestCheckpoint { state, walk: None, counters, seconds: 0.0, finished: Some(finished) })?;
     }
     Ok(result)
@@ -202,7 +227,7 @@ fn solver_from(
         }
         Some(TestCheckpoint { state, walk: Some(walk), counters, finished: None, .. }) => {
             let mut solver = Solver::resume(model, opts, state)?;
-            solver.counters = counters;
+            solver.diag.counters = counters;
             Ok((solver, Some(walk)))
         }
         Some(_) => Err(DemError::InvalidParameter {
@@ -243,7 +268,7 @@ fn run_stages(
         }
         if let Some(towards) = stage.towards {
             envelope.branch(towards, largest_of(solver.states(), k, driven));
-            if k >= first && !solver.broken().is_empty() && envelope.lost(solver.opts.loss_fraction) {
+            if k >= first && !solver.broken().is_empty() && envelope.lost(solver.problem.opts.loss_fraction) {
                 return Ok(TestEnd::LossOfLoad);
             }
         }
@@ -268,7 +293,7 @@ fn result_of(
     let (factorizations, _) = solver.factor_stats();
     let last = solver.states().len().checked_sub(1).map(|i| (i, solver.state().z_commit.as_slice()));
     let particle_states = recorder.finish(&solver.model().map, sample.particles.len(), last);
-    let c = solver.counters;
+    let c = solver.diag.counters;
     TestResult {
         stats: RunStats {
             events: solver.broken().len(),
@@ -282,7 +307,7 @@ fn result_of(
             continuations: c.continuations,
             imbalance_cutbacks: c.imbalance_cutbacks,
             snaps_in_steps: c.snaps_in_steps,
-            updates_in_place: solver.operator.factor.updates_in_place(),
+            updates_in_place: solver.ws.operator.factor.updates_in_place(),
         },
         end,
         curve,
@@ -290,7 +315,7 @@ fn result_of(
         floating: solver.state().floating.clone(),
         derived,
         particle_states,
-        trace: solver.trace.take(),
+        trace: solver.diag.trace.take(),
     }
 }
 

@@ -381,7 +381,7 @@ fn trace_names_the_largest_residual_and_the_changed_contacts() {
     let s = super::speed_tests::random(120, 5);
     let solver = super::speed_tests::compress(&s, SolverOptions { trace: true, ..Default::default() });
     let mu = MechParams::default().mu;
-    let trace = solver.trace.as_ref().expect("the trace is kept");
+    let trace = solver.diag.trace.as_ref().expect("the trace is kept");
     let steps: Vec<&trace::NewtonStep> =
         trace.attempts.iter().flat_map(|a| a.steps.iter().skip(1)).filter(|st| st.contacts > 0).collect();
     assert!(!steps.is_empty(), "no Newton iteration with contacts kept");
@@ -390,7 +390,7 @@ fn trace_names_the_largest_residual_and_the_changed_contacts() {
         // Both platens prescribed: every equation is a free stone's.
         let stone = st.worst.0.expect("a stone's equation");
         assert!(stone < s.particles.len() && st.worst.1 < 3, "{:?}", st.worst);
-        assert!(!solver.model.map.is_slave(stone), "{:?}", st.worst);
+        assert!(!solver.model().map.is_slave(stone), "{:?}", st.worst);
         assert!(st.worst.2 >= 0.0 && (st.relative == 0.0 || st.worst.2 > 0.0), "{st:?}");
         assert_eq!(st.changed.len(), st.set_changes.min(trace::KEPT_CHANGES), "{st:?}");
         for c in &st.changed {

@@ -3,9 +3,13 @@
 //!
 //! Every call of the equilibrium iteration ([`super::Solver::equilibrate`], a beam's release, a
 //! load step, a cut-back) is one [`Attempt`]; each Newton iteration one [`NewtonStep`] with the
-//! residual it started from, the step taken and the state of the contact set. Only the last
+//! residual it started from, the step taken and the state of the contact set (`newton_step`
+//! reads it off the iteration's residual evaluation and the previous contact set). Only the last
 //! [`KEPT_ATTEMPTS`] attempts are kept, so a long run costs a bounded memory.
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
+
+use super::dofs::DofMap;
+use super::equilibrium::Evaluation;
 
 /// Attempts kept.
 pub const KEPT_ATTEMPTS: usize = 12;
@@ -165,4 +169,68 @@ impl Trace {
         }
         s
     }
+}
+
+/// The trace's record of a Newton iteration at the evaluation `ev` (the linear solve's and the
+/// line search's figures filled in later); `previous` is the contact set of the last one, `map`
+/// names the stone of each equation.
+pub(super) fn newton_step(
+    ev: &Evaluation,
+    previous: &mut Option<Vec<(usize, usize, bool)>>,
+    map: &DofMap,
+) -> NewtonStep {
+    let mut changed = previous.as_ref().map_or_else(Vec::new, |p| changed_contacts(p, ev));
+    let changes = changed.len();
+    changed.truncate(KEPT_CHANGES);
+    *previous = Some(ev.contacts.iter().map(|a| (a.i, a.j, a.sticks())).collect());
+    let (e, r) =
+        ev.r.iter().enumerate().fold((0, 0.0f64), |(k, m), (e, x)| if x.abs() > m { (e, x.abs()) } else { (k, m) });
+    let zi = map.unknowns.get(e).copied().unwrap_or(0);
+    NewtonStep {
+        relative: ev.relative,
+        merit: ev.merit,
+        contacts: ev.contacts.len(),
+        sliding: ev.contacts.iter().filter(|a| !a.sticks()).count(),
+        crushing: ev.contacts.iter().filter(|a| a.crush.is_some_and(|c| c.plastic)).count(),
+        set_changes: changes,
+        gmres_iterations: 0,
+        linear_converged: true,
+        cap: 1.0,
+        alpha: 1.0,
+        shift: 0.0,
+        worst: (map.stone_of(zi), zi % 3, r),
+        changed,
+    }
+}
+
+/// The contacts of `ev` that entered or flipped between stick and slip, then those that left,
+/// against the previous set `a` `(i, j, sticks)`.
+fn changed_contacts(a: &[(usize, usize, bool)], ev: &Evaluation) -> Vec<Change> {
+    let ma: BTreeMap<(usize, usize), bool> = a.iter().map(|&(i, j, s)| ((i, j), s)).collect();
+    let mut out = Vec::new();
+    for c in &ev.contacts {
+        let what = match ma.get(&(c.i, c.j)) {
+            None => "enter",
+            Some(&s) if s != c.sticks() => {
+                if c.sticks() {
+                    "stick"
+                } else {
+                    "slip"
+                }
+            }
+            _ => continue,
+        };
+        let f_n = c.contact.f_n;
+        out.push(Change {
+            pair: (c.i, c.j),
+            what,
+            f_n,
+            ratio: if f_n > 0.0 { c.friction.f_t.abs() / f_n } else { 0.0 },
+        });
+    }
+    let now: BTreeSet<(usize, usize)> = ev.contacts.iter().map(|c| (c.i, c.j)).collect();
+    for k in ma.keys().filter(|k| !now.contains(k)) {
+        out.push(Change { pair: *k, what: "leave", f_n: 0.0, ratio: 0.0 });
+    }
+    out
 }
