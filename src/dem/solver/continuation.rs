@@ -58,8 +58,9 @@
 //! of a small wall, more than Newton's method, and runs only where Newton's method failed at the
 //! smallest increment.
 use super::diagnostics::Diagnostics;
-use super::equilibrium::{apply_load, evaluate, unbonded_stones, Evaluation};
+use super::equilibrium::{apply_load, evaluate, unbonded_stones};
 use super::error::DemError;
+use super::evaluation::Evaluation;
 use super::gmres::{gmres, GmresInfo};
 use super::operator::{Operator, Refactor};
 use super::problem::Problem;

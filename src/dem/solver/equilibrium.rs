@@ -74,9 +74,10 @@
 //! If the iterations do not converge in `max_iterations`, [`DemError::NoConvergence`] is returned
 //! with the stones that have no intact beam left (the usual cause: a stone held only by contacts
 //! that slide, or by nothing): the caller cuts the load increment back.
-use super::contact_set::{self, ActiveContact};
+use super::contact_set;
 use super::diagnostics::Diagnostics;
 use super::error::DemError;
+use super::evaluation::Evaluation;
 use super::gmres::{gmres_split, ForcingSequence};
 use super::linear::linear_step;
 use super::operator::Refactor;
@@ -123,20 +124,6 @@ const SPARSE_RHS_DROP: f64 = 1e-5;
 /// (10.5–11.3 against 10.8–11.3 ms per break), and the curve moved by `1.3·10⁻⁹` of the peak
 /// instead of `8.5·10⁻¹⁰`.
 const SPARSE_RHS_FEW: usize = 8;
-
-/// A residual evaluation.
-pub(super) struct Evaluation {
-    /// Contacts at the state.
-    pub contacts: Vec<ActiveContact>,
-    /// Residual on the equations.
-    pub r: Vec<f64>,
-    /// `‖r‖∞ / scale`.
-    pub relative: f64,
-    /// `½ Σ (w_e r_e)²`, `w = 1` on force rows, `1/D̄` on moment rows.
-    pub merit: f64,
-    /// The intact beams' internal forces `K_b z` at the state (over `z`).
-    pub beam_forces: Vec<f64>,
-}
 
 /// Finds equilibrium at `load` plus the extra external forces `extra` (over `z`, e.g. a
 /// broken beam's force being released), starting from the current `z` (Newton's method, module

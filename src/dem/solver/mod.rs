@@ -11,6 +11,7 @@
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | an equilibrium, booked to its phase: Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
+//! | `evaluation.rs` | a residual evaluation at a state: its contacts, the residual and its measures, the beams' forces |
 //! | `operator.rs` | the factorized operator: beams, contact terms, regularization; Woodbury updates and when to refactorize |
 //! | `dofs.rs`, `system.rs` | the unknowns (stones, platens as master DOFs) and the assembled model |
 //! | `factor.rs` | faer sparse Cholesky (symbolic analysis reused) with sparse Woodbury columns solved in batches; a flop cost model refactorizes once the correction has cost more than a factorization |
@@ -46,6 +47,7 @@ pub mod dofs;
 pub mod energy;
 mod equilibrium;
 pub mod error;
+mod evaluation;
 pub mod factor;
 pub mod gmres;
 #[cfg(test)]

@@ -9,7 +9,7 @@
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use super::dofs::DofMap;
-use super::equilibrium::Evaluation;
+use super::evaluation::Evaluation;
 
 /// Attempts kept.
 pub const KEPT_ATTEMPTS: usize = 12;
