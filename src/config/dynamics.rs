@@ -255,6 +255,13 @@ pub struct DynamicsConfig {
     /// Newton iterations per (sub)step (default 20).
     #[serde(default = "twenty")]
     pub max_iterations: usize,
+    /// A secant line search along each Newton correction of the time history
+    /// (`analysis::line_search`: η with Δu · r(u + η Δu) ≈ 0; `analysis::time_history::stepper`).
+    /// It costs nothing where the full correction already reduces that projection, and one or
+    /// more residuals where the residual is kinked (a point crossing its damage threshold).
+    /// Default false.
+    #[serde(default)]
+    pub line_search: bool,
     /// Relative force tolerance (default 1e-6).
     #[serde(default = "tol")]
     pub force_tolerance: f64,

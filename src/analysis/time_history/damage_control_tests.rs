@@ -100,6 +100,7 @@ fn run(dt: f64, duration: f64, a0: f64, limit: f64, max_substeps: usize) -> Run 
         tolerance: 1e-9,
         max_substeps,
         max_damage_increment: limit,
+        line_search: false,
     });
     let ag = ground(a0);
     let times = RefCell::new(Vec::new());

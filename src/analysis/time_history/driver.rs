@@ -118,11 +118,13 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
         tolerance: cfg.force_tolerance,
         max_substeps: cfg.max_substeps,
         max_damage_increment: cfg.max_damage_increment,
+        line_search: cfg.line_search,
     };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes, observer)?;
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
     summary.rayleigh = [rayleigh.alpha, rayleigh.beta];
     summary.newton = format!("{:?}", cfg.newton).to_lowercase();
+    summary.line_search = cfg.line_search;
     summary.integration = cfg.integration.name().to_string();
     summary.implex_split = implex.map(|s| s.name().to_string());
     Ok(summary)

@@ -115,6 +115,7 @@ fn run(dt: f64, a0: f64, implex: Option<SplitAt>, newton: NewtonKind) -> Run {
         tolerance: 1e-10,
         max_substeps: 10,
         max_damage_increment: 1.0,
+        line_search: false,
     });
     let g = |t: f64| [if t < 0.6 { a0 * (2.0 * PI * 4.0 * t).sin() } else { 0.0 }, 0.0, 0.0];
     let (mut u, mut d_t, mut reports) = (Vec::new(), Vec::new(), Vec::new());

@@ -58,6 +58,14 @@ impl KrylovAccelerator {
         self.dim > self.max_dim
     }
 
+    /// Scales the last correction recorded by `eta`: the step taken along it was `eta` times
+    /// it (a line search), and the next residual change is that step's.
+    pub fn scale_last(&mut self, eta: f64) {
+        if let Some(v) = self.dim.checked_sub(1).and_then(|k| self.v.get_mut(k)) {
+            v.iter_mut().for_each(|x| *x *= eta);
+        }
+    }
+
     /// Turns the preconditioned residual `f = J⁻¹ R(y_k)` (in place) into the correction `v_k`
     /// and records it. Collective (one reduction when the subspace is not empty).
     pub fn correct<S: DynamicSystem + ?Sized>(&mut self, sys: &S, f: &mut [f64]) {
@@ -186,6 +194,41 @@ mod tests {
         // The plain (Jacobi) iteration needs many more for the same tolerance.
         let (plain, _) = iterate(false, 500);
         assert!(plain > 3 * its, "plain {plain}, accelerated {its}");
+    }
+
+    #[test]
+    fn steps_shortened_by_a_line_search_keep_their_secant_pairs() {
+        // Every other correction taken at η = 0.4 (as a line search may) and recorded as taken
+        // (`scale_last`): the pairs (η v_j, f_j − f_{j+1}) stay exact secants of the linear
+        // problem, and each full step after a short one is the subspace's least-squares step
+        // again, so the iteration ends within twice GMRES's n + 1 = 7 corrections, plus the 2
+        // that round-off allows above. Recorded unscaled, the pairs are off by 1/η and the
+        // iteration is more than twice as slow (measured: 14 against no convergence in 60).
+        let (a, b) = problem();
+        let n = b.len();
+        let sys = DenseSystem::new(DMatrix::identity(n, n), DMatrix::zeros(n, n), a.clone(), vec![]);
+        let run = |scaled: bool| {
+            let mut acc = KrylovAccelerator::new(n + 1);
+            let mut x = DVector::zeros(n);
+            for it in 0..60 {
+                let r = &b - &a * &x;
+                if r.norm() <= 1e-12 * b.norm() {
+                    return it;
+                }
+                let mut f: Vec<f64> = (0..n).map(|i| r[i] / a[(i, i)]).collect();
+                acc.correct(&sys, &mut f);
+                let eta = if it % 2 == 0 { 0.4 } else { 1.0 };
+                x += eta * DVector::from_vec(f);
+                if scaled {
+                    acc.scale_last(eta);
+                }
+            }
+            60
+        };
+        let scaled = run(true);
+        assert!(scaled <= 2 * (n + 1) + 2, "{scaled} iterations with the steps recorded as taken");
+        let unscaled = run(false);
+        assert!(unscaled > 2 * scaled, "unscaled pairs: {unscaled} iterations against {scaled}");
     }
 
     #[test]

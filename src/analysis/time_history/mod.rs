@@ -16,7 +16,8 @@
 //! | `state.rs`         | the state after a converged step; the external force `f(t)`      |
 //! | `stepper.rs`       | one step: Newton (tangent, modified, initial, krylov), substepping |
 //! |                    | on Newton failures and on damage increments over the limit; with  |
-//! |                    | IMPL-EX, each attempt at the extrapolated damage                  |
+//! |                    | IMPL-EX, each attempt at the extrapolated damage; a line search   |
+//! | `trial.rs`         | a step's trial vectors and residual; a point along a correction   |
 //! | `substeps.rs`      | the substeps of a step: sizes dt/2^k on the step's dyadic grid    |
 //! | `krylov.rs`        | Krylov subspace acceleration of modified Newton (Carlson–Miller)  |
 //! | `linear_step.rs`   | the step of a linear system: one solve, two products              |
@@ -57,6 +58,8 @@ mod ground;
 mod implex_tests;
 mod integration;
 mod krylov;
+#[cfg(test)]
+mod line_search_tests;
 mod linear_step;
 mod monitor;
 mod petsc_system;
@@ -71,6 +74,7 @@ mod summary;
 mod system;
 #[cfg(test)]
 mod tests;
+mod trial;
 
 pub use checkpoint::Checkpoint;
 pub use damage_shares::GroupDamage;

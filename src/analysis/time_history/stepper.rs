@@ -60,6 +60,17 @@
 //! they leave is kept the same way. `Δd_max = 1` switches the control off: every step then
 //! starts at `dt`, no increment is measured (no reduction over ranks) and the steps are those
 //! of a stepper without the control. A linear system takes no substeps of its own.
+//!
+//! # Line search
+//! With `[dynamics] line_search = true` each correction Δu (accelerated under `krylov`) is
+//! followed by the secant line search of [`crate::analysis::line_search`]: the step length η
+//! with `s(η) = Δu · r(u + η Δu) ≈ 0`, the full step kept when `|s(1)| ≤ 0.8 |s(0)|`, so that an
+//! iteration that reduces the projection costs nothing more (the residual at η = 1 is the next
+//! iteration's). Where a point crosses a switch of the law within a correction (its damage
+//! threshold, a principal strain changing sign in the split) r(u) is kinked: the linearization
+//! on either side points across the kink, the iterates cross it back and forth, and the search
+//! lands on it instead (as the gravity phase's, `super::gravity`). Under `krylov` the
+//! accelerator's last direction is scaled by η, so that its secant pair is the step taken.
 use super::energy::StepVectors;
 use super::krylov::KrylovAccelerator;
 use super::linear_step::{LinearStep, Outcome};
@@ -68,6 +79,7 @@ use super::scheme::Scheme;
 pub use super::state::{external_force, State};
 use super::substeps::Substeps;
 use super::system::DynamicSystem;
+use super::trial::Trial;
 use crate::config::{IntegrationKind, NewtonKind};
 
 /// Settings of the iterations.
@@ -93,9 +105,16 @@ pub struct StepSettings {
     /// The largest damage increment of a substep (module docs, "Damage control"); 1 or more:
     /// no control.
     pub max_damage_increment: f64,
+    /// A secant line search along each correction (module docs, "Line search").
+    pub line_search: bool,
 }
 
 impl StepSettings {
+    /// The line search's settings: those of `analysis::line_search`.
+    fn line_search_settings(&self) -> crate::analysis::line_search::LineSearchSettings {
+        crate::analysis::line_search::LineSearchSettings::default()
+    }
+
     /// Whether the damage control is on for `sys`: a limit below 1 and an element with state.
     fn damage_control<S: DynamicSystem>(&self, sys: &S) -> bool {
         self.max_damage_increment < 1.0 && !sys.is_linear()
@@ -147,93 +166,11 @@ pub struct StepFailure {
 pub struct Stepper {
     /// Settings.
     pub settings: StepSettings,
-    s: Scratch,
+    s: Trial,
     krylov: KrylovAccelerator,
     linear: LinearStep,
     /// When Krylov–Newton forms the tangent again.
     pub refresh: RefreshPolicy,
-}
-
-#[derive(Default)]
-struct Scratch {
-    u: Vec<f64>,
-    v: Vec<f64>,
-    a: Vec<f64>,
-    fi: Vec<f64>,
-    cv: Vec<f64>,
-    ma: Vec<f64>,
-    r: Vec<f64>,
-    du: Vec<f64>,
-    rhs: Vec<f64>,
-    f0: Vec<f64>,
-    f1: Vec<f64>,
-}
-
-impl Scratch {
-    /// The step `state → t1` (size `h`) set up: the vectors sized, the loads `f_n`, `f_{n+1}`,
-    /// the constant part of the residual `rhs = (1+α) f_{n+1} − α f_n + α (C v_n + f_int,n)`, and
-    /// the predictor `u = u_n` with the scheme's v and a. Returns the size of the terms that
-    /// cancel in r: the loads, the start's forces and the inertia of the predictor,
-    /// `M (v_n/(βh) + (1/(2β) − 1) a_n)`; the tolerance is relative to it, so that a step whose
-    /// forces all pass through zero is not asked for more than round-off.
-    fn start_step<S: DynamicSystem>(
-        &mut self,
-        sys: &mut S,
-        ground: &dyn Fn(f64) -> [f64; 3],
-        state: &State,
-        t1: f64,
-        h: f64,
-        sc: Scheme,
-    ) -> Result<f64, crate::error::Error> {
-        let n = sys.len();
-        let s = self;
-        for v in [&mut s.u, &mut s.v, &mut s.a, &mut s.fi, &mut s.cv, &mut s.ma, &mut s.r, &mut s.du, &mut s.rhs] {
-            v.resize(n, 0.0);
-        }
-        external_force(sys, ground(state.t), &mut s.f0);
-        external_force(sys, ground(t1), &mut s.f1);
-        let al = sc.alpha;
-        for i in 0..n {
-            s.rhs[i] = (1.0 + al) * s.f1[i] - al * s.f0[i] + al * (state.cv[i] + state.f_int[i]);
-        }
-        for i in 0..n {
-            s.du[i] = state.v[i] / (sc.beta * h) + (0.5 / sc.beta - 1.0) * state.a[i];
-        }
-        sys.mass_mult(&s.du, &mut s.ma)?;
-        let rhs_norm: f64 = sys
-            .dots(&[(&s.rhs, &s.rhs), (&s.ma, &s.ma), (&state.f_int, &state.f_int), (&state.cv, &state.cv)])
-            .iter()
-            .map(|x| x.sqrt())
-            .sum();
-        s.u.copy_from_slice(&state.u);
-        sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
-        Ok(rhs_norm)
-    }
-
-    /// The forces at the trial (u, v, a) and the residual
-    /// `r = rhs − M a − (1+α)(C v + f_int(u))` (module docs). Returns `‖r‖` and the force scale of
-    /// the convergence test, `rhs_norm + ‖M a‖ + (1+α)(‖C v‖ + ‖f_int‖)`. `known` is `f_int(u)`
-    /// when the caller has it: at the predictor `u = u_n` it is the state's (the elements' stress
-    /// at their committed strain, from their committed state), so no element is evaluated.
-    fn residual_at_trial<S: DynamicSystem>(
-        &mut self,
-        sys: &mut S,
-        al: f64,
-        rhs_norm: f64,
-        known: Option<&[f64]>,
-    ) -> Result<(f64, f64), crate::error::Error> {
-        let s = self;
-        match known {
-            Some(fi) => s.fi.copy_from_slice(fi),
-            None => sys.internal_force(&s.u, &mut s.fi)?,
-        }
-        sys.damping_mult(&s.v, &mut s.cv).and_then(|_| sys.mass_mult(&s.a, &mut s.ma))?;
-        for i in 0..s.r.len() {
-            s.r[i] = s.rhs[i] - s.ma[i] - (1.0 + al) * (s.cv[i] + s.fi[i]);
-        }
-        let d = sys.dots(&[(&s.r, &s.r), (&s.ma, &s.ma), (&s.cv, &s.cv), (&s.fi, &s.fi)]);
-        Ok((d[0].sqrt(), rhs_norm + d[1].sqrt() + (1.0 + al) * (d[2].sqrt() + d[3].sqrt())))
-    }
 }
 
 /// The Jacobian for iteration `it` of the Newton variant (module docs): refactored at the trial
@@ -283,7 +220,7 @@ impl Stepper {
     pub fn new(settings: StepSettings) -> Stepper {
         Stepper {
             settings,
-            s: Scratch::default(),
+            s: Trial::default(),
             krylov: KrylovAccelerator::new(settings.krylov_dimension),
             linear: LinearStep::default(),
             refresh: RefreshPolicy::new(settings.refresh_cost),
@@ -438,11 +375,17 @@ impl Stepper {
         let mut scale0 = 0.0f64;
         // Whether the first correction formed the tangent, and how often the others did.
         let (mut fresh, mut within) = (false, 0);
+        // s(0) = Δu · r of the last correction, with the line search.
+        let mut s0: Option<f64> = None;
         for it in 0..=st.max_iterations {
             // IMPL-EX: the stress at u_n is that of the step's extrapolated damage.
             let known = (it == 0 && !implex).then_some(state.f_int.as_slice());
             let failed = |residual, reason| Attempt::Failed { iterations: it, residual, reason };
-            let (rn, current) = match self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm, known) {
+            let searched = self.s.residual_at_trial(sys, st.scheme.alpha, rhs_norm, known).and_then(|norms| match s0 {
+                Some(s0) => self.search(sys, state, (h, rhs_norm), s0, norms),
+                None => Ok(norms),
+            });
+            let (rn, current) = match searched {
                 Ok(norms) => norms,
                 Err(e) => return failed(residual, e.to_string()),
             };
@@ -472,6 +415,7 @@ impl Stepper {
                 Ok(formed) => within += formed as usize,
                 Err(e) => return failed(residual, e.to_string()),
             }
+            s0 = st.line_search.then(|| sys.dot(&self.s.du, &self.s.r));
         }
         Attempt::Failed {
             iterations: st.max_iterations,
@@ -503,11 +447,46 @@ impl Stepper {
         if st.newton == NewtonKind::Krylov {
             self.krylov.correct(sys, &mut s.du);
         }
+        s.u0.copy_from_slice(&s.u);
         for i in 0..s.u.len() {
             s.u[i] += s.du[i];
         }
         sc.kinematics(h, &state.u, &state.v, &state.a, &s.u, &mut s.v, &mut s.a);
         Ok(formed)
+    }
+
+    /// The line search along the last correction `Δu` from `u0` (module docs, "Line search"),
+    /// given `s(0)` (with `r / (1+α)`) and the residual's norms at the full step: the trial is
+    /// left at the chosen `η` with its residual, whose norms are returned. A step length other
+    /// than 1 scales the accelerator's last direction, so that its secant pair is the step
+    /// taken. Collective.
+    fn search<S: DynamicSystem>(
+        &mut self,
+        sys: &mut S,
+        state: &State,
+        (h, rhs_norm): (f64, f64),
+        s0: f64,
+        full: (f64, f64),
+    ) -> Result<(f64, f64), crate::error::Error> {
+        let sc = self.settings.scheme;
+        let settings = self.settings.line_search_settings();
+        let scale = 1.0 / (1.0 + sc.alpha);
+        let s1 = scale * sys.dot(&self.s.du, &self.s.r);
+        let (mut norms, mut at) = (full, 1.0);
+        let s = &mut self.s;
+        let found =
+            crate::analysis::line_search::secant(s0, s1, &settings, |eta| -> Result<f64, crate::error::Error> {
+                at = eta;
+                norms = s.move_along(sys, state, (h, rhs_norm), sc, eta)?;
+                Ok(scale * sys.dot(&s.du, &s.r))
+            })?;
+        if at != found.eta {
+            norms = s.move_along(sys, state, (h, rhs_norm), sc, found.eta)?;
+        }
+        if found.eta != 1.0 && self.settings.newton == NewtonKind::Krylov {
+            self.krylov.scale_last(found.eta);
+        }
+        Ok(norms)
     }
 
     /// Moves the converged trial solution into `state` and updates the energies (the

@@ -68,6 +68,8 @@ pub struct TimeHistorySummary {
     pub rayleigh: [f64; 2],
     /// Newton variant.
     pub newton: String,
+    /// Whether each correction was followed by a line search (`[dynamics] line_search`).
+    pub line_search: bool,
     /// How the steps integrate the damage law: `implicit` or `implex` (`stepper.rs`).
     pub integration: String,
     /// With IMPL-EX, where the split of a step's stress is taken: `current` or `frozen`.

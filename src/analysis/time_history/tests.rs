@@ -18,6 +18,7 @@ fn settings(scheme: Scheme) -> StepSettings {
         tolerance: 1e-12,
         max_substeps: 3,
         max_damage_increment: 1.0,
+        line_search: false,
     }
 }
 
@@ -337,6 +338,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
             tolerance: 1e-12,
             max_substeps,
             max_damage_increment: 1.0,
+            line_search: false,
         });
         let mut reports = Vec::new();
         for k in 1..=steps {
@@ -376,6 +378,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
             tolerance: 1e-12,
             max_substeps: 0,
             max_damage_increment: 1.0,
+            line_search: false,
         });
         let (mut us, mut its) = (Vec::new(), 0);
         for k in 1..=40 {
