@@ -259,7 +259,8 @@ pub struct DynamicsConfig {
     /// (`analysis::line_search`: η with Δu · r(u + η Δu) ≈ 0; `analysis::time_history::stepper`).
     /// It costs nothing where the full correction already reduces that projection, and one or
     /// more residuals where the residual is kinked (a point crossing its damage threshold).
-    /// Default false.
+    /// Default false: on the church under strong shaking it did not reduce the failed steps
+    /// (docs/convergence.md).
     #[serde(default)]
     pub line_search: bool,
     /// Relative force tolerance (default 1e-6).
