@@ -176,69 +176,9 @@ fn line_search_step<S: DynamicSystem>(
 
 #[cfg(test)]
 mod tests {
+    use super::super::cube_root_spring::CubeRootSpring;
     use super::*;
     use crate::error::Error;
-
-    /// One DOF under a static load F with f_int(u) = ∛(u − a) + ∛a: monotone, f_int(0) = 0, and
-    /// the root of F = ∛a at u = a. Full Newton on a cube root diverges from any start:
-    /// u_{k+1} − a = −2 (u_k − a). Counts the internal-force evaluations.
-    struct CubeRootSpring {
-        a: f64,
-        f: Vec<f64>,
-        tangent: f64,
-        evaluations: usize,
-    }
-
-    impl CubeRootSpring {
-        fn new(a: f64) -> Self {
-            CubeRootSpring { a, f: vec![a.cbrt()], tangent: 1.0, evaluations: 0 }
-        }
-        fn f_int(&self, u: f64) -> f64 {
-            (u - self.a).cbrt() + self.a.cbrt()
-        }
-    }
-
-    impl DynamicSystem for CubeRootSpring {
-        fn len(&self) -> usize {
-            1
-        }
-        fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
-            a[0] * b[0]
-        }
-        fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
-            y[0] = x[0];
-            Ok(())
-        }
-        fn damping_mult(&mut self, _x: &[f64], y: &mut [f64]) -> Result<(), Error> {
-            y[0] = 0.0;
-            Ok(())
-        }
-        fn mass_influence(&self, _d: usize) -> &[f64] {
-            &self.f
-        }
-        fn influence(&self, _d: usize) -> &[f64] {
-            &self.f
-        }
-        fn static_load(&self) -> &[f64] {
-            &self.f
-        }
-        fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
-            self.evaluations += 1;
-            f[0] = self.f_int(u[0]);
-            Ok(())
-        }
-        fn prepare(&mut self, at: Option<&[f64]>, _c_m: f64, _c_c: f64) -> Result<(), Error> {
-            let u = at.map_or(0.0, |u| u[0]);
-            self.tangent = 1.0 / (3.0 * (u - self.a).abs().powf(2.0 / 3.0)).max(1e-300);
-            Ok(())
-        }
-        fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
-            x[0] = r[0] / self.tangent;
-            Ok(())
-        }
-        fn commit(&mut self) {}
-        fn revert(&mut self) {}
-    }
 
     fn settings(steps: usize) -> GravitySettings {
         GravitySettings { steps, max_iterations: 40, tolerance: 1e-10, max_cuts: 6 }
@@ -251,10 +191,10 @@ mod tests {
     fn the_line_search_converges_where_full_newton_runs_away() {
         let a = 2.0;
         let mut sys = CubeRootSpring::new(a);
-        let (mut u, f) = (0.5, sys.f[0]);
+        let (mut u, f) = (0.5, sys.load[0]);
         for _ in 0..5 {
             sys.prepare(Some(&[u]), 0.0, 0.0).unwrap();
-            u += (f - sys.f_int(u)) / sys.tangent;
+            u += (f - sys.f_int(u)) / sys.jacobian;
         }
         assert!((u - a).abs() > 10.0, "full Newton was expected to run away, u = {u}");
         let mut sys = CubeRootSpring::new(a);

@@ -9,70 +9,10 @@
 //! With a unit mass and a step of 10⁴ s the inertia term of the Jacobian, `4 m / h² = 4·10⁻⁸`,
 //! is negligible beside the spring's tangent near the root, so the step is the static problem:
 //! without the search every attempt runs away; with it the step converges.
+use super::cube_root_spring::CubeRootSpring;
 use super::scheme::Scheme;
 use super::stepper::{State, StepSettings, Stepper};
-use super::system::DynamicSystem;
 use crate::config::{IntegrationKind, NewtonKind};
-use crate::error::Error;
-
-/// The spring of the module docs with a unit mass and no damping.
-struct CubeRootSpring {
-    a: f64,
-    load: Vec<f64>,
-    zero: Vec<f64>,
-    jacobian: f64,
-}
-
-impl CubeRootSpring {
-    fn new(a: f64) -> Self {
-        CubeRootSpring { a, load: vec![a.cbrt()], zero: vec![0.0], jacobian: 1.0 }
-    }
-    fn f_int(&self, u: f64) -> f64 {
-        (u - self.a).cbrt() + self.a.cbrt()
-    }
-}
-
-impl DynamicSystem for CubeRootSpring {
-    fn len(&self) -> usize {
-        1
-    }
-    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
-        a[0] * b[0]
-    }
-    fn mass_mult(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Error> {
-        y[0] = x[0];
-        Ok(())
-    }
-    fn damping_mult(&mut self, _x: &[f64], y: &mut [f64]) -> Result<(), Error> {
-        y[0] = 0.0;
-        Ok(())
-    }
-    fn mass_influence(&self, _d: usize) -> &[f64] {
-        &self.zero
-    }
-    fn influence(&self, _d: usize) -> &[f64] {
-        &self.zero
-    }
-    fn static_load(&self) -> &[f64] {
-        &self.load
-    }
-    fn internal_force(&mut self, u: &[f64], f: &mut [f64]) -> Result<(), Error> {
-        f[0] = self.f_int(u[0]);
-        Ok(())
-    }
-    fn prepare(&mut self, at: Option<&[f64]>, c_m: f64, _c_c: f64) -> Result<(), Error> {
-        let u = at.map_or(0.0, |u| u[0]);
-        let k = 1.0 / (3.0 * (u - self.a).abs().powf(2.0 / 3.0)).max(1e-300);
-        self.jacobian = k + c_m;
-        Ok(())
-    }
-    fn solve(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Error> {
-        x[0] = r[0] / self.jacobian;
-        Ok(())
-    }
-    fn commit(&mut self) {}
-    fn revert(&mut self) {}
-}
 
 /// The relative force tolerance: the cube root's residual is steep at its root (one ulp of u
 /// from a = 2 leaves (4.4·10⁻¹⁶)^(1/3) = 7.6·10⁻⁶ of force, 3·10⁻⁶ of the load), so the test asks

@@ -43,6 +43,8 @@ mod bar_tests;
 mod base_shear;
 mod checkpoint;
 #[cfg(test)]
+mod cube_root_spring;
+#[cfg(test)]
 mod damage_control_tests;
 mod damage_shares;
 mod damping;
