@@ -447,7 +447,9 @@ impl Stepper {
         if st.newton == NewtonKind::Krylov {
             self.krylov.correct(sys, &mut s.du);
         }
-        s.u0.copy_from_slice(&s.u);
+        if st.line_search {
+            s.u0.copy_from_slice(&s.u);
+        }
         for i in 0..s.u.len() {
             s.u[i] += s.du[i];
         }
