@@ -63,6 +63,19 @@ fn the_implex_split_is_read_and_refused_without_implex() {
 }
 
 #[test]
+fn implex_corrections_are_read_and_refused_without_implex_or_out_of_range() {
+    let k = |extra: &str| load(extra).map(|j| j.spec.dynamics.unwrap().implex_corrections);
+    assert_eq!(k("").unwrap(), 0, "IMPL-EX as published by default");
+    assert_eq!(k("integration = \"implex\"\nimplex_corrections = 2").unwrap(), 2);
+    let e = k("implex_corrections = 2").expect_err("refused");
+    assert!(e.contains("dynamics.implex_corrections") && e.contains("implex"), "{e}");
+    let e = k("integration = \"implex\"\nimplex_corrections = 11").expect_err("refused");
+    assert!(e.contains("dynamics.implex_corrections") && e.contains("0 to 10"), "{e}");
+    let e = k("integration = \"implex\"\nimplex_corrections = -1").expect_err("refused");
+    assert!(e.contains("implex_corrections"), "{e}");
+}
+
+#[test]
 fn implex_with_viscous_damage_is_refused_at_the_relaxation_key() {
     let e = load("integration = \"implex\"\ndamage_relaxation_time = 0.01").err().expect("refused");
     assert!(e.contains("dynamics.damage_relaxation_time") && e.contains("implicit"), "{e}");

@@ -387,6 +387,10 @@ impl Element for FiberBeam3d {
         }
     }
 
+    fn hold_implex_histories(&mut self) -> bool {
+        self.states.hold_trial()
+    }
+
     /// Fiber i of Gauss point g (j = g n_f + i): the energy weighted by w_g L A_f as in
     /// [`Self::evaluate`].
     fn settle_implex(&mut self) {

@@ -232,6 +232,14 @@ pub trait Element: Debug {
     /// Nothing otherwise (the default).
     fn settle_implex(&mut self) {}
 
+    /// With IMPL-EX on, the settled trial states ([`Element::settle_implex`]) held as the
+    /// histories of the step's next evaluations, in place of the extrapolated ones
+    /// ([`PointStates::hold_trial`]); returns whether any point's held history changed. Nothing
+    /// otherwise (the default: false).
+    fn hold_implex_histories(&mut self) -> bool {
+        false
+    }
+
     /// Switch the element's damage law to nonlocal driving strains (`material::nonlocal`), the
     /// softening regularized by `length` instead of the element size; returns the points whose
     /// driving strains are averaged (empty, the default: the element takes no part).

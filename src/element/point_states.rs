@@ -287,6 +287,23 @@ impl PointStates {
         x.pending = false;
     }
 
+    /// With IMPL-EX, the settled trial states ([`Self::settle`]) become the histories the stress
+    /// of the step's next evaluations uses, in place of the extrapolated ones: a staggered
+    /// correction of the step (`analysis::time_history::stepper`, "IMPL-EX corrections"). The
+    /// committed states and the step are unchanged; a point whose held history changes computes
+    /// its secant again. Returns whether any changed (false without IMPL-EX).
+    pub fn hold_trial(&mut self) -> bool {
+        let Some(x) = &mut self.implex else { return false };
+        debug_assert!(!x.pending, "an IMPL-EX correction of trial states not settled");
+        let mut changed = false;
+        for ((held, t), known) in x.extrapolated.iter_mut().zip(&self.trial).zip(x.secant_known.iter_mut()) {
+            if held != t {
+                (*held, *known, changed) = (*t, false, true);
+            }
+        }
+        changed
+    }
+
     /// Trial → committed (with IMPL-EX, committed → previous first). The trial states must be
     /// settled ([`Self::settle`]).
     pub fn commit(&mut self) {

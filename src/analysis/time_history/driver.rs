@@ -119,6 +119,7 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
         max_substeps: cfg.max_substeps,
         max_damage_increment: cfg.max_damage_increment,
         line_search: cfg.line_search,
+        implex_corrections: cfg.implex_corrections,
     };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes, observer)?;
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
@@ -127,6 +128,7 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
     summary.line_search = cfg.line_search;
     summary.integration = cfg.integration.name().to_string();
     summary.implex_split = implex.map(|s| s.name().to_string());
+    summary.implex_corrections = cfg.implex_corrections;
     Ok(summary)
 }
 

@@ -31,6 +31,7 @@ fn settings(newton: NewtonKind, line_search: bool) -> StepSettings {
         max_substeps: 0,
         max_damage_increment: 1.0,
         line_search,
+        implex_corrections: 0,
     }
 }
 

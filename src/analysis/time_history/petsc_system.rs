@@ -519,6 +519,17 @@ impl DynamicSystem for PetscSystem<'_> {
         }
     }
 
+    /// Collective: one max-reduction over the ranks.
+    fn hold_histories(&mut self) -> bool {
+        let mut local = 0i32;
+        for e in self.disc.elements.iter_mut() {
+            local |= e.hold_implex_histories() as i32;
+        }
+        let mut global = 0i32;
+        self.ctx.comm.all_reduce_into(&local, &mut global, mpi::collective::SystemOperation::max());
+        global != 0
+    }
+
     fn set_step_size(&mut self, h: f64) {
         if self.relaxation_time.is_some() {
             for e in self.disc.elements.iter_mut() {

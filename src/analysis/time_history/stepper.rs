@@ -31,6 +31,28 @@
 //! convergence test, the substeps on a failure or a damage increment (that of the histories'
 //! implicit update) over the limit, the commit, the energies.
 //!
+//! # IMPL-EX corrections
+//! With `[dynamics] implex_corrections = K > 0`, a converged IMPL-EX (sub)step is not accepted
+//! at once: its implicit update (κ from κ_n at the converged strain, [`DynamicSystem::update_histories`])
+//! becomes the damage held by the step ([`DynamicSystem::hold_histories`]), and the equilibrium
+//! is solved again from the converged iterate, K times (a staggered, alternating iteration
+//! between equilibrium at fixed damage and the damage of that equilibrium):
+//!
+//! ```text
+//!   κ⁽⁰⁾ = κ̃ (extrapolated);   for k = 0 … K:  u⁽ᵏ⁾ = equilibrium at d(κ⁽ᵏ⁾),
+//!                                               κ⁽ᵏ⁺¹⁾ = max(κ_n, ε_eq(ε(u⁽ᵏ⁾)))
+//!   accepted: u⁽ᴷ⁾, the histories κ⁽ᴷ⁺¹⁾ committed (as IMPL-EX commits its implicit update)
+//! ```
+//!
+//! A fixed point of the iteration is the implicit step's solution; the extrapolation is its
+//! predictor, which selects the branch where the implicit step has more than one. Each pass is
+//! an equilibrium at fixed damage, as IMPL-EX's, and K is fixed: no decision of the step
+//! depends on how close an iterate comes to a threshold, so round-off moves the answer by
+//! round-off (a Newton cap or a halving, which the implicit step needs, is such a decision).
+//! The iterations of all passes count as the step's; `max_iterations` caps each pass. A pass
+//! whose held damage is the damage its equilibrium already had (no point's history changed:
+//! every point of a quiet step) ends the corrections, at no further evaluation.
+//!
 //! A step that does not converge (too many iterations, a non-finite residual, an element or solver
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
@@ -107,6 +129,9 @@ pub struct StepSettings {
     pub max_damage_increment: f64,
     /// A secant line search along each correction (module docs, "Line search").
     pub line_search: bool,
+    /// IMPL-EX: equilibria solved again at the implicitly updated damage (module docs,
+    /// "IMPL-EX corrections"); 0 without.
+    pub implex_corrections: usize,
 }
 
 impl StepSettings {
@@ -377,7 +402,9 @@ impl Stepper {
         let (mut fresh, mut within) = (false, 0);
         // s(0) = Δu · r of the last correction, with the line search.
         let mut s0: Option<f64> = None;
-        for it in 0..=st.max_iterations {
+        // Corrections made (the iterations), and those of the IMPL-EX corrections before.
+        let (mut it, mut earlier, mut corrections) = (0, 0, 0);
+        loop {
             // IMPL-EX: the stress at u_n is that of the step's extrapolated damage.
             let known = (it == 0 && !implex).then_some(state.f_int.as_slice());
             let failed = |residual, reason| Attempt::Failed { iterations: it, residual, reason };
@@ -389,7 +416,7 @@ impl Stepper {
                 Ok(norms) => norms,
                 Err(e) => return failed(residual, e.to_string()),
             };
-            if it == 0 {
+            if it == 0 && corrections == 0 {
                 scale0 = current;
             }
             // At most G·scale₀: a diverging iterate cannot loosen its own test.
@@ -402,12 +429,21 @@ impl Stepper {
                 return failed(residual, format!("iteration {it}: the iterate diverged"));
             }
             if rn == 0.0 || residual <= st.tolerance {
+                if implex && corrections < st.implex_corrections {
+                    // Module docs, "IMPL-EX corrections": the damage of this equilibrium held;
+                    // where it is the damage the equilibrium had, so is the residual.
+                    sys.update_histories();
+                    if sys.hold_histories() {
+                        (corrections, earlier, s0) = (corrections + 1, it, None);
+                        continue;
+                    }
+                }
                 if it > 0 {
                     self.refresh.converged(it, fresh, within);
                 }
                 return Attempt::Converged { iterations: it, residual };
             }
-            if it == st.max_iterations {
+            if it - earlier == st.max_iterations {
                 break;
             }
             match self.correct(sys, state, h, it, jacobian) {
@@ -416,9 +452,10 @@ impl Stepper {
                 Err(e) => return failed(residual, e.to_string()),
             }
             s0 = st.line_search.then(|| sys.dot(&self.s.du, &self.s.r));
+            it += 1;
         }
         Attempt::Failed {
-            iterations: st.max_iterations,
+            iterations: it,
             residual,
             reason: format!("no convergence in {} iterations", st.max_iterations),
         }

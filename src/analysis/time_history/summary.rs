@@ -74,6 +74,9 @@ pub struct TimeHistorySummary {
     pub integration: String,
     /// With IMPL-EX, where the split of a step's stress is taken: `current` or `frozen`.
     pub implex_split: Option<String>,
+    /// With IMPL-EX, the step's equilibria solved again at the implicitly updated damage
+    /// (`[dynamics] implex_corrections`).
+    pub implex_corrections: usize,
     /// Linear solver.
     pub solver: String,
     /// Time step [s].

@@ -19,6 +19,7 @@ fn settings(scheme: Scheme) -> StepSettings {
         max_substeps: 3,
         max_damage_increment: 1.0,
         line_search: false,
+        implex_corrections: 0,
     }
 }
 
@@ -339,6 +340,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
             max_substeps,
             max_damage_increment: 1.0,
             line_search: false,
+            implex_corrections: 0,
         });
         let mut reports = Vec::new();
         for k in 1..=steps {
@@ -379,6 +381,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
             max_substeps: 0,
             max_damage_increment: 1.0,
             line_search: false,
+            implex_corrections: 0,
         });
         let (mut us, mut its) = (Vec::new(), 0);
         for k in 1..=40 {

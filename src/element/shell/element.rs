@@ -583,6 +583,10 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         }
     }
 
+    fn hold_implex_histories(&mut self) -> bool {
+        self.states.hold_trial()
+    }
+
     /// Layer point j = p n_z + l: the law at its strain (nonlocal with its averages), the energy
     /// weighted by w_p w_l as in [`Self::evaluate`].
     fn settle_implex(&mut self) {
