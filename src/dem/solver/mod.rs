@@ -30,6 +30,7 @@
 //! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts (each iteration's record read off its residual evaluation), counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
 #[cfg(test)]
 mod break_group_tests;
+mod break_search;
 mod breaks;
 pub mod checkpoint;
 pub mod cholmod;
@@ -86,8 +87,8 @@ pub use diagnostics::Diagnostics;
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
-pub use options::{FactorUpdates, FloatingPolicy, SlipTerms, SolverOptions};
-pub use profile::{Counters, SolverProfile};
+pub use options::{BreakSearch, FactorUpdates, FloatingPolicy, SlipTerms, SolverOptions};
+pub use profile::{BreakSearchCounts, Counters, SolverProfile};
 pub use records::{BrokenBeam, FailureModeTag, LoadPoint, Observer, StageEnd, StateKind, StateRecord};
 pub use snapshots::{ParticleState, ParticleStates};
 pub use solver::Solver;
