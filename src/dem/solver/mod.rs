@@ -31,6 +31,8 @@
 #[cfg(test)]
 mod break_group_tests;
 mod break_search;
+#[cfg(test)]
+mod break_search_tests;
 mod breaks;
 pub mod checkpoint;
 pub mod cholmod;
