@@ -42,7 +42,8 @@
 //! stderr when the test stops on an error (`dem::solver::trace`).
 //! `DEM_BREAK_SEARCH=tangent` predicts each load step's first break from one tangent solve and
 //! solves the equilibrium at the break only (`SolverOptions::break_search`,
-//! `dem::solver::break_search`; default `trial`: the step's end first).
+//! `dem::solver::break_search`; default `trial`: the step's end first; `trial_landed`: the
+//! step's end first, each break then landed on P = 1 as the search's are).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
@@ -148,7 +149,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         opts.break_search = match v.as_str() {
             "tangent" => BreakSearch::Tangent,
             "trial" => BreakSearch::Trial,
-            _ => return Err(format!("DEM_BREAK_SEARCH={v}: expected trial or tangent").into()),
+            "trial_landed" => BreakSearch::TrialLanded,
+            _ => return Err(format!("DEM_BREAK_SEARCH={v}: expected trial, trial_landed or tangent").into()),
         };
     }
     if let Ok(v) = std::env::var("DEM_TRACE") {

@@ -122,6 +122,12 @@ pub(super) fn searches(pb: &Problem<'_>) -> bool {
     pb.opts.break_search == BreakSearch::Tangent && pb.model.params.crushing.is_none()
 }
 
+/// Whether a break found on a trial step's chord is landed on `P = 1` ([`land`]):
+/// [`BreakSearch::Tangent`] and [`BreakSearch::TrialLanded`], never with crushing.
+pub(super) fn lands(pb: &Problem<'_>) -> bool {
+    pb.opts.break_search != BreakSearch::Trial && pb.model.params.crushing.is_none()
+}
+
 /// The first break of the load step from the committed state at `walk.t` to `t_try` (module
 /// docs): `Some`, the state is the equilibrium at the landing (not committed); `None`, no
 /// break inside the step or the search gave up, the state is the committed one.
@@ -141,6 +147,26 @@ pub(super) fn search_break(
         counts.no_break += 1;
         return Ok(None);
     };
+    land(pb, state, ws, diag, walk, (&start.z, &tip.z), t_try, s)
+}
+
+/// Lands the first break of the load step from the committed state at `walk.t` to `t_try`,
+/// predicted at the fraction `s` of the chord `z₀ → z₁` (`ends`; `z₁` at `t_try`: the
+/// tangent's end of the step, or the equilibrium of a trial step): secant passes on the
+/// equilibrium path until the largest index is within `LANDING_TOL` of 1 (module docs,
+/// "Landing"). `None`: given up, the state is the committed one.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn land(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &StageWalk,
+    (z0, z1): (&[f64], &[f64]),
+    t_try: f64,
+    s: f64,
+) -> Result<Option<Landing>, DemError> {
+    let (start, tip) = (Point { t: walk.t, z: z0.to_vec() }, Point { t: t_try, z: z1.to_vec() });
     let (mut lo, mut hi): (Point, Option<Point>) = (start.clone(), None);
     let mut guess = lo.toward(&tip, s);
     for _ in 0..MAX_PASSES {
@@ -148,7 +174,7 @@ pub(super) fn search_break(
         let (p_max, beam) = largest_index(pb, &state.intact, &p.z);
         if (p_max - 1.0).abs() <= LANDING_TOL {
             diag.profile.break_search.landed += 1;
-            // The next step starts from the tangent's response over the same span.
+            // The next step starts from the response along the chord, over the same span.
             let predictor = StepPredictor::new(p.t, p.t + (t_try - start.t), &start.z, &tip.z);
             return Ok(Some(Landing { t: p.t, beam, predictor }));
         }

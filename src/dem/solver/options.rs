@@ -123,6 +123,10 @@ pub enum BreakSearch {
     /// the equilibrium at `λ*` ([`super::stage`]; default).
     #[default]
     Trial,
+    /// The trial path, its breaks landed on `P = 1` by the search's secant passes
+    /// ([`super::break_search`], "Landing"): the path [`BreakSearch::Tangent`] follows, at the
+    /// trial path's cost and more; the reference of its tests.
+    TrialLanded,
     /// One tangent solve at the step's start predicts `λ*`; the equilibrium is solved there
     /// only, its indices checked and `λ*` corrected by secant steps until the first beam lands
     /// on `P = 1` ([`super::break_search`]). Without a break inside the step, or with crushing,

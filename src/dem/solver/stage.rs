@@ -92,7 +92,7 @@
 //! ([`super::operator`]).
 //!
 //! **Energy.** Each recorded state carries the energy account of [`super::energy`].
-use super::break_search::{search_break, searches, Landing};
+use super::break_search::{land, lands, search_break, searches, Landing};
 use super::breaks::{break_cascade, first_failure};
 use super::checkpoint::{CheckpointSink, TestCheckpoint};
 use super::contact_events::first_contact_event;
@@ -274,6 +274,7 @@ fn take_step(
             break_cascade(pb, state, ws, diag, Vec::new(), &step.load, t_try)?;
             true
         }
+        (Trial::Converged, Some(crossing)) if lands(pb) => land_within_step(pb, state, ws, diag, walk, step, crossing)?,
         (Trial::Converged, Some(crossing)) => break_within_step(pb, state, ws, diag, walk, step, crossing)?,
         (Trial::Converged, None) => {
             commit(pb, state, diag, t_try, StateKind::Loading);
@@ -380,6 +381,33 @@ fn break_within_step(
     let predictor = StepPredictor::new(t_l, step.t_try, &state.z, &z_end);
     break_at(pb, state, ws, diag, walk, Landing { t: t_l, beam: b, predictor })?;
     Ok(true)
+}
+
+/// With landed breaks ([`super::break_search`]): the converged trial `step` has beam `b`
+/// reaching `P = 1` at the fraction `lam` of its chord (with the search: a break the tangent
+/// did not predict); the break is landed on `P = 1` as the search's are. Given up: as on the
+/// trial path.
+fn land_within_step(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &mut StageWalk,
+    step: &TrialStep,
+    (lam, b): (f64, usize),
+) -> Result<bool, DemError> {
+    let (z_end, contacts_end) = (state.z.clone(), state.contacts.clone());
+    let ends = (step.z_old.as_slice(), z_end.as_slice());
+    match land(pb, state, ws, diag, walk, ends, step.t_try, lam).map_err(|e| abandon(state, walk, e))? {
+        Some(landing) => {
+            break_at(pb, state, ws, diag, walk, landing)?;
+            Ok(true)
+        }
+        None => {
+            (state.z, state.contacts) = (z_end, contacts_end);
+            break_within_step(pb, state, ws, diag, walk, step, (lam, b))
+        }
+    }
 }
 
 /// The state, in equilibrium at the break's load parameter where its beam reaches `P = 1`,
