@@ -62,8 +62,8 @@ use masonry_hpc::dem::mechanics::MechParams;
 mod random_sample;
 use masonry_hpc::dem::solver::gmres::Forcing;
 use masonry_hpc::dem::solver::{
-    BreakSearch, DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, SlipTerms, Solver, SolverOptions, SolverProfile,
-    StageEnd, StateRecord,
+    BreakSearch, DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, SlipTerms, Solver, SolverOptions,
+    SolverProfile, StageEnd, StateRecord,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -163,7 +163,8 @@ impl Phases {
     /// All phases together (the cut-backs included).
     pub fn total(&self) -> PhaseCounts {
         let mut t = PhaseCounts::default();
-        for p in [&self.trial, &self.predictor, &self.lambda, &self.release, &self.cascade, &self.cut_back, &self.other] {
+        for p in [&self.trial, &self.predictor, &self.lambda, &self.release, &self.cascade, &self.cut_back, &self.other]
+        {
             t.add(p);
         }
         t
