@@ -147,23 +147,21 @@ pub(super) fn search_break(
         counts.no_break += 1;
         return Ok(None);
     };
-    land(pb, state, ws, diag, walk, (&start.z, &tip.z), t_try, s)
+    land(pb, state, ws, diag, walk, (&start.z, &tip.z, t_try), s)
 }
 
 /// Lands the first break of the load step from the committed state at `walk.t` to `t_try`,
-/// predicted at the fraction `s` of the chord `z₀ → z₁` (`ends`; `z₁` at `t_try`: the
-/// tangent's end of the step, or the equilibrium of a trial step): secant passes on the
+/// predicted at the fraction `s` of the chord `z₀ → z₁` (`z₁` at `t_try`: the tangent's end
+/// of the step, or the equilibrium of a trial step): secant passes on the
 /// equilibrium path until the largest index is within `LANDING_TOL` of 1 (module docs,
 /// "Landing"). `None`: given up, the state is the committed one.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn land(
     pb: &Problem<'_>,
     state: &mut SolverState,
     ws: &mut Workspace,
     diag: &mut Diagnostics<'_>,
     walk: &StageWalk,
-    (z0, z1): (&[f64], &[f64]),
-    t_try: f64,
+    (z0, z1, t_try): (&[f64], &[f64], f64),
     s: f64,
 ) -> Result<Option<Landing>, DemError> {
     let (start, tip) = (Point { t: walk.t, z: z0.to_vec() }, Point { t: t_try, z: z1.to_vec() });

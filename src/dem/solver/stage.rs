@@ -397,8 +397,8 @@ fn land_within_step(
     (lam, b): (f64, usize),
 ) -> Result<bool, DemError> {
     let (z_end, contacts_end) = (state.z.clone(), state.contacts.clone());
-    let ends = (step.z_old.as_slice(), z_end.as_slice());
-    match land(pb, state, ws, diag, walk, ends, step.t_try, lam).map_err(|e| abandon(state, walk, e))? {
+    let chord = (step.z_old.as_slice(), z_end.as_slice(), step.t_try);
+    match land(pb, state, ws, diag, walk, chord, lam).map_err(|e| abandon(state, walk, e))? {
         Some(landing) => {
             break_at(pb, state, ws, diag, walk, landing)?;
             Ok(true)
