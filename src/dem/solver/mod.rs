@@ -9,6 +9,7 @@
 //! | `options.rs`, `records.rs`, `scales.rs` | the options (among them how the factor follows breaks: in place from 1,000 unknowns, `FactorUpdates`); what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
 //! | `stage.rs`, `walk.rs` | the stage loop, the top of the pipeline: load steps, cut-backs, snaps, contact events (the algorithm's module docs); where a stage's walk over its load stands |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
+//! | `break_search.rs`, `break_search_tests.rs` | optional (`SolverOptions::break_search`): a load step's first break predicted by one tangent solve and landed on `P = 1` by secant passes on the equilibrium path, one equilibrium per break instead of the step's end and the break's load; tested against the trial path and the 1k reference |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | an equilibrium, booked to its phase: Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
 //! | `evaluation.rs` | a residual evaluation at a state: its contacts, the residual and its measures, the beams' forces |

@@ -18,7 +18,11 @@
 //! this loop over the solver's parts: each trial step (`solve_trial`: the equilibrium from the
 //! step predictor or the plain start, continuation at the smallest increment, the energy check
 //! with crushing), the first failure along it ([`super::breaks`]), a contact event inside it
-//! ([`super::contact_events`]), the commit ([`super::energy`]) and the break cascade.
+//! ([`super::contact_events`]), the commit ([`super::energy`]) and the break cascade. With
+//! [`super::SolverOptions::break_search`] a step first predicts its first break from one
+//! tangent solve and solves the equilibrium there only ([`super::break_search`]: steps 1–2
+//! without the equilibrium at `t_target`, the break landed on `P = 1`); a step without a
+//! predicted break is the trial step above.
 //!
 //! **Contact events.** A contact that starts to slide (stick → slip), closes or opens inside a
 //! load step puts a kink into the platen force–displacement path; the trapezoid rule of the
