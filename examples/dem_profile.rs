@@ -40,6 +40,10 @@
 //! default 1e-8).
 //! `DEM_TRACE=1` keeps the Newton history of the last equilibrium attempts and prints it to
 //! stderr when the test stops on an error (`dem::solver::trace`).
+//! `DEM_BREAK_SEARCH=tangent` predicts each load step's first break from one tangent solve and
+//! solves the equilibrium at the break only (`SolverOptions::break_search`,
+//! `dem::solver::break_search`; default `trial`: the step's end first; `trial_landed`: the
+//! step's end first, each break then landed on P = 1 as the search's are).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
@@ -58,8 +62,8 @@ use masonry_hpc::dem::mechanics::MechParams;
 mod random_sample;
 use masonry_hpc::dem::solver::gmres::Forcing;
 use masonry_hpc::dem::solver::{
-    DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, SlipTerms, Solver, SolverOptions, SolverProfile,
-    StageEnd, StateRecord,
+    BreakSearch, DofControl, DofMap, FactorUpdates, LoadPoint, Model, Observer, SlipTerms, Solver, SolverOptions,
+    SolverProfile, StageEnd, StateRecord,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -141,13 +145,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_TOL") {
         opts.tol = v.parse().map_err(|e| format!("DEM_TOL={v}: {e}"))?;
     }
+    if let Ok(v) = std::env::var("DEM_BREAK_SEARCH") {
+        opts.break_search = match v.as_str() {
+            "tangent" => BreakSearch::Tangent,
+            "trial" => BreakSearch::Trial,
+            "trial_landed" => BreakSearch::TrialLanded,
+            _ => return Err(format!("DEM_BREAK_SEARCH={v}: expected trial, trial_landed or tangent").into()),
+        };
+    }
     if let Ok(v) = std::env::var("DEM_TRACE") {
         opts.trace = v != "0";
     }
     let settings = format!(
-        "tol={} slip_terms={:?} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={}",
+        "tol={} slip_terms={:?} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={} break_search={:?}",
         opts.tol, opts.slip_terms, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.factor_updates, opts.fill_refactor, opts.refresh_drift,
-        opts.breaks_per_equilibrium
+        opts.breaks_per_equilibrium,
+        opts.break_search
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;
     let mut solver = Solver::new(model, opts, zero)?;

@@ -42,12 +42,12 @@ fn crushing_index(pb: &Problem<'_>, b: usize, z: &[f64]) -> f64 {
     c.beam_index(pb.model.params.e_bar, g.delta_n(qi, qj) / g.ell)
 }
 
-/// The smallest crushing fraction of beam `b` along `z_old → z` (`None` without crushing).
-fn crushing_lambda(pb: &Problem<'_>, state: &SolverState, b: usize, z_old: &[f64]) -> Option<f64> {
+/// The smallest crushing fraction of beam `b` along `z_a → z_b` (`None` without crushing).
+fn crushing_lambda(pb: &Problem<'_>, b: usize, z_a: &[f64], z_b: &[f64]) -> Option<f64> {
     let c = pb.model.params.crushing.as_ref()?;
     let g = &pb.model.geoms[b];
-    let (q0i, q0j) = pb.model.beam_dofs(b, z_old);
-    let (q1i, q1j) = pb.model.beam_dofs(b, &state.z);
+    let (q0i, q0j) = pb.model.beam_dofs(b, z_a);
+    let (q1i, q1j) = pb.model.beam_dofs(b, z_b);
     let (e0, e1) = (g.delta_n(q0i, q0j) / g.ell, g.delta_n(q1i, q1j) / g.ell);
     c.beam_lambda(pb.model.params.e_bar, e0, e1 - e0)
 }
@@ -63,33 +63,61 @@ pub(super) fn first_failure(
     z_old: &[f64],
 ) -> Option<(f64, usize)> {
     let clock = Instant::now();
-    let first = scan_first_failures(pb, state, z_old, 1);
+    let first = first_crossing_on_chord(pb, &state.intact, z_old, &state.z, 1.0);
     profile::add(&mut diag.profile.failure_seconds, clock.elapsed());
     diag.profile.failure_scans += 1;
-    first.first().copied()
+    first
 }
 
-fn scan_first_failures(pb: &Problem<'_>, state: &SolverState, z_old: &[f64], n: usize) -> Vec<(f64, usize)> {
-    // The n smallest (λ, b) with λ < 1, sorted; kept small by insertion.
-    let mut first: Vec<(f64, usize)> = Vec::with_capacity(n + 1);
-    let intact = &state.intact;
+/// The intact beam that reaches its failure index (or crushing index) first along the chord
+/// `z_a + μ (z_b − z_a)`, `μ ∈ [0, reach]`, with its `μ < reach` (ties by beam index). Both
+/// indices are piecewise linear in `μ` (the beam law is linear in the end displacements), so
+/// the crossing is closed-form: the chord stretched by `reach` is handed to
+/// [`failure_lambda`], and its fraction scaled back.
+pub(super) fn first_crossing_on_chord(
+    pb: &Problem<'_>,
+    intact: &[bool],
+    z_a: &[f64],
+    z_b: &[f64],
+    reach: f64,
+) -> Option<(f64, usize)> {
+    let mut first: Option<(f64, usize)> = None;
+    let z_far: Vec<f64>;
+    let z_end = if reach == 1.0 {
+        z_b
+    } else {
+        z_far = z_a.iter().zip(z_b).map(|(a, b)| a + reach * (b - a)).collect();
+        &z_far
+    };
     for b in (0..intact.len()).filter(|&b| intact[b]) {
-        let (q0i, q0j) = pb.model.beam_dofs(b, z_old);
-        let (q1i, q1j) = pb.model.beam_dofs(b, &state.z);
+        let (q0i, q0j) = pb.model.beam_dofs(b, z_a);
+        let (q1i, q1j) = pb.model.beam_dofs(b, z_end);
         let d = |a: [f64; 3], c: [f64; 3]| [a[0] - c[0], a[1] - c[1], a[2] - c[2]];
         let lambdas = [
             failure_lambda(&pb.model.geoms[b], &pb.model.thresholds, q0i, q0j, d(q1i, q0i), d(q1j, q0j)),
-            crushing_lambda(pb, state, b, z_old),
+            crushing_lambda(pb, b, z_a, z_end),
         ];
         let Some(l) = lambdas.into_iter().flatten().reduce(f64::min) else { continue };
-        if l >= 1.0 || (first.len() == n && l >= first[n - 1].0) {
+        if l >= 1.0 || first.is_some_and(|(fl, _)| l >= fl) {
             continue;
         }
-        let at = first.partition_point(|&(fl, _)| fl <= l);
-        first.insert(at, (l, b));
-        first.truncate(n);
+        first = Some((l, b));
     }
-    first
+    first.map(|(l, b)| (l * reach, b))
+}
+
+/// The largest failure index (or crushing index) of the intact beams at `z`, with its beam
+/// (ties by beam index; `(−∞, usize::MAX)` with no intact beam).
+pub(super) fn largest_index(pb: &Problem<'_>, intact: &[bool], z: &[f64]) -> (f64, usize) {
+    let mut worst = (f64::NEG_INFINITY, usize::MAX);
+    for b in (0..intact.len()).filter(|&b| intact[b]) {
+        let (qi, qj) = pb.model.beam_dofs(b, z);
+        let p = failure_index(&pb.model.geoms[b], &pb.model.thresholds, qi, qj).max(crushing_index(pb, b, z));
+        if p > worst.0 {
+            worst = (p, b);
+        }
+    }
+    worst
 }
 
 /// The intact beams with `P ≥ 1` at the current state, the most critical first (ties by

@@ -346,7 +346,7 @@ pub(super) fn apply_load(
 /// operator when no contact is active (then `K_T = M`); else GMRES to the relative tolerance
 /// `eta`, preconditioned by `M`, with a direct sparse LU of `K_T` where GMRES misses it
 /// (module docs). The trace's `step` gets the GMRES figures.
-fn newton_direction(
+pub(super) fn newton_direction(
     pb: &Problem<'_>,
     state: &SolverState,
     ws: &mut Workspace,

@@ -9,6 +9,7 @@
 //! | `options.rs`, `records.rs`, `scales.rs` | the options (among them how the factor follows breaks: in place from 1,000 unknowns, `FactorUpdates`); what is recorded (load points, states, breaks, the observer); the sample's fixed scales |
 //! | `stage.rs`, `walk.rs` | the stage loop, the top of the pipeline: load steps, cut-backs, snaps, contact events (the algorithm's module docs); where a stage's walk over its load stands |
 //! | `breaks.rs` | one beam break per equilibrium: its closed-form crossing λ, the most critical beam, the release of a broken beam's force; the opt-in approximation of several breaks per equilibrium |
+//! | `break_search.rs`, `break_search_tests.rs` | optional (`SolverOptions::break_search`): a load step's first break predicted by one tangent solve and landed on `P = 1` by secant passes on the equilibrium path, one equilibrium per break instead of the step's end and the break's load; tested against the trial path and the 1k reference |
 //! | `linear.rs` | the linear phase: where no contact is active, Newton's first step is the equilibrium, taken without the residual that would confirm it |
 //! | `equilibrium.rs` | an equilibrium, booked to its phase: Newton on the consistent contact–friction tangent, converged at `tol` times the state's largest force (floored by a tenth of the test's largest platen force so far and the contact law's round-off), with line search and a step cap |
 //! | `evaluation.rs` | a residual evaluation at a state: its contacts, the residual and its measures, the beams' forces |
@@ -30,6 +31,9 @@
 //! | `snapshots.rs`, `trace.rs`, `profile.rs`, `phases.rs` | states kept for output (an observer), the Newton history of the last attempts (each iteration's record read off its residual evaluation), counters and phase times, the equilibria's work by what they were solved for (trial, λ*, release, cascade, cut-back) |
 #[cfg(test)]
 mod break_group_tests;
+mod break_search;
+#[cfg(test)]
+mod break_search_tests;
 mod breaks;
 pub mod checkpoint;
 pub mod cholmod;
@@ -86,8 +90,8 @@ pub use diagnostics::Diagnostics;
 pub use dofs::{DofControl, DofMap, PlatenControl};
 pub use error::DemError;
 pub use factor::LowRankCholesky;
-pub use options::{FactorUpdates, FloatingPolicy, SlipTerms, SolverOptions};
-pub use profile::{Counters, SolverProfile};
+pub use options::{BreakSearch, FactorUpdates, FloatingPolicy, SlipTerms, SolverOptions};
+pub use profile::{BreakSearchCounts, Counters, SolverProfile};
 pub use records::{BrokenBeam, FailureModeTag, LoadPoint, Observer, StageEnd, StateKind, StateRecord};
 pub use snapshots::{ParticleState, ParticleStates};
 pub use solver::Solver;

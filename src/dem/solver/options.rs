@@ -81,6 +81,9 @@ pub struct SolverOptions {
     /// break per equilibrium). `n > 1` is an approximation, opt-in ([`super::breaks`], "Several
     /// breaks per equilibrium"): a cascade breaks up to `n` beams with `P ≥ 1` at once.
     pub breaks_per_equilibrium: usize,
+    /// How a load step finds the load of its first beam break ([`BreakSearch`],
+    /// [`super::break_search`]; default [`BreakSearch::Trial`]).
+    pub break_search: BreakSearch,
 }
 
 impl Default for SolverOptions {
@@ -106,8 +109,29 @@ impl Default for SolverOptions {
             fill_refactor: super::factor::FILL_REFACTOR_FACTOR,
             refresh_drift: f64::INFINITY,
             breaks_per_equilibrium: 1,
+            break_search: BreakSearch::Trial,
         }
     }
+}
+
+/// How a load step `t → t_try` finds the load `λ*` at which its first beam reaches `P = 1`
+/// ([`super::break_search`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BreakSearch {
+    /// The equilibrium at `t_try` first, `λ*` on the chord from the step's start to it, then
+    /// the equilibrium at `λ*` ([`super::stage`]; default).
+    #[default]
+    Trial,
+    /// The trial path, its breaks landed on `P = 1` by the search's secant passes
+    /// ([`super::break_search`], "Landing"): the path [`BreakSearch::Tangent`] follows, at the
+    /// trial path's cost and more; the reference of its tests.
+    TrialLanded,
+    /// One tangent solve at the step's start predicts `λ*`; the equilibrium is solved there
+    /// only, its indices checked and `λ*` corrected by secant steps until the first beam lands
+    /// on `P = 1` ([`super::break_search`]). Without a break inside the step, or with crushing,
+    /// the step is the trial's.
+    Tangent,
 }
 
 /// How the factorized operator follows beam breaks and contact changes ([`super::factor`]).

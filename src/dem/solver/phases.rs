@@ -4,7 +4,8 @@
 //! | phase | the equilibrium of |
 //! |---|---|
 //! | `trial` | a load step `t → t_try` (thrown away when a beam reaches `P = 1` inside it: `discarded`) |
-//! | `lambda` | the state at a break's crossing `λ*` inside a converged trial ("pre-break") |
+//! | `predictor` | no equilibrium: the tangent solve that predicts a step's first break (`SolverOptions::break_search`) |
+//! | `lambda` | the state at a break's crossing `λ*` inside a converged trial, or at the load the break search landed on ("pre-break") |
 //! | `release` | the first beam's release after that state (or a beam broken on request) |
 //! | `cascade` | each further release of a cascade (beams with `P ≥ 1` at a relaxed state) |
 //! | `cut_back` | any attempt above that did not converge and was retried with a smaller increment |
@@ -19,6 +20,8 @@
 pub enum Phase {
     /// A load step.
     Trial,
+    /// The tangent solve of the break search (not an equilibrium).
+    Predictor,
     /// The state at a break's `λ*`.
     Lambda,
     /// The first release after a break.
@@ -112,6 +115,8 @@ pub struct Phases {
     /// Converged trials thrown away: a beam reached `P = 1` inside the step (it is then solved
     /// again at `λ*`), the energy did not balance, or a contact event ends the step earlier.
     pub trial_discarded: usize,
+    /// Tangent solves of the break search (`equilibria`: the solves; no Newton iteration).
+    pub predictor: PhaseCounts,
     /// States at `λ*`.
     pub lambda: PhaseCounts,
     /// First releases.
@@ -134,6 +139,7 @@ impl Phases {
         let to = match (failed, phase) {
             (true, _) => &mut self.cut_back,
             (false, Phase::Trial) => &mut self.trial,
+            (false, Phase::Predictor) => &mut self.predictor,
             (false, Phase::Lambda) => &mut self.lambda,
             (false, Phase::Release) => &mut self.release,
             (false, Phase::Cascade) => &mut self.cascade,
@@ -157,7 +163,8 @@ impl Phases {
     /// All phases together (the cut-backs included).
     pub fn total(&self) -> PhaseCounts {
         let mut t = PhaseCounts::default();
-        for p in [&self.trial, &self.lambda, &self.release, &self.cascade, &self.cut_back, &self.other] {
+        for p in [&self.trial, &self.predictor, &self.lambda, &self.release, &self.cascade, &self.cut_back, &self.other]
+        {
             t.add(p);
         }
         t

@@ -98,6 +98,29 @@ pub struct SolverProfile {
     pub contacts_at_gmres: usize,
     /// The work of the equilibria by phase ([`super::phases`]).
     pub phases: Phases,
+    /// What the break search did ([`super::break_search`]; zero with
+    /// [`super::BreakSearch::Trial`]).
+    pub break_search: BreakSearchCounts,
+}
+
+/// The counters of the break search ([`super::break_search`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct BreakSearchCounts {
+    /// Tangent solves predicting a load step's first break.
+    pub predictor_solves: usize,
+    /// Steps whose prediction found no break inside the step (taken as trial steps).
+    pub no_break: usize,
+    /// Steps that landed on a break: the equilibrium where the first beam reaches `P = 1`.
+    pub landed: usize,
+    /// Equilibria solved at a predicted or corrected `λ*` (at least one per landing).
+    pub equilibria: usize,
+    /// Of those, the ones past the threshold: cut back.
+    pub cut_backs: usize,
+    /// Of those, the ones short of it: carried further.
+    pub short: usize,
+    /// Searches given up (no equilibrium at a `λ*`, no crossing inside the step on a second
+    /// look, or no landing in the passes allowed): the step is taken as a trial step.
+    pub given_up: usize,
 }
 
 impl SolverProfile {

@@ -18,7 +18,11 @@
 //! this loop over the solver's parts: each trial step (`solve_trial`: the equilibrium from the
 //! step predictor or the plain start, continuation at the smallest increment, the energy check
 //! with crushing), the first failure along it ([`super::breaks`]), a contact event inside it
-//! ([`super::contact_events`]), the commit ([`super::energy`]) and the break cascade.
+//! ([`super::contact_events`]), the commit ([`super::energy`]) and the break cascade. With
+//! [`super::SolverOptions::break_search`] a step first predicts its first break from one
+//! tangent solve and solves the equilibrium there only ([`super::break_search`]: steps 1–2
+//! without the equilibrium at `t_target`, the break landed on `P = 1`); a step without a
+//! predicted break is the trial step above.
 //!
 //! **Contact events.** A contact that starts to slide (stick → slip), closes or opens inside a
 //! load step puts a kink into the platen force–displacement path; the trapezoid rule of the
@@ -92,6 +96,7 @@
 //! ([`super::operator`]).
 //!
 //! **Energy.** Each recorded state carries the energy account of [`super::energy`].
+use super::break_search::{land, lands, search_break, searches, Landing};
 use super::breaks::{break_cascade, first_failure};
 use super::checkpoint::{CheckpointSink, TestCheckpoint};
 use super::contact_events::first_contact_event;
@@ -200,52 +205,7 @@ pub(super) fn continue_stage(
     while !walk.done() {
         let t_try = walk.trial_end();
         let step = TrialStep { t_try, z_old: state.z.clone(), load: walk.load_at(t_try) };
-        let trial = solve_trial(pb, state, ws, diag, &walk, &step)?;
-        if trial == Trial::Unbalanced {
-            diag.profile.phases.trial_discarded += 1;
-            state.restore();
-            diag.counters.cutbacks += 1;
-            diag.counters.imbalance_cutbacks += 1;
-            walk.halve(t_try);
-            continue;
-        }
-        let failure = if trial == Trial::Converged { first_failure(pb, state, diag, &step.z_old) } else { None };
-        let breaks = failure.filter(|&(lam, _)| lam < 1.0);
-        if breaks.is_some() {
-            diag.profile.phases.trial_discarded += 1;
-        }
-        if trial == Trial::Converged && breaks.is_none() {
-            if let Some(t_c) = contact_event_within(pb, state, &walk, &step) {
-                diag.profile.phases.trial_discarded += 1;
-                state.restore();
-                diag.counters.contact_events += 1;
-                walk.h = t_c - walk.t;
-                walk.at_event = true;
-                continue;
-            }
-        }
-        walk.at_event = false;
-        let advanced = match (trial, breaks) {
-            (Trial::Snapped, _) => {
-                diag.counters.continued_steps += 1;
-                commit(pb, state, diag, t_try, StateKind::Relaxed);
-                walk.t = t_try;
-                state.load = step.load.clone();
-                break_cascade(pb, state, ws, diag, Vec::new(), &step.load, t_try)?;
-                true
-            }
-            (Trial::Converged, Some(crossing)) => break_within_step(pb, state, ws, diag, &mut walk, &step, crossing)?,
-            (Trial::Converged, None) => {
-                commit(pb, state, diag, t_try, StateKind::Loading);
-                walk.t = t_try;
-                true
-            }
-            (Trial::Failed | Trial::Unbalanced, _) => false,
-        };
-        if !advanced {
-            state.restore();
-            diag.counters.cutbacks += 1;
-            walk.halve(t_try);
+        if !take_step(pb, state, ws, diag, &mut walk, &step)? {
             continue;
         }
         state.load = walk.load_at(walk.t);
@@ -261,6 +221,79 @@ pub(super) fn continue_stage(
     state.load = walk.target.clone();
     state.stage += 1;
     Ok(StageEnd::Completed)
+}
+
+/// One load step from the committed state at `walk.t` to `step.t_try` (module docs): the
+/// break search's landing ([`super::break_search`]) or the trial step, the first break inside
+/// it, a contact event, the commit and the break cascade. `false`: the walk was cut back
+/// (halved, or ended at a contact event) and the step is to be tried again.
+fn take_step(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &mut StageWalk,
+    step: &TrialStep,
+) -> Result<bool, DemError> {
+    if searches(pb) {
+        let found = search_break(pb, state, ws, diag, walk, step.t_try).map_err(|e| abandon(state, walk, e))?;
+        if let Some(landing) = found {
+            walk.at_event = false;
+            break_at(pb, state, ws, diag, walk, landing)?;
+            return Ok(true);
+        }
+    }
+    let t_try = step.t_try;
+    let trial = solve_trial(pb, state, ws, diag, walk, step)?;
+    if trial == Trial::Unbalanced {
+        diag.profile.phases.trial_discarded += 1;
+        state.restore();
+        diag.counters.cutbacks += 1;
+        diag.counters.imbalance_cutbacks += 1;
+        walk.halve(t_try);
+        return Ok(false);
+    }
+    let failure = if trial == Trial::Converged { first_failure(pb, state, diag, &step.z_old) } else { None };
+    let breaks = failure.filter(|&(lam, _)| lam < 1.0);
+    if breaks.is_some() {
+        diag.profile.phases.trial_discarded += 1;
+    }
+    if trial == Trial::Converged && breaks.is_none() {
+        if let Some(t_c) = contact_event_within(pb, state, walk, step) {
+            diag.profile.phases.trial_discarded += 1;
+            state.restore();
+            diag.counters.contact_events += 1;
+            walk.h = t_c - walk.t;
+            walk.at_event = true;
+            return Ok(false);
+        }
+    }
+    walk.at_event = false;
+    let advanced = match (trial, breaks) {
+        (Trial::Snapped, _) => {
+            diag.counters.continued_steps += 1;
+            commit(pb, state, diag, t_try, StateKind::Relaxed);
+            walk.t = t_try;
+            state.load = step.load.clone();
+            break_cascade(pb, state, ws, diag, Vec::new(), &step.load, t_try)?;
+            true
+        }
+        (Trial::Converged, Some(crossing)) if lands(pb) => land_within_step(pb, state, ws, diag, walk, step, crossing)?,
+        (Trial::Converged, Some(crossing)) => break_within_step(pb, state, ws, diag, walk, step, crossing)?,
+        (Trial::Converged, None) => {
+            commit(pb, state, diag, t_try, StateKind::Loading);
+            walk.t = t_try;
+            true
+        }
+        (Trial::Failed | Trial::Unbalanced, _) => false,
+    };
+    if !advanced {
+        state.restore();
+        diag.counters.cutbacks += 1;
+        walk.halve(t_try);
+        return Ok(false);
+    }
+    Ok(true)
 }
 
 /// The trial load `step`: Newton's method (from the cut step's response after a break,
@@ -349,12 +382,55 @@ fn break_within_step(
             Err(e) => return Err(abandon(state, walk, e)),
         }
     }
+    let predictor = StepPredictor::new(t_l, step.t_try, &state.z, &z_end);
+    break_at(pb, state, ws, diag, walk, Landing { t: t_l, beam: b, predictor })?;
+    Ok(true)
+}
+
+/// With landed breaks ([`super::break_search`]): the converged trial `step` has beam `b`
+/// reaching `P = 1` at the fraction `lam` of its chord (with the search: a break the tangent
+/// did not predict); the break is landed on `P = 1` as the search's are. Given up: as on the
+/// trial path.
+fn land_within_step(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &mut StageWalk,
+    step: &TrialStep,
+    (lam, b): (f64, usize),
+) -> Result<bool, DemError> {
+    let (z_end, contacts_end) = (state.z.clone(), state.contacts.clone());
+    let chord = (step.z_old.as_slice(), z_end.as_slice(), step.t_try);
+    match land(pb, state, ws, diag, walk, chord, lam).map_err(|e| abandon(state, walk, e))? {
+        Some(landing) => {
+            break_at(pb, state, ws, diag, walk, landing)?;
+            Ok(true)
+        }
+        None => {
+            (state.z, state.contacts) = (z_end, contacts_end);
+            break_within_step(pb, state, ws, diag, walk, step, (lam, b))
+        }
+    }
+}
+
+/// The state, in equilibrium at the break's load parameter where its beam reaches `P = 1`,
+/// is committed as "pre-break"; the walk moves there, the beam breaks and the beams it
+/// overloads follow ([`break_cascade`]); the next load step starts from the break's predictor.
+fn break_at(
+    pb: &Problem<'_>,
+    state: &mut SolverState,
+    ws: &mut Workspace,
+    diag: &mut Diagnostics<'_>,
+    walk: &mut StageWalk,
+    Landing { t: t_l, beam, predictor }: Landing,
+) -> Result<(), DemError> {
+    let load_l = walk.load_at(t_l);
     commit(pb, state, diag, t_l, StateKind::PreBreak);
-    walk.predictor = Some(StepPredictor::new(t_l, step.t_try, &state.z, &z_end));
+    walk.predictor = Some(predictor);
     walk.t = t_l;
     state.load = load_l.clone();
-    break_cascade(pb, state, ws, diag, vec![b], &load_l, t_l)?;
-    Ok(true)
+    break_cascade(pb, state, ws, diag, vec![beam], &load_l, t_l)
 }
 
 /// Hands a checkpoint of the committed state and `walk` to the sink when it finds one due.
