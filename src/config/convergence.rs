@@ -63,6 +63,9 @@ pub struct BandSettings {
     /// `implex`).
     #[serde(default = "implicit")]
     pub integration: String,
+    /// `[dynamics] implex_corrections` (0, the default of files written before the key).
+    #[serde(default)]
+    pub implex_corrections: usize,
 }
 
 fn implicit() -> String {
@@ -155,6 +158,9 @@ impl ConvergenceBand {
         if run.integration != s.integration {
             why.push(format!("integration {}, measured with {}", run.integration, s.integration));
         }
+        if run.implex_corrections != s.implex_corrections {
+            why.push(format!("implex_corrections {}, measured with {}", run.implex_corrections, s.implex_corrections));
+        }
         let mut laws: Vec<String> = run.law_files.iter().map(|p| main_law(p)).collect();
         laws.sort();
         laws.dedup();
@@ -212,7 +218,8 @@ mod tests {
     /// A run's settings (the file names as the study writes them).
     fn run(dt: f64, mesh: &str, laws: &[&str], max_damage_increment: f64, integration: &str) -> BandSettings {
         let law_files = laws.iter().map(|s| s.to_string()).collect();
-        BandSettings { dt, mesh: mesh.into(), law_files, max_damage_increment, integration: integration.into() }
+        let integration = integration.into();
+        BandSettings { dt, mesh: mesh.into(), law_files, max_damage_increment, integration, implex_corrections: 0 }
     }
 
     #[test]
@@ -238,6 +245,11 @@ mod tests {
         assert!(r.not_applicable[0].contains("dt 0.01"));
         assert!(r.not_applicable[2].contains("integration implex, measured with implicit"));
         assert!(r.not_applicable[4].contains("stronger than the strongest measured (2.4000"));
+        let corrected =
+            BandSettings { implex_corrections: 4, ..run(0.02, "church.msh", &["law.toml"], 1.0, "implicit") };
+        let r = b.report(&corrected, 0.45);
+        assert_eq!(r.loading, None);
+        assert!(r.not_applicable[0].contains("implex_corrections 4, measured with 0"), "{:?}", r.not_applicable);
         let variant = ["law-variant-2.toml"];
         assert_eq!(
             b.report(&run(0.02, "church.msh", &variant, 1.0, "implicit"), 2.0).loading.as_deref(),

@@ -76,6 +76,18 @@ fn implex_corrections_are_read_and_refused_without_implex_or_out_of_range() {
 }
 
 #[test]
+fn implex_correction_tolerance_is_read_and_refused_out_of_range() {
+    let tol = |extra: &str| load(extra).map(|j| j.spec.dynamics.unwrap().implex_correction_tolerance);
+    let implex = "integration = \"implex\"\nimplex_corrections = 4\n";
+    assert_eq!(tol(implex).unwrap(), super::DEFAULT_IMPLEX_CORRECTION_TOLERANCE);
+    assert_eq!(tol(&format!("{implex}implex_correction_tolerance = 0.0")).unwrap(), 0.0);
+    for bad in ["-1e-3", "1.0", "nan"] {
+        let e = tol(&format!("{implex}implex_correction_tolerance = {bad}")).expect_err("refused");
+        assert!(e.contains("dynamics.implex_correction_tolerance") && e.contains("[0, 1)"), "{bad}: {e}");
+    }
+}
+
+#[test]
 fn implex_with_viscous_damage_is_refused_at_the_relaxation_key() {
     let e = load("integration = \"implex\"\ndamage_relaxation_time = 0.01").err().expect("refused");
     assert!(e.contains("dynamics.damage_relaxation_time") && e.contains("implicit"), "{e}");

@@ -387,7 +387,7 @@ impl Element for FiberBeam3d {
         }
     }
 
-    fn hold_implex_histories(&mut self) -> bool {
+    fn hold_implex_histories(&mut self) -> f64 {
         self.states.hold_trial()
     }
 

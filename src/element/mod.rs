@@ -234,10 +234,10 @@ pub trait Element: Debug {
 
     /// With IMPL-EX on, the settled trial states ([`Element::settle_implex`]) held as the
     /// histories of the step's next evaluations, in place of the extrapolated ones
-    /// ([`PointStates::hold_trial`]); returns whether any point's held history changed. Nothing
-    /// otherwise (the default: false).
-    fn hold_implex_histories(&mut self) -> bool {
-        false
+    /// ([`PointStates::hold_trial`]); returns the largest change of a point's held damage.
+    /// Nothing otherwise (the default: 0).
+    fn hold_implex_histories(&mut self) -> f64 {
+        0.0
     }
 
     /// Switch the element's damage law to nonlocal driving strains (`material::nonlocal`), the

@@ -291,17 +291,19 @@ impl PointStates {
     /// of the step's next evaluations uses, in place of the extrapolated ones: a staggered
     /// correction of the step (`analysis::time_history::stepper`, "IMPL-EX corrections"). The
     /// committed states and the step are unchanged; a point whose held history changes computes
-    /// its secant again. Returns whether any changed (false without IMPL-EX).
-    pub fn hold_trial(&mut self) -> bool {
-        let Some(x) = &mut self.implex else { return false };
+    /// its secant again. Returns the largest change of a point's held damage, max |Δd_t|, |Δd_c|
+    /// (0 without IMPL-EX, and where only histories below their thresholds moved).
+    pub fn hold_trial(&mut self) -> f64 {
+        let Some(x) = &mut self.implex else { return 0.0 };
         debug_assert!(!x.pending, "an IMPL-EX correction of trial states not settled");
-        let mut changed = false;
+        let mut change = 0.0f64;
         for ((held, t), known) in x.extrapolated.iter_mut().zip(&self.trial).zip(x.secant_known.iter_mut()) {
             if held != t {
-                (*held, *known, changed) = (*t, false, true);
+                change = change.max((t.d_t - held.d_t).abs()).max((t.d_c - held.d_c).abs());
+                (*held, *known) = (*t, false);
             }
         }
-        changed
+        change
     }
 
     /// Trial → committed (with IMPL-EX, committed → previous first). The trial states must be

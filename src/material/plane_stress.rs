@@ -173,6 +173,39 @@ pub fn update(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) ->
     blended(law, &kin, [w * eq, (1.0 - w) * eq], 1.0, committed)
 }
 
+/// The state and the dissipated energy density of [`update`], the same to the bit, without its
+/// stress and tangent where no history grows (the implicit update that IMPL-EX makes at every
+/// point of every element after an equilibrium, `element::point_states`: most points do not
+/// load, and for them the stress and the spectral split's tangent are most of the work). A
+/// point that loads, or lies in the paper's switch band, takes [`update`] itself.
+pub fn update_state(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageState) -> (DamageState, f64) {
+    let c0 = elastic_matrix(law);
+    let sigma_tilde = c0 * strain;
+    let (eq, _) = equivalent_strain(law, strain);
+    let unloaded = match law.split() {
+        Split::Spectral => {
+            let (x, _) = direction(&c0, &sigma_tilde);
+            let (w, _) = tensile_weight(x);
+            let (t, c) = spectral::evolve_both(law, [w * eq, (1.0 - w) * eq], committed);
+            (!(t.loading || c.loading)).then_some(c.state)
+        }
+        _ => {
+            let (x, _) = direction(&c0, &sigma_tilde);
+            let (w, _) = tensile_weight(x);
+            let side = Side::of_trace(sigma_tilde[0] + sigma_tilde[1]);
+            let evo = (w == 1.0 || w == 0.0).then(|| evolve(law, side, eq, 0.5 * strain.dot(&sigma_tilde), committed));
+            evo.filter(|e| !e.loading).map(|e| e.state)
+        }
+    };
+    match unloaded {
+        Some(state) => (state, 0.0),
+        None => {
+            let r = update(law, strain, committed);
+            (r.state, r.dissipation)
+        }
+    }
+}
+
 /// The kinematic quantities of a point inside the switch band (see [`update`]).
 #[derive(Clone, Copy)]
 pub(super) struct Blend {

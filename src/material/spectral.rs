@@ -216,7 +216,7 @@ fn volumetric_energy(a: [f64; 2], lambda: f64, t: f64) -> f64 {
 /// Both sides' history updates for the driving strains `[ε_t, ε_c]`, with unit energy (the
 /// dissipation is linear in Y: it is scaled by ψ₀± once the stress is known).
 #[inline]
-fn evolve_both(law: &PointLaw, driving: [f64; 2], committed: &DamageState) -> (Evolution, Evolution) {
+pub(super) fn evolve_both(law: &PointLaw, driving: [f64; 2], committed: &DamageState) -> (Evolution, Evolution) {
     let t = evolve(law, Side::Tension, driving[0], 1.0, committed);
     let c = evolve(law, Side::Compression, driving[1], 1.0, &t.state);
     (t, c)

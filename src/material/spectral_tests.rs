@@ -377,3 +377,38 @@ fn a_point_with_no_tensile_integrity_left_stays_finite() {
     let c = uniaxial::update(&s, -1e-5, &st);
     assert!((c.stress + 2.0 * s.mu() * 1e-5).abs() <= 1e-9 * s.e() * 1e-5, "{c:?}");
 }
+
+#[test]
+fn the_state_only_update_is_the_full_updates_state_to_the_bit() {
+    // `plane_stress::update_state` (what IMPL-EX settles at every point) skips the stress and
+    // tangent where no history grows. Along strain paths that load, unload, reverse and reload
+    // in tension, compression and shear (a deterministic pseudo-random walk of 2,000 steps
+    // from 0 to a few times ε₀, each step's state committed), with both splits, it must give
+    // `update`'s state and dissipation exactly (bitwise), and both branches must be taken.
+    let eps0 = params().eps0_t;
+    for law in [spectral_law(), trace_law()] {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (mut strain, mut committed) = (Vector3::zeros(), DamageState::default());
+        let (mut loading, mut quiet) = (0, 0);
+        for _ in 0..2000 {
+            strain += Vector3::new(next(), next(), next()) * (0.8 * eps0);
+            strain *= 0.995;
+            let full = plane_stress::update(&law, &strain, &committed);
+            let (state, dissipation) = plane_stress::update_state(&law, &strain, &committed);
+            assert_eq!((state, dissipation.to_bits()), (full.state, full.dissipation.to_bits()), "{strain:?}");
+            if full.loading {
+                loading += 1;
+            } else {
+                quiet += 1;
+            }
+            committed = full.state;
+        }
+        assert!(loading > 20 && quiet > 20, "loading {loading}, quiet {quiet}");
+    }
+}

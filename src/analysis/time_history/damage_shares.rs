@@ -155,6 +155,7 @@ pub fn with_band(job: &Job, groups: &mut [GroupDamage]) -> Option<crate::config:
         law_files,
         max_damage_increment: d.max_damage_increment,
         integration: d.integration.name().to_string(),
+        implex_corrections: d.implex_corrections,
     };
     let pga = d.ground_motion.iter().filter_map(|g| g.record.as_ref()).map(crate::seismic::pga).fold(0.0, f64::max);
     let report = band.report(&run, pga);

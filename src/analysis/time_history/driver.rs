@@ -120,6 +120,7 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
         max_damage_increment: cfg.max_damage_increment,
         line_search: cfg.line_search,
         implex_corrections: cfg.implex_corrections,
+        implex_tolerance: cfg.implex_correction_tolerance,
     };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes, observer)?;
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
@@ -129,6 +130,7 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
     summary.integration = cfg.integration.name().to_string();
     summary.implex_split = implex.map(|s| s.name().to_string());
     summary.implex_corrections = cfg.implex_corrections;
+    summary.implex_correction_tolerance = cfg.implex_correction_tolerance;
     Ok(summary)
 }
 
@@ -267,6 +269,7 @@ pub fn integrate(
             let report = step(ctx, sys, it, &mut stepper, &mut state, &out)?;
             summary.iterations += report.iterations;
             summary.failed_iterations += report.failed_iterations;
+            summary.implex_passes += report.implex_passes;
             if report.substeps > 1 {
                 summary.substepped_steps += 1;
             }

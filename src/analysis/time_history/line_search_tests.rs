@@ -32,6 +32,7 @@ fn settings(newton: NewtonKind, line_search: bool) -> StepSettings {
         max_damage_increment: 1.0,
         line_search,
         implex_corrections: 0,
+        implex_tolerance: 0.0,
     }
 }
 

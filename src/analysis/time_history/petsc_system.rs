@@ -61,8 +61,9 @@ pub struct PetscSystem<'a> {
     relaxation_time: Option<f64>,
     /// Wall time of the system's work: the Jacobian assemblies (`"assemble"`), the first solve
     /// after each (`"factorize"`: the numeric factorization and one solve), the other solves
-    /// (`"solve"`), and the internal-force evaluations (`"internal_force"`: the elements' state
-    /// updates and the assembly of their forces).
+    /// (`"solve"`), the internal-force evaluations (`"internal_force"`: the elements' state
+    /// updates and the assembly of their forces), and the points' histories outside them
+    /// (`"histories"`: commit, revert, and IMPL-EX's extrapolation, settling and holding).
     pub phases: Phases,
     /// The next solve is the first with a new operator (it factorizes).
     fresh_operator: bool,
@@ -508,26 +509,23 @@ impl DynamicSystem for PetscSystem<'_> {
     }
 
     fn set_implex_step(&mut self, h: f64) {
-        for e in self.disc.elements.iter_mut() {
-            e.set_implex_step(h);
-        }
+        let ((), seconds) = timed(|| self.disc.elements.iter_mut().for_each(|e| e.set_implex_step(h)));
+        self.phases.add("histories", seconds);
     }
 
     fn update_histories(&mut self) {
-        for e in self.disc.elements.iter_mut() {
-            e.settle_implex();
-        }
+        let ((), seconds) = timed(|| self.disc.elements.iter_mut().for_each(|e| e.settle_implex()));
+        self.phases.add("histories", seconds);
     }
 
     /// Collective: one max-reduction over the ranks.
-    fn hold_histories(&mut self) -> bool {
-        let mut local = 0i32;
-        for e in self.disc.elements.iter_mut() {
-            local |= e.hold_implex_histories() as i32;
-        }
-        let mut global = 0i32;
+    fn hold_histories(&mut self) -> f64 {
+        let (local, seconds) =
+            timed(|| self.disc.elements.iter_mut().map(|e| e.hold_implex_histories()).fold(0.0, f64::max));
+        self.phases.add("histories", seconds);
+        let mut global = 0.0f64;
         self.ctx.comm.all_reduce_into(&local, &mut global, mpi::collective::SystemOperation::max());
-        global != 0
+        global
     }
 
     fn set_step_size(&mut self, h: f64) {
@@ -539,14 +537,12 @@ impl DynamicSystem for PetscSystem<'_> {
     }
 
     fn commit(&mut self) {
-        for e in self.disc.elements.iter_mut() {
-            e.commit();
-        }
+        let ((), seconds) = timed(|| self.disc.elements.iter_mut().for_each(|e| e.commit()));
+        self.phases.add("histories", seconds);
     }
 
     fn revert(&mut self) {
-        for e in self.disc.elements.iter_mut() {
-            e.revert();
-        }
+        let ((), seconds) = timed(|| self.disc.elements.iter_mut().for_each(|e| e.revert()));
+        self.phases.add("histories", seconds);
     }
 }

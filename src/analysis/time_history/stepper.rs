@@ -50,8 +50,13 @@
 //! depends on how close an iterate comes to a threshold, so round-off moves the answer by
 //! round-off (a Newton cap or a halving, which the implicit step needs, is such a decision).
 //! The iterations of all passes count as the step's; `max_iterations` caps each pass. A pass
-//! whose held damage is the damage its equilibrium already had (no point's history changed:
-//! every point of a quiet step) ends the corrections, at no further evaluation.
+//! whose held damage differs from the damage its equilibrium had by at most
+//! `implex_correction_tolerance` at every point (max |Δd_t|, |Δd_c|, one max-reduction; 0 at
+//! every point of a quiet step) ends the corrections, at no further evaluation: the step's
+//! equilibrium is then within the response to that damage change of the next pass's, and the
+//! committed histories are the implicit update at it. The stop is a decision, but one whose
+//! two outcomes differ by less than the tolerance in damage, unlike a halving, whose two
+//! outcomes are two different paths.
 //!
 //! A step that does not converge (too many iterations, a non-finite residual, an element or solver
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
@@ -132,6 +137,9 @@ pub struct StepSettings {
     /// IMPL-EX: equilibria solved again at the implicitly updated damage (module docs,
     /// "IMPL-EX corrections"); 0 without.
     pub implex_corrections: usize,
+    /// IMPL-EX: a correction pass whose held damage changes by at most this ends the
+    /// corrections (module docs, "IMPL-EX corrections").
+    pub implex_tolerance: f64,
 }
 
 impl StepSettings {
@@ -170,6 +178,8 @@ pub struct StepReport {
     /// The largest damage increment of the accepted substeps (0 without the control: not
     /// measured).
     pub damage_increment: f64,
+    /// IMPL-EX correction passes of the accepted substeps (module docs, "IMPL-EX corrections").
+    pub implex_passes: usize,
 }
 
 /// Why a step failed.
@@ -236,7 +246,7 @@ fn prepare_jacobian<S: DynamicSystem>(
 }
 
 enum Attempt {
-    Converged { iterations: usize, residual: f64 },
+    Converged { iterations: usize, residual: f64, passes: usize },
     Failed { iterations: usize, residual: f64, reason: String },
 }
 
@@ -304,7 +314,8 @@ impl Stepper {
             let last = sub.is_last();
             let t1 = if last { target } else { state.t + h };
             match self.attempt(sys, ground, state, t1, h) {
-                Attempt::Converged { iterations, residual } => {
+                Attempt::Converged { iterations, residual, passes } => {
+                    report.implex_passes += passes;
                     if !self.settle(sys, ground, state, (t1, h), &mut sub, &mut report, iterations, residual) {
                         continue;
                     }
@@ -433,7 +444,7 @@ impl Stepper {
                     // Module docs, "IMPL-EX corrections": the damage of this equilibrium held;
                     // where it is the damage the equilibrium had, so is the residual.
                     sys.update_histories();
-                    if sys.hold_histories() {
+                    if sys.hold_histories() > st.implex_tolerance {
                         (corrections, earlier, s0) = (corrections + 1, it, None);
                         continue;
                     }
@@ -441,7 +452,7 @@ impl Stepper {
                 if it > 0 {
                     self.refresh.converged(it, fresh, within);
                 }
-                return Attempt::Converged { iterations: it, residual };
+                return Attempt::Converged { iterations: it, residual, passes: corrections };
             }
             if it - earlier == st.max_iterations {
                 break;

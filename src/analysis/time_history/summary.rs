@@ -77,6 +77,11 @@ pub struct TimeHistorySummary {
     /// With IMPL-EX, the step's equilibria solved again at the implicitly updated damage
     /// (`[dynamics] implex_corrections`).
     pub implex_corrections: usize,
+    /// With IMPL-EX corrections, the change of held damage that ends them
+    /// (`[dynamics] implex_correction_tolerance`).
+    pub implex_correction_tolerance: f64,
+    /// IMPL-EX correction passes made (each an equilibrium solved again; `stepper.rs`).
+    pub implex_passes: usize,
     /// Linear solver.
     pub solver: String,
     /// Time step [s].

@@ -88,10 +88,10 @@ pub trait DynamicSystem {
     fn update_histories(&mut self) {}
     /// IMPL-EX: every element's settled trial states ([`DynamicSystem::update_histories`]) held
     /// as the histories of the step's next evaluations (`Element::hold_implex_histories`);
-    /// returns whether any held history changed on any rank. Nothing for a system without
-    /// damage (the default: false). Collective.
-    fn hold_histories(&mut self) -> bool {
-        false
+    /// returns the largest change of a point's held damage on any rank. Nothing for a system
+    /// without damage (the default: 0). Collective.
+    fn hold_histories(&mut self) -> f64 {
+        0.0
     }
     /// Sets the size `h` of the (sub)step about to be solved, for laws whose update depends on
     /// it (viscous damage, `[dynamics] damage_relaxation_time`); nothing by default.

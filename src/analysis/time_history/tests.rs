@@ -20,6 +20,7 @@ fn settings(scheme: Scheme) -> StepSettings {
         max_damage_increment: 1.0,
         line_search: false,
         implex_corrections: 0,
+        implex_tolerance: 0.0,
     }
 }
 
@@ -341,6 +342,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
             max_damage_increment: 1.0,
             line_search: false,
             implex_corrections: 0,
+            implex_tolerance: 0.0,
         });
         let mut reports = Vec::new();
         for k in 1..=steps {
@@ -382,6 +384,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
             max_damage_increment: 1.0,
             line_search: false,
             implex_corrections: 0,
+            implex_tolerance: 0.0,
         });
         let (mut us, mut its) = (Vec::new(), 0);
         for k in 1..=40 {

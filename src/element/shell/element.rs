@@ -583,7 +583,7 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         }
     }
 
-    fn hold_implex_histories(&mut self) -> bool {
+    fn hold_implex_histories(&mut self) -> f64 {
         self.states.hold_trial()
     }
 
@@ -595,11 +595,14 @@ impl<const N: usize, const D: usize> Element for ShellElement<N, D> {
         let (averaged, share) = (&self.averaged, &self.self_share);
         self.states.settle(|j, e, c| {
             let strain = Vector3::from_column_slice(e);
-            let r = match averaged.is_empty() {
-                true => plane_stress::update(law, &strain, c),
-                false => nonlocal::update(law, &strain, c, averaged[j], share[j]),
+            let (state, dissipation) = match averaged.is_empty() {
+                true => plane_stress::update_state(law, &strain, c),
+                false => {
+                    let r = nonlocal::update(law, &strain, c, averaged[j], share[j]);
+                    (r.state, r.dissipation)
+                }
             };
-            (r.state, points[j / nz].weight * weights[j % nz] * r.dissipation)
+            (state, points[j / nz].weight * weights[j % nz] * dissipation)
         });
     }
 }
