@@ -432,6 +432,11 @@ def write_tables(out, rows, checks, machine, loadings, groups_by_number):
                   "area). The energy dissipated by damage differs too, so where and how much the meshes crack "
                   "differs as well, beyond the band width. Compare shares between runs on the same mesh "
                   "only; the bands of the tables above hold for the coarse mesh.")
+    md.append("\n## The other integrations\n")
+    md.append("[convergence-implicit.md](convergence-implicit.md): the same study with the implicit law "
+              "(`integration = \"implicit\"`), and the remedies measured for its 1- against 2-rank "
+              "difference under strong shaking; [convergence-implex.md](convergence-implex.md): IMPL-EX, "
+              "with and without corrections, against it.")
     with open(os.path.join(out, "convergence.md"), "w") as fh:
         fh.write("\n".join(md) + "\n")
     print("\n".join(md))
@@ -464,7 +469,8 @@ def band_file(out, rows_by, base, base_path, pgas):
         "settings": {"dt": base["dynamics"]["dt"], "mesh": os.path.basename(base["mesh"]["file"]),
                      "law_files": [os.path.basename(x) for x in law],
                      "max_damage_increment": base["dynamics"].get("max_damage_increment", 1.0),
-                     "integration": base["dynamics"].get("integration", "implicit")},
+                     "integration": base["dynamics"].get("integration", "implicit"),
+                     "implex_corrections": base["dynamics"].get("implex_corrections", 0)},
         "loadings": bands,
     }
     with open(os.path.join(out, "band.json"), "w") as fh:

@@ -7,7 +7,8 @@
 #   sweep-church-throughput   members per hour of groups of 1 over one group of 2
 #   sweep-member-<integration>  one member as the church's sweep runs it: EC8 record 01 whole
 #       (MEMBER_SECONDS, default 20 s) at 1.5 times the code level (PGA 2.4 m/s^2), the main
-#       job's law, on 1 rank, with `integration = "implicit"` and `"implex"` (INTEGRATIONS):
+#       job's law, on 1 rank, with `integration = "implicit"` and `"implex"` (INTEGRATIONS; implex
+#       with the main job's IMPL-EX settings, its corrections):
 #       seconds of the member, Newton iterations, those in failed attempts, factorizations,
 #       substepped steps, the system's phases (assemble, factorize, solve, internal_force: s),
 #       and the members per hour of 2 such members side by side on 2 cores
@@ -74,7 +75,10 @@ PY
 # main job's law (no variants), one group of 1 rank.
 member_seconds="${MEMBER_SECONDS:-20}"
 for integration in $([[ " $cases " == *" member "* ]] && echo "${INTEGRATIONS:-implicit implex}"); do
-  sed -e "s#^integration = .*#integration = \"$integration\"#" jobs/church.toml > "$work/base-$integration.toml"
+  # The implicit step takes none of the IMPL-EX keys the main job may set (its corrections).
+  drop_implex=$([ "$integration" = implicit ] && echo '/^implex_/d' || echo '')
+  sed -e "s#^integration = .*#integration = \"$integration\"#" ${drop_implex:+-e "$drop_implex"} \
+    jobs/church.toml > "$work/base-$integration.toml"
   grep -q "^integration = \"$integration\"" "$work/base-$integration.toml" \
     || sed -i "s#^\[dynamics\]\$#[dynamics]\nintegration = \"$integration\"#" "$work/base-$integration.toml"
   sed -i -e "s#\"\.\./#\"$root/#g" -e "s#\"records/#\"$root/jobs/records/#g" \
