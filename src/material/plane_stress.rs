@@ -182,16 +182,13 @@ pub fn update_state(law: &PointLaw, strain: &Vector3<f64>, committed: &DamageSta
     let c0 = elastic_matrix(law);
     let sigma_tilde = c0 * strain;
     let (eq, _) = equivalent_strain(law, strain);
+    let (w, _) = tensile_weight(direction(&c0, &sigma_tilde).0);
     let unloaded = match law.split() {
         Split::Spectral => {
-            let (x, _) = direction(&c0, &sigma_tilde);
-            let (w, _) = tensile_weight(x);
             let (t, c) = spectral::evolve_both(law, [w * eq, (1.0 - w) * eq], committed);
             (!(t.loading || c.loading)).then_some(c.state)
         }
         _ => {
-            let (x, _) = direction(&c0, &sigma_tilde);
-            let (w, _) = tensile_weight(x);
             let side = Side::of_trace(sigma_tilde[0] + sigma_tilde[1]);
             let evo = (w == 1.0 || w == 0.0).then(|| evolve(law, side, eq, 0.5 * strain.dot(&sigma_tilde), committed));
             evo.filter(|e| !e.loading).map(|e| e.state)
