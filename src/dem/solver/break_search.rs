@@ -234,13 +234,12 @@ fn equilibrium_at(
     diag.profile.break_search.equilibria += 1;
     match equilibrate(pb, state, ws, diag, &walk.load_at(guess.t), None, guess.t) {
         Ok(()) => Ok(Some(Point { t: guess.t, z: state.z.clone() })),
-        Err(DemError::NoConvergence { .. }) => {
-            state.restore();
-            Ok(None)
-        }
         Err(e) => {
             state.restore();
-            Err(e)
+            match e {
+                DemError::NoConvergence { .. } => Ok(None),
+                e => Err(e),
+            }
         }
     }
 }
