@@ -5,6 +5,7 @@
 pub mod assembly;
 pub mod assessment;
 pub mod block_lanczos;
+pub mod convergence_rate;
 pub mod curve_plot;
 mod discretization;
 pub mod increment;
