@@ -55,10 +55,7 @@ else
   OMPI_MCA_mpi_yield_when_idle=1 mpirun -n "${NP:-2}" target/release/masonry-hpc "$job"
 fi
 bash scripts/post_church.sh "$other"
-py=""
-for p in python3 /usr/bin/python3; do
-  if command -v "$p" >/dev/null 2>&1 && "$p" -c "import matplotlib" 2>/dev/null; then py="$p"; break; fi
-done
+py=$(matplotlib_python)
 [ -n "$py" ] || { echo "compare_laws.sh: no Python with matplotlib (scripts/setup.sh --paraview)" >&2; exit 1; }
 "$py" scripts/compare_church.py results/church "$other" \
   --labels "spectral split (main job)" "$label" --out "results/church-comparison-$against"

@@ -54,4 +54,5 @@ for split in trace spectral; do
       || echo "compare_splits: the $split law stopped on the $tag path: $(tail -n 1 "$out/law-$split-$tag.log")"
   done
 done
-python3 scripts/compare_splits.py "$out"
+py=$(matplotlib_python)   # the picture needs matplotlib; without it, the table alone
+"${py:-python3}" scripts/compare_splits.py "$out"

@@ -16,3 +16,12 @@ if [ -z "${OPENBLAS_CORETYPE:-}" ] && [ -r /proc/cpuinfo ]; then
   elif grep -qm1 '^flags.* avx2' /proc/cpuinfo; then export OPENBLAS_CORETYPE=Haswell
   fi
 fi
+# The first Python with matplotlib (the pictures of the comparison and post-processing scripts):
+# a pyenv or venv python3 on PATH may lack it where Debian's /usr/bin/python3 has it
+# (scripts/setup.sh --paraview). Prints nothing when there is none.
+matplotlib_python() {
+  local p
+  for p in python3 /usr/bin/python3; do
+    if command -v "$p" >/dev/null 2>&1 && "$p" -c "import matplotlib" 2>/dev/null; then echo "$p"; return; fi
+  done
+}

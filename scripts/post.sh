@@ -61,10 +61,8 @@ else
 fi
 
 # The monitors, the base shear and the drifts in one picture: any Python with matplotlib.
-py=""
-for p in python3 /usr/bin/python3; do
-  if command -v "$p" >/dev/null 2>&1 && "$p" -c "import matplotlib" 2>/dev/null; then py="$p"; break; fi
-done
+source "$here/env.sh"
+py=$(matplotlib_python)
 if [ ! -f "$dir/monitors.csv" ]; then
   skipped+=("monitors.png (no monitors.csv in $dir)")
 elif [ -n "$py" ]; then
