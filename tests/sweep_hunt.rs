@@ -172,6 +172,60 @@ fn a_hunt_brackets_each_passage_to_its_precision_and_fits_the_fragility() {
     assert!((p - 0.6914624613).abs() < 1e-6 && (phi(0.5) - 0.6914624613).abs() < 1e-6, "{p}");
 }
 
+/// `[sweep.hunt] stop_at_passage` (the default) against members run whole: the same members
+/// (damage never heals, so passed or not is decided the same), the rows of the members that did
+/// not pass unchanged, every member that passed ended at its passage or at the record's end with
+/// a share at least the limit's and at most the whole run's, and each passage within its
+/// bracket, the two estimates at most the 5 % precision apart.
+#[test]
+fn members_that_pass_every_limit_end_there_and_the_hunt_runs_the_same_members() {
+    let table = |stop: bool| {
+        // 0.6 s: the pulses' shaking (0.4 and 0.5 s) and some of what follows.
+        let dir = scratch(&format!("hunt-stop-{stop}"));
+        write_model(&dir, 0.6, "");
+        write_hunt_sweep(&dir, &format!("{HUNT}\nstop_at_passage = {stop}"), LIMIT, 1);
+        run_ok(2, &[dir.join("sweep.toml").to_str().unwrap()]);
+        let text = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+        (dir, text)
+    };
+    let (whole_dir, whole) = table(false);
+    let (ended_dir, ended) = table(true);
+    let parse =
+        |text: &str| -> Vec<Vec<String>> { text.lines().map(|l| l.split(',').map(str::to_string).collect()).collect() };
+    let (w, e) = (parse(&whole), parse(&ended));
+    let head = &w[0];
+    let col = |n: &str| head.iter().position(|h| h == n).unwrap();
+    let (share, until, reached) = (col("wall:share_dt_above_0.5"), col("ended_at_limits"), col("time_reached"));
+    assert_eq!(w.len(), e.len(), "the same number of members");
+    let mut early = 0;
+    for (a, b) in w[1..].iter().zip(&e[1..]) {
+        assert_eq!(a[0], b[0], "the same member in the same row");
+        let (sa, sb): (f64, f64) = (a[share].parse().unwrap(), b[share].parse().unwrap());
+        assert!(a[until].is_empty(), "run whole: {a:?}");
+        if sa < 0.1 {
+            assert_eq!(a, b, "a member below the limit runs whole either way");
+        } else {
+            assert!(sb >= 0.1 && sb <= sa + 1e-12, "{}: share {sb} against the whole run's {sa}", b[0]);
+            if !b[until].is_empty() {
+                let t: f64 = b[until].parse().unwrap();
+                assert!((t - b[reached].parse::<f64>().unwrap()).abs() < 1e-9, "{b:?}");
+                early += 1;
+            }
+        }
+    }
+    assert!(early > 0, "no member ended at its passage:\n{ended}");
+    let (sw, se) = (json(&whole_dir.join("sweep/summary.json")), json(&ended_dir.join("sweep/summary.json")));
+    assert_eq!(sw["hunts"], se["hunts"]);
+    for v in 0..1 {
+        for r in 0..2 {
+            let x =
+                |s: &serde_json::Value| s["limits"][0]["variants"][v]["crossings"][r]["intensity"].as_f64().unwrap();
+            let (xw, xe) = (x(&sw), x(&se));
+            assert!((xw - xe).abs() <= 0.05 * xw.max(xe), "record {r}: passage {xe} against {xw} run whole");
+        }
+    }
+}
+
 #[test]
 fn a_hunt_ends_with_the_same_members_on_1_and_3_ranks_and_in_a_group_of_2() {
     // The four hunts of two records under two laws on 1 rank (one group: no other to wait for),
@@ -258,11 +312,12 @@ fn a_member_that_stops_converging_ends_the_hunt_and_is_bisected() {
 
 #[test]
 fn a_hunt_killed_and_restarted_ends_with_the_members_and_fragility_of_an_uninterrupted_one() {
-    // 1 s of the records (100 steps, checkpoints every 10). The first run is killed at step 55 of
-    // rec-b's second hunt level (PGA 0.5), an injected exit without cleanup as SIGKILL;
-    // `--restart` replays both hunts from the outcomes, resumes the killed member from its
-    // checkpoint of step 50 and ends with the same sweep.csv (to its 7 printed digits) and the
-    // same fragility figures.
+    // 1 s of the records (100 steps, checkpoints every 10). The first run is killed at step 45 of
+    // rec-b's second hunt level (PGA 0.5), an injected exit without cleanup as SIGKILL, before
+    // that member passes the limit and ends there (at 0.5 s, `stop_at_passage`); `--restart`
+    // replays both hunts from the outcomes, resumes the killed member from its checkpoint of step
+    // 40 and ends with the same sweep.csv (to its 7 printed digits) and the same fragility
+    // figures.
     let whole = scratch("hunt-resume-whole");
     write_model(&whole, 1.0, "");
     write_hunt_sweep(&whole, HUNT, LIMIT, 1);
@@ -278,12 +333,12 @@ fn a_hunt_killed_and_restarted_ends_with_the_members_and_fragility_of_an_uninter
         .arg(dir.join("sweep.toml"))
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("MASONRY_HPC_INJECT_KILL", format!("sweep_{killed}_step_55"));
+        .env("MASONRY_HPC_INJECT_KILL", format!("sweep_{killed}_step_45"));
     let out = run_with_timeout(cmd, std::time::Duration::from_secs(300));
     assert!(!out.status.success(), "the kill should end the sweep");
     let members = dir.join("sweep/members");
     assert!(!members.join(killed).join("outcome.json").is_file());
-    assert!(members.join(killed).join("checkpoint/step-000000050").is_dir());
+    assert!(members.join(killed).join("checkpoint/step-000000040").is_dir());
     let before = std::fs::read_dir(&members)
         .unwrap()
         .filter(|e| e.as_ref().unwrap().path().join("outcome.json").is_file())
@@ -295,11 +350,15 @@ fn a_hunt_killed_and_restarted_ends_with_the_members_and_fragility_of_an_uninter
     let a = std::fs::read_to_string(whole.join("sweep/sweep.csv")).unwrap();
     let b = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
     assert_eq!(a, b);
+    let head: Vec<&str> = b.lines().next().unwrap().split(',').collect();
+    let k = head.iter().position(|h| *h == "ended_at_limits").unwrap();
+    let row = b.lines().find(|l| l.starts_with(killed)).unwrap();
+    assert!(!row.split(',').nth(k).unwrap().is_empty(), "the resumed member ends at its passage: {row}");
     let (sa, sb) = (json(&whole.join("sweep/summary.json")), json(&dir.join("sweep/summary.json")));
     assert_eq!(sa["limits"], sb["limits"]);
     assert_eq!(sa["hunts"], sb["hunts"]);
     assert!(sa["limits"][0]["fragility"]["fit"]["median"].as_f64().is_some(), "{}", sa["limits"]);
-    assert!(members.join(killed).join("results-restart-000050.h5").is_file());
+    assert!(members.join(killed).join("results-restart-000040.h5").is_file());
 }
 
 /// The wall and a valid hunt in `dir`, then `from` replaced by `to` in sweep.toml: exit code 2

@@ -548,6 +548,57 @@ fn a_nonlinear_run_agrees_on_one_and_two_ranks() {
     }
 }
 
+/// `[[dynamics.stop_when]]` on the damaging wall: the run ends at the first output step where the
+/// wall's share with d_t > 0.5 has reached the rule's, with that share in its summary, its path up
+/// to there the whole run's (1 rank, the same operations), and a checkpoint of that step; a share
+/// never reached lets the run end at its duration. Bad rules are refused at their keys.
+#[test]
+fn a_run_ends_where_every_stop_when_share_is_reached() {
+    let run = |name: &str, extra: &str| {
+        let dir = scratch(name);
+        write_wall(&dir, 0.01, 1.0, extra);
+        run_ok(1, &[dir.join("th.toml").to_str().unwrap()]);
+        dir
+    };
+    let wall_share = |s: &serde_json::Value| {
+        s["damage_by_group"].as_array().unwrap().iter().find(|g| g["group"] == "wall").unwrap()["share_dt"]
+            .as_f64()
+            .unwrap()
+    };
+    let whole = run("th-stop-whole", "");
+    let sw = summary(&whole);
+    let full = wall_share(&sw);
+    assert!(sw["stopped_by_shares"].is_null() && (sw["time"].as_f64().unwrap() - 1.0).abs() < 1e-9, "{sw}");
+    assert!(full > 0.0, "the wall cracks: {sw}");
+    // A share the wall reaches: the run ends at an output step (every 0.1 s) before 1 s.
+    let rule = |share: f64| format!("[[dynamics.stop_when]]\ngroup = \"wall\"\nshare = {share}\n");
+    let stopped = run("th-stop-early", &rule(full / 2.0));
+    let s = summary(&stopped);
+    let t = s["stopped_by_shares"].as_f64().unwrap_or_else(|| panic!("not stopped: {s}"));
+    assert!(t < 1.0 - 1e-9 && ((t / 0.1) - (t / 0.1).round()).abs() < 1e-6, "ends at an output step: {t}");
+    assert!((s["time"].as_f64().unwrap() - t).abs() < 1e-12, "{s}");
+    assert!(wall_share(&s) >= full / 2.0, "{s}");
+    let (a, b) = (
+        csv_column(&stopped.join("out/monitors.csv"), "top:uy"),
+        csv_column(&whole.join("out/monitors.csv"), "top:uy"),
+    );
+    assert!(a.len() < b.len() && a.iter().zip(&b).all(|(x, y)| x == y), "the path up to the end is the whole run's");
+    assert!(stopped.join("out/checkpoint/latest.json").is_file());
+    // The whole run's final share as the rule, just above: never reached, the run goes to 1 s.
+    let s = summary(&run("th-stop-never", &rule((full + 1e-3).min(1.0))));
+    assert!(s["stopped_by_shares"].is_null() && (s["time"].as_f64().unwrap() - 1.0).abs() < 1e-9, "{s}");
+    // Bad rules: a group that is no part, a share out of (0, 1].
+    let dir = scratch("th-stop-bad");
+    for (extra, key) in [
+        (rule(0.5).replace("\"wall\"", "\"roof\""), "key 'dynamics.stop_when[0].group'"),
+        (rule(0.0), "key 'dynamics.stop_when[0].share'"),
+        (rule(1.5), "key 'dynamics.stop_when[0].share'"),
+    ] {
+        write_wall(&dir, 0.01, 1.0, &extra);
+        common::expect_job_error(&dir.join("th.toml"), 2, &[key]);
+    }
+}
+
 #[test]
 fn one_and_two_ranks_agree() {
     // Same job on 1 and 2 ranks: the tip history agrees within 1e-9 of its peak (direct solves;

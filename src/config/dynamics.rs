@@ -51,12 +51,25 @@
 //! [[dynamics.drift]]              # a storey drift (drift.rs)
 //! name = "ground-floor"
 //! levels = [0.0, 3.5]             # [m], or groups = ["base", "floor-1"]
+//! [[dynamics.stop_when]]          # end the run once every such share is reached
+//! group = "nave_vault"            # a substructure (a part's group of shells)
+//! share = 0.5                     # of its area with d_t > 0.5, in (0, 1]
 //! ```
 use super::source::{Seg, Source};
 use super::{ConfigError, RecordConfig, RecordFormat};
 use crate::seismic::Record;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+
+/// `[[dynamics.stop_when]]`: a substructure's damage share that, with the others, ends the run.
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StopWhenConfig {
+    /// The substructure: a part's physical group of shells.
+    pub group: String,
+    /// The share of its area with d_t > 0.5 (the damage shares' measure), in (0, 1].
+    pub share: f64,
+}
 
 /// Time-integration scheme.
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
@@ -320,6 +333,11 @@ pub struct DynamicsConfig {
     /// Storey drifts between two levels (`drift.rs`).
     #[serde(default)]
     pub drift: Vec<super::drift::DriftConfig>,
+    /// Damage shares that end the run once every one is reached (checked at the output steps,
+    /// where the cell damage is read; `analysis::time_history::damage_shares`). Empty (the
+    /// default): the run ends at `duration`.
+    #[serde(default)]
+    pub stop_when: Vec<StopWhenConfig>,
     /// A convergence study's band file (`scripts/convergence.py`'s `band.json`), relative to the
     /// job file: the damage shares are reported with its band where its settings are this job's
     /// (`config::convergence`).
@@ -379,6 +397,24 @@ fn implex_correction_tolerance() -> f64 {
 }
 fn consistent() -> crate::element::MassKind {
     crate::element::MassKind::Consistent
+}
+
+/// `[[dynamics.stop_when]]`: each names a part's group, its share in (0, 1].
+pub fn check_stop_when(src: &Source, rules: &[StopWhenConfig], parts: &[super::PartConfig]) -> Result<(), ConfigError> {
+    for (i, r) in rules.iter().enumerate() {
+        let at = |k: &str| [Seg::key("dynamics"), Seg::key("stop_when"), Seg::Index(i), Seg::key(k)];
+        if !parts.iter().any(|p| p.group == r.group) {
+            let names: Vec<&str> = parts.iter().map(|p| p.group.as_str()).collect();
+            return Err(src.error_at(
+                &at("group"),
+                format!("group '{}' is not one of the job's parts ({})", r.group, names.join(", ")),
+            ));
+        }
+        if !(r.share.is_finite() && r.share > 0.0 && r.share <= 1.0) {
+            return Err(src.error_at(&at("share"), format!("expected a share of the area in (0, 1], got {}", r.share)));
+        }
+    }
+    Ok(())
 }
 
 /// Newmark parameters after defaults: (β, γ, α_HHT).

@@ -145,7 +145,8 @@ impl Job {
         }
         match (&spec.analysis, &mut spec.dynamics) {
             (AnalysisConfig::TimeHistory | AnalysisConfig::SeismicAssessment(_), Some(d)) => {
-                dynamics::load_dynamics(&source, &folder, d)?
+                dynamics::load_dynamics(&source, &folder, d)?;
+                dynamics::check_stop_when(&source, &d.stop_when, &spec.parts)?;
             }
             (AnalysisConfig::TimeHistory, None) => {
                 return Err(source

@@ -10,6 +10,7 @@
 //! cap = 4.8              # m/s²: the hunt never goes above it (3 code_level)
 //! precision = 0.05       # each limit's passage bisected until (upper - lower) <= precision x upper
 //! flat_slope = 0.2       # the IDA curve is flat where its secant falls below this share of the first's
+//! stop_at_passage = true # a member ends once it has passed every limit
 //! ```
 //!
 //! Without `intensities` and without `[sweep.hunt]` the sweep hunts with these defaults. They
@@ -21,6 +22,13 @@
 //! stops converging, or is flat, or the level reached is `cap`; the fill then bisects each limit's
 //! passage between the highest level below it and the lowest above it to `precision`. Levels lie
 //! on a 1e-4 m/s² lattice (the members' names carry 4 decimals).
+//!
+//! With `stop_at_passage` (the default) each member's job ends its time history once every
+//! limit's share is reached (`[[dynamics.stop_when]]`, checked at its output steps): damage never
+//! heals, so the rest of the record cannot undo a passage, and the hunt reads passed or not,
+//! which the shortened run already tells. Such a member's shares and drift are those at its end,
+//! lower bounds of the whole record's (`sweep.csv` says where it ended); a passage interpolated
+//! against one lies towards its level, within the bracket that `precision` bounds.
 use super::{ConfigError, Seg, Source, SweepConfig};
 use serde::{Deserialize, Serialize};
 
@@ -53,6 +61,13 @@ pub struct HuntConfig {
     /// The flat end's secant ratio.
     #[serde(default = "default_flat_slope")]
     pub flat_slope: f64,
+    /// A member ends once it has passed every limit (default true).
+    #[serde(default = "default_stop_at_passage")]
+    pub stop_at_passage: bool,
+}
+
+fn default_stop_at_passage() -> bool {
+    true
 }
 
 impl Default for HuntConfig {
@@ -66,6 +81,7 @@ impl Default for HuntConfig {
             cap: None,
             precision: default_precision(),
             flat_slope: default_flat_slope(),
+            stop_at_passage: default_stop_at_passage(),
         }
     }
 }
@@ -88,6 +104,8 @@ pub struct HuntRules {
     /// drift ratio, falls below `flat_slope` times the first level's (after the 20 % tangent rule
     /// of Vamvatsikos and Cornell 2002, on the secant so that each member decides alone).
     pub flat_slope: f64,
+    /// A member ends once it has passed every limit (`[[dynamics.stop_when]]` in its job).
+    pub stop_at_passage: bool,
 }
 
 /// A sweep's intensities, resolved at load.
@@ -181,6 +199,7 @@ fn check_hunt(source: &Source, c: &SweepConfig, h: &HuntConfig) -> Result<HuntRu
         cap: key("cap", h.cap, 3.0, "the highest intensity")?,
         precision: h.precision,
         flat_slope: h.flat_slope,
+        stop_at_passage: h.stop_at_passage,
     };
     check_rules(source, &rules)?;
     Ok(rules)

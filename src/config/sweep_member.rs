@@ -99,6 +99,16 @@ impl SweepJob {
         if let Some(band) = self.base.spec.dynamics.as_ref().and_then(|d| d.convergence.as_ref()) {
             dynamics.insert("convergence".into(), path(band));
         }
+        if matches!(self.intensities(), super::Intensities::Hunt(h) if h.stop_at_passage) {
+            // `[sweep.hunt] stop_at_passage`: the limits end the member's run once all are passed.
+            let rules = self.spec.sweep.limit.iter().map(|l| {
+                let mut r = Table::new();
+                r.insert("group".into(), Value::String(l.group.clone()));
+                r.insert("share".into(), Value::Float(l.share));
+                Value::Table(r)
+            });
+            dynamics.insert("stop_when".into(), Value::Array(rules.collect()));
+        }
         let components = dynamics
             .get_mut("ground_motion")
             .and_then(Value::as_array_mut)

@@ -279,9 +279,13 @@ pub fn integrate(
             progress.step(log, state.step, state.t, report.iterations, report.substeps, report.residual);
             Ok(())
         })?;
+        let mut stop = false;
         if state.step % cfg.output_every == 0 || state.step == n_steps {
             phases.time("output", || out.write_step(ctx, sys, it, &state))?;
             summary.output_steps += 1;
+            // `[[dynamics.stop_when]]`, on the cell damage the output step just read.
+            stop = state.step < n_steps
+                && damage_shares::stop_reached(ctx, &sys.disc, &out.env, it.mesh, it.model, it.job, &cfg.stop_when);
         }
         if cfg.checkpoint.every_steps > 0 && state.step % cfg.checkpoint.every_steps == 0 {
             // The step after a periodic checkpoint starts as a restart from it would: a fresh
@@ -289,12 +293,17 @@ pub fn integrate(
             // a checkpoint repeats the uninterrupted run's operations (and results) exactly.
             stepper.start_afresh();
         }
-        if clock.due(ctx, cfg, state.step) || state.step == n_steps {
+        if clock.due(ctx, cfg, state.step) || state.step == n_steps || stop {
             phases.time("checkpoint", || checkpoint::save(ctx, sys, &state, &out.env, &it.job.output_dir))?;
             clock.restart();
             summary.checkpoints += 1;
         }
         observer.after_step(state.step);
+        if stop {
+            log.info(format!("every [[dynamics.stop_when]] share is reached at t = {} s: the run ends here", state.t));
+            summary.stopped_by_shares = Some(state.t);
+            break;
+        }
     }
     summary.factorizations = sys.factorizations - factorizations0;
     (summary.tangents_kept, summary.tangents_fresh) = (stepper.refresh.kept, stepper.refresh.refreshed);

@@ -171,6 +171,9 @@ pub struct TimeHistorySummary {
     pub damage_by_group: Vec<GroupDamage>,
     /// The convergence band of `[dynamics] convergence`, and whether it applies.
     pub convergence: Option<crate::config::BandReport>,
+    /// The time [s] at which every `[[dynamics.stop_when]]` share was reached and the run ended
+    /// (None: it ran to `duration`).
+    pub stopped_by_shares: Option<f64>,
 }
 
 impl TimeHistorySummary {

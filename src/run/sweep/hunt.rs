@@ -264,7 +264,15 @@ mod tests {
     use super::*;
 
     fn rules() -> HuntRules {
-        HuntRules { first: 0.5, step: 0.5, step_increase: 0.25, cap: 6.0, precision: 0.05, flat_slope: 0.2 }
+        HuntRules {
+            first: 0.5,
+            step: 0.5,
+            step_increase: 0.25,
+            cap: 6.0,
+            precision: 0.05,
+            flat_slope: 0.2,
+            stop_at_passage: true,
+        }
     }
 
     /// Runs a chain to its end on a response given in closed form; the levels in the order run.

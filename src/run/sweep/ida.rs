@@ -1,6 +1,8 @@
 //! IDA curves: per substructure, its share of area with d_t > 0.5 against the intensity, one
 //! curve per record (and material), their mean on a grid, the site's code level (dashed vertical)
-//! and the limits set on it (dashed horizontal): `ida-<group>.png`.
+//! and the limits set on it (dashed horizontal): `ida-<group>.png`. A member that ended once it
+//! had passed every limit (`[sweep.hunt] stop_at_passage`) is also marked: its share is a lower
+//! bound of the whole record's.
 use super::outcome::{Outcome, Status};
 use crate::config::{Member, SweepJob};
 use crate::plot::{LineChart, PlotError, SeriesStyle};
@@ -28,6 +30,12 @@ pub fn draw(
             "area with d_t > 0.5 [%]",
         );
         let mut all: Vec<(f64, f64)> = Vec::new();
+        let ended: Vec<(f64, f64)> = members
+            .iter()
+            .zip(outcomes)
+            .filter(|(_, o)| o.status == Status::Completed && o.ended_at_limits.is_some())
+            .map(|(m, o)| (m.level, 100.0 * o.share_dt(g)))
+            .collect();
         for (v, variant) in job.variants.iter().enumerate() {
             for (r, record) in job.records.iter().enumerate() {
                 let pts: Vec<(f64, f64)> = members
@@ -61,6 +69,9 @@ pub fn draw(
             .collect();
         if !mean.is_empty() {
             chart = chart.reference("mean", mean, SeriesStyle::Markers);
+        }
+        if !ended.is_empty() {
+            chart = chart.reference("ended at every limit passed (at least)", ended, SeriesStyle::Markers);
         }
         // The code level spans the data and the limits, so that the axis keeps their scale.
         let limits = job.spec.sweep.limit.iter().filter(|l| &l.group == g).map(|l| 100.0 * l.share);

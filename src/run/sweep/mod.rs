@@ -233,10 +233,11 @@ fn run_one(s: &Shared, m: &Member, pos: &str, d: &mut Dispatcher) -> Result<(), 
         Outcome::gravity_failed(job, m, &member::variant_failure(&gravity))
     };
     leader.info(format!(
-        "{tag} member {pos} {}: {} at t = {:.3} s in {:.1} s{}",
+        "{tag} member {pos} {}: {} at t = {:.3} s{} in {:.1} s{}",
         m.name,
         outcome.status.name(),
         outcome.time_reached,
+        if outcome.ended_at_limits.is_some() { " (every limit passed: ended there)" } else { "" },
         outcome.seconds,
         outcome.diagnosis.as_deref().map(|d| format!(": {}", first_sentence(d))).unwrap_or_default()
     ));

@@ -63,6 +63,10 @@ pub struct Outcome {
     pub diagnosis: Option<String>,
     /// Time reached [s].
     pub time_reached: f64,
+    /// The time [s] at which it had passed every limit and ended there (`[sweep.hunt]
+    /// stop_at_passage`); its shares and peaks are then lower bounds of the whole record's.
+    #[serde(default)]
+    pub ended_at_limits: Option<f64>,
     /// Peak drift ratio (completed members).
     pub peak_drift_ratio: Option<f64>,
     /// Peak relative displacement over the nodes, `x` `y` `z` [m] (completed members).
@@ -93,6 +97,7 @@ impl Outcome {
         match run {
             Ok(s) => {
                 o.time_reached = s.time;
+                o.ended_at_limits = s.stopped_by_shares;
                 o.peak_drift_ratio = Some(s.peak_drift_ratio);
                 o.peak_displacement = Some(s.peak_displacement);
                 o.damage = s.damage_by_group.clone();
@@ -123,6 +128,7 @@ impl Outcome {
             status,
             diagnosis: None,
             time_reached: 0.0,
+            ended_at_limits: None,
             peak_drift_ratio: None,
             peak_displacement: None,
             monitors: Vec::new(),

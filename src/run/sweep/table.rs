@@ -200,14 +200,14 @@ fn num(x: Option<f64>) -> String {
 }
 
 /// `sweep.csv`: member, variant, record, intensity measure, intensity, factor, status, time
-/// reached, peak drift ratio, peak |u| (x y z), per monitor its peaks, per substructure the
+/// reached, the time it ended at every limit passed (empty: it ran whole), peak drift ratio, peak |u| (x y z), per monitor its peaks, per substructure the
 /// shares with d_t > 0.5 (with its convergence band where `[dynamics] convergence`
 /// gives one: empty otherwise) and d_c > 0.5, the diagnosis of a stopped member (quoted).
 fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String {
     let monitors: Vec<String> =
         job.base.spec.dynamics.as_ref().map(|d| d.monitor.iter().map(|m| m.name.clone()).collect()).unwrap_or_default();
     let mut s = String::from(
-        "member,variant,record,intensity_measure,intensity,factor,status,time_reached,peak_drift_ratio,peak_ux,peak_uy,peak_uz",
+        "member,variant,record,intensity_measure,intensity,factor,status,time_reached,ended_at_limits,peak_drift_ratio,peak_ux,peak_uy,peak_uz",
     );
     for m in &monitors {
         for q in ["ux", "uy", "uz"] {
@@ -222,7 +222,7 @@ fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String 
         let p = o.peak_displacement;
         let _ = write!(
             s,
-            "{},{},{},{},{:.6e},{:.6e},{},{:.6e},{},{},{},{}",
+            "{},{},{},{},{:.6e},{:.6e},{},{:.6e},{},{},{},{},{}",
             o.member,
             o.variant,
             o.record,
@@ -231,6 +231,7 @@ fn table_csv(job: &SweepJob, outcomes: &[Outcome], groups: &[String]) -> String 
             o.factor,
             o.status.name(),
             o.time_reached,
+            num(o.ended_at_limits),
             num(o.peak_drift_ratio),
             num(p.map(|p| p[0])),
             num(p.map(|p| p[1])),
