@@ -17,6 +17,7 @@
 //! # implex_split = "current"      # implex: the split at the step's strain, or "frozen"
 //! # implex_corrections = 2        # implex: equilibria re-solved at the implicitly updated damage
 //! # implex_correction_tolerance = 1e-2  # implex: a pass changing no damage by more ends them
+//! # implex_pass_tolerance = 1e-3        # implex: force tolerance of the passes before the last
 //! krylov_dimension = 3            # newton = "krylov": subspace size before a tangent refresh
 //! refresh_cost = 8                # newton = "krylov": extra iterations that pay for a fresh
 //!                                 # tangent at a step's start (0: at every step)
@@ -273,6 +274,11 @@ pub struct DynamicsConfig {
     /// [`DEFAULT_IMPLEX_CORRECTION_TOLERANCE`]; 0 keeps every pass that changes any damage).
     #[serde(default = "implex_correction_tolerance")]
     pub implex_correction_tolerance: f64,
+    /// With `implex_corrections`: the relative force tolerance of the passes before the last,
+    /// whose equilibria only decide the damage held for the next; the step's last equilibrium
+    /// is solved to `force_tolerance` (`analysis::time_history::stepper`, "IMPL-EX
+    /// corrections"). In (0, 1); default: `force_tolerance` (every pass to it).
+    pub implex_pass_tolerance: Option<f64>,
     /// With `newton = "krylov"`: corrections kept in the acceleration subspace before the
     /// tangent is refreshed (default 3, as OpenSees).
     #[serde(default = "three")]

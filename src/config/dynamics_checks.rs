@@ -59,6 +59,17 @@ pub(super) fn check_iterations_and_output(src: &Source, d: &DynamicsConfig) -> R
             format!("expected a damage change in [0, 1), got {}", d.implex_correction_tolerance),
         ));
     }
+    if let Some(t) = d.implex_pass_tolerance {
+        if d.implex_corrections == 0 {
+            return Err(src.error_at(
+                &at("implex_pass_tolerance"),
+                "implex_pass_tolerance applies to integration = \"implex\" with implex_corrections > 0 only",
+            ));
+        }
+        if !(t.is_finite() && t > 0.0 && t < 1.0) {
+            return Err(src.error_at(&at("implex_pass_tolerance"), format!("expected a tolerance in (0, 1), got {t}")));
+        }
+    }
     if d.implex_corrections > 10 {
         return Err(src.error_at(
             &at("implex_corrections"),

@@ -88,6 +88,20 @@ fn implex_correction_tolerance_is_read_and_refused_out_of_range() {
 }
 
 #[test]
+fn implex_pass_tolerance_is_read_and_refused_without_corrections_or_out_of_range() {
+    let tol = |extra: &str| load(extra).map(|j| j.spec.dynamics.unwrap().implex_pass_tolerance);
+    let implex = "integration = \"implex\"\nimplex_corrections = 4\n";
+    assert_eq!(tol(implex).unwrap(), None);
+    assert_eq!(tol(&format!("{implex}implex_pass_tolerance = 1e-3")).unwrap(), Some(1e-3));
+    let e = tol("integration = \"implex\"\nimplex_pass_tolerance = 1e-3").expect_err("no corrections");
+    assert!(e.contains("dynamics.implex_pass_tolerance") && e.contains("implex_corrections > 0"), "{e}");
+    for bad in ["0.0", "1.0", "nan"] {
+        let e = tol(&format!("{implex}implex_pass_tolerance = {bad}")).expect_err("refused");
+        assert!(e.contains("dynamics.implex_pass_tolerance") && e.contains("(0, 1)"), "{bad}: {e}");
+    }
+}
+
+#[test]
 fn implex_with_viscous_damage_is_refused_at_the_relaxation_key() {
     let e = load("integration = \"implex\"\ndamage_relaxation_time = 0.01").err().expect("refused");
     assert!(e.contains("dynamics.damage_relaxation_time") && e.contains("implicit"), "{e}");

@@ -103,6 +103,7 @@ fn run(dt: f64, duration: f64, a0: f64, limit: f64, max_substeps: usize) -> Run 
         line_search: false,
         implex_corrections: 0,
         implex_tolerance: 0.0,
+        implex_pass_tolerance: 0.0,
     });
     let ag = ground(a0);
     let times = RefCell::new(Vec::new());

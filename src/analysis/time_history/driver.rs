@@ -121,6 +121,7 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
         line_search: cfg.line_search,
         implex_corrections: cfg.implex_corrections,
         implex_tolerance: cfg.implex_correction_tolerance,
+        implex_pass_tolerance: cfg.implex_pass_tolerance.unwrap_or(0.0),
     };
     let mut summary = integrate(ctx, &mut sys, &it, settings, state, envelopes, observer)?;
     [summary.seconds[0], summary.seconds[1]] = phases.seconds_of(["setup", "gravity"]);
@@ -131,6 +132,7 @@ pub fn run(mut p: FeProblem, start: Start, observer: &mut dyn StepObserver) -> R
     summary.implex_split = implex.map(|s| s.name().to_string());
     summary.implex_corrections = cfg.implex_corrections;
     summary.implex_correction_tolerance = cfg.implex_correction_tolerance;
+    summary.implex_pass_tolerance = cfg.implex_pass_tolerance;
     Ok(summary)
 }
 

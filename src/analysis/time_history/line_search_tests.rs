@@ -33,6 +33,7 @@ fn settings(newton: NewtonKind, line_search: bool) -> StepSettings {
         line_search,
         implex_corrections: 0,
         implex_tolerance: 0.0,
+        implex_pass_tolerance: 0.0,
     }
 }
 

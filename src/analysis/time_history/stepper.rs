@@ -58,6 +58,16 @@
 //! two outcomes differ by less than the tolerance in damage, unlike a halving, whose two
 //! outcomes are two different paths.
 //!
+//! The passes before the last only decide the damage the next one holds, so they may stop at a
+//! looser force tolerance, `implex_pass_tolerance`: a pass converged to it whose held damage
+//! moves by more than `implex_correction_tolerance` goes on to the next pass as before; one
+//! whose damage has settled (or the K-th) goes on iterating at its held damage to the step's
+//! own `tolerance`, so the accepted equilibrium is as tight as without. Measured on the church's
+//! member at 1.5 times the code level (4 s, 1 rank, force tolerance 1e-6): 1e-3 for the passes
+//! took 3,416 iterations against 6,588 and 177 s against 299 s, with the same shares to the
+//! printed digits but the tower's (47.54 against 47.70 %), the drift to 5 digits and the
+//! energies within 5e-4 of the input.
+//!
 //! A step that does not converge (too many iterations, a non-finite residual, an element or solver
 //! error) is retried as two half steps, recursively, down to `h / 2^max_substeps`; the elements
 //! are reverted before each retry. When even that fails, the elements keep the failed trial state
@@ -140,6 +150,9 @@ pub struct StepSettings {
     /// IMPL-EX: a correction pass whose held damage changes by at most this ends the
     /// corrections (module docs, "IMPL-EX corrections").
     pub implex_tolerance: f64,
+    /// IMPL-EX: the force tolerance of the passes before the last, at least `tolerance` (module
+    /// docs, "IMPL-EX corrections"); 0 or `tolerance`: every pass to `tolerance`.
+    pub implex_pass_tolerance: f64,
 }
 
 impl StepSettings {
@@ -415,6 +428,8 @@ impl Stepper {
         let mut s0: Option<f64> = None;
         // Corrections made (the iterations), and those of the IMPL-EX corrections before.
         let (mut it, mut earlier, mut corrections) = (0, 0, 0);
+        // IMPL-EX: the damage has settled and the last equilibrium is being solved to `tolerance`.
+        let mut settling = false;
         loop {
             // IMPL-EX: the stress at u_n is that of the step's extrapolated damage.
             let known = (it == 0 && !implex).then_some(state.f_int.as_slice());
@@ -439,13 +454,20 @@ impl Stepper {
             if residual > crate::analysis::newton::DIVERGED {
                 return failed(residual, format!("iteration {it}: the iterate diverged"));
             }
-            if rn == 0.0 || residual <= st.tolerance {
-                if implex && corrections < st.implex_corrections {
+            let loose = implex && !settling && corrections < st.implex_corrections;
+            let tol_now = if loose { st.tolerance.max(st.implex_pass_tolerance) } else { st.tolerance };
+            if rn == 0.0 || residual <= tol_now {
+                if implex && !settling && corrections < st.implex_corrections {
                     // Module docs, "IMPL-EX corrections": the damage of this equilibrium held;
                     // where it is the damage the equilibrium had, so is the residual.
                     sys.update_histories();
                     if sys.hold_histories() > st.implex_tolerance {
                         (corrections, earlier, s0) = (corrections + 1, it, None);
+                        continue;
+                    }
+                    if tol_now > st.tolerance && residual > st.tolerance {
+                        settling = true;
+                        (earlier, s0) = (it, None);
                         continue;
                     }
                 }

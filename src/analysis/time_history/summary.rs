@@ -80,6 +80,8 @@ pub struct TimeHistorySummary {
     /// With IMPL-EX corrections, the change of held damage that ends them
     /// (`[dynamics] implex_correction_tolerance`).
     pub implex_correction_tolerance: f64,
+    /// `[dynamics] implex_pass_tolerance` (None: every pass to the force tolerance).
+    pub implex_pass_tolerance: Option<f64>,
     /// IMPL-EX correction passes made (each an equilibrium solved again; `stepper.rs`).
     pub implex_passes: usize,
     /// Linear solver.

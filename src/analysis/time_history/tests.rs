@@ -21,6 +21,7 @@ fn settings(scheme: Scheme) -> StepSettings {
         line_search: false,
         implex_corrections: 0,
         implex_tolerance: 0.0,
+        implex_pass_tolerance: 0.0,
     }
 }
 
@@ -343,6 +344,7 @@ fn a_step_that_fails_is_substepped_and_a_hopeless_one_reported() {
             line_search: false,
             implex_corrections: 0,
             implex_tolerance: 0.0,
+            implex_pass_tolerance: 0.0,
         });
         let mut reports = Vec::new();
         for k in 1..=steps {
@@ -385,6 +387,7 @@ fn krylov_newton_converges_to_the_same_steps_in_fewer_iterations() {
             line_search: false,
             implex_corrections: 0,
             implex_tolerance: 0.0,
+            implex_pass_tolerance: 0.0,
         });
         let (mut us, mut its) = (Vec::new(), 0);
         for k in 1..=40 {
