@@ -20,23 +20,11 @@ use crate::parallel::Context;
 use mpi::collective::SystemOperation;
 use mpi::traits::CommunicatorCollectives;
 
-/// Collective. Whether every `[[dynamics.stop_when]]` share is reached by [`by_group`]'s measure
-/// on the cell envelopes (false without rules). The damage is irreversible, so a share never
-/// falls once reached: the run may end there with every later share at least as large.
-pub fn stop_reached(
-    ctx: &Context,
-    disc: &Discretization,
-    env: &Envelopes,
-    mesh: &Mesh,
-    model: &StructuralModel,
-    job: &Job,
-    rules: &[crate::config::StopWhenConfig],
-) -> bool {
-    if rules.is_empty() {
-        return false;
-    }
-    let groups = by_group(ctx, disc, env, mesh, model, job);
-    rules.iter().all(|r| groups.iter().any(|g| g.group == r.group && g.share_dt >= r.share))
+/// Whether every `[[dynamics.stop_when]]` share is reached in `groups` ([`by_group`]'s measure;
+/// false without rules). The damage is irreversible, so a share never falls once reached: the
+/// run may end there with every later share at least as large.
+pub fn stop_reached(groups: &[GroupDamage], rules: &[crate::config::StopWhenConfig]) -> bool {
+    !rules.is_empty() && rules.iter().all(|r| groups.iter().any(|g| g.group == r.group && g.share_dt >= r.share))
 }
 
 /// The damage that counts as cracked (d_t, d_c above it).

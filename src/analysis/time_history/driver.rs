@@ -286,8 +286,10 @@ pub fn integrate(
             phases.time("output", || out.write_step(ctx, sys, it, &state))?;
             summary.output_steps += 1;
             // `[[dynamics.stop_when]]`, on the cell damage the output step just read.
-            stop = state.step < n_steps
-                && damage_shares::stop_reached(ctx, &sys.disc, &out.env, it.mesh, it.model, it.job, &cfg.stop_when);
+            stop = state.step < n_steps && !cfg.stop_when.is_empty() && {
+                let groups = damage_shares::by_group(ctx, &sys.disc, &out.env, it.mesh, it.model, it.job);
+                damage_shares::stop_reached(&groups, &cfg.stop_when)
+            };
         }
         if cfg.checkpoint.every_steps > 0 && state.step % cfg.checkpoint.every_steps == 0 {
             // The step after a periodic checkpoint starts as a restart from it would: a fresh

@@ -458,7 +458,7 @@ impl Stepper {
             let loose = implex && !settling && corrections < st.implex_corrections;
             let tol_now = if loose { st.tolerance.max(st.implex_pass_tolerance) } else { st.tolerance };
             if rn == 0.0 || residual <= tol_now {
-                if implex && !settling && corrections < st.implex_corrections {
+                if loose {
                     // Module docs, "IMPL-EX corrections": the damage of this equilibrium held;
                     // where it is the damage the equilibrium had, so is the residual.
                     sys.update_histories();
