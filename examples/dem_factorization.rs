@@ -18,6 +18,7 @@ use masonry_hpc::dem::mechanics::MechParams;
 
 #[path = "common/random_sample.rs"]
 mod random_sample;
+use masonry_hpc::dem::solver::cholmod::UpdatableCholesky;
 use masonry_hpc::dem::solver::factor::{Ordering, BATCH};
 use masonry_hpc::dem::solver::{DofControl, DofMap, LowRankCholesky, Model};
 
@@ -88,6 +89,45 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         alt_solve = alt_solve.min(t8.elapsed().as_secs_f64());
     }
     let (alt_w_s, alt_w_f) = alt.costs();
+    // CHOLMOD's simplicial LDLᵀ (the factor updated in place), its solve (best of 5), and the
+    // supernodal f32 copy of it the preconditioner solves with: build and solve (best of 5 each),
+    // and the copy's solution error relative to the largest entry of the exact one.
+    let mut simplicial = UpdatableCholesky::new(n_eq).map_err(|e| e.0)?;
+    simplicial.factorize(&upper).map_err(|e| e.0)?;
+    let (mut s_solve, mut copy_build, mut copy_solve) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+    let mut copy = None;
+    for _ in 0..5 {
+        let t = Instant::now();
+        copy = simplicial.supernodal_copy::<f32>();
+        copy_build = copy_build.min(t.elapsed().as_secs_f64());
+    }
+    let mut copy = copy.ok_or("no factor to copy")?;
+    let mut scratch = Vec::new();
+    let mut x_ref = vec![1.0; n_eq];
+    let mut copy_err = 0.0;
+    for _ in 0..5 {
+        let mut x = vec![1.0; n_eq];
+        let t = Instant::now();
+        simplicial.solve(&mut x).map_err(|e| e.0)?;
+        s_solve = s_solve.min(t.elapsed().as_secs_f64());
+        x_ref = x;
+        let mut y = vec![1.0; n_eq];
+        let t = Instant::now();
+        simplicial.solve_with(&mut copy, &mut y, &mut scratch).map_err(|e| e.0)?;
+        copy_solve = copy_solve.min(t.elapsed().as_secs_f64());
+        let scale = x_ref.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let diff = y.iter().zip(&x_ref).fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+        copy_err = diff / scale;
+        if diff > 1e-4 * scale {
+            return Err(format!("supernodal copy's solve off by {diff:e} of {scale:e}").into());
+        }
+    }
+    let simplicial_line = format!(
+        "\"simplicial_entries\": {}, \"simplicial_solve_seconds\": {s_solve:.6}, \"supernodes\": {}, \"supernodal_stored\": {}, \"supernodal_copy_seconds\": {copy_build:.6}, \"supernodal_solve_seconds\": {copy_solve:.6}, \"supernodal_solve_error\": {copy_err:.3e}",
+        simplicial.entries(),
+        copy.supernodes(),
+        copy.stored()
+    );
     let ordering = |o: Ordering| if o == Ordering::Amd { "amd" } else { "nested_dissection" };
     let alt_line = format!(
         "\"ordering\": \"{}\", \"other_ordering\": {{\"ordering\": \"{}\", \"first_factorization_seconds\": {alt_first:.5}, \"numeric_factorization_seconds\": {alt_numeric:.5}, \"solve_seconds\": {alt_solve:.6}, \"solve_flops\": {alt_w_s:.4e}, \"factor_flops\": {alt_w_f:.4e}}}, \"factor_flops\": {w_f:.4e}",
@@ -95,7 +135,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ordering(other)
     );
     println!(
-        "{{{alt_line}, \"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"numeric_factorization_cpu_seconds\": {numeric_cpu:.5}, \"solve_seconds\": {solve:.6}, \"batch_columns\": {BATCH}, \"batch_seconds\": {batch:.6}, \"solve_flops\": {w_s:.4e}, \"factor_cost_in_solves\": {:.2}, \"factor_over_solve_time\": {:.2}, \"batch_column_cost\": {:.3}}}",
+        "{{{alt_line}, {simplicial_line}, \"stones\": {}, \"equations\": {n_eq}, \"upper_triplets\": {}, \"build_seconds\": {build:.4}, \"assemble_seconds\": {assemble:.4}, \"first_factorization_seconds\": {first:.5}, \"numeric_factorization_seconds\": {numeric:.5}, \"numeric_factorization_cpu_seconds\": {numeric_cpu:.5}, \"solve_seconds\": {solve:.6}, \"batch_columns\": {BATCH}, \"batch_seconds\": {batch:.6}, \"solve_flops\": {w_s:.4e}, \"factor_cost_in_solves\": {:.2}, \"factor_over_solve_time\": {:.2}, \"batch_column_cost\": {:.3}}}",
         sample.particles.len(),
         upper.len(),
         w_f / w_s,

@@ -44,6 +44,10 @@
 //! solves the equilibrium at the break only (`SolverOptions::break_search`,
 //! `dem::solver::break_search`; default `trial`: the step's end first; `trial_landed`: the
 //! step's end first, each break then landed on P = 1 as the search's are).
+//! `DEM_PRECONDITIONER_COPY=0` applies GMRES's preconditioner with CHOLMOD's factor throughout;
+//! `DEM_PRECONDITIONER_COPY=n` with its `f32` supernodal copy from n entries of the factor on
+//! (default 800,000, about 5,000 stones; `SolverOptions::preconditioner_copy_from`,
+//! `dem::solver::supernodes`).
 //! `DEM_PREDICT=0` starts every load step from the committed state (no step predictor,
 //! `dem::solver::step_predictor`).
 //!
@@ -156,11 +160,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(v) = std::env::var("DEM_TRACE") {
         opts.trace = v != "0";
     }
+    if let Ok(v) = std::env::var("DEM_PRECONDITIONER_COPY") {
+        opts.preconditioner_copy_from = match v.as_str() {
+            "0" => usize::MAX,
+            _ => v.parse().map_err(|e| format!("DEM_PRECONDITIONER_COPY={v}: {e}"))?,
+        };
+    }
     let settings = format!(
-        "tol={} slip_terms={:?} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={} break_search={:?}",
+        "tol={} slip_terms={:?} forcing={:?} contacts={} linear_phase={} sparse_rhs={} factor_updates={:?} fill_refactor={} refresh_drift={} breaks_per_equilibrium={} break_search={:?} preconditioner_copy_from={}",
         opts.tol, opts.slip_terms, opts.forcing, opts.contacts, opts.linear_phase, opts.sparse_rhs, opts.factor_updates, opts.fill_refactor, opts.refresh_drift,
         opts.breaks_per_equilibrium,
-        opts.break_search
+        opts.break_search,
+        opts.preconditioner_copy_from
     );
     let breaks_per_equilibrium = opts.breaks_per_equilibrium;
     let mut solver = Solver::new(model, opts, zero)?;

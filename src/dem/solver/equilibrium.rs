@@ -390,6 +390,7 @@ pub(super) fn newton_direction(
     profile::add(&mut p.tangent_seconds, clock.elapsed());
     let clock = Instant::now();
     let factor = &mut op.factor;
+    let copy_from = pb.opts.preconditioner_copy_from;
     let mut in_precond = std::time::Duration::ZERO;
     dz.iter_mut().for_each(|x| *x = 0.0);
     let info = gmres_split(
@@ -399,7 +400,7 @@ pub(super) fn newton_direction(
         |v, o| difference.apply(v, o),
         |v| {
             let c = Instant::now();
-            let r = factor.solve(v);
+            let r = factor.precondition(v, copy_from);
             in_precond += c.elapsed();
             r
         },
@@ -411,6 +412,7 @@ pub(super) fn newton_direction(
     diag.counters.solves += info.iterations;
     p.gmres_solves += 1;
     p.gmres_iterations += info.iterations;
+    p.preconditioner_copies = op.factor.copies();
     let sliding = ev.contacts.iter().filter(|a| !a.sticks()).count();
     p.sliding_at_gmres += sliding;
     p.contacts_at_gmres += ev.contacts.len();

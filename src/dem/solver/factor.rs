@@ -239,6 +239,11 @@ impl LowRankCholesky {
         Ok(s)
     }
 
+    /// The preconditioner's supernodal copies made ([`Self::precondition`]).
+    pub fn copies(&self) -> usize {
+        self.updown.as_ref().map_or(0, |f| f.n_copies)
+    }
+
     /// Whether the factor is updated in place ([`Self::with_updates`]).
     pub fn updates_in_place(&self) -> bool {
         self.updown.is_some()
@@ -499,6 +504,18 @@ impl LowRankCholesky {
         }
         self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
         f.solve_sparse(x, support).map(Some).map_err(|e| FactorError(e.0))
+    }
+
+    /// GMRES's preconditioner solve: with updates in place, by the factor's `f32` supernodal
+    /// copy once the factor has stayed unchanged for a few solves, from `min_entries` entries
+    /// of `L` ([`UpdatableCholesky::precondition`]); otherwise [`Self::solve`].
+    pub fn precondition(&mut self, x: &mut [f64], min_entries: usize) -> Result<(), FactorError> {
+        let Some(f) = &mut self.updown else { return self.solve(x) };
+        if self.update_failed {
+            return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
+        }
+        self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
+        f.precondition(x, min_entries).map_err(|e| FactorError(e.0))
     }
 
     /// Solves `(A + UΣUᵀ) x = b` in place.

@@ -84,6 +84,15 @@ pub struct SolverOptions {
     /// How a load step finds the load of its first beam break ([`BreakSearch`],
     /// [`super::break_search`]; default [`BreakSearch::Trial`]).
     pub break_search: BreakSearch,
+    /// GMRES's preconditioner solves with an `f32` supernodal copy of the factor updated in
+    /// place, made once the factor has stayed unchanged for a few solves, from this many entries
+    /// of `L` on (default [`super::cholmod::COPY_MIN_ENTRIES`], about 5,000 stones; `usize::MAX`:
+    /// never, CHOLMOD's factor throughout) ([`super::supernodes`],
+    /// [`super::cholmod::UpdatableCholesky::precondition`]). It preconditions only: Newton's
+    /// residual, and so every equilibrium, is computed as before, while GMRES's split form takes
+    /// the copy for `M⁻¹` (its relative error, about 10⁻⁶, is left in Newton's step, which the
+    /// next iteration's residual sees).
+    pub preconditioner_copy_from: usize,
 }
 
 impl Default for SolverOptions {
@@ -110,6 +119,7 @@ impl Default for SolverOptions {
             refresh_drift: f64::INFINITY,
             breaks_per_equilibrium: 1,
             break_search: BreakSearch::Trial,
+            preconditioner_copy_from: super::cholmod::COPY_MIN_ENTRIES,
         }
     }
 }

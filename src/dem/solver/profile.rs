@@ -24,6 +24,9 @@ pub struct SolverProfile {
     /// Contact-free Newton steps solved with a sparse right-hand side (`super::factor`,
     /// "Sparse right-hand sides").
     pub sparse_solves: usize,
+    /// Supernodal copies of the factor made for GMRES's preconditioner
+    /// ([`super::SolverOptions::preconditioner_copy_from`]).
+    pub preconditioner_copies: usize,
     /// The columns of `L` their forward substitutions visited, summed.
     pub sparse_columns: usize,
     /// Newton iterations that needed GMRES (some contact active).
