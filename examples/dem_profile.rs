@@ -182,7 +182,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Progress on stderr every 25 recorded states: a run stopped by a time limit still says how
     // far it got, and the profile's counters and phase seconds so far say where each stretch of
     // the run went (differences between two lines).
-    solver.diag.observer = Some(Box::new(Progress { clock, height: sample.height, line: String::new() }));
+    let area = sample.width * params.t_z;
+    solver.diag.observer =
+        Some(Box::new(Progress { clock, height: sample.height, area, peak: 0.0, line: String::new() }));
     let end = solver.start().and_then(|()| solver.run_stage(&target, steps, Some((1, 1))));
     let seconds = clock.elapsed().as_secs_f64();
     let end = match end {
@@ -195,7 +197,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             format!("stopped: {e}")
         }
     };
-    let area = sample.width * params.t_z;
     let curve: Vec<(f64, f64, usize)> = solver
         .states()
         .iter()
@@ -238,22 +239,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Prints a progress line every 25 recorded states: strain, breaks, seconds, and the profile's
-/// counters and phase seconds so far.
+/// Prints a progress line every 25 recorded states: strain, compressive stress (Pa) and the
+/// largest so far, breaks, seconds, and the profile's counters and phase seconds so far (a run
+/// stopped by hand keeps where its curve went).
 struct Progress {
     clock: Instant,
     height: f64,
+    /// The loaded section (width × thickness), for the stress.
+    area: f64,
+    /// The largest compressive stress recorded so far (Pa).
+    peak: f64,
     line: String,
 }
 
 impl Observer for Progress {
     fn recorded(&mut self, k: usize, st: &StateRecord, _: &[f64]) {
         self.line.clear();
+        let stress = -st.platen_force[1][1] / self.area;
+        self.peak = self.peak.max(stress);
         if k % 25 == 0 {
             let s = self.clock.elapsed().as_secs_f64();
             self.line = format!(
-                "progress: state {k} strain {:.4e} events {} seconds {s:.2} contacts {}",
+                "progress: state {k} strain {:.4e} stress {stress:.6e} peak_so_far {:.6e} events {} seconds {s:.2} contacts {}",
                 -st.platen[1][1] / self.height,
+                self.peak,
                 st.broken[0],
                 st.contacts
             );
