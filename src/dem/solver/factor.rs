@@ -498,34 +498,35 @@ impl LowRankCholesky {
     /// `Some(columns visited)`, or `None` without updates in place (nothing solved: the caller
     /// solves densely).
     pub fn solve_sparse(&mut self, x: &mut [f64], support: &[usize]) -> Result<Option<usize>, FactorError> {
+        let Some(f) = self.in_place_solve()? else { return Ok(None) };
+        f.solve_sparse(x, support).map(Some).map_err(|e| FactorError(e.0))
+    }
+
+    /// With updates in place, the factor to solve with, the fill since the factorization booked
+    /// for one solve (4 flops per extra entry of L: two substitutions); an error when an update
+    /// failed since. `None` on the Woodbury path.
+    fn in_place_solve(&mut self) -> Result<Option<&mut UpdatableCholesky>, FactorError> {
         let Some(f) = &mut self.updown else { return Ok(None) };
         if self.update_failed {
             return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
         }
         self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
-        f.solve_sparse(x, support).map(Some).map_err(|e| FactorError(e.0))
+        Ok(Some(f))
     }
 
     /// GMRES's preconditioner solve: with updates in place, by the factor's `f32` supernodal
     /// copy once the factor has stayed unchanged for a few solves, from `min_entries` entries
     /// of `L` ([`UpdatableCholesky::precondition`]); otherwise [`Self::solve`].
     pub fn precondition(&mut self, x: &mut [f64], min_entries: usize) -> Result<(), FactorError> {
-        let Some(f) = &mut self.updown else { return self.solve(x) };
-        if self.update_failed {
-            return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
+        match self.in_place_solve()? {
+            Some(f) => f.precondition(x, min_entries).map_err(|e| FactorError(e.0)),
+            None => self.solve(x),
         }
-        self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
-        f.precondition(x, min_entries).map_err(|e| FactorError(e.0))
     }
 
     /// Solves `(A + UΣUᵀ) x = b` in place.
     pub fn solve(&mut self, x: &mut [f64]) -> Result<(), FactorError> {
-        if let Some(f) = &mut self.updown {
-            if self.update_failed {
-                return Err(FactorError("solve with a factor whose update failed (refactorize first)".into()));
-            }
-            // The fill since the factorization: 4 flops per extra entry of L (two substitutions).
-            self.spent += 4.0 * self.entries.1.saturating_sub(self.entries.0) as f64;
+        if let Some(f) = self.in_place_solve()? {
             return f.solve(x).map_err(|e| FactorError(e.0));
         }
         self.base_solve(x, 1)?;
